@@ -1,0 +1,78 @@
+"""Checks at the public boundary, each raising :class:`ParameterError` with parameter, rule and value.
+
+Validation happens once, where data enter the library; the numerics behind it trust their inputs.
+"""
+
+import numpy as np
+
+from .errors import ParameterError
+
+
+def as_float_array(name, value, *, ndim=None):
+    """Return ``value`` as a finite float64 array, checking its number of dimensions."""
+    try:
+        array = np.array(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{name} must be numeric, got {value!r}") from exc
+    if ndim is not None and array.ndim != ndim:
+        raise ParameterError(f"{name} must have {ndim} dimension(s), got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        bad = np.flatnonzero(~np.isfinite(array.ravel()))[0]
+        raise ParameterError(f"{name} must be finite, got {array.ravel()[bad]} at flat index {bad}")
+    return array
+
+
+def _first_bad(array, ok):
+    index = np.flatnonzero(~np.asarray(ok).ravel())
+    return None if index.size == 0 else array.ravel()[index[0]]
+
+
+def check_positive(name, value, *, unit=""):
+    """Require every entry of ``value`` to be finite and > 0; return it as float (array)."""
+    array = as_float_array(name, value)
+    bad = _first_bad(array, array > 0)
+    if bad is not None:
+        raise ParameterError(f"{name} must be > 0{unit and ' ' + unit}, got {bad:g}")
+    return float(array) if array.ndim == 0 else array
+
+
+def check_non_negative(name, value, *, unit=""):
+    """Require every entry of ``value`` to be finite and >= 0."""
+    array = as_float_array(name, value)
+    bad = _first_bad(array, array >= 0)
+    if bad is not None:
+        raise ParameterError(f"{name} must be >= 0{unit and ' ' + unit}, got {bad:g}")
+    return float(array) if array.ndim == 0 else array
+
+
+def check_damping_ratio(name, value, *, upper=1.0, allow_zero=False):
+    """Require a damping ratio given as a fraction: 0 < value < ``upper`` (0 <= value if allowed).
+
+    The message of a value above ``upper`` says "fractions, not percent": 30 for 30 % is the
+    mistake this check exists for.
+    """
+    array = as_float_array(name, value)
+    low_ok = array >= 0 if allow_zero else array > 0
+    bad = _first_bad(array, low_ok & (array < upper))
+    if bad is not None:
+        rule = f"{'>= 0' if allow_zero else '> 0'} and < {upper:g}"
+        raise ParameterError(f"{name} must be {rule} (fractions, not percent), got {bad:g}")
+    return float(array) if array.ndim == 0 else array
+
+
+def check_open_unit(name, value):
+    """Require 0 < value < 1."""
+    x = float(as_float_array(name, value, ndim=0))
+    if not 0.0 < x < 1.0:
+        raise ParameterError(f"{name} must lie in the open interval (0, 1), got {x:g}")
+    return x
+
+
+def check_frequency_grid(frequency, name="frequency"):
+    """A 1-D, finite, non-negative, strictly increasing frequency grid [Hz]."""
+    frequency = as_float_array(name, frequency, ndim=1)
+    check_non_negative(name, frequency, unit="Hz")
+    if frequency.size == 0 or np.any(np.diff(frequency) <= 0):
+        raise ParameterError(f"{name} must be a non-empty, strictly increasing grid [Hz], "
+                             f"got {frequency.size} value(s)")
+    return frequency

@@ -1,0 +1,120 @@
+"""The crowd on the deck: density, body mass, walking speed and step frequencies (physics.md §4).
+
+A :class:`Crowd` is the statistical description the paper assumes known: a uniform density d,
+Poisson arrivals at rate λ = d·B·v, one walking speed, step frequencies f_s ~ N(μ_fs, σ_fs) and
+one (average) body mass.
+"""
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ._validation import as_float_array, check_non_negative, check_positive
+from .errors import ParameterError
+
+__all__ = ["Crowd", "weidmann_speed", "bruno_venuti_step_frequency", "JAM_DENSITY"]
+
+#: Free walking speed v_0 [m/s] of Weidmann's speed–density relation (physics.md §4, SOURCED).
+FREE_SPEED = 1.34
+#: Shape constant γ [persons/m²] of Weidmann's relation (physics.md §4, SOURCED).
+WEIDMANN_GAMMA = 1.913
+#: Jam density d_max [persons/m²] at which Weidmann's speed falls to zero (physics.md §4, SOURCED).
+JAM_DENSITY = 5.4
+#: Standard deviation of step frequencies in unrestricted traffic [Hz] (AFGC 2006 via the paper).
+UNRESTRICTED_STEP_FREQUENCY_STD = 0.175
+
+
+def weidmann_speed(density):
+    """Walking speed v(d) = v_0 [1 − exp(−γ (1/d − 1/d_max))] [m/s] (Weidmann 1993; physics.md §4).
+
+    Check value: v(0.5) = 1.298 m/s, the paper's 1.30 m/s.
+    """
+    density = check_positive("density", density, unit="persons/m²")
+    if np.any(np.asarray(density) >= JAM_DENSITY):
+        raise ParameterError(
+            f"density must be < the jam density {JAM_DENSITY} persons/m² of the speed–density "
+            f"model, got {np.max(density):g}")
+    return FREE_SPEED * (1.0 - np.exp(-WEIDMANN_GAMMA * (1.0 / density - 1.0 / JAM_DENSITY)))
+
+
+def bruno_venuti_step_frequency(speed):
+    """Mean step frequency f_s(v) = 0.35 v³ − 1.59 v² + 2.93 v [Hz] (Bruno & Venuti 2009).
+
+    RECALLED in physics.md §4 and validated there: f_s(1.30) = 1.891 Hz, the paper's 1.89 Hz.
+    """
+    v = check_positive("speed", speed, unit="m/s")
+    return 0.35 * v**3 - 1.59 * v**2 + 2.93 * v
+
+
+@dataclass(frozen=True)
+class Crowd:
+    """A stationary stream of pedestrians on the deck.
+
+    Parameters
+    ----------
+    density : float
+        Pedestrian density d [persons/m²], >= 0 (0 = empty deck).
+    walking_speed : float
+        Walking speed v [m/s], > 0, the same for all.
+    step_frequency_mean : float
+        Mean μ_fs of the step frequencies [Hz].
+    step_frequency_std : float
+        Standard deviation σ_fs [Hz], > 0.
+    body_mass : float
+        Body mass m_h [kg] of every pedestrian (the crowd's average, as in the paper).
+    forward_fraction : float
+        Fraction of pedestrians walking in the +x direction (the others walk back); used by the
+        time-domain simulator, irrelevant to the spectral model.
+    """
+
+    density: float
+    walking_speed: float
+    step_frequency_mean: float
+    step_frequency_std: float = UNRESTRICTED_STEP_FREQUENCY_STD
+    body_mass: float = 70.0
+    forward_fraction: float = 1.0
+
+    def __post_init__(self):
+        check_non_negative("density", self.density, unit="persons/m²")
+        if self.density >= JAM_DENSITY:
+            raise ParameterError(
+                f"density must be < the jam density {JAM_DENSITY} persons/m², got {self.density:g}")
+        check_positive("walking_speed", self.walking_speed, unit="m/s")
+        check_positive("step_frequency_mean", self.step_frequency_mean, unit="Hz")
+        check_positive("step_frequency_std", self.step_frequency_std, unit="Hz")
+        check_positive("body_mass", self.body_mass, unit="kg")
+        fraction = float(as_float_array("forward_fraction", self.forward_fraction, ndim=0))
+        if not 0.0 <= fraction <= 1.0:
+            raise ParameterError(f"forward_fraction must lie in [0, 1], got {fraction:g}")
+        for name in ("density", "walking_speed", "step_frequency_mean", "step_frequency_std",
+                     "body_mass", "forward_fraction"):
+            object.__setattr__(self, name, float(getattr(self, name)))
+
+    @classmethod
+    def from_density(cls, density, *, body_mass=70.0,
+                     step_frequency_std=UNRESTRICTED_STEP_FREQUENCY_STD, forward_fraction=1.0):
+        """A crowd whose speed follows Weidmann and whose step frequency follows Bruno & Venuti.
+
+        >>> crowd = Crowd.from_density(0.5)
+        >>> round(crowd.walking_speed, 3), round(crowd.step_frequency_mean, 3)
+        (1.298, 1.89)
+        """
+        speed = float(weidmann_speed(density))
+        return cls(density=density, walking_speed=speed,
+                   step_frequency_mean=float(bruno_venuti_step_frequency(speed)),
+                   step_frequency_std=step_frequency_std, body_mass=body_mass,
+                   forward_fraction=forward_fraction)
+
+    def with_density(self, density):
+        """The same walkers at another density (speed and step frequencies unchanged)."""
+        return replace(self, density=density)
+
+    def arrival_rate(self, width):
+        """Poisson arrival rate λ = d·B·v [persons/s] onto a walkway of width B (physics.md §2.4)."""
+        return self.density * check_positive("width", width, unit="m") * self.walking_speed
+
+    def step_frequency_pdf(self, step_frequency):
+        """Gaussian density p_fs of the step frequencies [1/Hz]."""
+        z = (np.asarray(step_frequency, dtype=float) - self.step_frequency_mean) / self.step_frequency_std
+        return np.exp(-0.5 * z * z) / (self.step_frequency_std * np.sqrt(2.0 * np.pi))
+

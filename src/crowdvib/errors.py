@@ -1,0 +1,49 @@
+"""Exceptions and warnings of crowdvib.
+
+Every error derives from :class:`CrowdvibError` and also from the built-in it refines, so
+``except ValueError`` keeps working for callers who do not know crowdvib. Messages name the
+parameter, the rule and the offending value.
+"""
+
+__all__ = [
+    "CrowdvibError",
+    "ParameterError",
+    "DataError",
+    "EstimationError",
+    "CrowdvibWarning",
+    "BoundWarning",
+    "ConvergenceWarning",
+    "ResolutionWarning",
+]
+
+
+class CrowdvibError(Exception):
+    """Base class of every error raised by crowdvib."""
+
+
+class ParameterError(CrowdvibError, ValueError):
+    """A parameter breaks a rule (sign, range, unit, shape, name)."""
+
+
+class DataError(CrowdvibError, ValueError):
+    """A measured record or PSD cannot be used as it is."""
+
+
+class EstimationError(CrowdvibError, RuntimeError):
+    """The estimation problem cannot be solved (non-finite objective, singular model)."""
+
+
+class CrowdvibWarning(UserWarning):
+    """Base class of crowdvib's warnings: doubtful but usable input or results."""
+
+
+class BoundWarning(CrowdvibWarning):
+    """An estimated parameter sits on a bound of the search region."""
+
+
+class ConvergenceWarning(CrowdvibWarning):
+    """An optimiser or a PSD estimate did not converge."""
+
+
+class ResolutionWarning(CrowdvibWarning):
+    """A frequency resolution or record length is too coarse for what is asked."""

@@ -1,0 +1,252 @@
+"""Walking force models: one person's force on a rigid floor and the spectral load of a crowd.
+
+Each model describes the dynamic part of a pedestrian's vertical force as a sum of sinusoids at
+multiples r_c of the step frequency f_s, p(t) = W Σ_c α_c sin(2π r_c f_s t + θ_c) (physics.md §1),
+and gives
+
+* ``sample``: dynamic load factors (DLFs) and phases of individual pedestrians (time domain);
+* ``load_spectrum``: the one-sided PSD per unit crowd influence of a stationary Poisson crowd,
+  G_QQ(f) = Ψ · s(f) (physics.md §3.2), used by the spectral response model.
+
+Every constant sits in a table below with its provenance.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._validation import check_non_negative, check_positive
+from .errors import ParameterError
+
+__all__ = ["ZivanovicForce", "YoungForce", "STANDARD_GRAVITY"]
+
+#: Gravitational acceleration g [m/s²] used to turn body mass into weight (physics.md §0).
+STANDARD_GRAVITY = 9.81
+
+# Živanović, Pavić & Reynolds (2007), harmonic form (physics.md §1.1). Provenance: the DLF means,
+# spreads and subharmonic regressions are SOURCED from a public implementation of the paper's
+# table (physics.md §1.1, §10); the first-harmonic polynomial is Kerr's (1998) fit.
+ZIVANOVIC_DLF1_POLYNOMIAL = (-0.2649, 1.3206, -1.7597, 0.7613)  # μ₁(f_s), highest power first
+ZIVANOVIC_DLF1_COV = 0.16                                       # std of α₁ = 0.16 μ₁(f_s)
+ZIVANOVIC_HARMONIC_MEAN = (None, 0.07, 0.05, 0.05, 0.03)         # h = 1..5 (h = 1: polynomial)
+ZIVANOVIC_HARMONIC_STD = (None, 0.030, 0.020, 0.020, 0.015)
+ZIVANOVIC_SUBHARMONIC_SLOPE = (0.026, 0.074, 0.012, 0.013, 0.015)   # α_s,h = a_h α₁ + b_h
+ZIVANOVIC_SUBHARMONIC_OFFSET = (0.0031, 0.0100, 0.0160, 0.0093, 0.0072)
+
+# Young (2001) mean DLFs, α_h = c_h + s_h · (h f_s), α₁ capped at 0.56 (physics.md §1.3; formulas
+# SOURCED, argument h·f_s per the public implementation cited there).
+YOUNG_OFFSET = (-0.41 * 0.95, 0.069, 0.033, 0.013)
+YOUNG_SLOPE = (0.41, 0.0056, 0.0064, 0.0065)
+YOUNG_DLF1_CAP = 0.56
+
+
+class _WalkingForce:
+    """Shared machinery: crowd spectrum and time histories from per-component DLF statistics."""
+
+    #: Multiples r_c of the step frequency, one per force component.
+    ratios: np.ndarray
+
+    def mean_square_dlf(self, step_frequency):
+        """E[α_c² | f_s] [-] of each component c at its own step frequency.
+
+        Parameters
+        ----------
+        step_frequency : array_like, shape (n_components, ...)
+            Row c holds the step frequencies at which component c is evaluated (broadcast a
+            single array with ``np.broadcast_to(f_s, (n_components,) + f_s.shape)``).
+        """
+        raise NotImplementedError
+
+    def sample(self, step_frequency, rng):
+        """DLFs α_c [-] and phases θ_c [rad] of pedestrians with the given step frequencies.
+
+        Returns
+        -------
+        amplitudes, phases : ndarray, shape (n_pedestrians, n_components)
+        """
+        raise NotImplementedError
+
+    def load_spectrum(self, frequency, crowd):
+        """One-sided crowd-load PSD per unit influence s(f) [N²/Hz] (physics.md §3.2).
+
+        s(f) = W² Σ_c E[α_c² | f_s = f/r_c] / 2 · p_fs(f/r_c) / r_c, so that the modal-load
+        cross-PSD is G_QQ(f) = Ψ s(f) with the crowd-influence matrix Ψ of physics.md §2.7.
+        Narrow-band approximation: the crossing time is long against 1/(r_c σ_fs).
+
+        Parameters
+        ----------
+        frequency : array_like
+            Frequencies f >= 0 [Hz].
+        crowd : Crowd
+            Step-frequency distribution and body mass.
+        """
+        frequency = np.asarray(check_non_negative("frequency", frequency, unit="Hz"))
+        weight = crowd.body_mass * STANDARD_GRAVITY
+        ratios = self.ratios.reshape((-1,) + (1,) * frequency.ndim)
+        step = frequency / ratios                      # f_s at which component c sits at f
+        terms = self.mean_square_dlf(step) / 2.0 * crowd.step_frequency_pdf(step) / ratios
+        return self.scale**2 * weight**2 * terms.sum(axis=0)
+
+    def modal_load_psd(self, frequency, crowd, structure):
+        """One-sided modal-load cross-PSD G_QQ(f) [N²/Hz], shape (n_f, n_modes, n_modes)."""
+        psi = structure.influence_matrix(crowd.density)
+        return self.load_spectrum(frequency, crowd)[:, np.newaxis, np.newaxis] * psi
+
+    def time_history(self, time, step_frequency, body_mass, rng=None):
+        """Force [N] of one pedestrian on a rigid floor, dynamic part only (physics.md §1.1).
+
+        Parameters
+        ----------
+        time : array_like
+            Times [s].
+        step_frequency : float
+            f_s [Hz].
+        body_mass : float
+            m_h [kg].
+        rng : None, int or numpy.random.Generator
+            Seed or generator for the DLFs and phases.
+        """
+        step_frequency = check_positive("step_frequency", step_frequency, unit="Hz")
+        rng = np.random.default_rng(rng)
+        amplitudes, phases = self.sample(np.array([step_frequency]), rng)
+        t = np.asarray(time, dtype=float)[..., np.newaxis]
+        waves = np.sin(2 * np.pi * self.ratios * step_frequency * t + phases[0])
+        return body_mass * STANDARD_GRAVITY * waves @ amplitudes[0]
+
+
+def _check_scale(scale):
+    return check_positive("scale", scale)
+
+
+@dataclass(frozen=True)
+class ZivanovicForce(_WalkingForce):
+    """Živanović, Pavić & Reynolds (2007) probabilistic walking force, harmonic form.
+
+    Five harmonics (r = 1…5) and five subharmonics (r = 0.5…4.5) with random DLFs and phases
+    uniform in [0, 2π) (physics.md §1.1).
+
+    Parameters
+    ----------
+    subharmonics_follow_sampled_dlf : bool
+        True: the subharmonic DLFs follow each pedestrian's sampled α₁ (physics.md §1.1 default);
+        False: they follow the mean μ₁(f_s), as the public implementation does (and as the
+        check values of physics.md §8.3 assume).
+    scale : float
+        Factor on every DLF (1 = the published model); for load-model sensitivity studies.
+    """
+
+    subharmonics_follow_sampled_dlf: bool = True
+    scale: float = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "scale", _check_scale(self.scale))
+
+    @property
+    def ratios(self):
+        return np.array([1.0, 2.0, 3.0, 4.0, 5.0, 0.5, 1.5, 2.5, 3.5, 4.5])
+
+    @staticmethod
+    def first_harmonic_dlf(step_frequency):
+        """Mean first-harmonic DLF μ₁(f_s) (Kerr 1998 fit; physics.md §1.1). μ₁(1.89) = 0.3644."""
+        return np.polyval(ZIVANOVIC_DLF1_POLYNOMIAL, step_frequency)
+
+    def mean_square_dlf(self, step_frequency):
+        mu1 = self.first_harmonic_dlf(np.asarray(step_frequency, dtype=float))
+        column = (slice(None),) + (np.newaxis,) * (mu1.ndim - 1)
+        means = np.asarray(ZIVANOVIC_HARMONIC_MEAN[1:])[column]
+        stds = np.asarray(ZIVANOVIC_HARMONIC_STD[1:])[column]
+        slope = np.asarray(ZIVANOVIC_SUBHARMONIC_SLOPE)[column]
+        offset = np.asarray(ZIVANOVIC_SUBHARMONIC_OFFSET)[column]
+        sampled = float(self.subharmonics_follow_sampled_dlf)
+        first = mu1[:1] ** 2 * (1.0 + ZIVANOVIC_DLF1_COV**2)
+        harmonics = np.broadcast_to(means**2 + stds**2, mu1[1:5].shape)
+        sub = (slope * mu1[5:] + offset) ** 2 + sampled * (slope * ZIVANOVIC_DLF1_COV * mu1[5:]) ** 2
+        return np.concatenate([first, harmonics, sub])
+
+    def sample(self, step_frequency, rng):
+        step_frequency = np.asarray(step_frequency, dtype=float)
+        n = step_frequency.size
+        mu1 = self.first_harmonic_dlf(step_frequency)
+        means = np.column_stack([mu1] + [np.full(n, m) for m in ZIVANOVIC_HARMONIC_MEAN[1:]])
+        stds = np.column_stack([ZIVANOVIC_DLF1_COV * np.abs(mu1)]
+                               + [np.full(n, s) for s in ZIVANOVIC_HARMONIC_STD[1:]])
+        main = _positive_normal(means, stds, rng)
+        alpha1 = main[:, :1] if self.subharmonics_follow_sampled_dlf else mu1[:, np.newaxis]
+        sub = (np.asarray(ZIVANOVIC_SUBHARMONIC_SLOPE) * alpha1
+               + np.asarray(ZIVANOVIC_SUBHARMONIC_OFFSET))
+        amplitudes = self.scale * np.concatenate([main, np.maximum(sub, 0.0)], axis=1)
+        phases = rng.uniform(0.0, 2 * np.pi, size=amplitudes.shape)
+        return amplitudes, phases
+
+
+def _positive_normal(means, stds, rng):
+    """Normal draws with negative values drawn again (physics.md §1.1: P(α < 0) ≤ 2.3 %).
+
+    A mean that is itself negative (μ₁ far outside the walking range) gives 0 rather than an
+    endless redraw.
+    """
+    values = rng.normal(means, stds)
+    for _ in range(50):
+        negative = (values < 0) & (means > 0)
+        if not negative.any():
+            break
+        values[negative] = rng.normal(means[negative], stds[negative])
+    return np.maximum(values, 0.0)
+
+
+@dataclass(frozen=True)
+class YoungForce(_WalkingForce):
+    """Young (2001) mean DLFs of the first four harmonics (physics.md §1.3).
+
+    α₁ = 0.41 (f_s − 0.95) ≤ 0.56, α₂ = 0.069 + 0.0056·2f_s, α₃ = 0.033 + 0.0064·3f_s,
+    α₄ = 0.013 + 0.0065·4f_s; deterministic DLFs, independent uniform phases.
+
+    Parameters
+    ----------
+    scale : float
+        Factor on every DLF.
+    """
+
+    scale: float = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "scale", _check_scale(self.scale))
+
+    @property
+    def ratios(self):
+        return np.array([1.0, 2.0, 3.0, 4.0])
+
+    def dlf(self, step_frequency):
+        """Young's DLFs α_h [-] of harmonic h at the step frequencies in row h − 1.
+
+        Parameters
+        ----------
+        step_frequency : array_like, shape (4, ...)
+            Row h − 1 holds the step frequencies for harmonic h (see ``mean_square_dlf``).
+        """
+        step = np.asarray(step_frequency, dtype=float)
+        column = (slice(None),) + (np.newaxis,) * (step.ndim - 1)
+        harmonic = np.arange(1.0, 5.0)[column]
+        alpha = np.asarray(YOUNG_OFFSET)[column] + np.asarray(YOUNG_SLOPE)[column] * harmonic * step
+        alpha[0] = np.minimum(alpha[0], YOUNG_DLF1_CAP)
+        return np.maximum(alpha, 0.0)
+
+    def mean_square_dlf(self, step_frequency):
+        return self.dlf(step_frequency) ** 2
+
+    def sample(self, step_frequency, rng):
+        step = np.asarray(step_frequency, dtype=float)
+        amplitudes = self.scale * self.dlf(np.broadcast_to(step, (4,) + step.shape)).T
+        phases = rng.uniform(0.0, 2 * np.pi, size=amplitudes.shape)
+        return amplitudes, phases
+
+
+def as_force_model(force):
+    """``force`` itself, or the default Živanović model for None; refuse anything else."""
+    if force is None:
+        return ZivanovicForce()
+    if not isinstance(force, _WalkingForce):
+        raise ParameterError(
+            f"force must be a ZivanovicForce or YoungForce, got {type(force).__name__}")
+    return force
+

@@ -1,0 +1,84 @@
+"""A walking person as a mass-spring-damper (MSD) coupled to the deck (physics.md §0, §3.1).
+
+The body mass m_h splits into a sprung mass m_h1 = μ_h1·m_h on a spring k_h1 and damper c_h1,
+and an unsprung mass m_h0 = (1 − μ_h1)·m_h that moves with the deck.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._validation import check_damping_ratio, check_open_unit, check_positive
+
+__all__ = ["MSDModel"]
+
+
+@dataclass(frozen=True)
+class MSDModel:
+    """Single-degree-of-freedom mass-spring-damper model of a walking person.
+
+    Parameters
+    ----------
+    frequency : float
+        Natural frequency f_h1 = sqrt(k_h1/m_h1)/2π [Hz], > 0.
+    damping_ratio : float
+        Damping ratio ξ_h1 = c_h1/(2 m_h1 ω_h1) [-], a fraction in (0, 2); 2 and above is refused
+        as a likely percent value (over-damped bodies beyond that are not physiological).
+    mass_ratio : float
+        μ_h1 = m_h1/m_h [-] in (0, 1); 0.95 after Matsumoto & Griffin (2003), as in the paper.
+
+    Notes
+    -----
+    Defaults (3.0 Hz, 0.30, 0.95) are the paper's numerical example (physics.md §8.1).
+    """
+
+    frequency: float = 3.0
+    damping_ratio: float = 0.30
+    mass_ratio: float = 0.95
+
+    def __post_init__(self):
+        object.__setattr__(self, "frequency", check_positive("frequency", self.frequency, unit="Hz"))
+        object.__setattr__(self, "damping_ratio",
+                           check_damping_ratio("damping_ratio", self.damping_ratio, upper=2.0))
+        object.__setattr__(self, "mass_ratio", check_open_unit("mass_ratio", self.mass_ratio))
+
+    def sprung_mass(self, body_mass):
+        """m_h1 = μ_h1·m_h [kg]."""
+        return self.mass_ratio * body_mass
+
+    def stiffness(self, body_mass):
+        """k_h1 = m_h1 ω_h1² [N/m]."""
+        return self.sprung_mass(body_mass) * (2.0 * np.pi * self.frequency) ** 2
+
+    def damping(self, body_mass):
+        """c_h1 = 2 ξ_h1 m_h1 ω_h1 [N·s/m]."""
+        return 2.0 * self.damping_ratio * self.sprung_mass(body_mass) * 2.0 * np.pi * self.frequency
+
+    def apparent_mass(self, frequency, body_mass):
+        """Apparent (dynamic) mass M_app(f) [kg] of the person on a moving point (physics.md §3.1).
+
+        M_app = m_h0 + m_h1 (k_h1 + iωc_h1)/(k_h1 − ω² m_h1 + iωc_h1); M_app(0) = m_h,
+        M_app(∞) = m_h0. The force on the structure is ω² M_app U for a deck motion U.
+
+        Parameters
+        ----------
+        frequency : array_like
+            Frequencies [Hz].
+        body_mass : float
+            Total body mass m_h [kg].
+
+        Returns
+        -------
+        ndarray of complex, shape of ``frequency``
+        """
+        ratio = np.asarray(frequency, dtype=float) / self.frequency
+        # Written in the frequency ratio r = f/f_h1: (1 + 2iξr)/(1 − r² + 2iξr) is the
+        # transmissibility T(ω) of physics.md §3.1 with k and c divided by m_h1 ω_h1².
+        two_xi_r = 2j * self.damping_ratio * ratio
+        transmissibility = (1.0 + two_xi_r) / (1.0 - ratio**2 + two_xi_r)
+        return body_mass * ((1.0 - self.mass_ratio) + self.mass_ratio * transmissibility)
+
+    def to_dict(self):
+        """The parameters as a JSON-ready dict (keys as in ``results.json``)."""
+        return {"frequency": self.frequency, "damping_ratio": self.damping_ratio,
+                "mass_ratio": self.mass_ratio}

@@ -1,0 +1,253 @@
+"""Frozen result objects shared by the models, the estimator and the edges (I/O, plots, CLI).
+
+Each result documents its fields with units, offers ``to_dict()`` for JSON and, where a picture
+helps, ``plot()`` which delegates to :mod:`crowdvib.plotting` (imported only then).
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._validation import as_float_array
+from .errors import DataError, ParameterError
+
+__all__ = ["ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate"]
+
+
+def _frozen(array, dtype=float):
+    array = np.array(array, dtype=dtype)
+    array.flags.writeable = False
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class ResponsePSD:
+    """One-sided acceleration PSDs at named outputs.
+
+    Attributes
+    ----------
+    frequency : ndarray, shape (n_frequencies,)
+        Frequencies [Hz], strictly increasing.
+    psd : ndarray, shape (n_outputs, n_frequencies)
+        One-sided PSD per Hz [(m/s²)²/Hz], as ``scipy.signal.welch(scaling='density')``.
+    output_names : tuple of str
+        Names of the outputs (rows of ``psd``).
+    window_length : float or None
+        Welch segment length T [s] the PSD was estimated (or modelled) with; None for the exact
+        (infinitely resolved) model PSD.
+    n_windows : int or None
+        Number of Welch segments averaged (measured PSDs).
+    lowpass : LowPassFilter or None
+        Zero-phase filter applied before the PSD.
+    source : str
+        Where it comes from: ``"model"``, ``"welch"`` or ``"synthetic"``.
+    unit : str
+        Unit of ``psd``.
+    """
+
+    frequency: np.ndarray
+    psd: np.ndarray
+    output_names: tuple
+    window_length: float = None
+    n_windows: int = None
+    lowpass: object = None
+    source: str = "model"
+    unit: str = "(m/s²)²/Hz"
+
+    def __post_init__(self):
+        frequency = as_float_array("frequency", self.frequency, ndim=1)
+        psd = np.atleast_2d(np.array(self.psd, dtype=float))
+        names = tuple(str(n) for n in self.output_names)
+        if psd.shape != (len(names), frequency.size):
+            raise ParameterError(
+                "psd must have shape (n_outputs, n_frequencies) = "
+                f"({len(names)}, {frequency.size}), got {psd.shape}")
+        if frequency.size and np.any(np.diff(frequency) <= 0):
+            raise ParameterError("frequency must be strictly increasing")
+        object.__setattr__(self, "frequency", _frozen(frequency))
+        object.__setattr__(self, "psd", _frozen(psd))
+        object.__setattr__(self, "output_names", names)
+
+    def check_measured(self):
+        """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values."""
+        for row, name in zip(self.psd, self.output_names):
+            bad = np.flatnonzero(~np.isfinite(row) | (row < 0))
+            if bad.size:
+                raise DataError(
+                    f"measured PSD of output {name!r} must be finite and >= 0, got {row[bad[0]]} "
+                    f"at {self.frequency[bad[0]]:g} Hz (index {bad[0]})")
+        return self
+
+    def select(self, names):
+        """The PSDs of the named outputs, in that order."""
+        names = [names] if isinstance(names, str) else list(names)
+        rows = []
+        for name in names:
+            if name not in self.output_names:
+                raise ParameterError(
+                    f"output name must be one of {list(self.output_names)}, got {name!r}")
+            rows.append(self.output_names.index(name))
+        return self._with(psd=self.psd[rows], output_names=tuple(names))
+
+    def band(self, lower, upper):
+        """The PSDs restricted to lower <= f <= upper [Hz]."""
+        keep = (self.frequency >= lower) & (self.frequency <= upper)
+        return self._with(frequency=self.frequency[keep], psd=self.psd[:, keep])
+
+    def variance(self, lower=0.0, upper=np.inf):
+        """Band variance ∫ G df over [lower, upper] per output [(m/s²)²], trapezoid rule."""
+        keep = (self.frequency >= lower) & (self.frequency <= upper)
+        return np.trapezoid(self.psd[:, keep], self.frequency[keep], axis=-1)
+
+    def rms(self, lower=0.0, upper=np.inf):
+        """RMS value per output over a band [m/s²]."""
+        return np.sqrt(self.variance(lower, upper))
+
+    def peak_frequency(self):
+        """Frequency of the PSD maximum per output [Hz]."""
+        return self.frequency[np.argmax(self.psd, axis=-1)]
+
+    def _with(self, **changes):
+        fields = dict(frequency=self.frequency, psd=self.psd, output_names=self.output_names,
+                      window_length=self.window_length, n_windows=self.n_windows,
+                      lowpass=self.lowpass, source=self.source, unit=self.unit)
+        fields.update(changes)
+        return ResponsePSD(**fields)
+
+    def to_dict(self):
+        """JSON-ready dict of the PSD and its metadata."""
+        return {"frequency": self.frequency.tolist(), "psd": self.psd.tolist(),
+                "output_names": list(self.output_names), "window_length": self.window_length,
+                "n_windows": self.n_windows, "source": self.source, "unit": self.unit,
+                "lowpass": None if self.lowpass is None else self.lowpass.to_dict()}
+
+
+@dataclass(frozen=True, eq=False)
+class FRF:
+    """Accelerance frequency-response functions between points of the deck.
+
+    Attributes
+    ----------
+    frequency : ndarray, shape (n_frequencies,)
+        Frequencies [Hz].
+    values : ndarray of complex, shape (n_outputs, n_inputs, n_frequencies)
+        Acceleration at each output per unit vertical force at each input [(m/s²)/N].
+    output_names, input_names : tuple of str
+    occupied : bool
+        True when the crowd's apparent mass is included.
+    unit : str
+    """
+
+    frequency: np.ndarray
+    values: np.ndarray
+    output_names: tuple
+    input_names: tuple
+    occupied: bool = False
+    unit: str = "(m/s²)/N"
+
+    def __post_init__(self):
+        object.__setattr__(self, "frequency", _frozen(self.frequency))
+        object.__setattr__(self, "values", _frozen(self.values, complex))
+
+    def magnitude(self, output, input=None):
+        """|H| [(m/s²)/N] of one output/input pair (input defaults to the output itself)."""
+        o = self.output_names.index(output)
+        i = self.input_names.index(output if input is None else input)
+        return np.abs(self.values[o, i])
+
+
+@dataclass(frozen=True, eq=False)
+class EffectiveModalProperties:
+    """Modal properties of the occupied structure (smeared crowd of MSDs, physics.md §2.7).
+
+    Attributes
+    ----------
+    frequencies : ndarray, shape (n_modes,)
+        Effective natural frequencies f = |λ|/2π [Hz], one per structural mode.
+    damping_ratios : ndarray, shape (n_modes,)
+        Effective damping ratios ξ = −Re λ/|λ| [-].
+    participation : ndarray, shape (n_modes,)
+        Share of the pole's modal kinetic energy in that structural mode [-]; near 1 for a
+        structure-like pole.
+    interaction_frequencies, interaction_damping_ratios : ndarray
+        The remaining, MSD-like poles (the crowd's own resonance), kept apart [Hz], [-].
+    """
+
+    frequencies: np.ndarray
+    damping_ratios: np.ndarray
+    participation: np.ndarray
+    interaction_frequencies: np.ndarray
+    interaction_damping_ratios: np.ndarray
+
+    def to_dict(self):
+        """JSON-ready dict."""
+        return {name: np.asarray(getattr(self, name)).tolist() for name in
+                ("frequencies", "damping_ratios", "participation", "interaction_frequencies",
+                 "interaction_damping_ratios")}
+
+
+@dataclass(frozen=True, eq=False)
+class HSIEstimate:
+    """Result of :func:`crowdvib.estimate_hsi` (paper Eq. 5 and 6).
+
+    Attributes
+    ----------
+    msd : MSDModel
+        The estimated mass-spring-damper model (f_h1 [Hz], ξ_h1 [-], μ_h1 [-]).
+    cost : float
+        Objective J(θ̂) = Σ_l γ_l ‖G̃_l − G_l(θ̂)‖² / ‖G̃_l‖² [-] (paper Eq. 6).
+    cost_no_hsi : float
+        The same objective for the structure without HSI (crowd as moving forces only) [-].
+    n_evaluations : int
+        Forward-model evaluations over all starting points.
+    success : bool
+        Whether the best start converged (``least_squares`` status > 0).
+    active_bounds : tuple of str
+        Parameters of the optimum that sit on a bound, e.g. ``("damping_ratio:upper",)``.
+    free_parameters : tuple of str
+        The estimated parameters.
+    bounds : dict
+        Parameter → (lower, upper).
+    band : tuple of float
+        Analysis band [Hz].
+    output_names : tuple of str
+    output_weights : ndarray
+        γ_l, normalised to sum 1.
+    starts : tuple of dict
+        Per starting point: ``start``, ``estimate``, ``cost``, ``n_evaluations``, ``status``.
+    message : str
+        The optimiser's message for the best start.
+    """
+
+    msd: object
+    cost: float
+    cost_no_hsi: float
+    n_evaluations: int
+    success: bool
+    active_bounds: tuple
+    free_parameters: tuple
+    bounds: dict
+    band: tuple
+    output_names: tuple
+    output_weights: np.ndarray
+    starts: tuple = field(default=())
+    message: str = ""
+
+    @property
+    def relative_cost(self):
+        """J(θ̂)/J(no HSI) [-]: the paper's "residual relative to no HSI"."""
+        return self.cost / self.cost_no_hsi if self.cost_no_hsi > 0 else np.nan
+
+    def to_dict(self):
+        """JSON-ready dict; the estimate sits under ``"estimate"``."""
+        return {
+            "estimate": self.msd.to_dict(),
+            "cost": self.cost, "cost_no_hsi": self.cost_no_hsi,
+            "relative_cost": self.relative_cost, "n_evaluations": self.n_evaluations,
+            "success": self.success, "active_bounds": list(self.active_bounds),
+            "free_parameters": list(self.free_parameters),
+            "bounds": {k: list(v) for k, v in self.bounds.items()},
+            "band": list(self.band), "output_names": list(self.output_names),
+            "output_weights": np.asarray(self.output_weights).tolist(),
+            "starts": [dict(s) for s in self.starts], "message": self.message,
+        }

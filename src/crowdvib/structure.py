@@ -1,0 +1,314 @@
+"""The empty footbridge as a modal model (physics.md §0, §2.1, §2.7).
+
+A :class:`ModalModel` holds natural frequencies, damping ratios and modal masses, the mode shapes
+sampled on the walkway (positions along the deck × lanes across it × modes) and named output
+points with their mode-shape rows. It is the bottom layer: everything else reads it, nothing here
+reads anything else of crowdvib but the validation helpers.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._validation import as_float_array, check_damping_ratio, check_non_negative, check_positive
+from .errors import ParameterError
+
+__all__ = ["ModalModel"]
+
+
+def _readonly(array):
+    array = np.array(array, dtype=float)
+    array.flags.writeable = False
+    return array
+
+
+def _trapezoid_weights(points, lower, upper):
+    """Quadrature weights of ``points`` for ∫_lower^upper f: trapezoid between the points,
+    the end values held constant out to the limits (so a single point gets the whole length)."""
+    weights = np.zeros(points.size)
+    if points.size > 1:
+        gaps = np.diff(points)
+        weights[:-1] += gaps / 2
+        weights[1:] += gaps / 2
+    weights[0] += points[0] - lower
+    weights[-1] += upper - points[-1]
+    return weights
+
+
+@dataclass(frozen=True, eq=False)
+class ModalModel:
+    """Modal model of an empty footbridge.
+
+    Parameters
+    ----------
+    frequencies : array_like, shape (n_modes,)
+        Natural frequencies f_j [Hz], > 0.
+    damping_ratios : array_like, shape (n_modes,)
+        Modal damping ratios ξ_j [-], as fractions (0.005, not 0.5 %).
+    modal_masses : array_like, shape (n_modes,)
+        Modal masses m_j = φ_jᵀ M φ_j [kg] for the scaling of ``mode_shapes``: the engaged physical
+        mass for shapes scaled to 1 at the antinode, 1 for mass-normalised shapes.
+    positions : array_like, shape (n_positions,)
+        Stations along the walkway [m], strictly increasing; the walkway runs from the first to the
+        last station.
+    mode_shapes : array_like, shape (n_positions, n_modes) or (n_lanes, n_positions, n_modes)
+        Vertical mode-shape values at the stations, one slice per lane.
+    width : float
+        Walkway width B [m].
+    lanes : array_like, shape (n_lanes,), optional
+        Lateral coordinates of the lanes [m], increasing within [0, width]; default one lane at
+        mid-width. Several lanes are needed when modes twist the deck.
+    output_names : sequence of str
+        Names of the output points (accelerometer locations).
+    output_shapes : array_like, shape (n_outputs, n_modes)
+        Mode-shape rows φ_o at the output points, in the scaling of ``mode_shapes``.
+    name : str
+        A label for reports.
+
+    Notes
+    -----
+    Every formula in crowdvib is invariant to the mode-shape scaling as long as ``modal_masses``
+    matches it (physics.md §0), so FE exports (mass-normalised) and unity-scaled tables give the
+    same physics.
+    """
+
+    frequencies: np.ndarray
+    damping_ratios: np.ndarray
+    modal_masses: np.ndarray
+    positions: np.ndarray
+    mode_shapes: np.ndarray
+    width: float
+    output_names: tuple
+    output_shapes: np.ndarray
+    lanes: np.ndarray = None
+    name: str = "footbridge"
+    _area_weights: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self):
+        frequencies = check_positive("frequencies", np.atleast_1d(self.frequencies), unit="Hz")
+        n_modes = frequencies.size
+        damping = check_damping_ratio("damping_ratios", np.atleast_1d(self.damping_ratios),
+                                      allow_zero=True)
+        masses = check_positive("modal_masses", np.atleast_1d(self.modal_masses), unit="kg")
+        for label, array in (("damping_ratios", damping), ("modal_masses", masses)):
+            if array.shape != (n_modes,):
+                raise ParameterError(
+                    f"{label} must have one entry per mode ({n_modes}), got shape {array.shape}")
+        positions = as_float_array("positions", self.positions, ndim=1)
+        if positions.size < 2 or np.any(np.diff(positions) <= 0):
+            raise ParameterError(
+                "positions must hold at least 2 strictly increasing stations [m], "
+                f"got {positions.size} station(s)" + ("" if positions.size < 2 else
+                f", first non-increasing at index {int(np.flatnonzero(np.diff(positions) <= 0)[0]) + 1}"))
+        width = check_positive("width", self.width, unit="m")
+        shapes = as_float_array("mode_shapes", self.mode_shapes)
+        if shapes.ndim == 2:
+            shapes = shapes[np.newaxis]
+        if shapes.ndim != 3 or shapes.shape[1:] != (positions.size, n_modes):
+            raise ParameterError(
+                "mode_shapes must have shape (n_positions, n_modes) = "
+                f"({positions.size}, {n_modes}) or (n_lanes, {positions.size}, {n_modes}), "
+                f"got {np.shape(self.mode_shapes)}")
+        lanes = (np.array([width / 2]) if self.lanes is None
+                 else check_non_negative("lanes", np.atleast_1d(self.lanes), unit="m"))
+        if lanes.shape != (shapes.shape[0],):
+            raise ParameterError(
+                f"lanes must have one entry per lane of mode_shapes ({shapes.shape[0]}), "
+                f"got shape {lanes.shape}")
+        if np.any(np.diff(lanes) <= 0) or lanes[-1] > width:
+            raise ParameterError(
+                f"lanes must increase within [0, width={width:g}] m, got {lanes.tolist()}")
+        names = tuple(str(n) for n in self.output_names)
+        if len(set(names)) != len(names):
+            raise ParameterError(f"output_names must be unique, got {names}")
+        outputs = as_float_array("output_shapes", self.output_shapes)
+        outputs = outputs.reshape(len(names), -1) if outputs.size else outputs.reshape(0, n_modes)
+        if outputs.shape != (len(names), n_modes):
+            raise ParameterError(
+                f"output_shapes must have shape (n_outputs, n_modes) = ({len(names)}, {n_modes}), "
+                f"got {np.shape(self.output_shapes)}")
+        weights = np.outer(_trapezoid_weights(lanes, 0.0, width),
+                           _trapezoid_weights(positions, positions[0], positions[-1]))
+        for name, value in (("frequencies", frequencies), ("damping_ratios", damping),
+                            ("modal_masses", masses), ("positions", positions),
+                            ("mode_shapes", shapes), ("lanes", lanes),
+                            ("output_shapes", outputs), ("_area_weights", weights)):
+            object.__setattr__(self, name, _readonly(value))
+        object.__setattr__(self, "width", width)
+        object.__setattr__(self, "output_names", names)
+
+    # ------------------------------------------------------------------ geometry
+    @property
+    def n_modes(self):
+        """Number of structural modes."""
+        return self.frequencies.size
+
+    @property
+    def n_outputs(self):
+        """Number of output points."""
+        return len(self.output_names)
+
+    @property
+    def length(self):
+        """Walkway length L [m]."""
+        return float(self.positions[-1] - self.positions[0])
+
+    @property
+    def area(self):
+        """Walkway area A = L·B [m²]."""
+        return self.length * self.width
+
+    def influence_matrix(self, density):
+        """Crowd-influence matrix Ψ = d ∫_A φ φᵀ dA [persons] (physics.md §2.7).
+
+        Trapezoidal quadrature along the walkway and across the lanes (outer lanes held constant
+        to the deck edges). For a sine mode scaled to 1 and a full deck, Ψ₁₁ = d·L·B/2 = n/2.
+
+        Parameters
+        ----------
+        density : float
+            Pedestrian density d [persons/m²], >= 0.
+
+        Returns
+        -------
+        ndarray, shape (n_modes, n_modes)
+        """
+        density = check_non_negative("density", density, unit="persons/m²")
+        shapes = self.mode_shapes
+        return density * np.einsum("lp,lpi,lpj->ij", self._area_weights, shapes, shapes)
+
+    def modal_mass_ratios(self, density, body_mass):
+        """Crowd-to-structure modal mass ratios μ_m,j = m_h Ψ_jj / m_j [-] (physics.md §2.7)."""
+        body_mass = check_positive("body_mass", body_mass, unit="kg")
+        return body_mass * np.diag(self.influence_matrix(density)) / self.modal_masses
+
+    def shapes_at(self, x, y=None):
+        """Mode-shape rows at walkway coordinates, by linear interpolation [scaling of the model].
+
+        Parameters
+        ----------
+        x : array_like
+            Positions along the walkway [m]; outside the walkway the shapes are 0.
+        y : array_like, optional
+            Lateral positions [m]; default mid-width. Between lanes linear, beyond the outer lanes
+            constant.
+
+        Returns
+        -------
+        ndarray, shape x.shape + (n_modes,)
+        """
+        x = np.asarray(x, dtype=float)
+        y = np.full(x.shape, self.width / 2) if y is None else np.broadcast_to(y, x.shape)
+        per_lane = np.stack([
+            np.stack([np.interp(x, self.positions, lane[:, j], left=0.0, right=0.0)
+                      for j in range(self.n_modes)], axis=-1)
+            for lane in self.mode_shapes])
+        if self.lanes.size == 1:
+            return per_lane[0]
+        index = np.clip(np.searchsorted(self.lanes, y) - 1, 0, self.lanes.size - 2)
+        low, high = self.lanes[index], self.lanes[index + 1]
+        t = np.clip((y - low) / (high - low), 0.0, 1.0)[..., np.newaxis]
+        pick = np.arange(x.size).reshape(x.shape)
+        lower = per_lane[index, pick]
+        upper = per_lane[index + 1, pick]
+        return (1 - t) * lower + t * upper
+
+    def output_index(self, names):
+        """Indices of the named outputs; a :class:`ParameterError` lists the known names."""
+        if isinstance(names, str):
+            names = [names]
+        index = []
+        for name in names:
+            if name not in self.output_names:
+                raise ParameterError(
+                    f"output name must be one of {list(self.output_names)}, got {name!r}")
+            index.append(self.output_names.index(name))
+        return np.array(index, dtype=int)
+
+    # ------------------------------------------------------------------ variants
+    def rescaled(self, factors):
+        """The same physics with mode j scaled by ``factors[j]`` (m_j scales by factors[j]²).
+
+        A negative factor flips the sign of a mode; ``1/sqrt(m_j)`` gives mass-normalised shapes.
+        """
+        factors = as_float_array("factors", np.broadcast_to(factors, (self.n_modes,)))
+        if np.any(factors == 0):
+            raise ParameterError(f"factors must be non-zero, got {factors.tolist()}")
+        return self.replace(mode_shapes=self.mode_shapes * factors,
+                            output_shapes=self.output_shapes * factors,
+                            modal_masses=self.modal_masses * factors**2)
+
+    def mass_normalised(self):
+        """The same physics with mass-normalised shapes (m_j = 1)."""
+        return self.rescaled(1.0 / np.sqrt(self.modal_masses))
+
+    def replace(self, **changes):
+        """A copy with some fields changed (validated again)."""
+        fields = dict(frequencies=self.frequencies, damping_ratios=self.damping_ratios,
+                      modal_masses=self.modal_masses, positions=self.positions,
+                      mode_shapes=self.mode_shapes, width=self.width,
+                      output_names=self.output_names, output_shapes=self.output_shapes,
+                      lanes=self.lanes, name=self.name)
+        fields.update(changes)
+        return ModalModel(**fields)
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def simply_supported_beam(cls, span, width, frequency, damping_ratio, modal_mass, n_modes=1,
+                              *, n_points=201, outputs=None, name="simply supported beam"):
+        """Simply supported beam with sine modes scaled to 1 at their antinode.
+
+        Parameters
+        ----------
+        span : float
+            Span L [m].
+        width : float
+            Walkway width B [m].
+        frequency : float or array_like
+            f_1 [Hz] (then f_j = j² f_1, Euler–Bernoulli beam) or one frequency per mode.
+        damping_ratio : float or array_like
+            ξ_j [-], a fraction, one value or one per mode.
+        modal_mass : float or array_like
+            Modal mass [kg] of the unity-scaled modes (= half the beam mass for a uniform beam),
+            one value or one per mode.
+        n_modes : int
+            Number of bending modes.
+        n_points : int
+            Stations along the span for the sampled shapes.
+        outputs : dict of str to float, optional
+            Output points as name → position along the span [m]; default ``{"midspan": L/2}``.
+        name : str
+            A label for reports.
+
+        Examples
+        --------
+        The paper's numerical example (physics.md §8.1):
+
+        >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+        >>> float(bridge.influence_matrix(0.5)[0, 0])
+        37.5
+        """
+        span = check_positive("span", span, unit="m")
+        if int(n_modes) != n_modes or n_modes < 1:
+            raise ParameterError(f"n_modes must be a positive integer, got {n_modes!r}")
+        if int(n_points) != n_points or n_points < 3:
+            raise ParameterError(f"n_points must be an integer >= 3, got {n_points!r}")
+        order = np.arange(1, int(n_modes) + 1)
+        frequency = np.atleast_1d(np.asarray(frequency, dtype=float))
+        frequencies = frequency[0] * order**2 if frequency.size == 1 else frequency
+        outputs = {"midspan": span / 2} if outputs is None else dict(outputs)
+        for label, x in outputs.items():
+            if not 0.0 <= float(x) <= span:
+                raise ParameterError(
+                    f"outputs[{label!r}] must lie on the span [0, {span:g}] m, got {x!r}")
+        positions = np.linspace(0.0, span, int(n_points))
+
+        def sine(x):
+            return np.sin(np.pi * np.outer(np.asarray(x, dtype=float), order) / span)
+
+        return cls(frequencies=frequencies,
+                   damping_ratios=np.broadcast_to(damping_ratio, order.shape),
+                   modal_masses=np.broadcast_to(modal_mass, order.shape),
+                   positions=positions, mode_shapes=sine(positions), width=width,
+                   output_names=tuple(outputs),
+                   output_shapes=sine(list(outputs.values())), name=name)
