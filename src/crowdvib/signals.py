@@ -14,7 +14,8 @@ from ._validation import as_float_array, check_positive
 from .errors import DataError, ParameterError
 from .results import ResponsePSD
 
-__all__ = ["LowPassFilter", "welch_psd", "welch_kernel", "welch_segment_count"]
+__all__ = ["LowPassFilter", "welch_psd", "welch_kernel", "welch_segment_count",
+           "welch_degrees_of_freedom", "synthetic_welch_psd"]
 
 
 @dataclass(frozen=True)
@@ -146,3 +147,49 @@ def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=
                        window_length=segment / sample_rate,
                        n_windows=welch_segment_count(data.shape[1], segment, overlap),
                        lowpass=lowpass, source="welch")
+
+
+def welch_degrees_of_freedom(n_windows, overlap=0.5):
+    """Equivalent degrees of freedom ν of a Hann-window Welch estimate of ``n_windows`` segments.
+
+    ν = 2K / (1 + 2 Σ_j (1 − j/K) ρ_j), ρ_j the squared normalised overlap correlation of
+    the window at a lag of j segment steps (Welch 1967; for Hann at 50 % overlap ρ₁ = 1/36).
+    Each PSD ordinate is then distributed as G·χ²_ν/ν.
+    """
+    k = int(n_windows)
+    if k < 1:
+        raise ParameterError(f"n_windows must be >= 1, got {n_windows!r}")
+    samples = 1024
+    window = _signal.get_window("hann", samples)
+    step = samples - int(samples * overlap)
+    total = 0.0
+    for j in range(1, k):
+        lag = j * step
+        if lag >= samples:
+            break
+        rho = (np.dot(window[:-lag], window[lag:]) / np.dot(window, window)) ** 2
+        total += (1.0 - j / k) * rho
+    return 2.0 * k / (1.0 + 2.0 * total)
+
+
+def synthetic_welch_psd(expected, n_windows, rng=None):
+    """A random PSD with the scatter of a Welch estimate around its expectation.
+
+    Each ordinate is drawn as E[Ĝ]·χ²_ν/ν with ν from :func:`welch_degrees_of_freedom`
+    (independent between bins — real Welch bins are mildly correlated across a Hann main lobe).
+    Used to make a "measured" PSD from the spectral model without a time-domain simulation.
+
+    Parameters
+    ----------
+    expected : ResponsePSD
+        The Welch expectation (``response_psd(..., welch_window_length=T)``).
+    n_windows : int
+        Number of Welch segments of the imagined record (2·duration/T − 1 at 50 % overlap).
+    rng : None, int or numpy.random.Generator
+    """
+    rng = np.random.default_rng(rng)
+    dof = welch_degrees_of_freedom(n_windows)
+    scatter = rng.chisquare(dof, size=expected.psd.shape) / dof
+    return ResponsePSD(frequency=expected.frequency, psd=expected.psd * scatter,
+                       output_names=expected.output_names, window_length=expected.window_length,
+                       n_windows=int(n_windows), lowpass=expected.lowpass, source="synthetic")

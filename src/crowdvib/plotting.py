@@ -1,0 +1,81 @@
+"""Figures. The only module that imports matplotlib, and only when a plot is asked for.
+
+Every function takes result objects and an optional ``ax``, labels axes with units, returns the
+Axes and never calls ``plt.show()``.
+"""
+
+import numpy as np
+
+__all__ = ["plot_psd_comparison"]
+
+
+def _axes(ax):
+    if ax is not None:
+        return ax
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    _, ax = plt.subplots(figsize=(7.5, 4.2), layout="constrained")
+    return ax
+
+
+def plot_psd_comparison(curves, *, output=None, band=None, logscale=True, ax=None, title=None):
+    """Acceleration PSDs of one output on one axes (paper Figs. 3, 12, 17, 20).
+
+    Parameters
+    ----------
+    curves : dict of str to ResponsePSD
+        Legend label → PSD; drawn in order (first: the measurement, as a black line).
+    output : str, optional
+        Output name (default the first output of the first curve).
+    band : (float, float), optional
+        Frequency range [Hz] to show.
+    logscale : bool
+        Logarithmic PSD axis.
+    ax : matplotlib.axes.Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = _axes(ax)
+    styles = [dict(color="black", lw=1.0), dict(color="tab:red", lw=1.6, ls="--"),
+              dict(color="0.55", lw=1.2), dict(color="tab:blue", lw=1.2, ls=":")]
+    unit, top = None, 0.0
+    for (label, psd), style in zip(curves.items(), styles * 4):
+        name = output or psd.output_names[0]
+        row = psd.select(name)
+        keep = slice(None) if band is None else (
+            (row.frequency >= band[0]) & (row.frequency <= band[1]))
+        values = row.psd[0][keep]
+        ax.plot(row.frequency[keep], np.where(values > 0, values, np.nan) if logscale else values,
+                label=label, **style)
+        unit = row.unit
+        top = max(top, float(np.nanmax(values, initial=0.0)))
+    if logscale:
+        ax.set_yscale("log")
+        if top > 0:  # eight decades show every structural feature; below is numerical dust
+            ax.set_ylim(top * 1e-8, top * 3)
+    ax.set_xlabel("Frequency [Hz]")
+    ax.set_ylabel(f"Acceleration PSD [{unit}]")
+    if title:
+        ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    return ax
+
+
+def save_figure(ax, path):
+    """Write the figure of ``ax`` to ``path`` (format from the suffix) atomically, and close it."""
+    import matplotlib.pyplot as plt
+
+    from ._files import atomic_path
+
+    figure = ax.figure
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format=str(path).rsplit(".", 1)[-1], dpi=130)
+    plt.close(figure)
+    return path
