@@ -25,8 +25,8 @@ class ParameterError(CrowdvibError, ValueError):
     """A parameter breaks a rule (sign, range, unit, shape, name)."""
 
 
-class DataError(CrowdvibError, ValueError):
-    """A measured record or PSD cannot be used as it is."""
+class DataError(ParameterError):
+    """A measured record or PSD cannot be used as it is (a bad input, hence a ParameterError)."""
 
 
 class EstimationError(CrowdvibError, RuntimeError):

@@ -1,0 +1,132 @@
+"""PSD conventions against Parseval, closed forms and scipy (physics.md §0, §3, §3.4)."""
+
+import numpy as np
+import pytest
+from scipy import integrate, signal, stats
+
+from crowdvib import Crowd, ModalModel, MSDModel, ZivanovicForce, frf, welch_psd
+from crowdvib.loading import STANDARD_GRAVITY
+from crowdvib.signals import LowPassFilter, welch_kernel
+
+
+def test_crowd_load_variance_matches_campbell_closed_form(paper_bridge, paper_crowd):
+    # physics.md §3.2 check: σ_Q² = Ψ11 W² Σ_c E[α_c²]/2, the expectation over f_s ~ N(μ, σ)
+    # computed here independently by quadrature in the step frequency (not in f).
+    force = ZivanovicForce()
+    f = np.linspace(1e-3, 25.0, 250_001)
+    variance = np.trapezoid(force.modal_load_psd(f, paper_crowd, paper_bridge)[:, 0, 0], f)
+    pdf = stats.norm(paper_crowd.step_frequency_mean, paper_crowd.step_frequency_std).pdf
+
+    def mean_square(c):
+        def integrand(fs):
+            return force.mean_square_dlf(np.full((10,), fs))[c] * pdf(fs)
+        return integrate.quad(integrand, 0.5, 3.5)[0]
+
+    expected = (37.5 * (70 * STANDARD_GRAVITY) ** 2
+                * sum(mean_square(c) for c in range(10)) / 2)
+    assert variance == pytest.approx(expected, rel=1e-3)
+
+
+def test_sdof_frf_matches_closed_form():
+    # Closed form of an SDOF accelerance at the antinode: H = −ω²/(k − ω² m + iωc).
+    bridge = ModalModel.simply_supported_beam(40.0, 2.0, 2.5, 0.01, 30e3)
+    f = np.linspace(0.1, 6.0, 500)
+    w, wn = 2 * np.pi * f, 2 * np.pi * 2.5
+    expected = -w**2 / (30e3 * wn**2 - w**2 * 30e3 + 1j * w * 2 * 0.01 * 30e3 * wn)
+    np.testing.assert_allclose(frf(bridge, f).values[0, 0], expected, rtol=1e-12)
+    # Resonance: |displacement receptance| = 1/(2ξk).
+    at = frf(bridge, [2.5]).values[0, 0, 0] / -(wn**2)
+    assert abs(at) == pytest.approx(1 / (2 * 0.01 * 30e3 * wn**2), rel=1e-12)
+
+
+def test_coupled_poles_match_characteristic_polynomial(paper_bridge, paper_crowd, paper_msd):
+    # 1 mode + smeared MSD is a 2-DOF system (physics.md §2.7); its poles are the roots of
+    # det(λ²M + λC + K) = 0, a quartic written out here by hand.
+    from crowdvib import effective_modal_properties
+    psi, mh = 37.5, 70.0
+    m1, k1 = paper_msd.sprung_mass(mh), paper_msd.stiffness(mh)
+    c1 = paper_msd.damping(mh)
+    m0 = mh - m1
+    ms, ws = 50e3, 2 * np.pi * 2.0
+    M11, M22 = ms + m0 * psi, m1 * psi
+    K11, K12, K22 = ms * ws**2 + k1 * psi, -k1 * psi, k1 * psi
+    C11, C12, C22 = 2 * 0.005 * ms * ws + c1 * psi, -c1 * psi, c1 * psi
+    p11 = np.array([M11, C11, K11])
+    p22 = np.array([M22, C22, K22])
+    p12 = np.array([0.0, C12, K12])
+    quartic = np.polysub(np.polymul(p11, p22), np.polymul(p12, p12))
+    roots = np.roots(quartic)
+    roots = roots[roots.imag > 0]
+    expected = np.sort(np.abs(roots) / (2 * np.pi))
+    props = effective_modal_properties(paper_bridge, paper_crowd, paper_msd)
+    got = np.sort(np.r_[props.frequencies, props.interaction_frequencies])
+    np.testing.assert_allclose(got, expected, rtol=1e-9)
+
+
+def test_welch_of_white_noise_is_flat_at_variance_over_nyquist(rng):
+    # One-sided density convention: white noise of variance σ² has G = σ²/(fs/2) (physics.md §0).
+    fs, sigma = 100.0, 0.7
+    x = rng.normal(0, sigma, size=400_000)
+    psd = welch_psd(x, fs, window_length=20.0)
+    inner = psd.psd[0, 1:-1]
+    assert inner.mean() == pytest.approx(sigma**2 / (fs / 2), rel=0.01)
+    # Parseval: ∫ G df = variance of the record.
+    assert psd.variance()[0] == pytest.approx(x.var(), rel=0.01)
+
+
+def test_welch_psd_equals_scipy_welch(rng):
+    # Same numbers as scipy.signal.welch(Hann, 50 %, constant detrend, density).
+    x = rng.normal(size=(2, 12_000))
+    ours = welch_psd(x, 50.0, window_length=10.0, output_names=("a", "b"))
+    f, ref = signal.welch(x, fs=50.0, window="hann", nperseg=500, noverlap=250,
+                          detrend="constant", scaling="density", axis=-1)
+    np.testing.assert_allclose(ours.frequency, f)
+    np.testing.assert_allclose(ours.psd, ref, rtol=1e-12)
+    assert ours.n_windows == 47
+
+
+def test_welch_kernel_has_unit_area_and_predicts_a_sinusoid():
+    # physics.md §3.4: E[Ĝ](f) = ∫ G(ν) K(f−ν) dν with ∫K = 1. A sinusoid of amplitude A at f0
+    # has G = A²/2 δ(f − f0), so its Welch PSD is (A²/2) K(f − f0), here checked against scipy.
+    T = 20.0
+    nu = np.linspace(-40, 40, 400_001) / T
+    assert np.trapezoid(welch_kernel(nu, T), nu) == pytest.approx(1.0, abs=2e-5)
+    fs, amplitude, f0 = 100.0, 0.3, 2.0 + 0.37 / T      # between two bins
+    t = np.arange(int(600 * fs)) / fs
+    x = amplitude * np.sin(2 * np.pi * f0 * t + 0.4)
+    psd = welch_psd(x, fs, window_length=T)
+    near = np.abs(psd.frequency - f0) < 3 / T
+    expected = amplitude**2 / 2 * welch_kernel(psd.frequency[near] - f0, T)
+    np.testing.assert_allclose(psd.psd[0, near], expected, rtol=0.02, atol=1e-6 * expected.max())
+
+
+def test_lowpass_power_gain_matches_filtered_noise(rng):
+    # A zero-phase filter applies |H|² twice: the PSD of filtered white noise is G·|H|⁴.
+    fs = 100.0
+    lowpass = LowPassFilter(cutoff=5.0, order=4, sample_rate=fs)
+    x = rng.normal(size=600_000)
+    raw = welch_psd(x, fs, window_length=20.0)
+    filtered = welch_psd(x, fs, window_length=20.0, lowpass=lowpass)
+    band = (raw.frequency > 1) & (raw.frequency < 7)
+    ratio = filtered.psd[0, band] / raw.psd[0, band]
+    np.testing.assert_allclose(ratio, lowpass.power_gain(raw.frequency[band]), rtol=0.02,
+                               atol=1e-4)
+    assert filtered.lowpass is lowpass
+
+
+def test_apparent_mass_limits():
+    # physics.md §3.1: M_app(0) = m_h, M_app(∞) = m_h0 = (1 − μ_h1) m_h.
+    msd = MSDModel(3.0, 0.3, 0.95)
+    assert msd.apparent_mass(0.0, 70.0) == pytest.approx(70.0)
+    assert msd.apparent_mass(1e9, 70.0) == pytest.approx(3.5, rel=1e-6)
+
+
+def test_modal_scaling_does_not_change_physics(paper_crowd, paper_msd, welch_grid):
+    # physics.md §0: every formula is invariant to mode scaling with m_j = φᵀMφ.
+    from crowdvib import response_psd
+    bridge = ModalModel.simply_supported_beam(60.0, 4.0, [1.8, 3.1], [0.006, 0.004],
+                                              [60e3, 45e3], n_modes=2,
+                                              outputs={"mid": 30.0, "quarter": 15.0})
+    a = response_psd(bridge, paper_crowd, welch_grid, msd=paper_msd)
+    b = response_psd(bridge.mass_normalised(), paper_crowd, welch_grid, msd=paper_msd)
+    np.testing.assert_allclose(b.psd, a.psd, rtol=1e-9, atol=1e-14 * a.psd.max())
