@@ -14,6 +14,7 @@ __all__ = [
     "BoundWarning",
     "ConvergenceWarning",
     "ResolutionWarning",
+    "DataWarning",
 ]
 
 
@@ -47,3 +48,7 @@ class ConvergenceWarning(CrowdvibWarning):
 
 class ResolutionWarning(CrowdvibWarning):
     """A frequency resolution or record length is too coarse for what is asked."""
+
+
+class DataWarning(CrowdvibWarning):
+    """A measured record is usable but doubtful (flat or clipped stretches)."""
