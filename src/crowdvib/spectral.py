@@ -13,6 +13,7 @@ import numpy as np
 from scipy import sparse
 from scipy.optimize import linear_sum_assignment
 
+from ._linalg import solve_occupied
 from ._validation import check_frequency_grid, check_positive
 from .errors import ParameterError
 from .loading import as_force_model
@@ -52,13 +53,15 @@ def _added_mass_factor(frequency, crowd, msd):
 
 def _occupied_solve(diagonal, added, psi, rhs):
     """Solve [diag(D0) − a(ω) Ψ] X = rhs for every frequency; rhs shape (n_modes, k)."""
-    n_modes = diagonal.shape[1]
-    if n_modes == 1:
+    if diagonal.shape[1] == 1:
         return rhs[np.newaxis] / (diagonal[:, 0] - added * psi[0, 0])[:, np.newaxis, np.newaxis]
-    matrix = -added[:, np.newaxis, np.newaxis] * psi
-    index = np.arange(n_modes)
-    matrix[:, index, index] += diagonal
-    return np.linalg.solve(matrix, np.broadcast_to(rhs, (diagonal.shape[0],) + rhs.shape))
+    return solve_occupied(np.ascontiguousarray(diagonal), np.ascontiguousarray(added),
+                          np.ascontiguousarray(psi), np.ascontiguousarray(rhs, dtype=float))
+
+
+def _direct_projection(diagonal, added, psi, shapes, factor):
+    """Φ_o H B by one solve per frequency; D is complex symmetric, so Φ_o H = solve(D, Φ_oᵀ)ᵀ."""
+    return np.swapaxes(_occupied_solve(diagonal, added, psi, shapes.T), 1, 2) @ factor
 
 
 def _psd_factor(psi):
@@ -122,16 +125,24 @@ class SpectralModel:
         if msd is None or self.crowd.density == 0:
             # Φ_o H with H diagonal: no solve needed.
             transfer = self._shapes[np.newaxis] / self._diagonal[:, np.newaxis, :]
+            projected = transfer @ self._load_factor            # (n_f, n_out, rank)
         else:
-            added = _added_mass_factor(self._model_frequency, self.crowd, msd)
-            # D is complex symmetric, so Φ_o H = (H Φ_oᵀ)ᵀ = solve(D, Φ_oᵀ)ᵀ.
-            transfer = np.swapaxes(
-                _occupied_solve(self._diagonal, added, self._psi, self._shapes.T), 1, 2)
-        projected = transfer @ self._load_factor            # (n_f, n_out, rank)
+            projected = self._occupied_projection(msd)
         psd = (np.abs(projected) ** 2).sum(axis=-1).T * self._weight
         if self._smoothing is not None:
             psd = (self._smoothing @ psd.T).T
         return psd
+
+    def _occupied_projection(self, msd):
+        """Φ_o H(ω) B for every model frequency, shape (n_f, n_outputs, rank)."""
+        if self.structure.n_modes > 1:
+            projected = _modal_projection(self.structure, self.crowd, msd, self._psi,
+                                          self._load_factor, self._shapes, self._model_frequency)
+            if projected is not None:
+                return projected
+        added = _added_mass_factor(self._model_frequency, self.crowd, msd)
+        return _direct_projection(self._diagonal, added, self._psi, self._shapes,
+                                  self._load_factor)
 
     def psd(self, msd=None):
         """PSD at the outputs → :class:`ResponsePSD`."""
@@ -139,6 +150,70 @@ class SpectralModel:
                            output_names=self.output_names,
                            window_length=self.welch_window_length, lowpass=self.lowpass,
                            source="model")
+
+
+def _reduced_matrices(structure, crowd, msd, psi, factor):
+    """Mass, damping and stiffness of the smeared crowd–structure model (physics.md §2.7).
+
+    Coordinates: structural modes z (n_modes) and MSD coordinates η (rank of Ψ = B Bᵀ):
+    M_r = diag(M_s + m_h0 Ψ, m_h1 I), K_r = [[K_s + k_h1 Ψ, −k_h1 B], [−k_h1 Bᵀ, k_h1 I]], C_r alike.
+    Eliminating η at frequency ω gives back D(ω) = K_s − ω²(M_s + M_app Ψ) + iωC_s (§3.1).
+    """
+    n_modes, rank = structure.n_modes, factor.shape[1]
+    m_h1 = msd.sprung_mass(crowd.body_mass)
+    m_h0 = crowd.body_mass - m_h1
+    k_h1, c_h1 = msd.stiffness(crowd.body_mass), msd.damping(crowd.body_mass)
+    wn = 2 * np.pi * structure.frequencies
+    m = structure.modal_masses
+
+    def coupled(structural, human):
+        return np.block([[np.diag(structural) + human * psi, -human * factor],
+                         [-human * factor.T, human * np.eye(rank)]])
+
+    mass = np.block([[np.diag(m) + m_h0 * psi, np.zeros((n_modes, rank))],
+                     [np.zeros((rank, n_modes)), m_h1 * np.eye(rank)]])
+    return mass, coupled(2 * structure.damping_ratios * m * wn, c_h1), coupled(m * wn**2, k_h1)
+
+
+def _state_matrix(mass, damping, stiffness):
+    size = mass.shape[0]
+    inverse_mass = np.linalg.inv(mass)
+    return np.block([[np.zeros((size, size)), np.eye(size)],
+                     [-inverse_mass @ stiffness, -inverse_mass @ damping]]), inverse_mass
+
+
+# The modal expansion is checked against a direct solve at a few frequencies; beyond this
+# relative mismatch (a nearly defective state matrix) the direct solve is used instead.
+_MODAL_CHECK_TOLERANCE = 1e-7
+
+
+def _modal_projection(structure, crowd, msd, psi, factor, shapes, frequency):
+    """Φ_o H(ω) B by complex modal superposition of the reduced model, or None if unreliable.
+
+    With A = V Λ V⁻¹ the state matrix of (M_r, C_r, K_r), z(ω) = Σ_p V_zp (V⁻¹ F)_p / (iω − λ_p):
+    one small eigen-decomposition per MSD model replaces one LU solve per frequency.
+    """
+    mass, damping, stiffness = _reduced_matrices(structure, crowd, msd, psi, factor)
+    state, inverse_mass = _state_matrix(mass, damping, stiffness)
+    poles, vectors = np.linalg.eig(state)
+    size, n_modes = mass.shape[0], structure.n_modes
+    try:
+        inverse_vectors = np.linalg.inv(vectors)
+    except np.linalg.LinAlgError:
+        return None
+    left = shapes @ vectors[:n_modes]                                  # (n_out, 2N)
+    right = inverse_vectors[:, size:] @ inverse_mass[:, :n_modes] @ factor   # (2N, rank)
+    omega = 2 * np.pi * frequency
+    resolvent = 1.0 / (1j * omega[:, np.newaxis] - poles)             # (n_f, 2N)
+    projected = np.stack([(resolvent * row) @ right for row in left], axis=1)
+    probe = np.unique(np.linspace(0, frequency.size - 1, 5).astype(int))
+    direct = _direct_projection(_dynamic_stiffness_diagonal(structure, omega[probe]),
+                                _added_mass_factor(frequency[probe], crowd, msd), psi, shapes,
+                                factor)
+    scale = np.abs(direct).max()
+    if scale > 0 and np.abs(projected[probe] - direct).max() > _MODAL_CHECK_TOLERANCE * scale:
+        return None
+    return projected
 
 
 def _welch_smoothing(frequency, window_length):
@@ -149,15 +224,13 @@ def _welch_smoothing(frequency, window_length):
     lower = max(frequency[0] - reach, 0.0)
     fine = lower + step * np.arange(int(np.ceil((frequency[-1] + reach - lower) / step)) + 1)
     half = int(round(reach / step))
-    rows, cols, vals = [], [], []
-    for row, f in enumerate(frequency):
-        centre = int(round((f - lower) / step))
-        index = np.arange(max(centre - half, 0), min(centre + half, fine.size - 1) + 1)
-        rows.append(np.full(index.size, row))
-        cols.append(index)
-        vals.append(welch_kernel(f - fine[index], window_length) * step)
-    matrix = sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                               shape=(frequency.size, fine.size))
+    centre = np.rint((frequency - lower) / step).astype(int)
+    index = centre[:, np.newaxis] + np.arange(-half, half + 1)
+    inside = (index >= 0) & (index < fine.size)
+    rows = np.broadcast_to(np.arange(frequency.size)[:, np.newaxis], index.shape)[inside]
+    cols = index[inside]
+    values = welch_kernel(frequency[rows] - fine[cols], window_length) * step
+    matrix = sparse.csr_matrix((values, (rows, cols)), shape=(frequency.size, fine.size))
     return fine, matrix
 
 
@@ -282,26 +355,9 @@ def effective_modal_properties(structure, crowd, msd):
             participation=np.ones(n_modes), interaction_frequencies=empty,
             interaction_damping_ratios=empty)
     psi = structure.influence_matrix(crowd.density)
-    factor = _psd_factor(psi)
-    rank = factor.shape[1]
-    m_h1 = msd.sprung_mass(crowd.body_mass)
-    m_h0 = crowd.body_mass - m_h1
-    k_h1, c_h1 = msd.stiffness(crowd.body_mass), msd.damping(crowd.body_mass)
-    wn = 2 * np.pi * structure.frequencies
-    m = structure.modal_masses
-
-    def coupled(structural, human):
-        return np.block([[np.diag(structural) + human * psi, -human * factor],
-                         [-human * factor.T, human * np.eye(rank)]])
-
-    mass = np.block([[np.diag(m) + m_h0 * psi, np.zeros((n_modes, rank))],
-                     [np.zeros((rank, n_modes)), m_h1 * np.eye(rank)]])
-    stiffness = coupled(m * wn**2, k_h1)
-    damping = coupled(2 * structure.damping_ratios * m * wn, c_h1)
-    size = n_modes + rank
-    inverse_mass = np.linalg.inv(mass)
-    state = np.block([[np.zeros((size, size)), np.eye(size)],
-                      [-inverse_mass @ stiffness, -inverse_mass @ damping]])
+    mass, damping, stiffness = _reduced_matrices(structure, crowd, msd, psi, _psd_factor(psi))
+    size = mass.shape[0]
+    state, _ = _state_matrix(mass, damping, stiffness)
     poles, vectors = np.linalg.eig(state)
     # One pole of each conjugate pair (over-damped real poles are kept once each).
     keep = (poles.imag > 0) | ((poles.imag == 0) & (np.abs(poles.real) > 0))

@@ -1,0 +1,94 @@
+"""Crowd relations, walking-force constants and walkway quadrature against physics.md check values."""
+
+import numpy as np
+import pytest
+
+from crowdvib import Crowd, ModalModel, YoungForce, ZivanovicForce
+from crowdvib.crowd import bruno_venuti_step_frequency, weidmann_speed
+
+
+@pytest.mark.parametrize("density, speed, step", [
+    # physics.md §4 table (Weidmann speed, Bruno & Venuti step frequency)
+    (0.25, 1.339, 1.913), (0.50, 1.298, 1.890), (0.80, 1.165, 1.809), (1.00, 1.058, 1.735),
+    (1.50, 0.807, 1.513)])
+def test_crowd_relations(density, speed, step):
+    assert weidmann_speed(density) == pytest.approx(speed, abs=5e-4)
+    crowd = Crowd.from_density(density)
+    assert crowd.walking_speed == pytest.approx(speed, abs=5e-4)
+    assert crowd.step_frequency_mean == pytest.approx(step, abs=5e-4)
+    assert crowd.step_frequency_std == 0.175      # AFGC 2006 via the paper
+
+
+def test_bruno_venuti_reproduces_paper():
+    # physics.md §4: f_s(1.30) = 1.891 Hz, the paper's 1.89 Hz.
+    assert bruno_venuti_step_frequency(1.30) == pytest.approx(1.891, abs=5e-4)
+
+
+def test_arrival_rate():
+    # physics.md §2.4: λ = d·B·v.
+    assert Crowd(0.5, 1.3, 1.89).arrival_rate(3.0) == pytest.approx(1.95)
+
+
+@pytest.mark.parametrize("fs, mu1", [(1.68, 0.2762), (1.77, 0.3150), (1.87, 0.3564),
+                                     (1.89, 0.3644), (2.00, 0.4051)])
+def test_zivanovic_first_harmonic(fs, mu1):
+    # physics.md §1.1 check values of μ₁(f_s).
+    assert ZivanovicForce.first_harmonic_dlf(fs) == pytest.approx(mu1, abs=1e-4)
+
+
+def test_zivanovic_subharmonic_means():
+    # physics.md §1.1 table, subharmonic DLFs at α₁ = μ₁(1.89) = 0.3644 (mean-α₁ option).
+    force = ZivanovicForce(subharmonics_follow_sampled_dlf=False)
+    rms = np.sqrt(force.mean_square_dlf(np.full(10, 1.89))[5:])
+    np.testing.assert_allclose(rms, [0.0126, 0.0370, 0.0204, 0.0140, 0.0127], atol=1e-4)
+
+
+def test_zivanovic_sampling_statistics(rng):
+    # Sampled DLFs follow the table: α₂ ~ N(0.07, 0.03), α₁ ~ N(μ₁, 0.16 μ₁) (physics.md §1.1).
+    amplitudes, phases = ZivanovicForce().sample(np.full(200_000, 1.89), rng)
+    assert amplitudes.shape == phases.shape == (200_000, 10)
+    assert amplitudes[:, 0].mean() == pytest.approx(0.3644, rel=0.005)
+    assert amplitudes[:, 0].std() == pytest.approx(0.16 * 0.3644, rel=0.02)
+    assert amplitudes[:, 1].mean() == pytest.approx(0.07, rel=0.02)   # truncation adds < 1 %
+    assert np.all(amplitudes >= 0)
+    assert phases.min() >= 0 and phases.max() < 2 * np.pi
+
+
+def test_young_dlfs():
+    # physics.md §1.3 at f_s = 2 Hz: α₁ = 0.41·1.05, α₂ = 0.069 + 0.0056·4, α₃ = 0.033 + 0.0064·6,
+    # α₄ = 0.013 + 0.0065·8; α₁ capped at 0.56 (f_s = 3 Hz).
+    dlf = YoungForce().dlf(np.full(4, 2.0))
+    np.testing.assert_allclose(dlf, [0.4305, 0.0914, 0.0714, 0.065], rtol=1e-12)
+    assert YoungForce().dlf(np.full(4, 3.0))[0] == 0.56
+
+
+def test_time_history_is_seeded_and_has_the_right_power():
+    force = ZivanovicForce()
+    t = np.arange(0, 600, 0.01)
+    a = force.time_history(t, 1.89, 70.0, rng=5)
+    np.testing.assert_array_equal(a, force.time_history(t, 1.89, 70.0, rng=5))
+    assert not np.array_equal(a, force.time_history(t, 1.89, 70.0, rng=6))
+    # The ten components sit at distinct frequencies, so over a long record the mean square of
+    # W Σ α_c sin(2π r_c f_s t + θ_c) is W² Σ α_c²/2 (physics.md §3.2 check, one pedestrian).
+    amplitudes, _ = force.sample(np.array([1.89]), np.random.default_rng(5))
+    expected = (70 * 9.81) ** 2 * np.sum(amplitudes**2) / 2
+    assert np.mean(a**2) == pytest.approx(expected, rel=0.01)
+
+
+def test_influence_matrix_of_a_torsional_mode():
+    # φ(x, y) = sin(πx/L)·(2y/B − 1): ∫∫ φ² = (L/2)(B/3), cross term with bending ∫(2y/B−1) = 0.
+    L, B = 25.0, 6.9
+    x = np.linspace(0, L, 101)
+    lanes = np.linspace(0, B, 201)
+    bending = np.sin(np.pi * x / L)
+    shapes = np.stack([np.column_stack([bending, bending * (2 * y / B - 1)]) for y in lanes])
+    model = ModalModel(frequencies=[3.3, 4.14], damping_ratios=[0.0086, 0.0025],
+                       modal_masses=[40e3, 30e3], positions=x, mode_shapes=shapes, width=B,
+                       lanes=lanes, output_names=["edge"], output_shapes=[[1.0, 1.0]])
+    psi = model.influence_matrix(1.0)
+    assert psi[0, 0] == pytest.approx(L / 2 * B, rel=1e-6)
+    assert psi[1, 1] == pytest.approx(L / 2 * B / 3, rel=1e-4)
+    assert psi[0, 1] == pytest.approx(0.0, abs=1e-9)
+    # Interpolated shapes: at the edge lane the torsion shape is ±sin.
+    rows = model.shapes_at([L / 2, L / 2, 30.0], [0.0, B, B / 2])
+    np.testing.assert_allclose(rows, [[1, -1], [1, 1], [0, 0]], atol=1e-12)
