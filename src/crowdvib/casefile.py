@@ -1,0 +1,704 @@
+"""Case files (TOML) and modal models from CSV files (architecture §1, §6).
+
+A case file describes one bridge and one crowd, and how its records are read and processed::
+
+    name = "eeklo-like"
+    seed = 4                                  # seeds every random draw of `crowdvib simulate`
+
+    [structure]                               # a modal model from CSV files …
+    modal_table = "eeklo_like_modes.csv"      #   frequency, damping_ratio, modal_mass per mode
+    mode_shapes = "eeklo_like_shapes.csv"     #   position [, lane], one column per mode
+    width = 3.0                               #   [m]
+    outputs = { main_span = 48.0 }            #   name = position [m] or [x, y]; or
+    # output_points = "points.csv"            #   name, one column per mode (the shape rows)
+    # type = "simply_supported_beam"          # … or a beam: span, width, frequency, …
+
+    [crowd]        density, walking_speed, step_frequency_mean, step_frequency_std, body_mass
+    [hsi]          frequency, damping_ratio, mass_ratio (MSD of `simulate`; μ_h1 of `estimate`)
+    [measurement]  files, format, channels, units, sample_rate, time_frame, filter, resample,
+                   window_length, overlap, detrend
+    [estimation]   band, outputs, weights, starts, bounds, free_parameters, match_welch,
+                   convergence_norm; [estimation.step_frequencies] cutoff, band, starts, bounds
+    [simulation]   duration, sample_rate, warm_up, hsi, record_sample_rate, formats, dtype
+    [expected]     the MSD (and step frequencies) a synthetic record was made with
+
+Paths are relative to the case file. Every value is checked once here; a bad one raises a
+:class:`ParameterError` that names the file and the key, e.g.
+``eeklo_like.toml: crowd.density must be > 0, got -0.5``.
+"""
+
+import csv
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
+from .errors import ParameterError
+from .pedestrian import MSDModel
+from .structure import ModalModel
+
+__all__ = ["Case", "MeasurementSpec", "EstimationSpec", "StepFrequencySpec", "SimulationSpec",
+           "load_case", "read_modal_model", "write_modal_model", "paper_example_case"]
+
+_REQUIRED = object()
+
+
+class _Table:
+    """One TOML table with its dotted prefix and file, for messages that point at the key."""
+
+    def __init__(self, data, prefix, path):
+        if not isinstance(data, dict):
+            raise ParameterError(f"{path.name}: {prefix} must be a table, got {data!r}")
+        self.data, self.prefix, self.path, self.used = data, prefix, path, set()
+
+    def key(self, name):
+        return f"{self.prefix}.{name}" if self.prefix else name
+
+    def error(self, name, rule, value):
+        return ParameterError(f"{self.path.name}: {self.key(name)} {rule}, got {value!r}")
+
+    def has(self, name):
+        return name in self.data
+
+    def raw(self, name, default=_REQUIRED):
+        self.used.add(name)
+        if name not in self.data:
+            if default is _REQUIRED:
+                raise ParameterError(f"{self.path.name}: {self.key(name)} is required")
+            return default
+        return self.data[name]
+
+    def number(self, name, default=_REQUIRED, *, rule=None):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(name, "must be a number", value)
+        value = float(value)
+        if not np.isfinite(value):
+            raise self.error(name, "must be finite", value)
+        if rule == "positive" and not value > 0:
+            raise ParameterError(f"{self.path.name}: {self.key(name)} must be > 0, got {value:g}")
+        if rule == "non_negative" and not value >= 0:
+            raise ParameterError(f"{self.path.name}: {self.key(name)} must be >= 0, got {value:g}")
+        if rule == "fraction" and not 0 < value < 1:
+            raise ParameterError(f"{self.path.name}: {self.key(name)} must lie in (0, 1) "
+                                 f"(fractions, not percent), got {value:g}")
+        return value
+
+    def string(self, name, default=_REQUIRED, *, choices=None):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        if not isinstance(value, str):
+            raise self.error(name, "must be a string", value)
+        if choices is not None and value not in choices:
+            raise self.error(name, f"must be one of {list(choices)}", value)
+        return value
+
+    def boolean(self, name, default):
+        value = self.raw(name, default)
+        if not isinstance(value, bool):
+            raise self.error(name, "must be true or false", value)
+        return value
+
+    def pair(self, name, default=_REQUIRED, *, increasing=True):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        try:
+            low, high = (float(v) for v in value)
+        except (TypeError, ValueError):
+            raise self.error(name, "must be a pair [lower, upper] of numbers", value) from None
+        if increasing and not low < high:
+            raise self.error(name, "must have lower < upper", value)
+        return low, high
+
+    def strings(self, name, default=_REQUIRED):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        value = [value] if isinstance(value, str) else value
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            raise self.error(name, "must be a string or a list of strings", value)
+        return tuple(value)
+
+    def numbers(self, name, default=_REQUIRED, *, rule=None):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        try:
+            array = np.array(value, dtype=float)
+        except (TypeError, ValueError):
+            raise self.error(name, "must be a list of numbers", value) from None
+        if not np.all(np.isfinite(array)):
+            raise self.error(name, "must be finite", value)
+        if rule == "positive" and np.any(array <= 0):
+            raise self.error(name, "must be > 0", value)
+        return array
+
+    def table(self, name, *, required=False):
+        value = self.raw(name, _REQUIRED if required else {})
+        return _Table(value, self.key(name), self.path)
+
+    def file(self, name, default=_REQUIRED):
+        value = self.string(name, default)
+        if value is None or value is default:
+            return value
+        path = (self.path.parent / value).resolve()
+        if not path.is_file():
+            raise ParameterError(f"{self.path.name}: {self.key(name)} names a file that does not "
+                                 f"exist: {value!r} (looked for {path})")
+        return path
+
+    def finish(self):
+        unknown = sorted(set(self.data) - self.used)
+        if unknown:
+            raise ParameterError(
+                f"{self.path.name}: unknown key(s) {[self.key(k) for k in unknown]}; known keys "
+                f"are {[self.key(k) for k in sorted(self.used)]}")
+
+
+def _wrap(path, section, exc):
+    """Re-raise a model's own ParameterError with the file and the section prefixed."""
+    return ParameterError(f"{path.name}: {section}.{exc}")
+
+
+# ------------------------------------------------------------------------------- modal models
+def _read_csv_table(path):
+    """Header and rows (as strings) of a small CSV file; ``#`` lines are comments."""
+    path = Path(path)
+    with open(path, encoding="utf-8", newline="") as handle:
+        lines = [line for line in handle if line.strip() and not line.lstrip().startswith("#")]
+    rows = [[cell.strip() for cell in row] for row in csv.reader(lines)]
+    if len(rows) < 2:
+        raise ParameterError(f"{path.name}: must hold a header line and at least one row")
+    header, body = rows[0], rows[1:]
+    for number, row in enumerate(body, start=1):
+        if len(row) != len(header):
+            raise ParameterError(f"{path.name}: row {number} has {len(row)} fields, the header "
+                                 f"has {len(header)} ({header})")
+    return header, body
+
+
+def _numbers(path, header, rows, columns):
+    try:
+        return np.array([[float(row[header.index(c)]) for c in columns] for row in rows])
+    except ValueError as exc:
+        raise ParameterError(f"{Path(path).name}: columns {columns} must hold numbers: {exc}") \
+            from None
+
+
+def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_points=None,
+                     name="footbridge"):
+    """A :class:`ModalModel` from a modal table and mode shapes along the walkway (CSV).
+
+    Parameters
+    ----------
+    modal_table : path
+        CSV with columns ``frequency`` [Hz], ``damping_ratio`` [-, fraction] and ``modal_mass``
+        [kg, in the scaling of the shapes: 1 for a mass-normalised FE export], one row per mode;
+        an optional ``mode`` column labels the modes.
+    mode_shapes : path
+        CSV with a ``position`` column [m] along the walkway, an optional ``lane`` column [m]
+        across it (then one block of identical positions per lane) and one column per mode, in
+        the order of the table (any other column names).
+    width : float
+        Walkway width [m].
+    outputs : dict of str to float or (float, float), optional
+        Output points as name → position x [m] (mid-width) or (x, y); shape rows interpolated.
+    output_points : path, optional
+        CSV with a ``name`` column and one column per mode: the mode-shape rows of the outputs
+        (e.g. sensor nodes of an FE model). Either this or ``outputs``.
+    name : str
+
+    Returns
+    -------
+    ModalModel
+    """
+    header, rows = _read_csv_table(modal_table)
+    missing = [c for c in ("frequency", "damping_ratio", "modal_mass") if c not in header]
+    if missing:
+        raise ParameterError(f"{Path(modal_table).name}: missing column(s) {missing}; found "
+                             f"{header}")
+    table = _numbers(modal_table, header, rows, ["frequency", "damping_ratio", "modal_mass"])
+    n_modes = table.shape[0]
+    shape_header, shape_rows = _read_csv_table(mode_shapes)
+    if "position" not in shape_header:
+        raise ParameterError(f"{Path(mode_shapes).name}: needs a 'position' column, found "
+                             f"{shape_header}")
+    mode_columns = [c for c in shape_header if c not in ("position", "lane")]
+    if len(mode_columns) != n_modes:
+        raise ParameterError(f"{Path(mode_shapes).name}: must have one column per mode of "
+                             f"{Path(modal_table).name} ({n_modes}), got {len(mode_columns)}: "
+                             f"{mode_columns}")
+    values = _numbers(mode_shapes, shape_header, shape_rows, mode_columns)
+    position = _numbers(mode_shapes, shape_header, shape_rows, ["position"])[:, 0]
+    if "lane" in shape_header:
+        lane = _numbers(mode_shapes, shape_header, shape_rows, ["lane"])[:, 0]
+        lanes = np.unique(lane)
+        blocks = [np.flatnonzero(lane == y) for y in lanes]
+        positions = position[blocks[0]]
+        for y, block in zip(lanes, blocks):
+            if block.size != positions.size or not np.allclose(position[block], positions):
+                raise ParameterError(f"{Path(mode_shapes).name}: lane {y:g} m must list the same "
+                                     "positions as the first lane")
+        shapes = np.stack([values[block] for block in blocks])
+    else:
+        lanes, positions, shapes = None, position, values
+    base = ModalModel(frequencies=table[:, 0], damping_ratios=table[:, 1],
+                      modal_masses=table[:, 2], positions=positions, mode_shapes=shapes,
+                      width=width, lanes=lanes, output_names=(), output_shapes=np.zeros((0, n_modes)),
+                      name=name)
+    if (outputs is None) == (output_points is None):
+        raise ParameterError("give exactly one of outputs (name → position) and output_points "
+                             "(a CSV of mode-shape rows)")
+    if output_points is not None:
+        point_header, point_rows = _read_csv_table(output_points)
+        if "name" not in point_header:
+            raise ParameterError(f"{Path(output_points).name}: needs a 'name' column, found "
+                                 f"{point_header}")
+        columns = [c for c in point_header if c != "name"]
+        if len(columns) != n_modes:
+            raise ParameterError(f"{Path(output_points).name}: must have one column per mode "
+                                 f"({n_modes}), got {len(columns)}: {columns}")
+        names = [row[point_header.index("name")] for row in point_rows]
+        rows_ = _numbers(output_points, point_header, point_rows, columns)
+    else:
+        names, rows_ = [], []
+        for label, where in outputs.items():
+            x, y = (float(where), None) if np.ndim(where) == 0 else (float(where[0]),
+                                                                   float(where[1]))
+            if not positions[0] <= x <= positions[-1]:
+                raise ParameterError(f"outputs[{label!r}] must lie on the walkway "
+                                     f"[{positions[0]:g}, {positions[-1]:g}] m, got {x:g}")
+            names.append(label)
+            rows_.append(base.shapes_at(np.array([x]), None if y is None else np.array([y]))[0])
+    return base.replace(output_names=tuple(names), output_shapes=np.array(rows_, dtype=float))
+
+
+def write_modal_model(structure, modal_table, mode_shapes, output_points=None, *, digits=10):
+    """Write a :class:`ModalModel` as the CSV files :func:`read_modal_model` reads (atomically)."""
+    from ._files import atomic_path
+
+    modes = [f"mode_{j + 1}" for j in range(structure.n_modes)]
+    fmt = f"{{:.{digits}g}}"
+
+    def write(path, header, rows):
+        with atomic_path(path) as temporary:
+            with open(temporary, "w", encoding="utf-8", newline="") as handle:
+                writer = csv.writer(handle, lineterminator="\n")
+                writer.writerow(header)
+                writer.writerows([[v if isinstance(v, str) else fmt.format(v) for v in row]
+                                  for row in rows])
+
+    write(modal_table, ["mode", "frequency", "damping_ratio", "modal_mass"],
+          [[modes[j], structure.frequencies[j], structure.damping_ratios[j],
+            structure.modal_masses[j]] for j in range(structure.n_modes)])
+    several = structure.lanes.size > 1
+    rows = [([x, y] if several else [x]) + list(shape)
+            for y, lane in zip(structure.lanes, structure.mode_shapes)
+            for x, shape in zip(structure.positions, lane)]
+    write(mode_shapes, ["position"] + (["lane"] if several else []) + modes, rows)
+    if output_points is not None:
+        write(output_points, ["name"] + modes,
+              [[n] + list(row) for n, row in zip(structure.output_names, structure.output_shapes)])
+
+
+# ------------------------------------------------------------------------------------- case
+@dataclass(frozen=True)
+class MeasurementSpec:
+    """How measured records are read and processed (the case file's ``[measurement]``).
+
+    Attributes
+    ----------
+    files : tuple of Path
+        Record files (channels of all files are merged; same length and sample rate).
+    format : str or None
+        Record format (default from each suffix).
+    channels : dict or None
+        Output name → channel name in the file(s); None keeps the file's names.
+    units : str or None
+        "m/s2" or "g"; None: as stored in the file, else m/s².
+    sample_rate : float or None
+        [Hz] for files without time stamps.
+    time_column : str
+    time_frame : None, (float, float) or "stationary"
+        Part of the record used [s].
+    lowpass_cutoff : float or None
+        Zero-phase Butterworth low-pass cut-off [Hz] (paper: 10 Hz); None = no filter.
+    lowpass_order : int
+    resample : float or None
+        New sample rate [Hz] (polyphase), applied after the time frame.
+    window_length : float
+        Welch segment length T [s].
+    overlap : float
+    detrend : str
+        "constant" (paper) or "linear".
+    """
+
+    files: tuple = ()
+    format: str = None
+    channels: dict = None
+    units: str = None
+    sample_rate: float = None
+    time_column: str = "time"
+    time_frame: object = None
+    lowpass_cutoff: float = 10.0
+    lowpass_order: int = 4
+    resample: float = None
+    window_length: float = 60.0
+    overlap: float = 0.5
+    detrend: str = "constant"
+
+
+@dataclass(frozen=True)
+class StepFrequencySpec:
+    """The step-frequency fit of ``[estimation.step_frequencies]`` (paper, Waalse Krook)."""
+
+    cutoff: float = 2.3
+    band: tuple = None
+    starts: tuple = None
+    bounds: dict = None
+    outputs: tuple = None
+    use_fitted: bool = True
+
+
+@dataclass(frozen=True)
+class EstimationSpec:
+    """The inverse problem of ``[estimation]`` (paper Eq. 5 and 6)."""
+
+    band: tuple = (0.0, 10.0)
+    outputs: tuple = None
+    output_weights: tuple = None
+    starts: tuple = None
+    bounds: dict = None
+    free_parameters: tuple = ("frequency", "damping_ratio")
+    match_welch: bool = True
+    convergence_norm: str = "2"
+    step_frequencies: StepFrequencySpec = None
+
+
+@dataclass(frozen=True)
+class SimulationSpec:
+    """Time-domain simulation of ``[simulation]`` (used by ``crowdvib simulate``)."""
+
+    duration: float = 600.0
+    sample_rate: float = 100.0
+    warm_up: float = 0.0
+    hsi: bool = True
+    record_sample_rate: float = None
+    formats: tuple = ("npz",)
+    dtype: str = "float64"
+
+
+@dataclass(frozen=True, eq=False)
+class Case:
+    """A case file read and checked: the models and how to process and estimate."""
+
+    name: str
+    path: Path
+    structure: ModalModel
+    crowd: Crowd
+    msd: MSDModel
+    measurement: MeasurementSpec
+    estimation: EstimationSpec
+    simulation: SimulationSpec
+    expected: dict = field(default_factory=dict)
+    seed: int = None
+    description: str = ""
+
+    def to_dict(self):
+        """The inputs as a JSON-ready dict (models summarised, paths as strings)."""
+        def plain(value):
+            if isinstance(value, Path):
+                return str(value)
+            if isinstance(value, (tuple, list)):
+                return [plain(v) for v in value]
+            if isinstance(value, dict):
+                return {k: plain(v) for k, v in value.items()}
+            if hasattr(value, "__dataclass_fields__"):
+                return {k: plain(getattr(value, k)) for k in value.__dataclass_fields__}
+            return value
+
+        s = self.structure
+        return {"name": self.name, "path": None if self.path is None else str(self.path),
+                "description": self.description, "seed": self.seed,
+                "structure": {"name": s.name, "frequencies": s.frequencies.tolist(),
+                              "damping_ratios": s.damping_ratios.tolist(),
+                              "modal_masses": s.modal_masses.tolist(), "length": s.length,
+                              "width": s.width, "n_lanes": int(s.lanes.size),
+                              "output_names": list(s.output_names),
+                              "modal_mass_ratios": s.modal_mass_ratios(
+                                  self.crowd.density, self.crowd.body_mass).tolist()},
+                "crowd": plain(self.crowd), "hsi": self.msd.to_dict(),
+                "measurement": plain(self.measurement), "estimation": plain(self.estimation),
+                "simulation": plain(self.simulation), "expected": dict(self.expected)}
+
+
+def _structure(table, path):
+    kind = table.string("type", "modal_files", choices=("modal_files", "simply_supported_beam"))
+    name = table.string("name", path.stem)
+    width = table.number("width", rule="positive")
+    try:
+        if kind == "simply_supported_beam":
+            span = table.number("span", rule="positive")
+            frequency = table.numbers("frequency", rule="positive")
+            damping = table.numbers("damping_ratio")
+            mass = table.numbers("modal_mass", rule="positive")
+            n_modes = int(table.number("n_modes", 1.0, rule="positive"))
+            outputs = table.raw("outputs", None)
+            structure = ModalModel.simply_supported_beam(span, width, frequency, damping, mass,
+                                                         n_modes, outputs=outputs, name=name)
+        else:
+            outputs = table.raw("outputs", None)
+            points = table.file("output_points", None)
+            if outputs is not None and not isinstance(outputs, dict):
+                raise table.error("outputs", "must be a table name = position", outputs)
+            structure = read_modal_model(table.file("modal_table"), table.file("mode_shapes"),
+                                         width=width, outputs=outputs, output_points=points,
+                                         name=name)
+    except ParameterError as exc:
+        if str(exc).startswith(path.name):
+            raise
+        raise _wrap(path, "structure", exc) from None
+    table.finish()
+    return structure
+
+
+def _crowd(table, path):
+    density = table.number("density", rule="positive")
+    speed = table.number("walking_speed", None, rule="positive")
+    mean = table.number("step_frequency_mean", None, rule="positive")
+    std = table.number("step_frequency_std", 0.175, rule="positive")
+    mass = table.number("body_mass", 70.0, rule="positive")
+    fraction = table.number("forward_fraction", 1.0, rule="non_negative")
+    table.finish()
+    try:
+        speed = float(weidmann_speed(density)) if speed is None else speed
+        mean = float(bruno_venuti_step_frequency(speed)) if mean is None else mean
+        return Crowd(density=density, walking_speed=speed, step_frequency_mean=mean,
+                     step_frequency_std=std, body_mass=mass, forward_fraction=fraction)
+    except ParameterError as exc:
+        raise _wrap(path, "crowd", exc) from None
+
+
+def _msd(table, path):
+    frequency = table.number("frequency", 3.0, rule="positive")
+    damping = table.number("damping_ratio", 0.30, rule="positive")
+    mass_ratio = table.number("mass_ratio", 0.95, rule="fraction")
+    table.finish()
+    try:
+        return MSDModel(frequency, damping, mass_ratio)
+    except ParameterError as exc:
+        raise _wrap(path, "hsi", exc) from None
+
+
+def _measurement(table, path):
+    files = table.strings("files", ())
+    resolved = []
+    for number, name in enumerate(files):
+        file = (path.parent / name).resolve()
+        if not file.is_file():
+            raise ParameterError(f"{path.name}: measurement.files[{number}] names a file that "
+                                 f"does not exist: {name!r} (looked for {file})")
+        resolved.append(file)
+    channels = table.raw("channels", None)
+    if channels is not None and (not isinstance(channels, dict) or not all(
+            isinstance(v, str) for v in channels.values())):
+        raise table.error("channels", "must be a table output_name = \"channel in file\"",
+                          channels)
+    units = table.string("units", None)
+    if units is not None:
+        from .records import _unit_key
+        _unit_key(units, f"{path.name}: measurement.")
+    frame = table.raw("time_frame", None)
+    if frame is not None and frame != "stationary" and frame != "all":
+        frame = table.pair("time_frame")
+        if frame[0] < 0:
+            raise table.error("time_frame", "must start at t >= 0 s", list(frame))
+    frame = None if frame == "all" else frame
+    filter_table = table.table("filter")
+    cutoff = filter_table.raw("cutoff", 10.0)
+    cutoff = None if cutoff is False else filter_table.number("cutoff", 10.0, rule="positive")
+    order = filter_table.number("order", 4.0, rule="positive")
+    if int(order) != order:
+        raise filter_table.error("order", "must be an integer", order)
+    filter_table.finish()
+    overlap = table.number("overlap", 0.5, rule="non_negative")
+    if not overlap < 1:
+        raise table.error("overlap", "must lie in [0, 1)", overlap)
+    spec = MeasurementSpec(
+        files=tuple(resolved), format=table.string("format", None,
+                                                   choices=("csv", "npz", "mat", "mat73", "uff")),
+        channels=channels, units=units,
+        sample_rate=table.number("sample_rate", None, rule="positive"),
+        time_column=table.string("time_column", "time"), time_frame=frame,
+        lowpass_cutoff=cutoff, lowpass_order=int(order),
+        resample=table.number("resample", None, rule="positive"),
+        window_length=table.number("window_length", 60.0, rule="positive"), overlap=overlap,
+        detrend=table.string("detrend", "constant", choices=("constant", "linear")))
+    table.finish()
+    return spec
+
+
+def _bounds(table, keys, rename=None):
+    bounds = {}
+    for key in keys:
+        if table.has(key):
+            low, high = table.pair(key)
+            if not low > 0:
+                raise table.error(key, "must have a lower bound > 0", [low, high])
+            bounds[(rename or {}).get(key, key)] = (low, high)
+    table.finish()
+    return bounds or None
+
+
+def _starts(table, name, size):
+    starts = table.raw(name, None)
+    if starts is None:
+        return None
+    try:
+        array = np.array(starts, dtype=float)
+    except (TypeError, ValueError):
+        raise table.error(name, "must be a list of starting points [[...], ...]", starts) from None
+    if array.ndim != 2 or array.shape[1] not in size or array.shape[0] < 1:
+        raise table.error(name, f"must be a list of points with {' or '.join(map(str, size))} "
+                          "values each", starts)
+    return tuple(tuple(row) for row in array.tolist())
+
+
+def _estimation(table, path):
+    band = table.pair("band")
+    if band[0] < 0:
+        raise table.error("band", "must start at >= 0 Hz", list(band))
+    outputs = table.strings("outputs", None)
+    weights = table.numbers("weights", None, rule="positive")
+    if weights is not None and (outputs is None or weights.size != len(outputs)):
+        raise table.error("weights", "must give one weight per entry of estimation.outputs",
+                          weights.tolist())
+    free = table.strings("free_parameters", ("frequency", "damping_ratio"))
+    if set(free) not in ({"frequency", "damping_ratio"},
+                         {"frequency", "damping_ratio", "mass_ratio"}):
+        raise table.error("free_parameters", "must be [\"frequency\", \"damping_ratio\"] with "
+                          "optionally \"mass_ratio\"", list(free))
+    starts = _starts(table, "starts", (2, 3))
+    bounds = _bounds(table.table("bounds"), ("frequency", "damping_ratio", "mass_ratio"))
+    step = None
+    if table.has("step_frequencies"):
+        sub = table.table("step_frequencies")
+        if sub.boolean("enabled", True):
+            cutoff = sub.number("cutoff", 2.3, rule="positive")
+            step = StepFrequencySpec(
+                cutoff=cutoff, band=sub.pair("band", None), starts=_starts(sub, "starts", (2,)),
+                bounds=_bounds(sub.table("bounds"), ("mean", "std"),
+                               {"mean": "step_frequency_mean", "std": "step_frequency_std"}),
+                outputs=sub.strings("outputs", None),
+                use_fitted=sub.boolean("use_fitted", True))
+        sub.finish()
+    spec = EstimationSpec(band=band, outputs=outputs,
+                          output_weights=None if weights is None else tuple(weights.tolist()),
+                          starts=starts, bounds=bounds, free_parameters=tuple(free),
+                          match_welch=table.boolean("match_welch", True),
+                          convergence_norm=table.string("convergence_norm", "2",
+                                                        choices=("2", "inf")),
+                          step_frequencies=step)
+    table.finish()
+    return spec
+
+
+def _simulation(table, path):
+    formats = table.strings("formats", ("npz",))
+    from .records import RECORD_FORMATS
+    for fmt in formats:
+        if fmt not in RECORD_FORMATS:
+            raise table.error("formats", f"must list formats among {list(RECORD_FORMATS)}",
+                              list(formats))
+    spec = SimulationSpec(
+        duration=table.number("duration", 600.0, rule="positive"),
+        sample_rate=table.number("sample_rate", 100.0, rule="positive"),
+        warm_up=table.number("warm_up", 0.0, rule="non_negative"),
+        hsi=table.boolean("hsi", True),
+        record_sample_rate=table.number("record_sample_rate", None, rule="positive"),
+        formats=formats, dtype=table.string("dtype", "float64", choices=("float32", "float64")))
+    table.finish()
+    return spec
+
+
+def _expected(table):
+    expected = {}
+    for key in ("frequency", "damping_ratio", "mass_ratio", "step_frequency_mean",
+                "step_frequency_std"):
+        value = table.number(key, None, rule="positive")
+        if value is not None:
+            expected[key] = value
+    source = table.string("source", None)
+    if source:
+        expected["source"] = source
+    table.finish()
+    return expected
+
+
+def load_case(path):
+    """Read and check a TOML case file → :class:`Case` (paths relative to the file).
+
+    Raises
+    ------
+    ParameterError
+        A missing, unknown or bad key; the message names the file and the dotted key.
+    """
+    path = Path(path).resolve()
+    if not path.is_file():
+        raise ParameterError(f"case file not found: {path}")
+    try:
+        with open(path, "rb") as handle:
+            data = tomllib.load(handle)
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterError(f"{path.name}: not valid TOML: {exc}") from None
+    root = _Table(data, "", path)
+    name = root.string("name", path.stem)
+    description = root.string("description", "")
+    seed = root.raw("seed", None)
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
+        raise root.error("seed", "must be a non-negative integer", seed)
+    structure = _structure(root.table("structure", required=True), path)
+    crowd = _crowd(root.table("crowd", required=True), path)
+    msd = _msd(root.table("hsi"), path)
+    measurement = _measurement(root.table("measurement"), path)
+    estimation = (_estimation(root.table("estimation"), path) if root.has("estimation")
+                  else EstimationSpec())
+    if not root.has("estimation"):
+        root.used.add("estimation")
+    simulation = _simulation(root.table("simulation"), path)
+    expected = _expected(root.table("expected"))
+    root.finish()
+    outputs = estimation.outputs or structure.output_names
+    try:
+        structure.output_index(outputs)
+    except ParameterError as exc:
+        raise ParameterError(f"{path.name}: estimation.{exc}") from None
+    if measurement.channels is not None:
+        try:
+            structure.output_index(list(measurement.channels))
+        except ParameterError as exc:
+            raise ParameterError(f"{path.name}: measurement.channels keys: {exc}") from None
+    return Case(name=name, path=path, structure=structure, crowd=crowd, msd=msd,
+                measurement=measurement, estimation=estimation, simulation=simulation,
+                expected=expected, seed=seed, description=description)
+
+
+def paper_example_case():
+    """The embedded paper example (physics.md §8.1) as a :class:`Case` without records."""
+    from .examples import paper_example
+
+    example = paper_example()
+    return Case(name=example.name, path=None, structure=example.structure, crowd=example.crowd,
+                msd=example.msd,
+                measurement=MeasurementSpec(window_length=example.window_length),
+                estimation=EstimationSpec(band=example.band),
+                simulation=SimulationSpec(duration=3600.0, sample_rate=100.0, warm_up=200.0),
+                expected=example.msd.to_dict(), seed=20230101,
+                description="Van Nimmen & Van den Broeck (2023), numerical example")
+
