@@ -511,7 +511,8 @@ class ParametricResult:
     ----------
     rows : tuple of dict
         One per structure and error case: ``structure_frequency`` [Hz], ``structure_damping`` [-],
-        ``mass_ratio`` μ_m [-], ``parameter``, ``epsilon``, ``level``, ``frequency_ratio``,
+        ``structure_mass_ratio`` μ_m [-], ``parameter``, ``epsilon``, ``level``, the estimate
+        (``frequency``, ``damping_ratio``, ``mass_ratio`` μ_h1), ``frequency_ratio``,
         ``damping_ratio_ratio``, ``active_bounds`` (or ``error``).
     truth : dict
         The MSD parameters the "measurements" were made with.
@@ -583,7 +584,8 @@ def parametric_study(*, structure_frequencies=None, structure_damping_ratios=(0.
     for key, task in tasks:
         (parameter, epsilon), = task.case.perturbations
         rows.append({"structure_frequency": task.structure_frequency,
-                     "structure_damping": task.structure_damping, "mass_ratio": task.mass_ratio,
+                     "structure_damping": task.structure_damping,
+                     "structure_mass_ratio": task.mass_ratio,
                      "parameter": parameter, "epsilon": epsilon, "level": task.case.level,
                      **results[key]})
     return ParametricResult(rows=tuple(rows), truth=msd.to_dict())
