@@ -96,10 +96,275 @@ def _run_demo(args):
     return 0
 
 
+# ------------------------------------------------------------------------------ estimate/simulate
+def _prepare_out(out, force):
+    """A fresh temporary directory beside ``out``; refuses an existing ``out`` without --force."""
+    import tempfile
+
+    from .errors import ParameterError
+
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ParameterError(f"--out {out} exists and is not a directory")
+    if out.is_dir() and any(out.iterdir()) and not force:
+        raise ParameterError(f"--out {out} already holds results; use --force to replace them")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    return Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".part", dir=out.parent))
+
+
+def _publish(staging, out):
+    """Swap the finished staging directory in for ``out`` (a failed run never reaches here)."""
+    import os
+    import shutil
+
+    out = Path(out)
+    old = None
+    if out.exists():
+        old = out.with_name(f".{out.name}.old-{os.getpid()}")
+        os.replace(out, old)
+    os.replace(staging, out)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+def _versions():
+    import platform
+
+    import scipy
+
+    return {"crowdvib": __version__, "numpy": np.__version__, "scipy": scipy.__version__,
+            "python": platform.python_version()}
+
+
+def _warning_texts(caught):
+    return [f"{w.category.__name__}: {w.message}" for w in caught]
+
+
+def _add_estimate_arguments(parser):
+    parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
+    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--force", action="store_true",
+                        help="replace an existing output directory")
+
+
+def _run_estimate(args):
+    import shutil
+    import warnings
+
+    from .casefile import load_case
+
+    case = load_case(args.case)
+    staging = _prepare_out(args.out, args.force)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            results = _estimate_case(case, staging)
+        results["warnings"] = _warning_texts(caught)
+        for text in results["warnings"]:
+            print(f"crowdvib estimate: warning: {text}", file=sys.stderr)
+        write_json(staging / "results.json", results)
+        _publish(staging, args.out)
+    finally:
+        if staging.exists():
+            shutil.rmtree(staging, ignore_errors=True)
+    _say(f"  wrote {args.out / 'results.json'} and figures")
+    return 0
+
+
+def _estimate_case(case, out):
+    """The estimate pipeline on a loaded case; figures into ``out``; returns the results dict."""
+    from .casefile import load_measurement
+    from .estimation import estimate_hsi, estimate_step_frequencies
+    from .plotting import plot_psd_comparison, plot_psd_convergence, save_figure
+    from .signals import LowPassFilter, psd_convergence, welch_psd
+    from .spectral import response_psd
+
+    spec, est = case.measurement, case.estimation
+    _say(f"crowdvib estimate: {case.name} ({case.path.name})")
+    record = load_measurement(case)
+    outputs = tuple(est.outputs or record.channel_names)
+    record = record.select(outputs)
+    _say(f"  record  {record.n_channels} channel(s) {list(record.channel_names)}, "
+         f"{record.duration:g} s at {record.sample_rate:g} Hz")
+    lowpass = (None if spec.lowpass_cutoff is None else
+               LowPassFilter(spec.lowpass_cutoff, spec.lowpass_order, record.sample_rate))
+    measured = welch_psd(record.data, record.sample_rate, window_length=spec.window_length,
+                         overlap=spec.overlap, output_names=outputs, lowpass=lowpass)
+    convergence = psd_convergence(record.data, record.sample_rate,
+                                  window_length=spec.window_length, band=est.band,
+                                  norm=est.convergence_norm, overlap=spec.overlap,
+                                  output_names=outputs, lowpass=lowpass)
+    last = convergence.error[:, -2] if convergence.error.shape[1] > 1 else convergence.error[:, 0]
+    _say(f"  PSD     Welch T = {spec.window_length:g} s, {measured.n_windows} windows; "
+         f"convergence error of the last window added ({convergence.norm}-norm over the band): "
+         + ", ".join(f"{v:.1%}" for v in last))
+    crowd = case.crowd
+    step_result = None
+    if est.step_frequencies is not None:
+        sf = est.step_frequencies
+        low = LowPassFilter(sf.cutoff, spec.lowpass_order, record.sample_rate)
+        measured_low = welch_psd(record.data, record.sample_rate,
+                                 window_length=spec.window_length, overlap=spec.overlap,
+                                 output_names=outputs, lowpass=low)
+        step_result = estimate_step_frequencies(
+            measured_low, case.structure, crowd, cutoff=sf.cutoff, band=sf.band,
+            starts=sf.starts, bounds=sf.bounds, outputs=sf.outputs,
+            match_welch=est.match_welch)
+        _say(f"  step frequencies below {sf.cutoff:g} Hz: N({step_result.crowd.step_frequency_mean:.3f}, "
+             f"{step_result.crowd.step_frequency_std:.3f}) Hz (case file: "
+             f"N({crowd.step_frequency_mean:g}, {crowd.step_frequency_std:g}) Hz)")
+        if sf.use_fitted:
+            crowd = step_result.crowd
+    free_mass = "mass_ratio" in est.free_parameters
+    estimate = estimate_hsi(measured, case.structure, crowd, band=est.band, outputs=outputs,
+                            output_weights=est.output_weights, starts=est.starts,
+                            bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
+                            free_mass_ratio=free_mass, match_welch=est.match_welch)
+    found = estimate.msd
+    _say(f"  estimate f_h1 = {found.frequency:.3f} Hz, ξ_h1 = {found.damping_ratio:.3f}, "
+         f"μ_h1 = {found.mass_ratio:.3f}; J/J_noHSI = {estimate.relative_cost:.3g}")
+    if case.expected:
+        for key, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1")):
+            if key in case.expected:
+                value = getattr(found, key)
+                _say(f"           {label}: expected {case.expected[key]:g}, "
+                     f"error {(value - case.expected[key]) / case.expected[key]:+.1%}")
+    figures = []
+    window = measured.window_length if est.match_welch else None
+    fitted = response_psd(case.structure, crowd, measured.frequency, msd=found, outputs=outputs,
+                          welch_window_length=window, lowpass=lowpass if est.match_welch else None)
+    no_hsi = response_psd(case.structure, crowd, measured.frequency, outputs=outputs,
+                          welch_window_length=window,
+                          lowpass=lowpass if est.match_welch else None)
+    for name in outputs:
+        ax = plot_psd_comparison({"measured": measured, "fitted MSD": fitted, "no HSI": no_hsi},
+                                 output=name, band=(0.0, max(est.band[1], 2 * est.band[0])),
+                                 title=f"{case.name}: {name}")
+        ax.axvspan(*est.band, color="tab:green", alpha=0.07, label="band")
+        figures.append(save_figure(ax, out / f"psd_{name}.png").name)
+    figures.append(save_figure(plot_psd_convergence(convergence, title=f"{case.name}: PSD "
+                                                    "convergence"),
+                               out / "psd_convergence.png").name)
+    hsi = estimate.to_dict()
+    diagnostics = {k: v for k, v in hsi.items() if k != "estimate"}
+    diagnostics["convergence"] = convergence.to_dict()
+    diagnostics["measured_psd"] = {"window_length": measured.window_length,
+                                   "n_windows": measured.n_windows,
+                                   "lowpass": None if lowpass is None else lowpass.to_dict()}
+    if step_result is not None:
+        diagnostics["step_frequencies"] = step_result.to_dict()
+    return {"command": "estimate", "crowdvib_version": __version__, "versions": _versions(),
+            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
+            "record": record.to_dict(), "crowd_used": {
+                "step_frequency_mean": crowd.step_frequency_mean,
+                "step_frequency_std": crowd.step_frequency_std},
+            "estimate": hsi["estimate"], "expected": dict(case.expected),
+            "diagnostics": diagnostics, "figures": figures}
+
+
+def _add_simulate_arguments(parser):
+    parser.add_argument("case", type=Path, nargs="?", default=None,
+                        help="case file (TOML); default the embedded paper example")
+    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--force", action="store_true",
+                        help="replace an existing output directory")
+    parser.add_argument("--duration-s", type=float, default=None,
+                        help="record length [s] (default the case's simulation.duration)")
+    parser.add_argument("--sample-rate", type=float, default=None,
+                        help="simulation sample rate [Hz] (default the case's)")
+    parser.add_argument("--seed", type=int, default=None,
+                        help="seed of every random draw (default the case's seed)")
+    parser.add_argument("--format", default=None,
+                        help="comma-separated record formats among csv, npz, mat, mat73, uff "
+                             "(default the case's simulation.formats)")
+    parser.add_argument("--no-hsi", action="store_true",
+                        help="pedestrians as moving forces only (no MSD)")
+
+
+def _run_simulate(args):
+    import shutil
+
+    from .casefile import load_case, paper_example_case
+    from .errors import ParameterError
+    from .plotting import plot_psd_comparison, save_figure
+    from .records import RECORD_FORMATS, Record, write_record
+    from .signals import resample, welch_psd
+    from .simulation import simulate
+
+    case = paper_example_case() if args.case is None else load_case(args.case)
+    spec = case.simulation
+    formats = spec.formats if args.format is None else tuple(
+        f.strip() for f in args.format.split(",") if f.strip())
+    for fmt in formats:
+        if fmt not in RECORD_FORMATS:
+            raise ParameterError(f"--format must list formats among {list(RECORD_FORMATS)}, "
+                                 f"got {fmt!r}")
+    duration = spec.duration if args.duration_s is None else args.duration_s
+    sample_rate = spec.sample_rate if args.sample_rate is None else args.sample_rate
+    seed = case.seed if args.seed is None else args.seed
+    msd = None if (args.no_hsi or not spec.hsi) else _simulation_msd(case)
+    _say(f"crowdvib simulate: {case.name}, {duration:g} s at {sample_rate:g} Hz, "
+         f"{'MSD ' + str(msd.to_dict()) if msd else 'no HSI'}")
+    staging = _prepare_out(args.out, args.force)
+    try:
+        started = time.perf_counter()
+        simulation = simulate(case.structure, case.crowd, duration, msd=msd,
+                              sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up)
+        data, rate = simulation.acceleration, sample_rate
+        if spec.record_sample_rate is not None:
+            data, rate = resample(data, rate, spec.record_sample_rate)
+        record = Record(data=data, sample_rate=rate, channel_names=simulation.output_names)
+        files = []
+        for fmt in formats:
+            suffix = "_v73.mat" if fmt == "mat73" else RECORD_FORMATS[fmt][0]
+            files.append(write_record(record, staging / f"record{suffix}", format=fmt,
+                                      dtype=spec.dtype).name)
+        elapsed = time.perf_counter() - started
+        window = min(case.measurement.window_length, record.duration)
+        psd = welch_psd(record.data, rate, window_length=window,
+                        output_names=record.channel_names)
+        figure = save_figure(plot_psd_comparison({"simulated (Welch)": psd},
+                                                 band=(0.0, min(rate / 2, 12.0)),
+                                                 title=f"{case.name}: simulated record"),
+                             staging / "psd.png").name
+        results = {"command": "simulate", "crowdvib_version": __version__,
+                   "versions": _versions(), "seed": int(simulation.seed),
+                   "case": None if case.path is None else str(case.path),
+                   "inputs": case.to_dict(), "msd": None if msd is None else msd.to_dict(),
+                   "duration": duration, "sample_rate": sample_rate,
+                   "record": {**record.to_dict(), "files": files},
+                   "rms": dict(zip(record.channel_names, np.sqrt(np.mean(
+                       (record.data - record.data.mean(axis=1, keepdims=True)) ** 2,
+                       axis=1)).tolist())),
+                   "elapsed_s": elapsed, "figures": [figure]}
+        write_json(staging / "results.json", results)
+        _publish(staging, args.out)
+    finally:
+        if staging.exists():
+            shutil.rmtree(staging, ignore_errors=True)
+    _say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
+    return 0
+
+
+def _simulation_msd(case):
+    """The MSD a case simulates with: its [expected] truth if given, else its [hsi] table."""
+    from .pedestrian import MSDModel
+
+    expected = case.expected
+    if "frequency" in expected and "damping_ratio" in expected:
+        return MSDModel(expected["frequency"], expected["damping_ratio"],
+                        expected.get("mass_ratio", case.msd.mass_ratio))
+    return case.msd
+
+
 # --------------------------------------------------------------------------------------- main
 _COMMANDS = {
     "demo": ("estimate the MSD parameters back on the paper's numerical example",
              _add_demo_arguments, _run_demo),
+    "estimate": ("estimate the MSD parameters from a case file's measured records",
+                 _add_estimate_arguments, _run_estimate),
+    "simulate": ("simulate a case (default: the paper example) and write its record",
+                 _add_simulate_arguments, _run_simulate),
 }
 
 

@@ -6,7 +6,7 @@ Axes and never calls ``plt.show()``.
 
 import numpy as np
 
-__all__ = ["plot_psd_comparison"]
+__all__ = ["plot_psd_comparison", "plot_psd_convergence"]
 
 
 def _axes(ax):
@@ -79,3 +79,34 @@ def save_figure(ax, path):
         figure.savefig(temporary, format=str(path).rsplit(".", 1)[-1], dpi=130)
     plt.close(figure)
     return path
+
+
+def plot_psd_convergence(convergence, *, ax=None, title=None, level=0.10):
+    """Convergence error ΔG_kT of a Welch PSD against record length (paper Fig. 15).
+
+    Parameters
+    ----------
+    convergence : PSDConvergence
+        From :func:`crowdvib.signals.psd_convergence`.
+    ax : matplotlib.axes.Axes, optional
+    title : str, optional
+    level : float, optional
+        A reference level drawn as a dashed line (the paper's 10 %); None for none.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = _axes(ax)
+    for name, row in zip(convergence.output_names, convergence.error):
+        ax.plot(convergence.duration[:-1], 100 * row[:-1], marker="o", ms=3, label=name)
+    if level is not None:
+        ax.axhline(100 * level, color="0.5", ls="--", lw=1.0, label=f"{level:.0%}")
+    ax.set_xlabel("Record length k·T [s]")
+    ax.set_ylabel(f"ΔG ({convergence.norm}-norm, {convergence.band[0]:g}–"
+                  f"{convergence.band[1]:g} Hz) [%]")
+    if title:
+        ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    return ax
