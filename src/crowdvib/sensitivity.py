@@ -31,7 +31,7 @@ from .pedestrian import MSDModel
 
 __all__ = ["ObjectiveMap", "objective_map", "ErrorCase", "SensitivityResult",
            "modelling_error_study", "parametric_study", "TaskStore", "run_tasks",
-           "PAPER_ERROR_LEVELS"]
+           "record_length_study", "PAPER_ERROR_LEVELS"]
 
 logger = logging.getLogger(__name__)
 
@@ -589,3 +589,94 @@ def parametric_study(*, structure_frequencies=None, structure_damping_ratios=(0.
                      "parameter": parameter, "epsilon": epsilon, "level": task.case.level,
                      **results[key]})
     return ParametricResult(rows=tuple(rows), truth=msd.to_dict())
+
+
+# ------------------------------------------------------------------------------ record length
+@dataclass(frozen=True)
+class _WindowCountTask:
+    signals: np.ndarray
+    sample_rate: float
+    duration: float
+    window_length: float
+    output_names: tuple
+    lowpass: object
+    structure: object
+    crowd: object
+    options: tuple
+
+
+def _window_count_task(task):
+    from .signals import welch_psd
+
+    samples = int(round(task.duration * task.sample_rate))
+    measured = welch_psd(task.signals[:, :samples], task.sample_rate,
+                         window_length=task.window_length, output_names=task.output_names,
+                         lowpass=task.lowpass)
+    result = _estimate_task(_EstimationTask(measured, task.structure, task.crowd,
+                                            ErrorCase("nominal", ()), task.options))
+    result["n_windows"] = measured.n_windows
+    result["duration"] = task.duration
+    return result
+
+
+def record_length_study(signals, sample_rate, structure, crowd, *, window_length, band,
+                        durations=None, output_names=None, lowpass=None, executor=None,
+                        store=None, progress=None, **options):
+    """Estimation error from PSD convergence: re-estimate on the first k·T seconds of the record.
+
+    The paper does this for Waalse Krook (8 windows of 60 s): the estimate from fewer windows,
+    relative to the estimate from the whole record, shows how much the unconverged PSD moves it.
+
+    Parameters
+    ----------
+    signals : array_like, shape (n_outputs, n_samples)
+        Accelerations [m/s²] (already cut, detrended, resampled).
+    sample_rate : float
+        [Hz].
+    structure, crowd, band
+        As in :func:`crowdvib.estimate_hsi`.
+    window_length : float
+        Welch segment T [s].
+    durations : sequence of float, optional
+        Record lengths [s] to use; default k·T for k = 2 … n_T (and the whole record).
+    output_names : sequence of str, optional
+        Channel names (default the structure's outputs).
+    lowpass : LowPassFilter, optional
+    executor, store, progress
+        As in :func:`modelling_error_study`.
+    **options
+        Further keyword arguments of :func:`crowdvib.estimate_hsi` (outputs, output_weights,
+        starts, bounds, mass_ratio).
+
+    Returns
+    -------
+    list of dict
+        Per duration: ``duration`` [s], ``n_windows``, the estimate and ``delta_frequency``,
+        ``delta_damping_ratio`` [%] relative to the whole record.
+    """
+    signals = np.atleast_2d(as_float_array("signals", signals))
+    sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
+    total = signals.shape[1] / sample_rate
+    if durations is None:
+        count = int(total // window_length)
+        durations = [k * window_length for k in range(2, count + 1)]
+    durations = sorted(set(float(d) for d in durations if d <= total) | {total})
+    names = tuple(output_names or structure.output_names)
+    settings = (("band", tuple(band)),) + tuple(sorted(options.items()))
+    tasks = [(f"duration={d:.6g}", _WindowCountTask(signals, sample_rate, d, window_length,
+                                                     names, lowpass, structure, crowd, settings))
+             for d in durations]
+    if store is not None and not isinstance(store, TaskStore):
+        store = TaskStore(store)
+    results = run_tasks(_window_count_task, tasks, executor=executor, store=store,
+                        progress=progress)
+    full = results[tasks[-1][0]]
+    rows = []
+    for key, _ in tasks:
+        row = dict(results[key])
+        if "error" not in row and "error" not in full:
+            row["delta_frequency"] = 100.0 * (row["frequency"] / full["frequency"] - 1.0)
+            row["delta_damping_ratio"] = 100.0 * (row["damping_ratio"]
+                                                  / full["damping_ratio"] - 1.0)
+        rows.append(row)
+    return rows
