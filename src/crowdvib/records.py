@@ -667,7 +667,7 @@ def _write_uff(record, path, dtype):
         for number, (name, row) in enumerate(zip(record.channel_names, record.data)):
             dset = pyuff.prepare_58(
                 binary=1, id1=name, id2="crowdvib record", func_type=1, rsp_node=number + 1,
-                rsp_dir=3, ref_node=0, ref_dir=0, ord_data_type=2 if dtype == np.float32 else 4,
+                rsp_dir=3, ref_node=0, ref_dir=0, ord_data_type=4,
                 abscissa_spacing=1, abscissa_min=record.start_time, abscissa_inc=step,
                 z_axis_value=0.0, abscissa_spec_data_type=17, abscissa_len_unit_exp=0,
                 abscissa_force_unit_exp=0, abscissa_temp_unit_exp=0, abscissa_axis_units_lab="s",
@@ -676,7 +676,10 @@ def _write_uff(record, path, dtype):
                 orddenom_spec_data_type=0, orddenom_len_unit_exp=0, orddenom_force_unit_exp=0,
                 orddenom_temp_unit_exp=0, orddenom_axis_units_lab="", z_axis_spec_data_type=0,
                 z_axis_len_unit_exp=0, z_axis_force_unit_exp=0, z_axis_temp_unit_exp=0,
-                z_axis_axis_units_lab="", data=np.asarray(row, dtype=dtype),
+                z_axis_axis_units_lab="",
+                # Always stored as double (pyuff's single-precision path is unreliable); float32
+                # records are rounded first, so they read back exactly as written.
+                data=np.asarray(row, dtype=dtype).astype(float),
                 x=record.start_time + np.arange(row.size) * step)
             writer.write_sets(dset, mode="add")
 
