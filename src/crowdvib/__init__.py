@@ -7,14 +7,17 @@ inverse problem of Van Nimmen & Van den Broeck (2023): ``estimate_hsi``.
 
 from importlib.metadata import PackageNotFoundError, version
 
+from .casefile import Case, load_case, read_modal_model
 from .crowd import Crowd
-from .estimation import estimate_hsi
+from .estimation import StepFrequencyEstimate, estimate_hsi, estimate_step_frequencies
 from .errors import (BoundWarning, ConvergenceWarning, CrowdvibError, CrowdvibWarning, DataError,
-                     EstimationError, ParameterError, ResolutionWarning)
+                     DataWarning, EstimationError, ParameterError, ResolutionWarning)
 from .loading import YoungForce, ZivanovicForce
 from .pedestrian import MSDModel
 from .results import FRF, EffectiveModalProperties, HSIEstimate, ResponsePSD
-from .signals import LowPassFilter, welch_psd
+from .records import Record, check_record, read_record, write_record
+from .signals import (LowPassFilter, PSDConvergence, detrend, psd_convergence, resample,
+                      welch_psd)
 from .spectral import SpectralModel, effective_modal_properties, frf, response_psd
 from .structure import ModalModel
 
@@ -30,5 +33,8 @@ __all__ = [
     "ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate",
     "CrowdvibError", "ParameterError", "DataError", "EstimationError",
     "CrowdvibWarning", "BoundWarning", "ConvergenceWarning", "ResolutionWarning",
+    "DataWarning", "Record", "read_record", "write_record", "check_record", "Case",
+    "load_case", "read_modal_model", "estimate_step_frequencies", "StepFrequencyEstimate",
+    "psd_convergence", "PSDConvergence", "detrend", "resample",
     "__version__",
 ]
