@@ -14,10 +14,11 @@ from .errors import (BoundWarning, ConvergenceWarning, CrowdvibError, CrowdvibWa
                      DataWarning, EstimationError, ParameterError, ResolutionWarning)
 from .loading import YoungForce, ZivanovicForce
 from .pedestrian import MSDModel
-from .results import FRF, EffectiveModalProperties, HSIEstimate, ResponsePSD
+from .results import FRF, EffectiveModalProperties, HSIEstimate, ResponsePSD, Simulation
 from .records import Record, check_record, read_record, write_record
 from .signals import (LowPassFilter, PSDConvergence, detrend, psd_convergence, resample,
                       welch_psd)
+from .simulation import Pedestrian, simulate
 from .spectral import SpectralModel, effective_modal_properties, frf, response_psd
 from .structure import ModalModel
 
@@ -29,8 +30,8 @@ except PackageNotFoundError:  # running from a source tree that was not installe
 __all__ = [
     "ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce",
     "response_psd", "frf", "effective_modal_properties", "SpectralModel",
-    "estimate_hsi", "welch_psd", "LowPassFilter",
-    "ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate",
+    "estimate_hsi", "welch_psd", "LowPassFilter", "simulate", "Pedestrian",
+    "ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate", "Simulation",
     "CrowdvibError", "ParameterError", "DataError", "EstimationError",
     "CrowdvibWarning", "BoundWarning", "ConvergenceWarning", "ResolutionWarning",
     "DataWarning", "Record", "read_record", "write_record", "check_record", "Case",

@@ -11,7 +11,7 @@ import numpy as np
 from ._validation import as_float_array
 from .errors import DataError, ParameterError
 
-__all__ = ["ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate"]
+__all__ = ["ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate", "Simulation"]
 
 
 def _frozen(array, dtype=float):
@@ -251,3 +251,95 @@ class HSIEstimate:
             "output_weights": np.asarray(self.output_weights).tolist(),
             "starts": [dict(s) for s in self.starts], "message": self.message,
         }
+
+
+@dataclass(frozen=True, eq=False)
+class Simulation:
+    """Record of a time-domain simulation (:func:`crowdvib.simulate`, physics.md §2).
+
+    Attributes
+    ----------
+    time : ndarray, shape (n_samples,)
+        Sample times [s], from 0 at 1/sample_rate.
+    acceleration : ndarray, shape (n_outputs, n_samples)
+        Vertical accelerations at the output points [m/s²].
+    output_names : tuple of str
+        Names of the outputs (rows of ``acceleration``).
+    n_on_deck : ndarray of int, shape (n_samples,)
+        Pedestrians on the deck at each sample [-].
+    sample_rate : float
+        Output sample rate [Hz].
+    seed : int
+        The seed actually used: ``simulate(..., rng=seed)`` repeats the record bit for bit.
+    duration : float
+        Record length n_samples / sample_rate [s].
+    modal_load : ndarray, shape (n_modes, n_samples), or None
+        Modal walking load Q(t) = Σ_k φ_k p_k [N] when recorded (no interaction forces).
+    time_step : float or None
+        Internal RK4 step [s].
+    n_pedestrians : int or None
+        Pedestrians generated for the run (including those already on the deck at the start).
+    hsi : bool
+        Whether the pedestrians were MSDs (True) or moving forces only.
+    warm_up : float
+        Simulated time before t = 0 that was discarded [s].
+    """
+
+    time: np.ndarray
+    acceleration: np.ndarray
+    output_names: tuple
+    n_on_deck: np.ndarray
+    sample_rate: float
+    seed: int
+    duration: float
+    modal_load: np.ndarray = None
+    time_step: float = None
+    n_pedestrians: int = None
+    hsi: bool = False
+    warm_up: float = 0.0
+
+    def __post_init__(self):
+        acceleration = np.atleast_2d(np.asarray(self.acceleration, dtype=float))
+        names = tuple(str(n) for n in self.output_names)
+        if acceleration.shape[0] != len(names):
+            raise ParameterError(
+                f"acceleration must have one row per output ({len(names)}), "
+                f"got shape {acceleration.shape}")
+        object.__setattr__(self, "time", _frozen(self.time))
+        object.__setattr__(self, "acceleration", _frozen(acceleration))
+        object.__setattr__(self, "output_names", names)
+        object.__setattr__(self, "n_on_deck", _frozen(self.n_on_deck, dtype=np.int64))
+        if self.modal_load is not None:
+            object.__setattr__(self, "modal_load", _frozen(self.modal_load))
+
+    @property
+    def n_samples(self):
+        """Number of samples per output."""
+        return self.time.size
+
+    def psd(self, window_length, overlap=0.5, lowpass=None):
+        """Welch PSD of the accelerations → :class:`ResponsePSD` (physics.md §6).
+
+        Parameters
+        ----------
+        window_length : float
+            Segment length T [s] (Hann window).
+        overlap : float
+            Overlap of consecutive segments, fraction of T.
+        lowpass : LowPassFilter, optional
+            Zero-phase filter applied first.
+        """
+        from .signals import welch_psd  # signals imports this module
+
+        return welch_psd(self.acceleration, self.sample_rate, window_length=window_length,
+                         overlap=overlap, output_names=self.output_names, lowpass=lowpass)
+
+    def to_dict(self):
+        """JSON-ready metadata (no time series; write those with the I/O functions)."""
+        return {"output_names": list(self.output_names), "sample_rate": self.sample_rate,
+                "n_samples": self.n_samples, "duration": self.duration, "seed": self.seed,
+                "time_step": self.time_step, "n_pedestrians": self.n_pedestrians,
+                "hsi": self.hsi, "warm_up": self.warm_up,
+                "mean_on_deck": float(self.n_on_deck.mean()) if self.n_samples else 0.0,
+                "rms": np.sqrt(np.mean(self.acceleration**2, axis=-1)).tolist(),
+                "modal_load_recorded": self.modal_load is not None}

@@ -1,0 +1,585 @@
+"""Time-domain Monte Carlo simulation of a crowd walking over a footbridge (physics.md §2).
+
+Each pedestrian is a moving force on a rigid floor plus, with HSI, a moving mass-spring-damper
+(MSD) whose unsprung mass rides on the deck (paper Eq. 1–4; physics.md §2.2–2.3). The crowd is a
+stationary Poisson stream with the deck already populated at the start (physics.md §2.4). The
+numerics (fixed-step RK4 over the pedestrians on the deck) live in :mod:`crowdvib._kernels`.
+
+Public: :func:`simulate`, :class:`Pedestrian` and :func:`generate_traffic`.
+"""
+
+import math
+import secrets
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _kernels
+from ._validation import as_float_array, check_non_negative, check_positive
+from .crowd import JAM_DENSITY, Crowd
+from .errors import ParameterError
+from .loading import STANDARD_GRAVITY, as_force_model
+from .pedestrian import MSDModel
+from .results import Simulation
+from .structure import ModalModel
+
+__all__ = ["simulate", "Pedestrian", "generate_traffic"]
+
+#: Internal steps per period of the highest frequency in play (physics.md §2.5: RK4 with
+#: ω_max·h ≈ 0.6 already worked; 20 steps per period, ω h ≈ 0.31, keeps the amplitude error of a
+#: 0.5 %-damped resonance far below 0.1 %).
+STEPS_PER_PERIOD = 20
+#: Default simulated seconds per kernel call (progress granularity; results do not depend on it).
+DEFAULT_CHUNK_DURATION = 60.0
+
+
+@dataclass(frozen=True)
+class Pedestrian:
+    """One walker (or stander) with a fixed line, speed and step frequency (physics.md §2.1).
+
+    Parameters
+    ----------
+    arrival_time : float
+        Time t_k [s] at which the pedestrian is at ``position`` (by default: steps onto the deck).
+        May be negative: the pedestrian is then already on the deck at t = 0.
+    walking_speed : float
+        Speed v_k [m/s], >= 0. 0 gives a pedestrian standing (walking on the spot) at ``position``
+        from ``arrival_time`` on.
+    step_frequency : float
+        Step frequency f_s [Hz], > 0.
+    body_mass : float
+        Body mass m_h [kg], > 0 (weight W = m_h g with g = 9.81 m/s²).
+    direction : {+1, -1}
+        +1 walks towards increasing x, −1 towards decreasing x.
+    lane : float
+        Lateral offset y − B/2 [m] of the walking line from the walkway centreline, within
+        [−B/2, B/2]; matters for modes that twist the deck.
+    harmonics : sequence of (float, float, float), optional
+        The force components as (frequency multiple r_c [-], dynamic load factor α_c [-],
+        phase θ_c [rad]): p(t) = W Σ_c α_c sin(2π r_c f_s (t − t_k) + θ_c). None draws DLFs and
+        phases from the force model of :func:`simulate`; an empty sequence gives no walking force
+        (an MSD only).
+    position : float, optional
+        Position x [m] along the walkway at ``arrival_time``; default the entry end (the first
+        station for direction +1, the last for −1). Needed for a standing pedestrian.
+    """
+
+    arrival_time: float
+    walking_speed: float
+    step_frequency: float
+    body_mass: float
+    direction: int = 1
+    lane: float = 0.0
+    harmonics: tuple = None
+    position: float = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "arrival_time",
+                           float(as_float_array("arrival_time", self.arrival_time, ndim=0)))
+        object.__setattr__(self, "walking_speed",
+                           check_non_negative("walking_speed", self.walking_speed, unit="m/s"))
+        object.__setattr__(self, "step_frequency",
+                           check_positive("step_frequency", self.step_frequency, unit="Hz"))
+        object.__setattr__(self, "body_mass", check_positive("body_mass", self.body_mass, unit="kg"))
+        if self.direction not in (1, -1):
+            raise ParameterError(f"direction must be +1 or -1, got {self.direction!r}")
+        object.__setattr__(self, "direction", int(self.direction))
+        object.__setattr__(self, "lane", float(as_float_array("lane", self.lane, ndim=0)))
+        if self.position is not None:
+            object.__setattr__(self, "position",
+                               float(as_float_array("position", self.position, ndim=0)))
+        if self.harmonics is not None:
+            rows = as_float_array("harmonics", self.harmonics)
+            rows = rows.reshape(0, 3) if rows.size == 0 else rows
+            if rows.ndim != 2 or rows.shape[1] != 3:
+                raise ParameterError(
+                    "harmonics must be a sequence of (frequency multiple, dynamic load factor, "
+                    f"phase) triples, got shape {rows.shape}")
+            check_positive("harmonics frequency multiple", rows[:, 0])
+            object.__setattr__(self, "harmonics", tuple(tuple(float(v) for v in r) for r in rows))
+
+
+@dataclass(frozen=True)
+class _Walkers:
+    """All pedestrians of a run as arrays (the kernel's view), sorted by time on the deck."""
+
+    arrival: np.ndarray        # t_k [s]
+    x_start: np.ndarray        # x at t_k [m]
+    velocity: np.ndarray       # signed speed [m/s]
+    t_on: np.ndarray           # time the pedestrian steps on the deck [s]
+    t_off: np.ndarray          # time the pedestrian steps off (inf for standing) [s]
+    lateral: np.ndarray        # y [m], 0..B
+    step_frequency: np.ndarray # f_s [Hz]
+    body_mass: np.ndarray      # m_h [kg]
+    dlf: np.ndarray            # α_c [-], (n, n_components)
+    ratio: np.ndarray          # r_c [-], (n, n_components)
+    phase: np.ndarray          # θ_c [rad], (n, n_components)
+
+    @property
+    def amplitude(self):
+        """W α_c [N], (n, n_components)."""
+        return (self.body_mass * STANDARD_GRAVITY)[:, np.newaxis] * self.dlf
+
+    @property
+    def omega(self):
+        """2π r_c f_s [rad/s], (n, n_components)."""
+        return 2.0 * np.pi * self.ratio * self.step_frequency[:, np.newaxis]
+
+    @property
+    def size(self):
+        return self.arrival.size
+
+
+def _seed_from(rng):
+    """The integer seed of a run: given, drawn from a given generator, or from OS entropy."""
+    if rng is None:
+        return secrets.randbits(63)
+    if isinstance(rng, np.random.Generator):
+        return int(rng.integers(0, 2**63))
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool):
+        if rng < 0:
+            raise ParameterError(f"rng must be a non-negative integer seed, got {rng}")
+        return int(rng)
+    raise ParameterError(
+        f"rng must be None, a non-negative int or a numpy.random.Generator, got {type(rng).__name__}")
+
+
+def _positive_normal(mean, std, size, rng):
+    """Normal draws with non-positive values drawn again (step frequencies are > 0)."""
+    values = rng.normal(mean, std, size)
+    for _ in range(50):
+        bad = values <= 0
+        if not bad.any():
+            break
+        values[bad] = rng.normal(mean, std, int(bad.sum()))
+    return np.maximum(values, 1e-6)
+
+
+def _crowd_draws(structure, crowd, start, end, force, rng):
+    """Draw the stream of a crowd over [start, end) in a fixed order (physics.md §2.4).
+
+    Per direction: the people already on the deck at ``start`` (Poisson(n·share) at uniform
+    positions, i.e. arrival times start − U[0, L/v]), then Poisson arrivals on [start, end).
+    Then, for everybody: lateral positions U[0, B], step frequencies N(μ, σ), DLFs and phases.
+    """
+    length, width, speed = structure.length, structure.width, crowd.walking_speed
+    crossing = length / speed
+    arrivals, directions = [], []
+    for direction, share in ((1, crowd.forward_fraction), (-1, 1.0 - crowd.forward_fraction)):
+        on_deck = rng.poisson(crowd.density * width * length * share)
+        arrivals.append(start - crossing * rng.uniform(0.0, 1.0, on_deck))
+        entering = rng.poisson(crowd.arrival_rate(width) * share * (end - start))
+        arrivals.append(np.sort(rng.uniform(start, end, entering)))
+        directions.append(np.full(on_deck + entering, direction))
+    arrival = np.concatenate(arrivals)
+    direction = np.concatenate(directions)
+    lateral = rng.uniform(0.0, width, arrival.size)
+    step_frequency = _positive_normal(crowd.step_frequency_mean, crowd.step_frequency_std,
+                                      arrival.size, rng)
+    dlf, phase = force.sample(step_frequency, rng)
+    return arrival, direction, lateral, step_frequency, dlf, phase
+
+
+def _walkers(structure, crowd, pedestrians, start, end, force, rng):
+    """Everybody of a run as :class:`_Walkers`; the crowd's stream first, then the explicit ones."""
+    x0, x1 = structure.positions[0], structure.positions[-1]
+    parts = []
+    if crowd is not None and crowd.density > 0:
+        arrival, direction, lateral, fs, dlf, phase = _crowd_draws(structure, crowd, start, end,
+                                                                  force, rng)
+        mass = np.full(arrival.size, crowd.body_mass)
+        ratios = np.broadcast_to(force.ratios, dlf.shape)
+        parts.append((arrival, np.where(direction > 0, x0, x1),
+                      direction * crowd.walking_speed, lateral, fs, mass, dlf, ratios, phase))
+    if pedestrians:
+        parts.append(_explicit_arrays(structure, pedestrians, force, rng))
+    if not parts:
+        empty = np.zeros(0)
+        parts.append((empty,) * 6 + (np.zeros((0, 1)),) * 3)
+    width = max(p[6].shape[1] for p in parts)
+    columns = [np.concatenate([p[i] for p in parts]) for i in range(6)]
+    padded = [np.concatenate([np.pad(p[i], ((0, 0), (0, width - p[i].shape[1]))) for p in parts])
+              for i in (6, 7, 8)]
+    arrival, x_start, velocity, lateral, fs, mass = columns
+    dlf, ratios, phase = padded
+    # Time on the deck: from the arrival at x_start to the far end (never, when standing).
+    remaining = np.where(velocity > 0, x1 - x_start, x_start - x0)
+    speed = np.abs(velocity)
+    with np.errstate(divide="ignore"):
+        t_off = np.where(speed > 0, arrival + remaining / np.where(speed > 0, speed, 1.0), np.inf)
+    order = np.argsort(arrival, kind="stable")
+    return _Walkers(arrival=arrival[order], x_start=x_start[order], velocity=velocity[order],
+                    t_on=arrival[order], t_off=t_off[order], lateral=lateral[order],
+                    step_frequency=fs[order], body_mass=mass[order], dlf=dlf[order],
+                    ratio=ratios[order], phase=phase[order])
+
+
+def _explicit_arrays(structure, pedestrians, force, rng):
+    """Arrays of explicit pedestrians; missing harmonics drawn from ``force`` in list order."""
+    x0, x1 = structure.positions[0], structure.positions[-1]
+    half_width = structure.width / 2
+    arrival, x_start, velocity, lateral, fs, mass, rows = [], [], [], [], [], [], []
+    for index, walker in enumerate(pedestrians):
+        if not isinstance(walker, Pedestrian):
+            raise ParameterError(
+                f"pedestrians[{index}] must be a Pedestrian, got {type(walker).__name__}")
+        if abs(walker.lane) > half_width:
+            raise ParameterError(
+                f"pedestrians[{index}].lane must lie within ±width/2 = ±{half_width:g} m of the "
+                f"centreline, got {walker.lane:g} m")
+        start = (x0 if walker.direction > 0 else x1) if walker.position is None else walker.position
+        if not x0 <= start <= x1:
+            raise ParameterError(
+                f"pedestrians[{index}].position must lie on the walkway [{x0:g}, {x1:g}] m, "
+                f"got {start:g} m")
+        if walker.harmonics is None:
+            dlf, phase = force.sample(np.array([walker.step_frequency]), rng)
+            components = np.column_stack([force.ratios, dlf[0], phase[0]])
+        else:
+            components = np.array(walker.harmonics, dtype=float).reshape(-1, 3)
+        arrival.append(walker.arrival_time)
+        x_start.append(start)
+        velocity.append(walker.direction * walker.walking_speed)
+        lateral.append(half_width + walker.lane)
+        fs.append(walker.step_frequency)
+        mass.append(walker.body_mass)
+        rows.append(components)
+    width = max(1, max(r.shape[0] for r in rows))
+    block = np.zeros((len(rows), width, 3))
+    block[:, :, 0] = 1.0     # padding: a zero-amplitude component at any harmless multiple
+    for i, r in enumerate(rows):
+        block[i, :r.shape[0]] = r
+    return (np.array(arrival), np.array(x_start), np.array(velocity), np.array(lateral),
+            np.array(fs), np.array(mass), block[:, :, 1], block[:, :, 0], block[:, :, 2])
+
+
+def generate_traffic(structure, crowd, duration, *, force=None, rng=None, warm_up=0.0):
+    """The pedestrian stream of :func:`simulate` as a list of explicit :class:`Pedestrian`.
+
+    Useful to inspect, edit or replay a crowd: ``simulate(structure, duration=T,
+    pedestrians=generate_traffic(structure, crowd, T, rng=s), ...)`` reproduces
+    ``simulate(structure, crowd, T, rng=s, ...)``.
+
+    Parameters
+    ----------
+    structure : ModalModel
+    crowd : Crowd
+    duration : float
+        Record length [s] after the warm-up.
+    force : ZivanovicForce or YoungForce, optional
+        Force model for the DLFs and phases (default Živanović 2007).
+    rng : None, int or numpy.random.Generator
+    warm_up : float
+        Simulated time [s] before t = 0 (the deck is populated at t = −warm_up).
+
+    Returns
+    -------
+    list of Pedestrian
+        Sorted by arrival time; every pedestrian carries explicit harmonics.
+    """
+    _check_structure(structure)
+    if not isinstance(crowd, Crowd):
+        raise ParameterError(f"crowd must be a Crowd, got {type(crowd).__name__}")
+    duration, warm_up = _check_duration(duration, warm_up)
+    force = as_force_model(force)
+    walkers = _walkers(structure, crowd, None, -warm_up, duration, force,
+                       np.random.default_rng(_seed_from(rng)))
+    x0, x1 = structure.positions[0], structure.positions[-1]
+    result = []
+    for k in range(walkers.size):
+        speed = abs(walkers.velocity[k])
+        direction = 1 if walkers.velocity[k] >= 0 else -1
+        fs = walkers.step_frequency[k]
+        harmonics = tuple((float(r), float(a), float(p))
+                          for r, a, p in zip(walkers.ratio[k], walkers.dlf[k], walkers.phase[k])
+                          if a != 0.0)
+        result.append(Pedestrian(walkers.arrival[k], speed, fs, walkers.body_mass[k],
+                                 direction=direction,
+                                 lane=walkers.lateral[k] - structure.width / 2,
+                                 harmonics=harmonics,
+                                 position=x0 if direction > 0 else x1))
+    return result
+
+
+def _check_structure(structure):
+    if not isinstance(structure, ModalModel):
+        raise ParameterError(f"structure must be a ModalModel, got {type(structure).__name__}")
+
+
+def _check_duration(duration, warm_up):
+    if duration is None:
+        raise ParameterError("duration must be given (> 0 s), got None")
+    duration = float(as_float_array("duration", duration, ndim=0))
+    if duration <= 0:
+        raise ParameterError(f"duration must be > 0 s, got {duration:g}")
+    warm_up = check_non_negative("warm_up", warm_up, unit="s")
+    return duration, float(warm_up)
+
+
+def _internal_substeps(structure, walkers, msd, sample_rate):
+    """Integer number of RK4 steps per output sample, from the highest frequency in play.
+
+    f_max = max(highest mode, highest force component of any walker, f_h1); the step
+    h = 1/(sample_rate · substeps) <= 1/(STEPS_PER_PERIOD · f_max) (physics.md §2.5).
+    """
+    highest = float(np.max(structure.frequencies))
+    if walkers.size:
+        active = walkers.dlf != 0
+        if active.any():
+            highest = max(highest, float(np.max(walkers.omega[active])) / (2 * np.pi))
+    if msd is not None:
+        highest = max(highest, msd.frequency)
+    return max(1, math.ceil(STEPS_PER_PERIOD * highest / sample_rate - 1e-9))
+
+
+class _Integrator:
+    """The state of one run between kernel calls: a chunk boundary changes nothing.
+
+    Private; the tests read the state to check energy conservation.
+    """
+
+    def __init__(self, structure, walkers, msd, sample_rate, substeps, first_step, n_samples,
+                 record_modal_load, include_static_weight):
+        self.structure = structure
+        self.walkers = walkers
+        self.substeps = substeps
+        self.h = 1.0 / (sample_rate * substeps)
+        self.step = first_step
+        n_modes = structure.n_modes
+        n = walkers.size
+        capacity = max(n, 1)
+        self.hsi = msd is not None
+        mass = walkers.body_mass
+        if self.hsi:
+            self.sprung = msd.sprung_mass(mass)
+            self.unsprung = mass - self.sprung
+            self.stiffness = msd.stiffness(mass)
+            self.damping = msd.damping(mass)
+        else:
+            self.sprung = np.ones(n)
+            self.unsprung = self.stiffness = self.damping = np.zeros(n)
+        self.added_mass = bool(self.hsi and np.any(self.unsprung > 0))
+        omega_n = 2 * np.pi * structure.frequencies
+        self.modal_masses = np.ascontiguousarray(structure.modal_masses, dtype=float)
+        self.modal_damping = 2 * structure.damping_ratios * structure.modal_masses * omega_n
+        self.modal_stiffness = structure.modal_masses * omega_n**2
+        self.shapes = np.ascontiguousarray(structure.mode_shapes)
+        self.positions = np.ascontiguousarray(structure.positions)
+        spacing = np.diff(self.positions)
+        # Uniform stations: the kernel finds the segment by one multiplication.
+        uniform = np.all(np.abs(spacing - spacing.mean()) <= 1e-12 * spacing.mean())
+        self.inverse_spacing = 1.0 / spacing.mean() if uniform else 0.0
+        self.output_shapes = np.ascontiguousarray(structure.output_shapes)
+        lanes = structure.lanes
+        if lanes.size == 1:
+            self.lane_low = np.zeros(n, dtype=np.int64)
+            self.lane_weight = np.zeros(n)
+        else:
+            low = np.clip(np.searchsorted(lanes, walkers.lateral) - 1, 0, lanes.size - 2)
+            self.lane_low = low.astype(np.int64)
+            self.lane_weight = np.clip((walkers.lateral - lanes[low]) / (lanes[low + 1] - lanes[low]),
+                                       0.0, 1.0)
+        self.static = (mass * STANDARD_GRAVITY if include_static_weight else np.zeros(n))
+        self.amplitude = np.ascontiguousarray(walkers.amplitude)
+        self.omega = np.ascontiguousarray(walkers.omega)
+        self.two_cos = 2.0 * np.cos(self.omega * self.h / 2)
+        n_components = self.amplitude.shape[1]
+        # state
+        self.counters = np.zeros(2, dtype=np.int64)
+        self.active = np.zeros(capacity, dtype=np.int64)
+        self.z = np.zeros(n_modes)
+        self.zd = np.zeros(n_modes)
+        self.u = np.zeros(capacity)
+        self.ud = np.zeros(capacity)
+        self.seg = np.zeros(capacity, dtype=np.int64)
+        self.phi_now = np.zeros((capacity, n_modes))
+        self.force_now = np.zeros(capacity)
+        self.wave_now = np.zeros((capacity, n_components))
+        self.wave_prev = np.zeros((capacity, n_components))
+        self.factor_now = np.zeros((n_modes, n_modes))
+        _kernels.cholesky_mass(self.modal_masses, self.phi_now, self.unsprung, self.active, 0,
+                               self.factor_now)
+        # records
+        self.acceleration = np.zeros((structure.n_outputs, n_samples))
+        self.record_modal_load = bool(record_modal_load)
+        self.modal_load = np.zeros((n_modes, n_samples if record_modal_load else 0))
+        self.n_on_deck = np.zeros(n_samples, dtype=np.int64)
+
+    def advance(self, n_steps):
+        """Integrate ``n_steps`` internal steps from the current state."""
+        w = self.walkers
+        _kernels.advance(
+            self.step, n_steps, self.substeps, self.h,
+            self.modal_masses, self.modal_damping, self.modal_stiffness, self.shapes,
+            self.positions, self.inverse_spacing, self.output_shapes,
+            w.t_on, w.t_off, w.arrival, w.x_start, w.velocity, self.lane_low, self.lane_weight,
+            self.unsprung, self.sprung, self.stiffness, self.damping, self.static,
+            self.amplitude, self.omega, w.phase, self.two_cos, self.hsi, self.added_mass,
+            self.counters, self.active, self.z, self.zd, self.u, self.ud, self.seg,
+            self.phi_now, self.force_now, self.wave_now, self.wave_prev, self.factor_now,
+            self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck)
+        self.step += n_steps
+
+    @property
+    def time(self):
+        """Current time t = n·h [s]."""
+        return self.step * self.h
+
+    @property
+    def n_active(self):
+        return int(self.counters[1])
+
+
+def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
+             include_static_weight, record_modal_load, warm_up):
+    """Validate everything and build the integrator (no time stepping yet)."""
+    _check_structure(structure)
+    if crowd is None and pedestrians is None:
+        raise ParameterError("crowd or pedestrians must be given, got neither")
+    if crowd is not None:
+        if not isinstance(crowd, Crowd):
+            raise ParameterError(f"crowd must be a Crowd, got {type(crowd).__name__}")
+        if crowd.density >= JAM_DENSITY:
+            raise ParameterError(
+                f"crowd.density must be < the jam density {JAM_DENSITY} persons/m², "
+                f"got {crowd.density:g}")
+    if msd is not None and not isinstance(msd, MSDModel):
+        raise ParameterError(f"msd must be an MSDModel or None, got {type(msd).__name__}")
+    force = as_force_model(force)
+    duration, warm_up = _check_duration(duration, warm_up)
+    sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
+    highest = float(np.max(structure.frequencies))
+    if sample_rate / 2 <= highest:
+        raise ParameterError(
+            f"sample_rate must put the Nyquist frequency (sample_rate/2) above the highest "
+            f"structural mode {highest:g} Hz, got {sample_rate:g} Hz "
+            f"(Nyquist {sample_rate / 2:g} Hz)")
+    n_samples = int(round(duration * sample_rate))
+    if n_samples < 1:
+        raise ParameterError(
+            f"duration × sample_rate must give at least one sample, got {duration:g} s × "
+            f"{sample_rate:g} Hz")
+    warm_up_samples = int(math.ceil(warm_up * sample_rate - 1e-9))
+    pedestrians = list(pedestrians) if pedestrians is not None else []
+    rng = np.random.default_rng(seed)
+    start = -warm_up_samples / sample_rate
+    walkers = _walkers(structure, crowd, pedestrians, start, duration, force, rng)
+    substeps = _internal_substeps(structure, walkers, msd, sample_rate)
+    integrator = _Integrator(structure, walkers, msd, sample_rate, substeps,
+                             -warm_up_samples * substeps, n_samples, record_modal_load,
+                             include_static_weight)
+    return integrator, n_samples, warm_up_samples, sample_rate, duration
+
+
+def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None, force=None,
+             sample_rate=100.0, rng=None, progress=None, include_static_weight=False,
+             chunk_duration=None, record_modal_load=False, warm_up=0.0):
+    """Accelerations of a footbridge under a crowd of moving forces and MSDs (physics.md §2).
+
+    The structure's modes carry every pedestrian on the deck: the force on a rigid floor
+    p_k(t) = W Σ_c α_c sin(2π r_c f_s (t − t_k) + θ_c) (+ W with the static weight), applied at
+    the mode-shape row φ_k(t) under the pedestrian, and with ``msd`` the contact force of a
+    mass-spring-damper whose unsprung mass rides on the deck (paper Eq. 1–4; physics.md §2.2–2.3):
+
+        M(t) z̈ + C ż + K z = Σ_k φ_k [p_k − m_h0 φ_kᵀ z̈ + k_h1 (u_k − φ_kᵀ z) + c_h1 (u̇_k − φ_kᵀ ż)]
+        m_h1 ü_k + c_h1 (u̇_k − φ_kᵀ ż) + k_h1 (u_k − φ_kᵀ z) = 0
+
+    Parameters
+    ----------
+    structure : ModalModel
+        The empty footbridge; its output points are recorded.
+    crowd : Crowd, optional
+        A stationary stream (physics.md §2.4): Poisson arrivals at rate d·B·v split between the
+        directions by ``crowd.forward_fraction`` (the others start at the far end), the deck
+        already populated at t = 0 (Poisson(d·B·L) people at uniform positions), lateral
+        positions U[0, B], step frequencies N(μ_fs, σ_fs), body mass ``crowd.body_mass``, DLFs
+        and phases from ``force``.
+    duration : float
+        Record length [s], > 0.
+    pedestrians : sequence of Pedestrian, optional
+        Explicit pedestrians, in addition to (or instead of) the crowd.
+    msd : MSDModel, optional
+        Mass-spring-damper model of every pedestrian (HSI); None = moving forces only.
+    force : ZivanovicForce or YoungForce, optional
+        Walking force model (default Živanović 2007).
+    sample_rate : float
+        Output sample rate [Hz]; its Nyquist frequency must exceed the highest mode.
+    rng : None, int or numpy.random.Generator
+        Seed of the run. None draws a seed from OS entropy; a Generator gives one draw. The seed
+        used is returned in ``Simulation.seed``: the same seed gives a bit-identical record.
+    progress : callable, optional
+        Called as ``progress(done_seconds, total_seconds)`` [s of simulated time, warm-up
+        included] after each chunk.
+    include_static_weight : bool
+        Add the weight W to each force (quasi-static moving load, physics.md §2.6). Off by
+        default: it only adds content below ~v/L and Welch's detrending removes it.
+    chunk_duration : float, optional
+        Simulated seconds per kernel call (default 60 s). The state is carried over, so the
+        record is bit-identical for any chunking.
+    record_modal_load : bool
+        Also record the modal walking load Q(t) = Σ_k φ_k(t) p_k(t) [N] (no interaction forces).
+    warm_up : float
+        Simulated time [s] before t = 0 that is not recorded: the structure starts at rest, so
+        a lightly damped mode needs ~5/(ξ_1 ω_1) to reach a stationary response (the traffic is
+        stationary from the start anyway). Default 0.
+
+    Returns
+    -------
+    Simulation
+        Accelerations at the output points [m/s²], shape (n_outputs, n_samples), with the time
+        axis, pedestrians on the deck and the seed.
+
+    Notes
+    -----
+    * Integration: classical RK4 with a fixed internal step h = 1/(sample_rate · m), m the
+      smallest integer with h <= 1/(20 f_max), f_max the highest of the modes, the walkers'
+      force components and f_h1 (physics.md §2.5). Shapes and forces are evaluated at the stage
+      times; the unsprung masses make the mass matrix position-dependent and it is factored at
+      each stage time.
+    * The convective terms of the contact kinematics (v ∂φ/∂x) are neglected (physics.md §2.2):
+      u̇ of the contact point is taken as φᵀż.
+    * A pedestrian enters (at an internal step) with the MSD at rest relative to the deck,
+      u = φᵀz, u̇ = φᵀż, and leaves at the first step after walking off (physics.md §2.5).
+    * Only pedestrians on the deck cost time; memory is O(outputs × samples + pedestrians).
+
+    Examples
+    --------
+    >>> from crowdvib import Crowd, MSDModel, ModalModel, simulate
+    >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+    >>> record = simulate(bridge, Crowd.from_density(0.5), 10.0, msd=MSDModel(), rng=1)
+    >>> record.acceleration.shape
+    (1, 1000)
+    """
+    seed = _seed_from(rng)
+    if progress is not None and not callable(progress):
+        raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
+    chunk_duration = (DEFAULT_CHUNK_DURATION if chunk_duration is None
+                      else check_positive("chunk_duration", chunk_duration, unit="s"))
+    integrator, n_samples, warm_up_samples, sample_rate, duration = _prepare(
+        structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
+        include_static_weight, record_modal_load, warm_up)
+    substeps = integrator.substeps
+    total_steps = (warm_up_samples + n_samples) * substeps
+    chunk_steps = max(1, int(round(chunk_duration * sample_rate))) * substeps
+    total_seconds = total_steps * integrator.h
+    done = 0
+    while done < total_steps:
+        n = min(chunk_steps, total_steps - done)
+        integrator.advance(n)
+        done += n
+        if progress is not None:
+            progress(done * integrator.h, total_seconds)
+    return Simulation(
+        time=np.arange(n_samples) / sample_rate,
+        acceleration=integrator.acceleration,
+        output_names=structure.output_names,
+        n_on_deck=integrator.n_on_deck,
+        sample_rate=sample_rate,
+        seed=seed,
+        duration=n_samples / sample_rate,
+        modal_load=integrator.modal_load if record_modal_load else None,
+        time_step=integrator.h,
+        n_pedestrians=integrator.walkers.size,
+        hsi=msd is not None,
+        warm_up=warm_up_samples / sample_rate,
+    )
