@@ -6,6 +6,7 @@ helpers. Exit codes: 0 success, 1 a crowdvib error (message on stderr; traceback
 """
 
 import argparse
+import contextlib
 import sys
 import time
 from pathlib import Path
@@ -112,8 +113,26 @@ def _prepare_out(out, force):
     return Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".part", dir=out.parent))
 
 
+@contextlib.contextmanager
+def _staged_output(out, force):
+    """Yield a staging directory that replaces ``out`` only if the block finishes.
+
+    A failed run removes the staging directory and leaves ``out`` as it was, so no half-written
+    results ever appear; an existing ``out`` is refused without ``--force``.
+    """
+    import shutil
+
+    staging = _prepare_out(out, force)
+    try:
+        yield staging
+        _publish(staging, out)
+    finally:
+        if staging.exists():
+            shutil.rmtree(staging, ignore_errors=True)
+
+
 def _publish(staging, out):
-    """Swap the finished staging directory in for ``out`` (a failed run never reaches here)."""
+    """Swap the finished staging directory in for ``out``."""
     import os
     import shutil
 
@@ -148,14 +167,12 @@ def _add_estimate_arguments(parser):
 
 
 def _run_estimate(args):
-    import shutil
     import warnings
 
     from .casefile import load_case
 
     case = load_case(args.case)
-    staging = _prepare_out(args.out, args.force)
-    try:
+    with _staged_output(args.out, args.force) as staging:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             results = _estimate_case(case, staging)
@@ -163,10 +180,6 @@ def _run_estimate(args):
         for text in results["warnings"]:
             print(f"crowdvib estimate: warning: {text}", file=sys.stderr)
         write_json(staging / "results.json", results)
-        _publish(staging, args.out)
-    finally:
-        if staging.exists():
-            shutil.rmtree(staging, ignore_errors=True)
     _say(f"  wrote {args.out / 'results.json'} and figures")
     return 0
 
@@ -282,8 +295,6 @@ def _add_simulate_arguments(parser):
 
 
 def _run_simulate(args):
-    import shutil
-
     from .casefile import load_case, paper_example_case
     from .errors import ParameterError
     from .plotting import plot_psd_comparison, save_figure
@@ -305,8 +316,7 @@ def _run_simulate(args):
     msd = None if (args.no_hsi or not spec.hsi) else _simulation_msd(case)
     _say(f"crowdvib simulate: {case.name}, {duration:g} s at {sample_rate:g} Hz, "
          f"{'MSD ' + str(msd.to_dict()) if msd else 'no HSI'}")
-    staging = _prepare_out(args.out, args.force)
-    try:
+    with _staged_output(args.out, args.force) as staging:
         started = time.perf_counter()
         simulation = simulate(case.structure, case.crowd, duration, msd=msd,
                               sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up)
@@ -338,10 +348,6 @@ def _run_simulate(args):
                        axis=1)).tolist())),
                    "elapsed_s": elapsed, "figures": [figure]}
         write_json(staging / "results.json", results)
-        _publish(staging, args.out)
-    finally:
-        if staging.exists():
-            shutil.rmtree(staging, ignore_errors=True)
     _say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
     return 0
 

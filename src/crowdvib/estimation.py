@@ -196,14 +196,7 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
                              outputs=outputs, output_weights=output_weights,
                              frequency_weights=frequency_weights, match_welch=match_welch)
     names = _PARAMETERS if free_mass_ratio else _PARAMETERS[:2]
-    limits = dict(DEFAULT_BOUNDS)
-    for key, value in (bounds or {}).items():
-        if key not in _PARAMETERS:
-            raise ParameterError(f"bounds keys must be among {list(_PARAMETERS)}, got {key!r}")
-        low, high = (float(v) for v in value)
-        if not 0 < low < high:
-            raise ParameterError(f"bounds[{key!r}] must satisfy 0 < lower < upper, got {value!r}")
-        limits[key] = (low, high)
+    limits = _merge_bounds(bounds, DEFAULT_BOUNDS)
     if limits["mass_ratio"][1] >= 1:
         raise ParameterError(f"bounds['mass_ratio'] must stay below 1, got {limits['mass_ratio']}")
     lower = np.array([limits[n][0] for n in names])
@@ -218,6 +211,37 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         return objective.residuals(to_msd(theta))
 
     points = _starting_points(starts, names, mass_ratio, lower, upper)
+    best, runs = _multistart(residuals, points, lower, upper, objective)
+    msd = to_msd(best.x)
+    active, success, table = _diagnose(best, runs, names, lower, upper,
+                                       "the optimum sits on a bound", "check the model inputs")
+    return HSIEstimate(
+        msd=msd, cost=float(2 * best.cost), cost_no_hsi=objective.cost(None),
+        n_evaluations=sum(n for _, _, n in runs), success=success, active_bounds=active,
+        free_parameters=names, bounds={n: (float(lo), float(hi)) for n, lo, hi in
+                                       zip(names, lower, upper)},
+        band=objective.band, output_names=objective.output_names,
+        output_weights=objective.output_weights, starts=table, message=str(best.message))
+
+
+def _merge_bounds(bounds, defaults):
+    """The default bounds updated by the user's, each checked: 0 < lower < upper."""
+    limits = dict(defaults)
+    for key, value in (bounds or {}).items():
+        if key not in defaults:
+            raise ParameterError(f"bounds keys must be among {list(defaults)}, got {key!r}")
+        low, high = (float(v) for v in value)
+        if not 0 < low < high:
+            raise ParameterError(f"bounds[{key!r}] must satisfy 0 < lower < upper, got {value!r}")
+        limits[key] = (low, high)
+    return limits
+
+
+def _multistart(residuals, points, lower, upper, objective):
+    """Bounded trust-region least squares from every start → (best result, runs).
+
+    ``runs`` holds (result, start, forward-model evaluations) per start.
+    """
     runs = []
     for start in points:
         evaluations_before = objective.evaluations
@@ -229,29 +253,30 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         runs.append((result, start, objective.evaluations - evaluations_before))
         logger.info("start %s -> %s, J = %.4g", start, result.x, 2 * result.cost)
     best, _, _ = min(runs, key=lambda run: run[0].cost)
-    msd = to_msd(best.x)
+    return best, runs
+
+
+def _diagnose(best, runs, names, lower, upper, what, hint):
+    """Active bounds and convergence of the best run (warned about), and the per-start table.
+
+    The warnings point at the caller of the public estimator (stacklevel 3).
+    """
     span = upper - lower
     active = tuple(
         f"{name}:{side}" for name, x, lo, hi, width in zip(names, best.x, lower, upper, span)
         for side, hit in (("lower", x - lo <= _BOUND_TOLERANCE * width),
                           ("upper", hi - x <= _BOUND_TOLERANCE * width)) if hit)
     if active:
-        warnings.warn(f"the optimum sits on a bound ({', '.join(active)}): widen the bounds or "
-                      "check the model inputs", BoundWarning, stacklevel=2)
+        warnings.warn(f"{what} ({', '.join(active)}): widen the bounds or {hint}", BoundWarning,
+                      stacklevel=3)
     success = best.status > 0
     if not success:
         warnings.warn(f"least_squares did not converge: {best.message}", ConvergenceWarning,
-                      stacklevel=2)
+                      stacklevel=3)
     table = tuple({"start": [float(v) for v in start], "estimate": [float(v) for v in r.x],
                    "cost": float(2 * r.cost), "n_evaluations": int(n), "status": int(r.status)}
                   for r, start, n in runs)
-    return HSIEstimate(
-        msd=msd, cost=float(2 * best.cost), cost_no_hsi=objective.cost(None),
-        n_evaluations=sum(n for _, _, n in runs), success=success, active_bounds=active,
-        free_parameters=names, bounds={n: (float(lo), float(hi)) for n, lo, hi in
-                                       zip(names, lower, upper)},
-        band=objective.band, output_names=objective.output_names,
-        output_weights=objective.output_weights, starts=table, message=str(best.message))
+    return active, success, table
 
 
 def _starting_points(starts, names, mass_ratio, lower, upper):
@@ -389,14 +414,7 @@ def estimate_step_frequencies(measured, structure, crowd, *, cutoff=2.3, band=No
     band = (0.5, cutoff) if band is None else band
     objective = PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                              output_weights=output_weights, match_welch=match_welch)
-    limits = dict(DEFAULT_STEP_FREQUENCY_BOUNDS)
-    for key, value in (bounds or {}).items():
-        if key not in _STEP_PARAMETERS:
-            raise ParameterError(f"bounds keys must be among {list(_STEP_PARAMETERS)}, got {key!r}")
-        low, high = (float(v) for v in value)
-        if not 0 < low < high:
-            raise ParameterError(f"bounds[{key!r}] must satisfy 0 < lower < upper, got {value!r}")
-        limits[key] = (low, high)
+    limits = _merge_bounds(bounds, DEFAULT_STEP_FREQUENCY_BOUNDS)
     lower = np.array([limits[n][0] for n in _STEP_PARAMETERS])
     upper = np.array([limits[n][1] for n in _STEP_PARAMETERS])
     if starts is None:
@@ -411,33 +429,10 @@ def estimate_step_frequencies(measured, structure, crowd, *, cutoff=2.3, band=No
         # The load spectrum depends on (μ_fs, σ_fs): one forward model per evaluation, no HSI.
         return objective.residuals(None, model=objective.spectral_model(to_crowd(theta)))
 
-    runs = []
-    for start in points:
-        before = objective.evaluations
-        try:
-            result = least_squares(residuals, start, method="trf", bounds=(lower, upper),
-                                   x_scale="jac")
-        except ValueError as exc:
-            raise EstimationError(f"objective could not be evaluated from start {start}: {exc}")
-        runs.append((result, start, objective.evaluations - before))
-        logger.info("step frequencies: start %s -> %s, J = %.4g", start, result.x, 2 * result.cost)
-    best, _, _ = min(runs, key=lambda run: run[0].cost)
-    span = upper - lower
-    active = tuple(
-        f"{name}:{side}" for name, x, lo, hi, width in zip(_STEP_PARAMETERS, best.x, lower, upper,
-                                                           span)
-        for side, hit in (("lower", x - lo <= _BOUND_TOLERANCE * width),
-                          ("upper", hi - x <= _BOUND_TOLERANCE * width)) if hit)
-    if active:
-        warnings.warn(f"the step-frequency optimum sits on a bound ({', '.join(active)}): widen "
-                      "the bounds or check the band and cut-off", BoundWarning, stacklevel=2)
-    success = best.status > 0
-    if not success:
-        warnings.warn(f"least_squares did not converge: {best.message}", ConvergenceWarning,
-                      stacklevel=2)
-    table = tuple({"start": [float(v) for v in start], "estimate": [float(v) for v in r.x],
-                   "cost": float(2 * r.cost), "n_evaluations": int(n), "status": int(r.status)}
-                  for r, start, n in runs)
+    best, runs = _multistart(residuals, points, lower, upper, objective)
+    active, success, table = _diagnose(best, runs, _STEP_PARAMETERS, lower, upper,
+                                       "the step-frequency optimum sits on a bound",
+                                       "check the band and cut-off")
     return StepFrequencyEstimate(
         crowd=to_crowd(best.x), cost=float(2 * best.cost),
         cost_initial=float(np.sum(objective.residuals(None) ** 2)),

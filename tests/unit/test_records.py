@@ -18,12 +18,16 @@ def record(rng):
                   start_time=2.5)
 
 
+def needs_extra(fmt):
+    """Skip when the optional reader of a format is missing (h5py: mat73, pyuff: uff)."""
+    module = {"mat73": "h5py", "uff": "pyuff"}.get(fmt)
+    if module:
+        pytest.importorskip(module)
+
+
 @pytest.mark.parametrize("fmt, name", FORMATS)
 def test_round_trip_float64(record, tmp_path, fmt, name):
-    if fmt == "mat73":
-        pytest.importorskip("h5py")
-    if fmt == "uff":
-        pytest.importorskip("pyuff")
+    needs_extra(fmt)
     path = write_record(record, tmp_path / name, format=fmt)
     back = read_record(path)   # the format is told from the suffix (and the v7.3 header)
     assert back.channel_names == record.channel_names
@@ -36,10 +40,7 @@ def test_round_trip_float64(record, tmp_path, fmt, name):
 
 @pytest.mark.parametrize("fmt, name", FORMATS)
 def test_round_trip_float32(record, tmp_path, fmt, name):
-    if fmt == "mat73":
-        pytest.importorskip("h5py")
-    if fmt == "uff":
-        pytest.importorskip("pyuff")
+    needs_extra(fmt)
     back = read_record(write_record(record, tmp_path / name, format=fmt, dtype="float32"))
     np.testing.assert_allclose(back.data, record.data, rtol=1e-6, atol=1e-9)
 
