@@ -319,7 +319,8 @@ def _run_simulate(args):
     with _staged_output(args.out, args.force) as staging:
         started = time.perf_counter()
         simulation = simulate(case.structure, case.crowd, duration, msd=msd,
-                              sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up)
+                              sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up,
+                              progress=_progress_printer("simulated"))
         data, rate = simulation.acceleration, sample_rate
         if spec.record_sample_rate is not None:
             data, rate = resample(data, rate, spec.record_sample_rate)
@@ -350,6 +351,19 @@ def _run_simulate(args):
         write_json(staging / "results.json", results)
     _say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
     return 0
+
+
+def _progress_printer(label):
+    """A ``progress(done, total)`` callback that prints at most every 10 % (to stderr)."""
+    shown = [-1]
+
+    def progress(done, total):
+        step = int(10 * done / total) if total > 0 else 10
+        if step > shown[0]:
+            shown[0] = step
+            print(f"  {label} {done:.0f} of {total:.0f} s", file=sys.stderr, flush=True)
+
+    return progress
 
 
 def _simulation_msd(case):

@@ -191,3 +191,50 @@ def test_record_frame_and_select(record):
     assert record.select(["side_span"]).channel_names == ("side_span",)
     with pytest.raises(DataError, match="time frame"):
         record.frame(100.0, 200.0)
+
+
+def test_mat73_as_matlab_writes_it(tmp_path):
+    # MATLAB's `save -v7.3` layout: a column vector appears as a (1, n) dataset, a cell array of
+    # char rows is a dataset of object references to uint16 char datasets. Here one variable
+    # per channel, listed in a cell array, and the sample rate given by the caller.
+    h5py = pytest.importorskip("h5py")
+    path = tmp_path / "matlab.mat"
+    with h5py.File(path, "w", userblock_size=512) as handle:
+        refs = handle.create_group("#refs#")
+        names = []
+        for i, text in enumerate(["A1", "A2"]):
+            channel = handle.create_dataset(text, data=(np.arange(6.0) + 10 * i)[np.newaxis])
+            channel.attrs["MATLAB_class"] = np.bytes_("double")
+            item = refs.create_dataset(f"n{i}", data=np.array([[ord(c)] for c in text],
+                                                                dtype=np.uint16))
+            item.attrs["MATLAB_class"] = np.bytes_("char")
+            names.append(item.ref)
+        cell = handle.create_dataset("channel_names", data=np.array([names]).T,
+                                     dtype=h5py.ref_dtype)
+        cell.attrs["MATLAB_class"] = np.bytes_("cell")
+    with open(path, "r+b") as handle:
+        handle.write(b"MATLAB 7.3 MAT-file")
+    record = read_record(path, sample_rate=50.0, channels={"main_span": "A2"})
+    assert record.channel_names == ("main_span",) and record.sample_rate == 50.0
+    np.testing.assert_array_equal(record.data, [np.arange(6.0) + 10])
+
+
+def test_mat73_cell_channel_names_with_data_matrix(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    path = tmp_path / "m.mat"
+    with h5py.File(path, "w", userblock_size=512) as handle:
+        handle.create_dataset("data", data=np.arange(12.0).reshape(2, 6))
+        refs = handle.create_group("#refs#")
+        names = []
+        for i, text in enumerate(["A1", "A2"]):
+            names.append(refs.create_dataset(f"n{i}", data=np.array(
+                [[ord(c)] for c in text], dtype=np.uint16)).ref)
+        cell = handle.create_dataset("channel_names", data=np.array([names]).T,
+                                     dtype=h5py.ref_dtype)
+        cell.attrs["MATLAB_class"] = np.bytes_("cell")
+        handle.create_dataset("sample_rate", data=np.array([[50.0]]))
+    with open(path, "r+b") as handle:
+        handle.write(b"MATLAB 7.3 MAT-file")
+    record = read_record(path)
+    assert record.channel_names == ("A1", "A2") and record.sample_rate == 50.0
+    np.testing.assert_array_equal(record.data, np.arange(12.0).reshape(2, 6))
