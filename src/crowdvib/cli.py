@@ -187,6 +187,7 @@ def _run_estimate(args):
 def _estimate_case(case, out):
     """The estimate pipeline on a loaded case; figures into ``out``; returns the results dict."""
     from .casefile import load_measurement
+    from .errors import ParameterError
     from .estimation import estimate_hsi, estimate_step_frequencies
     from .plotting import plot_psd_comparison, plot_psd_convergence, save_figure
     from .signals import LowPassFilter, psd_convergence, welch_psd
@@ -196,6 +197,12 @@ def _estimate_case(case, out):
     _say(f"crowdvib estimate: {case.name} ({case.path.name})")
     record = load_measurement(case)
     outputs = tuple(est.outputs or record.channel_names)
+    unknown = [name for name in outputs if name not in case.structure.output_names]
+    if unknown:
+        raise ParameterError(
+            f"{case.path.name}: record channel(s) {unknown} are not outputs of the structure "
+            f"{list(case.structure.output_names)}: map them with measurement.channels "
+            "(output = \"channel in file\") or list the outputs in estimation.outputs")
     record = record.select(outputs)
     _say(f"  record  {record.n_channels} channel(s) {list(record.channel_names)}, "
          f"{record.duration:g} s at {record.sample_rate:g} Hz")

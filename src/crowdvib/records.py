@@ -235,7 +235,7 @@ def _flat_runs(row, min_length):
     return (int(starts[k]), int(lengths[k])) if lengths[k] >= min_length else None
 
 
-def check_record(record, *, band=None, flat_duration=1.0, clip_samples=3):
+def check_record(record, *, band=None, flat_duration=1.0, clip_samples=5):
     """Check the samples of a record; raise or warn naming file, channel and sample index.
 
     Parameters
@@ -248,7 +248,7 @@ def check_record(record, *, band=None, flat_duration=1.0, clip_samples=3):
         sensor, a logger hold): :class:`DataWarning`.
     clip_samples : int
         At least this many consecutive samples at the channel's extreme value look clipped:
-        :class:`DataWarning`.
+        :class:`DataWarning` (5 by default: a quantised signal may repeat its peak 2–3 times).
 
     Returns
     -------
@@ -450,11 +450,15 @@ def _from_variables(path, content, *, sample_rate, time_column, channels_last):
     time = None if time is None else np.ravel(np.asarray(time, dtype=float))
     names = _names(content.pop("channel_names")) if "channel_names" in content else None
     if "data" in content:
-        data = np.atleast_2d(np.asarray(content.pop("data"), dtype=float))
+        raw = np.asarray(content.pop("data"), dtype=float)
+        data = np.atleast_2d(raw)
         n = len(names) if names is not None else None
-        if channels_last and data.shape[1] == (n or data.shape[1]) and data.shape[0] != n:
-            data = data.T
-        elif n is not None and data.shape[0] != n and data.shape[1] == n:
+        # MATLAB users keep one column per channel (n_samples × n_channels); NPZ and the HDF5
+        # view of a v7.3 file hold (n_channels, n_samples). The channel count decides when known.
+        if n is not None:
+            if data.shape[0] != n and data.shape[1] == n:
+                data = data.T
+        elif channels_last and raw.ndim == 2:
             data = data.T
         if names is None:
             names = [f"ch{i}" for i in range(data.shape[0])]

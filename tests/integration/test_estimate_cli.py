@@ -121,3 +121,16 @@ def test_simulate_embedded_paper_example(tmp_path):
     assert results["msd"] is None and results["inputs"]["name"] == "paper-example"
     record = read_record(out / "record.npz")
     assert record.channel_names == ("midspan",) and record.duration == pytest.approx(20.0)
+
+
+def test_unmapped_channels_are_reported(tmp_path, capsys):
+    from crowdvib.records import Record, write_record
+    case = _small_case(tmp_path, record_name="rec.npz")
+    write_record(Record(np.random.default_rng(1).normal(size=(1, 9000)), 25.0, ["acc_7"]),
+                 tmp_path / "rec.npz")
+    assert main(["estimate", str(case), "--out", str(tmp_path / "e")]) == 1
+    assert "record channel(s) ['acc_7'] are not outputs of the structure ['midspan']: map them " \
+           "with measurement.channels" in capsys.readouterr().err
+    case.write_text(case.read_text().replace('[measurement]\n',
+                                             '[measurement]\nchannels = { midspan = "acc_7" }\n'))
+    assert main(["estimate", str(case), "--out", str(tmp_path / "e")]) == 0

@@ -238,3 +238,13 @@ def test_mat73_cell_channel_names_with_data_matrix(tmp_path):
     record = read_record(path)
     assert record.channel_names == ("A1", "A2") and record.sample_rate == 50.0
     np.testing.assert_array_equal(record.data, np.arange(12.0).reshape(2, 6))
+
+
+def test_mat_v5_single_column_vector_and_matrix_without_names(tmp_path):
+    from scipy.io import savemat
+    savemat(tmp_path / "vector.mat", {"data": np.arange(5.0), "sample_rate": 10.0})
+    assert read_record(tmp_path / "vector.mat").data.shape == (1, 5)
+    savemat(tmp_path / "matrix.mat", {"data": np.arange(10.0).reshape(5, 2), "sample_rate": 10.0})
+    record = read_record(tmp_path / "matrix.mat")   # one column per channel, as in MATLAB
+    assert record.channel_names == ("ch0", "ch1")
+    np.testing.assert_array_equal(record.data, np.arange(10.0).reshape(5, 2).T)
