@@ -611,7 +611,8 @@ def _write_csv(record, path, dtype):
     columns = np.vstack([record.time, record.data]).T
     with atomic_path(path) as temporary:
         with open(temporary, "w", encoding="utf-8", newline="\n") as handle:
-            handle.write(f"# crowdvib record; unit = m/s2\n# sample_rate = {record.sample_rate!r}\n")
+            handle.write(f"# crowdvib record\n# unit = m/s2\n"
+                         f"# sample_rate = {record.sample_rate!r}\n")
             handle.write(",".join(("time",) + record.channel_names) + "\n")
             np.savetxt(handle, columns, delimiter=",", fmt=f"%.{digits}g")
 

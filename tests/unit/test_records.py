@@ -248,3 +248,11 @@ def test_mat_v5_single_column_vector_and_matrix_without_names(tmp_path):
     record = read_record(tmp_path / "matrix.mat")   # one column per channel, as in MATLAB
     assert record.channel_names == ("ch0", "ch1")
     np.testing.assert_array_equal(record.data, np.arange(10.0).reshape(5, 2).T)
+
+
+def test_csv_comment_lines_carry_unit_and_sample_rate(tmp_path):
+    path = tmp_path / "logger.csv"
+    path.write_text("# logger export\n# unit = g\n# sample_rate = 50\nacc\n0.1\n0.2\n0.3\n")
+    record = read_record(path)
+    assert record.sample_rate == 50.0
+    np.testing.assert_allclose(record.data[0], [0.981, 1.962, 2.943])
