@@ -172,3 +172,28 @@ def test_waalse_krook_like_follows_the_paper():
     np.testing.assert_allclose(s.damping_ratios, [0.0086, 0.0025])
     np.testing.assert_allclose(100 * s.modal_mass_ratios(1.0, 72.0), [5.8, 5.7], rtol=1e-6)
     assert s.lanes.size > 1
+
+
+def test_load_measurement_frame_units_resample_and_channel_map(tmp_path):
+    from crowdvib.casefile import load_measurement
+    rate = 100.0
+    t = np.arange(int(300 * rate)) / rate
+    signal = 0.01 * np.sin(2 * np.pi * 1.9 * t) + 0.002   # [g], with an offset to detrend
+    (tmp_path / "logger.csv").write_text(
+        "acc_3\n" + "\n".join(f"{v:.9g}" for v in signal) + "\n")
+    extra = ('[measurement]\nfiles = ["logger.csv"]\nsample_rate = 100.0\nunits = "g"\n'
+             'channels = { midspan = "acc_3" }\ntime_frame = [60.0, 240.0]\nresample = 25.0\n')
+    record = load_measurement(load_case(write_case(tmp_path, extra=extra)))
+    assert record.channel_names == ("midspan",)
+    assert record.sample_rate == 25.0 and record.duration == pytest.approx(180.0)
+    assert record.start_time == pytest.approx(60.0)
+    assert abs(record.data.mean()) < 1e-4     # offset 0.0196 m/s² removed (constant detrend)
+    assert np.std(record.data) == pytest.approx(0.01 * 9.81 / np.sqrt(2), rel=0.01)  # g → m/s²
+
+
+def test_load_measurement_needs_the_records(tmp_path):
+    from crowdvib.casefile import load_measurement
+    case = load_case(write_case(tmp_path, extra='[measurement]\nfiles = ["none.npz"]\n'))
+    with pytest.raises(ParameterError, match=r"measurement.files\[0\] names a file that does "
+                                             r"not exist"):
+        load_measurement(case)
