@@ -35,7 +35,7 @@ def _locate(x, positions):
     return s
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _shape_row(x, s, lane_low, lane_weight, shapes, positions, inverse_spacing, out, row):
     """Mode-shape row φ(x, y) into ``out[row]`` by linear interpolation; 0 off the walkway.
 
@@ -76,7 +76,7 @@ def _shape_row(x, s, lane_low, lane_weight, shapes, positions, inverse_spacing, 
     return s
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def cholesky_mass(modal_masses, phi, unsprung, active, n_active, factor):
     """Lower Cholesky factor of M = diag(m_j) + Σ_slots m_h0 φ φᵀ, in place into ``factor``."""
     n_modes = modal_masses.size
@@ -107,7 +107,7 @@ def cholesky_mass(modal_masses, phi, unsprung, active, n_active, factor):
             factor[i, j] = v / d
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _solve(factor, rhs, out):
     """Solve L Lᵀ out = rhs for the lower factor L."""
     n = rhs.size
@@ -123,7 +123,7 @@ def _solve(factor, rhs, out):
         out[i] = v / factor[i, i]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _accelerations(z, zd, u, ud, phi, force, n_active, active, sprung, stiffness, damping,
                    modal_damping, modal_stiffness, factor, hsi, rhs, zdd, udd):
     """Structural (z̈) and sprung-mass (ü) accelerations at one RK4 stage (physics.md §2.2)."""
