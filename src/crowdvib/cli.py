@@ -210,17 +210,17 @@ def _run_estimate(args):
     return 0
 
 
-def _estimate_case(case, out):
-    """The estimate pipeline on a loaded case; figures into ``out``; returns the results dict."""
+def _case_measurement(case):
+    """Read a case's records and make its measured PSD → (record, ResponsePSD, low-pass filter).
+
+    The record keeps the outputs to be fitted (``estimation.outputs``, else every channel); the
+    PSD is the Welch estimate of ``[measurement]`` after the zero-phase low-pass filter.
+    """
     from .casefile import load_measurement
     from .errors import ParameterError
-    from .estimation import estimate_hsi, estimate_step_frequencies
-    from .plotting import plot_psd_comparison, plot_psd_convergence, save_figure
-    from .signals import LowPassFilter, psd_convergence, welch_psd
-    from .spectral import response_psd
+    from .signals import LowPassFilter, welch_psd
 
     spec, est = case.measurement, case.estimation
-    _say(f"crowdvib estimate: {case.name} ({case.path.name})")
     record = load_measurement(case)
     outputs = tuple(est.outputs or record.channel_names)
     unknown = [name for name in outputs if name not in case.structure.output_names]
@@ -236,6 +236,22 @@ def _estimate_case(case, out):
                LowPassFilter(spec.lowpass_cutoff, spec.lowpass_order, record.sample_rate))
     measured = welch_psd(record.data, record.sample_rate, window_length=spec.window_length,
                          overlap=spec.overlap, output_names=outputs, lowpass=lowpass)
+    return record, measured, lowpass
+
+
+def _estimate_case(case, out):
+    """The estimate pipeline on a loaded case; figures into ``out``; returns the results dict."""
+    from .casefile import load_measurement
+    from .errors import ParameterError
+    from .estimation import estimate_hsi, estimate_step_frequencies
+    from .plotting import plot_psd_comparison, plot_psd_convergence, save_figure
+    from .signals import LowPassFilter, psd_convergence, welch_psd
+    from .spectral import response_psd
+
+    spec, est = case.measurement, case.estimation
+    _say(f"crowdvib estimate: {case.name} ({case.path.name})")
+    record, measured, lowpass = _case_measurement(case)
+    outputs = record.channel_names
     convergence = psd_convergence(record.data, record.sample_rate,
                                   window_length=spec.window_length, band=est.band,
                                   norm=est.convergence_norm, overlap=spec.overlap,
