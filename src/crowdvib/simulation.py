@@ -258,7 +258,7 @@ def generate_traffic(structure, crowd, duration, *, force=None, rng=None, warm_u
 
     Useful to inspect, edit or replay a crowd: ``simulate(structure, duration=T,
     pedestrians=generate_traffic(structure, crowd, T, rng=s), ...)`` reproduces
-    ``simulate(structure, crowd, T, rng=s, ...)``.
+    ``simulate(structure, crowd, T, rng=s, ...)`` up to rounding of the lateral positions.
 
     Parameters
     ----------
