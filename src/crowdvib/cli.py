@@ -120,6 +120,9 @@ def _run_demo(args):
     }
     path = write_json(out / "results.json", results)
     _say(f"\n  wrote {path} and {figure}")
+    from .report import write_report
+
+    _say(f"  report: {write_report(out)}")
     return 0
 
 
@@ -442,6 +445,21 @@ def _simulation_msd(case):
     return case.msd
 
 
+# ------------------------------------------------------------------------------------- report
+def _add_report_arguments(parser):
+    parser.add_argument("directory", type=Path,
+                        help="results directory written by a crowdvib command (holds "
+                             "results.json)")
+
+
+def _run_report(args):
+    from .report import write_report
+
+    path = write_report(args.directory)
+    _say(f"wrote {path}")
+    return 0
+
+
 # --------------------------------------------------------------------------------------- main
 _COMMANDS = {
     "demo": ("estimate the MSD parameters back on the paper's numerical example",
@@ -450,6 +468,8 @@ _COMMANDS = {
                  _add_estimate_arguments, _run_estimate),
     "simulate": ("simulate a case (default: the paper example) and write its record",
                  _add_simulate_arguments, _run_simulate),
+    "report": ("write report.html, a self-contained HTML report, into a results directory",
+               _add_report_arguments, _run_report),
 }
 
 

@@ -229,11 +229,22 @@ def _value(value, depth=0):
         if len(value) > 6:
             return f"{len(value)} items: " + ", ".join(_value(v, 2) for v in value[:3]) + ", …"
         return ", ".join(_value(v, depth + 1) for v in value)
-    return _number(value)
+    return _number(value, 6)
+
+
+_TITLES = {"hsi": "HSI (MSD model)", "msd": "MSD model", "crowd_used": "crowd used",
+           "truth": "truth (MSD of the synthetic measurement)"}
 
 
 def _label(key):
-    return str(key).replace("_", " ")
+    return _TITLES.get(str(key), str(key).replace("_", " "))
+
+
+def _range(value):
+    """A [lower, upper] pair as "lower – upper"."""
+    if isinstance(value, (list, tuple)) and len(value) == 2:
+        return f"{_number(value[0])} – {_number(value[1])}"
+    return _value(value)
 
 
 def _table(header, rows, css=""):
@@ -331,8 +342,7 @@ def _estimate_section(results):
         error = (f"{100 * (value - truth) / truth:+.1f} %" if isinstance(truth, (int, float))
                  and truth and isinstance(value, (int, float)) else "—")
         limits = bounds.get(key)
-        limits_text = (f"{_number(limits[0])} … {_number(limits[1])}" if isinstance(limits, list)
-                       and len(limits) == 2 else "—")
+        limits_text = _range(limits) if isinstance(limits, list) and len(limits) == 2 else "—"
         hits = [a.split(":")[1] for a in active if a.split(":")[0] == key and ":" in a]
         if hits:
             limits_text += f' <span class="badge warn">on {"/".join(hits)} bound</span>'
@@ -381,7 +391,7 @@ def _diagnostics_section(results, notes):
                        ("output_names", "outputs"), ("output_weights", "output weights γ")):
         value = _hsi(results, key)
         if value is not None:
-            rows.append([label, _value(value)])
+            rows.append([label, _range(value) if key == "band" else _value(value)])
     active = _hsi(results, "active_bounds")
     if active is not None:
         rows.append(["active bounds", _e(", ".join(active)) if active else "none"])
@@ -441,7 +451,7 @@ def _convergence(results, notes):
             notes.ok(f"PSD of {_e(name)} converged (last change {100 * value:.1f} %).")
     band = convergence.get("band") or ["?", "?"]
     return (f"<h3>PSD convergence ({_e(convergence.get('norm', '2'))}-norm over "
-            f"{_e(band[0])}–{_e(band[1])} Hz, T = {_number(convergence.get('window_length'))} s)"
+            f"{_range(band)} Hz, T = {_number(convergence.get('window_length'))} s)"
             "</h3>" + _table(["output", "change by the last window",
                               f"ΔG below {CONVERGENCE_LEVEL:.0%} from"], rows, "data narrow"))
 
