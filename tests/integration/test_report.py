@@ -1,0 +1,282 @@
+"""report.html of every command's results directory, opened in a real headless browser (issue 6).
+
+The browser is Debian's ``chromium`` (``.ci/run`` installs it). Without it these tests fail under
+CI (the env var ``CI`` set) and are skipped on a developer's machine.
+"""
+
+import base64
+import html
+import io
+import json
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crowdvib import DataError
+from crowdvib.cli import _COMMANDS, main
+from crowdvib.report import REPORT_NAME, SECTIONS, render_report, write_report
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+PAPER_CASE = EXAMPLES / "paper_example.toml"
+
+# Sets data attributes on <body> once every image has loaded (or failed to): how many images the
+# page holds and how many did not decode. Injected into a copy; the report itself has no script.
+_PROBE = """<script>
+window.addEventListener("load", function () {
+  var images = document.images, broken = 0;
+  for (var i = 0; i < images.length; i++) {
+    if (!images[i].complete || images[i].naturalWidth === 0) { broken++; }
+  }
+  document.body.setAttribute("data-images", String(images.length));
+  document.body.setAttribute("data-broken-images", String(broken));
+});
+</script>"""
+
+
+# ------------------------------------------------------------------------------ browser
+def _chromium():
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    message = ("chromium is not installed, so report.html cannot be checked in a real browser; "
+               "install it with `apt-get install -y chromium` (.ci/run does this)")
+    if os.environ.get("CI"):
+        pytest.fail(message)
+    pytest.skip(message)
+
+
+def _browser(url, tmp_path, *options):
+    command = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+               "--disable-background-networking", "--disable-component-update",
+               "--disable-sync", "--hide-scrollbars", "--mute-audio",
+               f"--user-data-dir={tmp_path / 'chromium-profile'}", *options, url]
+    done = subprocess.run(command, capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, f"chromium failed ({done.returncode}): {done.stderr[-2000:]}"
+    return done.stdout
+
+
+def _open_in_browser(report, tmp_path):
+    """Rendered DOM (with the image probe), a screenshot and a printed PDF of ``report``."""
+    probe = tmp_path / "probe.html"
+    probe.write_text(report.read_text(encoding="utf-8").replace("</body>", _PROBE + "</body>"),
+                     encoding="utf-8")
+    # The virtual-time budget lets the load event (after every image) fire before the dump.
+    dom = _browser(probe.as_uri(), tmp_path, "--virtual-time-budget=10000", "--dump-dom")
+    screenshot = tmp_path / "screenshot.png"
+    _browser(report.as_uri(), tmp_path, f"--screenshot={screenshot}", "--window-size=1280,2000")
+    pdf = tmp_path / "print.pdf"
+    _browser(report.as_uri(), tmp_path, f"--print-to-pdf={pdf}", "--no-pdf-header-footer")
+    return dom, screenshot, pdf
+
+
+def _check_in_browser(report, tmp_path):
+    from PIL import Image
+
+    dom, screenshot, pdf = _open_in_browser(report, tmp_path)
+    images = int(re.search(r'data-images="(\d+)"', dom).group(1))
+    broken = int(re.search(r'data-broken-images="(\d+)"', dom).group(1))
+    assert images >= 1 and broken == 0, f"{broken} of {images} images did not decode"
+    for section in SECTIONS:
+        assert re.search(rf'<section id="{section}">\s*<h2>', dom), f"section {section} missing"
+    pixels = np.asarray(Image.open(screenshot).convert("L"), dtype=float)
+    assert pixels.shape == (2000, 1280)
+    # Not blank: text, tables and plots darken a real share of the page and vary strongly.
+    assert (pixels < 200).mean() > 0.02
+    assert pixels.std() > 20.0
+    data = pdf.read_bytes()
+    assert data.startswith(b"%PDF")
+    assert len(re.findall(rb"/Type\s*/Page\b", data)) >= 2
+    return dom
+
+
+def _decode_embedded_images(text):
+    """Decode every data-URI image of the report in Python: PNGs with PIL, SVGs as XML."""
+    from xml.etree import ElementTree
+
+    from PIL import Image
+
+    found = re.findall(r'src="data:(image/[a-z+]+);base64,([A-Za-z0-9+/=]+)"', text)
+    sizes = []
+    for mime, payload in found:
+        data = base64.b64decode(payload, validate=True)
+        if mime == "image/png":
+            image = Image.open(io.BytesIO(data))
+            image.load()
+            sizes.append(image.size)
+        else:
+            assert mime == "image/svg+xml"
+            assert ElementTree.fromstring(data).tag.endswith("svg")
+            sizes.append((1, 1))
+    return sizes
+
+
+# ------------------------------------------------------------------------------ results dirs
+@pytest.fixture(scope="module")
+def demo_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("demo") / "out"
+    assert main(["demo", "--spectral", "--out", str(out)]) == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def estimate_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("estimate") / "out"
+    assert main(["estimate", str(PAPER_CASE), "--out", str(out)]) == 0
+    return out
+
+
+def test_demo_writes_its_report_and_prints_the_path(tmp_path, capsys):
+    out = tmp_path / "demo"
+    assert main(["demo", "--spectral", "--seed", "5", "--out", str(out)]) == 0
+    assert f"report: {out / REPORT_NAME}" in capsys.readouterr().out
+    text = (out / REPORT_NAME).read_text(encoding="utf-8")
+    assert "psd_fit.png" in text
+    assert [p.name for p in out.iterdir() if p.name.startswith(".")] == []   # atomic: no leftovers
+
+
+def test_demo_report_in_the_browser(demo_dir, tmp_path):
+    dom = _check_in_browser(demo_dir / REPORT_NAME, tmp_path)
+    results = json.loads((demo_dir / "results.json").read_text())
+    found = results["estimate"]
+    # The estimate table shows the demo's estimate against its truth, with the relative error.
+    error = 100 * (found["frequency"] - 3.0) / 3.0
+    assert f"{found['frequency']:.4g}" in dom and f"{error:+.1f} %" in dom
+    assert "crowdvib demo report" in dom.lower() or "crowdvib demo report" in html.unescape(dom)
+    assert str(results["seed"]) in dom
+    assert "no case file (embedded example" in dom
+    assert _decode_embedded_images(dom) and all(w > 500 for w, _ in _decode_embedded_images(dom))
+
+
+def test_estimate_report_in_the_browser(estimate_dir, tmp_path):
+    assert main(["report", str(estimate_dir)]) == 0
+    report = estimate_dir / REPORT_NAME
+    dom = _check_in_browser(report, tmp_path)
+    results = json.loads((estimate_dir / "results.json").read_text())
+    # Both figures the command wrote are embedded, in its order, and nothing else is drawn.
+    assert re.findall(r'alt="([^"]+)"', dom) == results["figures"]
+    # Provenance: the case file's SHA-256 as it is on disk.
+    import hashlib
+
+    digest = hashlib.sha256(PAPER_CASE.read_bytes()).hexdigest()
+    assert digest in dom
+    assert "PSD convergence" in dom and "midspan" in dom
+    assert len(_decode_embedded_images(report.read_text(encoding="utf-8"))) == 2
+
+
+@pytest.mark.skipif("map" not in _COMMANDS, reason="crowdvib map has not landed")
+def test_map_report_in_the_browser(tmp_path):
+    out = tmp_path / "map"
+    assert main(["map", str(PAPER_CASE), "--out", str(out), "--frequencies", "2:4:5",
+                 "--damping-ratios", "0.2:0.4:3"]) == 0
+    write_report(out)
+    dom = _check_in_browser(out / REPORT_NAME, tmp_path)
+    assert "objective_map" in dom
+
+
+@pytest.mark.skipif("sensitivity" not in _COMMANDS, reason="crowdvib sensitivity has not landed")
+def test_sensitivity_report_in_the_browser(tmp_path):
+    out = tmp_path / "sensitivity"
+    assert main(["sensitivity", str(PAPER_CASE), "--out", str(out), "--no-joint",
+                 "--no-record-length"]) == 0
+    write_report(out)
+    dom = _check_in_browser(out / REPORT_NAME, tmp_path)
+    summary = json.loads((out / "results.json").read_text())["sensitivity"]["summary"]
+    bound = summary["frequency"]["bound"]
+    assert f"± {bound:.2g}" in html.unescape(dom)
+
+
+# ------------------------------------------------------------------------------ content
+def _synthetic_results():
+    """A results.json with every section's keys, including sensitivity and map data."""
+    frequencies, damping = [1.0, 2.0, 3.0, 4.0], [0.1, 0.3, 0.5]
+    cost = [[(f - 3.0) ** 2 + (x - 0.3) ** 2 + 0.01 for f in frequencies] for x in damping]
+    cases = [{"name": "nominal", "kind": "nominal", "level": 0, "perturbations": []},
+             {"name": "frequencies+0.01", "kind": "individual", "level": 0,
+              "perturbations": [["frequencies", 0.01]], "delta_frequency": 1.5,
+              "delta_damping_ratio": -4.0},
+             {"name": "joint", "kind": "joint", "level": 0,
+              "perturbations": [["frequencies", 0.01], ["modal_masses", 0.02]],
+              "delta_frequency": 2.0, "delta_damping_ratio": 10.0},
+             {"name": "modal_masses+0.02", "kind": "individual", "level": 0,
+              "perturbations": [["modal_masses", 0.02]], "error": "EstimationError: <no fit>"}]
+    return {
+        "command": "sensitivity", "crowdvib_version": "0.1.0", "seed": 7,
+        "case": "bridge <&> case.toml", "case_sha256": "ab" * 32, "created": "2024-05-01T10:00:00Z",
+        "estimate": {"frequency": 3.0, "damping_ratio": 0.3, "mass_ratio": 0.95},
+        "expected": {"frequency": 3.0, "damping_ratio": 0.25},
+        "diagnostics": {"cost": 0.5, "cost_no_hsi": 2.0, "relative_cost": 0.25, "success": False,
+                        "message": "max evaluations", "active_bounds": ["damping_ratio:upper"],
+                        "bounds": {"frequency": [0.5, 8.0], "damping_ratio": [0.01, 0.3]},
+                        "convergence": {"n_windows": [1, 2, 3], "duration": [60.0, 120.0, 180.0],
+                                        "error": [[0.5, 0.3, 0.0]], "output_names": ["mid"],
+                                        "window_length": 60.0, "band": [0.0, 10.0],
+                                        "norm": "2"}},
+        "objective_map": {"frequencies": frequencies, "damping_ratios": damping, "cost": cost,
+                          "cost_no_hsi": 2.0, "mass_ratio": 0.95, "estimate": None},
+        "sensitivity": {"nominal": {"frequency": 3.0, "damping_ratio": 0.3}, "cases": cases,
+                        "summary": {"frequency": {"nominal": 3.0, "bound": 0.06,
+                                                  "bound_percent": 2.0},
+                                    "damping_ratio": {"nominal": 0.3, "bound": 0.03,
+                                                      "bound_percent": 10.0}}},
+        "warnings": ["BoundWarning: optimum on the upper bound of damping_ratio"],
+    }
+
+
+def test_every_diagnostic_becomes_a_warning_and_figures_are_drawn_from_the_data(tmp_path):
+    (tmp_path / "results.json").write_text(json.dumps(_synthetic_results()))
+    text = write_report(tmp_path).read_text(encoding="utf-8")
+    summary = text.split('<section id="summary">')[1].split("</section>")[0]
+    for expected in ("J/J<sub>noHSI</sub> = 0.25 is above 10%", "did not converge: max evaluations",
+                     "optimum sits on a bound (damping_ratio:upper)",
+                     "PSD of mid has not converged: the last window changed it by 30.0 %",
+                     "1 modelling-error case(s) failed", "BoundWarning: optimum on the upper"):
+        assert expected in summary, expected
+    # Headline and table: nominal ± bound from the sensitivity summary.
+    assert "f<sub>h1</sub> = 3 ± 0.06 Hz" in summary
+    assert "3 ± 0.06 (2 %)" in text and "0.3 ± 0.03 (10 %)" in text
+    assert '<span class="badge warn">on upper bound</span>' in text
+    assert "+20.0 %" in text                     # ξ estimate 0.3 against expected 0.25
+    # No figure files: the convergence, map and error figures are drawn from results.json.
+    names = re.findall(r'alt="([^"]+)"', text)
+    assert names == [f"{n}.png (drawn from results.json)" for n in
+                     ("psd_convergence", "objective_map", "estimation_errors")]
+    assert all(w > 300 and h > 200 for w, h in _decode_embedded_images(text))
+    # Values from the file are escaped, never markup.
+    assert "bridge &lt;&amp;&gt; case.toml" in text and "<no fit>" not in text
+    assert "ab" * 32 in text and "recorded by the run" in text
+    assert "<script" not in text and "http://" not in text and "https://" not in text
+
+
+def test_an_empty_results_file_still_renders_every_section():
+    text = render_report({})
+    for section in SECTIONS:
+        assert f'<section id="{section}">' in text
+    assert "These results hold no MSD estimate" in text
+    assert "No figures in this results directory." in text
+
+
+def test_listed_but_missing_and_broken_figures_are_reported(tmp_path):
+    (tmp_path / "results.json").write_text(json.dumps({"command": "estimate",
+                                                       "figures": ["gone.png"]}))
+    (tmp_path / "fake.png").write_bytes(b"not a png")
+    text = write_report(tmp_path).read_text(encoding="utf-8")
+    assert "figure gone.png is listed in results.json but missing." in text
+    assert "figure fake.png is not a PNG file and is left out." in text
+    assert "data:image" not in text
+
+
+def test_bad_directories_are_data_errors(tmp_path):
+    with pytest.raises(DataError, match="results directory .*missing does not exist"):
+        write_report(tmp_path / "missing")
+    with pytest.raises(DataError, match="results.json does not exist: run a crowdvib command"):
+        write_report(tmp_path)
+    (tmp_path / "results.json").write_text("{not json")
+    with pytest.raises(DataError, match="results.json is not valid JSON"):
+        write_report(tmp_path)
+    assert main(["report", str(tmp_path)]) == 1
