@@ -385,11 +385,13 @@ def plot_estimation_errors(sensitivity, *, axes=None, title=None):
     cases = sensitivity["cases"] if isinstance(sensitivity, dict) else sensitivity.cases
     done = [c for c in cases if "error" not in c and c["kind"] != "nominal"]
     failed = sum(1 for c in cases if "error" in c)
-    groups = []
+    groups, epsilons = [], {}
     for case in done:
         key = "joint" if case["kind"] == "joint" else case["perturbations"][0][0]
         if key not in groups:
             groups.append(key)
+        if key != "joint":
+            epsilons.setdefault(key, {})[case["level"]] = abs(case["perturbations"][0][1])
     levels = sorted({c["level"] for c in done})
     colors = dict(zip(levels, _level_colors(len(levels))))
     width = 0.8 / max(len(levels), 1)
@@ -409,11 +411,18 @@ def plot_estimation_errors(sensitivity, *, axes=None, title=None):
                        label=f"level {level + 1}" if i == 0 else None)
                 ax.plot(np.full(len(chosen), x), chosen, "_", color="tab:red", ms=8, mew=1.2)
         ax.axhline(0.0, color="black", lw=0.8)
-        ax.set_xticks(range(len(groups)), [_PARAMETER_LABELS.get(g, g) for g in groups])
+        # Bars stick to their ends, so autoscaling would cut the extreme case marks in half.
+        values = [c[key] for c in done] + [0.0]
+        pad = 0.06 * (max(values) - min(values)) or 1.0
+        ax.set_ylim(min(values) - pad, max(values) + pad)
+        ax.set_xticks(range(len(groups)), [
+            _PARAMETER_LABELS.get(g, g) + ("" if g not in epsilons else "\n" + " / ".join(
+                f"{100 * epsilons[g][level]:g}" for level in sorted(epsilons[g])) + " %")
+            for g in groups])
         ax.set_xlabel("Modelling error")
         ax.set_ylabel(label)
         ax.grid(True, axis="y", alpha=0.3)
-    handles.axes[0].legend(title="error level", fontsize="small")
+    handles.axes[0].legend(title="error level", fontsize="small", loc="best")
     handles.axes[0].set_title("(a) natural frequency", loc="left", fontsize="medium")
     handles.axes[1].set_title("(b) damping ratio", loc="left", fontsize="medium")
     note = f" ({failed} case(s) failed and are not shown)" if failed else ""

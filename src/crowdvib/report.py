@@ -56,7 +56,8 @@ _CAPTIONS = {
     "psd_convergence": "Convergence error ΔG of the Welch PSD with record length; dashed: the "
                        "paper's 10 % (Fig. 15).",
     "objective_map": "Objective J/J<sub>noHSI</sub> over f<sub>h1</sub> and ξ<sub>h1</sub> with "
-                     "the optimum; dashed: nominal ± bound (paper Figs. 4, 10).",
+                     "the optimum; dashed lines, where drawn: nominal ± bound (paper Figs. 4, "
+                     "10).",
     "estimation_errors": "Estimation error Δ caused by modelling errors, per perturbed input and "
                          "error level (paper Figs. 11, 19).",
     "parametric_ratios": "Ratio of estimated to true MSD parameters across the family of "
@@ -403,6 +404,7 @@ def _diagnostics_section(results, notes):
         parts.append(_table(["quantity", "value"], rows, "data narrow"))
     parts.append(_convergence(results, notes))
     parts.append(_starts(results))
+    parts.append(_record_length(results, notes))
     sensitivity = _sensitivity(results)
     if sensitivity:
         failed = [c for c in sensitivity["cases"] if isinstance(c, dict) and "error" in c]
@@ -454,6 +456,26 @@ def _convergence(results, notes):
             f"{_range(band)} Hz, T = {_number(convergence.get('window_length'))} s)"
             "</h3>" + _table(["output", "change by the last window",
                               f"ΔG below {CONVERGENCE_LEVEL:.0%} from"], rows, "data narrow"))
+
+
+def _record_length(results, notes):
+    """Table of the estimate against record length (the sensitivity command's second study)."""
+    rows = [r for r in results.get("record_length") or [] if isinstance(r, dict)
+            and "duration" in r]
+    if not rows:
+        return ""
+    failed = [r for r in rows if "error" in r]
+    if failed:
+        notes.warn(f"{len(failed)} record-length re-estimation(s) failed, e.g. "
+                   f"{_e(failed[0]['error'])}")
+    table = [[_number(r["duration"]), _number(r.get("n_windows")), _number(r.get("frequency")),
+              _number(r.get("damping_ratio")),
+              _number(r.get("delta_frequency"), 3), _number(r.get("delta_damping_ratio"), 3),
+              _number(r.get("relative_cost"), 3)] for r in rows if "error" not in r]
+    return ("<h3>Estimate against record length</h3>"
+            + _table(["record length [s]", "windows", "f<sub>h1</sub> [Hz]", "ξ<sub>h1</sub> [-]",
+                      "Δf<sub>h1</sub> [%]", "Δξ<sub>h1</sub> [%]", "J/J<sub>noHSI</sub>"],
+                     table, "data"))
 
 
 def _starts(results):

@@ -224,6 +224,10 @@ def _synthetic_results():
                                                   "bound_percent": 2.0},
                                     "damping_ratio": {"nominal": 0.3, "bound": 0.03,
                                                       "bound_percent": 10.0}}},
+        "record_length": [{"duration": 600.0, "n_windows": 19, "frequency": 2.9,
+                           "damping_ratio": 0.35, "delta_frequency": -3.333,
+                           "delta_damping_ratio": 16.67, "relative_cost": 0.01},
+                          {"duration": 1200.0, "error": "EstimationError: too short"}],
         "warnings": ["BoundWarning: optimum on the upper bound of damping_ratio"],
     }
 
@@ -235,13 +239,16 @@ def test_every_diagnostic_becomes_a_warning_and_figures_are_drawn_from_the_data(
     for expected in ("J/J<sub>noHSI</sub> = 0.25 is above 10%", "did not converge: max evaluations",
                      "optimum sits on a bound (damping_ratio:upper)",
                      "PSD of mid has not converged: the last window changed it by 30.0 %",
-                     "1 modelling-error case(s) failed", "BoundWarning: optimum on the upper"):
+                     "1 modelling-error case(s) failed", "BoundWarning: optimum on the upper",
+                     "1 record-length re-estimation(s) failed"):
         assert expected in summary, expected
     # Headline and table: nominal ± bound from the sensitivity summary.
     assert "f<sub>h1</sub> = 3 ± 0.06 Hz" in summary
     assert "3 ± 0.06 (2 %)" in text and "0.3 ± 0.03 (10 %)" in text
     assert '<span class="badge warn">on upper bound</span>' in text
     assert "+20.0 %" in text                     # ξ estimate 0.3 against expected 0.25
+    assert ("<tr><td>600</td><td>19</td><td>2.9</td><td>0.35</td><td>-3.33</td><td>16.7</td>"
+            "<td>0.01</td></tr>") in text
     # No figure files: the convergence, map and error figures are drawn from results.json.
     names = re.findall(r'alt="([^"]+)"', text)
     assert names == [f"{n}.png (drawn from results.json)" for n in

@@ -167,7 +167,10 @@ def test_estimation_errors_bars_span_zero_to_the_extremes_per_group_and_level():
     frequency_ax, damping_ax = handles.axes
     assert frequency_ax.get_ylabel() == "$\\Delta f_{h1}$ [%]"
     assert damping_ax.get_ylabel() == "$\\Delta \\xi_{h1}$ [%]"
-    assert [t.get_text() for t in frequency_ax.get_xticklabels()] == ["$\\varepsilon_f$", "joint"]
+    # The individual groups name their error levels, lower / higher.
+    assert [t.get_text() for t in frequency_ax.get_xticklabels()] == [
+        "$\\varepsilon_f$\n1 / 2 %", "joint"]
+    assert frequency_ax.get_ylim() == pytest.approx((-3.9, 12.9))  # 6 % room for the marks
     bars = frequency_ax.patches
     assert len(bars) == 4                                   # 2 groups × 2 levels
     spans = [(bar.get_y(), bar.get_y() + bar.get_height()) for bar in bars]
