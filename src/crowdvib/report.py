@@ -422,6 +422,7 @@ def _diagnostics_section(results, notes):
                      + "".join(f"<li><code>{_e(m)}</code></li>" for m in messages) + "</ul>")
     elif "warnings" in results:
         parts.append('<p class="muted">No warnings were raised during the run.</p>')
+    parts = [part for part in parts if part]
     if len(parts) == 1:
         parts.append('<p class="muted">No diagnostics in these results.</p>')
     parts.append("</section>")

@@ -169,6 +169,15 @@ def test_estimate_report_in_the_browser(estimate_dir, tmp_path):
     assert len(_decode_embedded_images(report.read_text(encoding="utf-8"))) == 2
 
 
+def test_simulate_report_in_the_browser(tmp_path):
+    out = tmp_path / "simulate"
+    assert main(["simulate", "--duration-s", "30", "--out", str(out)]) == 0
+    write_report(out)
+    dom = _check_in_browser(out / REPORT_NAME, tmp_path)
+    assert "These results hold no MSD estimate (command simulate)" in dom
+    assert "psd.png" in dom
+
+
 @pytest.mark.skipif("map" not in _COMMANDS, reason="crowdvib map has not landed")
 def test_map_report_in_the_browser(tmp_path):
     out = tmp_path / "map"
@@ -265,6 +274,7 @@ def test_an_empty_results_file_still_renders_every_section():
     for section in SECTIONS:
         assert f'<section id="{section}">' in text
     assert "These results hold no MSD estimate" in text
+    assert "No diagnostics in these results." in text
     assert "No figures in this results directory." in text
 
 
