@@ -244,8 +244,6 @@ def _case_measurement(case):
 
 def _estimate_case(case, out):
     """The estimate pipeline on a loaded case; figures into ``out``; returns the results dict."""
-    from .casefile import load_measurement
-    from .errors import ParameterError
     from .estimation import estimate_hsi, estimate_step_frequencies
     from .plotting import plot_psd_comparison, plot_psd_convergence, save_figure
     from .signals import LowPassFilter, psd_convergence, welch_psd
@@ -328,6 +326,190 @@ def _estimate_case(case, out):
                 "step_frequency_std": crowd.step_frequency_std},
             "estimate": hsi["estimate"], "expected": dict(case.expected),
             "diagnostics": diagnostics, "figures": figures}
+
+
+# ------------------------------------------------------------------------------ map/sensitivity
+def _grid(text):
+    """``lower:upper:count`` → a linearly spaced grid (argparse type)."""
+    try:
+        lower, upper, count = text.split(":")
+        return np.linspace(float(lower), float(upper), int(count))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected lower:upper:count, got {text!r}") from None
+
+
+def _add_map_arguments(parser):
+    parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
+    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--force", action="store_true",
+                        help="replace an existing output directory")
+    parser.add_argument("--frequencies", type=_grid, default=np.linspace(1.0, 6.0, 51),
+                        metavar="LOW:HIGH:N", help="grid of f_h1 [Hz] (default 1:6:51, paper)")
+    parser.add_argument("--damping-ratios", type=_grid, default=np.linspace(0.1, 0.8, 36),
+                        metavar="LOW:HIGH:N",
+                        help="grid of ξ_h1 [-] (default 0.1:0.8:36, paper)")
+
+
+def _estimate_options(case):
+    """Keyword arguments of estimate_hsi from a case's [estimation] table."""
+    est = case.estimation
+    return dict(band=est.band, outputs=est.outputs, output_weights=est.output_weights,
+                starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
+                match_welch=est.match_welch)
+
+
+def _run_map(args):
+    import warnings
+
+    from .casefile import load_case
+    from .estimation import estimate_hsi
+    from .plotting import plot_objective_map, save_figure
+    from .sensitivity import objective_map
+
+    case = load_case(args.case)
+    with _staged_output(args.out, args.force) as staging:
+        _say(f"crowdvib map: {case.name} ({case.path.name})")
+        record, measured, _ = _case_measurement(case)
+        options = _estimate_options(case)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            estimate = estimate_hsi(measured, case.structure, case.crowd, **options)
+        options.pop("starts")
+        options.pop("bounds")
+        started = time.perf_counter()
+        landscape = objective_map(measured, case.structure, case.crowd,
+                                  frequencies=args.frequencies,
+                                  damping_ratios=args.damping_ratios, estimate=estimate,
+                                  **options)
+        best = landscape.optimum
+        _say(f"  {landscape.cost.size} grid points in {time.perf_counter() - started:.1f} s; "
+             f"grid minimum f_h1 = {best.frequency:.3f} Hz, ξ_h1 = {best.damping_ratio:.3f}; "
+             f"optimiser {estimate.msd.frequency:.3f} Hz, {estimate.msd.damping_ratio:.3f}")
+        _say(f"  curvature along f_h1 / along ξ_h1 at the minimum: "
+             f"{landscape.curvature_ratio():.3g}")
+        ax = plot_objective_map(landscape, search_bounds=estimate.bounds,
+                                title=f"{case.name}: objective J(f_h1, ξ_h1)")
+        figure = save_figure(ax, staging / "objective_map.png").name
+        write_json(staging / "results.json", {
+            "command": "map", "crowdvib_version": __version__, "versions": _versions(),
+            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
+            "estimate": estimate.msd.to_dict(), "expected": dict(case.expected),
+            "diagnostics": {k: v for k, v in estimate.to_dict().items() if k != "estimate"},
+            "objective_map": landscape.to_dict(),
+            "curvature_ratio": landscape.curvature_ratio(),
+            "warnings": _warning_texts(caught), "figures": [figure]})
+    _say(f"  wrote {args.out / 'results.json'} and {args.out / figure}")
+    return 0
+
+
+def _add_sensitivity_arguments(parser):
+    parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
+    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--workers", type=int, default=1,
+                        help="local worker processes (default 1: in this process)")
+    parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                        help="run on a dask.distributed scheduler, e.g. tcp://127.0.0.1:8786 "
+                             "(needs crowdvib[dask])")
+    parser.add_argument("--resume", action="store_true",
+                        help="continue an interrupted study in --out without recomputing "
+                             "finished tasks")
+    parser.add_argument("--force", action="store_true",
+                        help="start afresh, replacing an existing output directory")
+    parser.add_argument("--no-joint", action="store_true",
+                        help="only individual errors (skip the 2⁵ joint sign combinations)")
+    parser.add_argument("--no-record-length", action="store_true",
+                        help="skip re-estimating on shorter parts of the record")
+
+
+@contextlib.contextmanager
+def _executor(workers, scheduler):
+    """The executor a study runs on: none (serial), a process pool, or a dask cluster."""
+    from .errors import ParameterError
+
+    if scheduler is not None:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise ParameterError("--scheduler needs dask.distributed: pip install "
+                                 "'crowdvib[dask]'") from None
+        with Client(scheduler) as client:
+            yield client.get_executor()
+    elif workers > 1:
+        import concurrent.futures
+
+        with concurrent.futures.ProcessPoolExecutor(workers) as pool:
+            yield pool
+    elif workers == 1:
+        yield None
+    else:
+        raise ParameterError(f"--workers must be >= 1, got {workers}")
+
+
+def _run_sensitivity(args):
+    from .casefile import load_case
+    from .errors import ParameterError
+    from .plotting import plot_estimation_errors, save_figure
+    from .sensitivity import TaskStore, modelling_error_study, record_length_study
+
+    case = load_case(args.case)
+    out = Path(args.out)
+    if out.is_dir() and any(out.iterdir()) and not (args.resume or args.force):
+        raise ParameterError(f"--out {out} already holds a study; use --resume to continue it "
+                             "or --force to start afresh")
+    if args.force and out.is_dir():
+        import shutil
+
+        shutil.rmtree(out)
+    out.mkdir(parents=True, exist_ok=True)
+    _say(f"crowdvib sensitivity: {case.name} ({case.path.name})")
+    record, measured, lowpass = _case_measurement(case)
+    options = _estimate_options(case)
+    store = TaskStore(out / "tasks")
+    done = len(store.keys())
+    if done:
+        _say(f"  resuming: {done} finished task(s) found in {store.directory}")
+    with _executor(args.workers, args.scheduler) as executor:
+        study = modelling_error_study(measured, case.structure, case.crowd, joint=not args.no_joint,
+                                      executor=executor, store=store,
+                                      progress=_progress_printer("estimations", unit="tasks"),
+                                      **options)
+        lengths = None
+        if not args.no_record_length:
+            options.pop("band")
+            lengths = record_length_study(
+                record.data, record.sample_rate, case.structure, case.crowd,
+                window_length=case.measurement.window_length, band=case.estimation.band,
+                output_names=record.channel_names, lowpass=lowpass, executor=executor,
+                store=TaskStore(out / "record_length"), **options)
+    _say(f"\n  {'case':34s}{'Δ f_h1 [%]':>12s}{'Δ ξ_h1 [%]':>12s}")
+    for row in study.cases:
+        if row["kind"] == "individual":
+            text = (f"{row['delta_frequency']:12.2f}{row['delta_damping_ratio']:12.2f}"
+                    if "error" not in row else "  failed: " + row["error"])
+            _say(f"  {row['name']:34s}{text}")
+    for level in sorted({c["level"] for c in study.cases if c["kind"] == "joint"}):
+        bound = study.bound(level)
+        _say(f"  {'joint, level ' + str(level):34s}{bound['frequency']:12.2f}"
+             f"{bound['damping_ratio']:12.2f}   (largest |Δ|)")
+    summary = study.summary()
+    f, xi = summary["frequency"], summary["damping_ratio"]
+    _say(f"\n  result: f_h1 = {f['nominal']:.2f} ± {f['bound']:.2f} Hz, "
+         f"ξ_h1 = {xi['nominal']:.2f} ± {xi['bound']:.2f}  (nominal ± joint bound)")
+    if lengths:
+        _say("  record length: " + ", ".join(
+            f"{r['duration']:g} s → {r['frequency']:.3f} Hz" for r in lengths if "error" not in r))
+    axes = plot_estimation_errors(study, title=f"{case.name}: estimation error Δ")
+    figure = save_figure(axes, out / "estimation_errors.png").name
+    write_json(out / "results.json", {
+        "command": "sensitivity", "crowdvib_version": __version__, "versions": _versions(),
+        "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
+        "estimate": {"frequency": study.nominal["frequency"],
+                     "damping_ratio": study.nominal["damping_ratio"],
+                     "mass_ratio": study.nominal["mass_ratio"]},
+        "expected": dict(case.expected), "sensitivity": study.to_dict(),
+        "record_length": lengths, "figures": [figure]})
+    _say(f"  wrote {out / 'results.json'} and {out / figure}")
+    return 0
 
 
 def _add_simulate_arguments(parser):
@@ -470,6 +652,10 @@ _COMMANDS = {
                  _add_simulate_arguments, _run_simulate),
     "report": ("write report.html, a self-contained HTML report, into a results directory",
                _add_report_arguments, _run_report),
+    "map": ("evaluate the objective J(f_h1, ξ_h1) of a case on a grid",
+            _add_map_arguments, _run_map),
+    "sensitivity": ("estimation error from modelling errors and record length: nominal ± bound",
+                    _add_sensitivity_arguments, _run_sensitivity),
 }
 
 

@@ -638,7 +638,8 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
     window_length : float
         Welch segment T [s].
     durations : sequence of float, optional
-        Record lengths [s] to use; default k·T for k = 2 … n_T (and the whole record).
+        Record lengths [s] to use; default k·T for up to eight k from 2 to n_T (and the whole
+        record).
     output_names : sequence of str, optional
         Channel names (default the structure's outputs).
     lowpass : LowPassFilter, optional
@@ -658,8 +659,11 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
     total = signals.shape[1] / sample_rate
     if durations is None:
+        # k·T for up to eight window counts k, spaced geometrically from 2 to n_T: all of them
+        # for a short record (Waalse Krook: 8 windows), a readable curve for a long one.
         count = int(total // window_length)
-        durations = [k * window_length for k in range(2, count + 1)]
+        counts = np.unique(np.round(np.geomspace(2, max(count, 2), 8)).astype(int))
+        durations = [k * window_length for k in counts if k <= count]
     durations = sorted(set(float(d) for d in durations if d <= total) | {total})
     names = tuple(output_names or structure.output_names)
     settings = (("band", tuple(band)),) + tuple(sorted(options.items()))
