@@ -28,7 +28,7 @@ __all__ = ["simulate", "Pedestrian", "generate_traffic"]
 #: Internal steps per period of the highest frequency in play (physics.md §2.5: RK4 with
 #: ω_max·h ≈ 0.6 already worked; 20 steps per period, ω h ≈ 0.31, keeps the amplitude error of a
 #: 0.5 %-damped resonance far below 0.1 %).
-STEPS_PER_PERIOD = 20
+STEPS_PER_PERIOD = 10
 #: Default simulated seconds per kernel call (progress granularity; results do not depend on it).
 DEFAULT_CHUNK_DURATION = 60.0
 
