@@ -50,6 +50,13 @@ def _axes(ax, figsize=(7.5, 4.2)):
     return ax
 
 
+def _in_band(frequency, band):
+    """Index of the frequencies within [lower, upper] [Hz]; everything for band None."""
+    if band is None:
+        return slice(None)
+    return (frequency >= band[0]) & (frequency <= band[1])
+
+
 def _panels(axes, nrows, ncols, figsize, **options):
     """Given panels (checked for their number) or a new figure of nrows × ncols."""
     if axes is not None:
@@ -91,8 +98,7 @@ def plot_psd_comparison(curves, *, output=None, band=None, logscale=True, ax=Non
     for (label, psd), style in zip(curves.items(), styles * 4):
         name = output or psd.output_names[0]
         row = psd.select(name)
-        keep = slice(None) if band is None else (
-            (row.frequency >= band[0]) & (row.frequency <= band[1]))
+        keep = _in_band(row.frequency, band)
         values = row.psd[0][keep]
         ax.plot(row.frequency[keep], np.where(values > 0, values, np.nan) if logscale else values,
                 label=label, **style)
@@ -201,8 +207,7 @@ def plot_hsi_effect(without, with_hsi, *, output=None, band=None, zoom=None, axe
               ("with HSI", with_hsi.select(name), dict(color=_LIGHT, lw=1.8))]
     for label, row, style in curves:
         peak = row.peak_frequency()[0]
-        keep = (slice(None) if band is None else
-                (row.frequency >= band[0]) & (row.frequency <= band[1]))
+        keep = _in_band(row.frequency, band)
         full.plot(row.frequency[keep], _positive(row.psd[0][keep]),
                   label=f"{label} (peak {peak:.2f} Hz)", **style)
     top = max(float(np.nanmax(row.psd[0])) for _, row, _ in curves)
@@ -211,7 +216,7 @@ def plot_hsi_effect(without, with_hsi, *, output=None, band=None, zoom=None, axe
     lower, upper = zoom or _peak_zoom([row.psd[0] for _, row, _ in curves], curves[0][1].frequency)
     full.axvspan(lower, upper, color="tab:blue", alpha=0.08, lw=0)
     for label, row, style in curves:
-        keep = (row.frequency >= lower) & (row.frequency <= upper)
+        keep = _in_band(row.frequency, (lower, upper))
         detail.plot(row.frequency[keep], row.psd[0][keep], label=label, **style)
     detail.set_xlim(lower, upper)
     detail.set_ylim(bottom=0)
@@ -256,8 +261,7 @@ def plot_frf(empty, occupied=None, *, output=None, input=None, band=None, ax=Non
         curves.append(("with HSI" if occupied.occupied else "second FRF", occupied,
                        dict(color=_DARK, lw=1.6)))
     for label, result, style in curves:
-        keep = (slice(None) if band is None else
-                (result.frequency >= band[0]) & (result.frequency <= band[1]))
+        keep = _in_band(result.frequency, band)
         magnitude = result.magnitude(name, source)[keep]
         peak = result.frequency[keep][np.argmax(magnitude)]
         ax.plot(result.frequency[keep], _positive(magnitude),
