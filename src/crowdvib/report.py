@@ -34,7 +34,7 @@ from . import __version__
 from ._files import atomic_path
 from .errors import DataError
 
-__all__ = ["write_report", "render_report", "REPORT_NAME", "SECTIONS"]
+__all__ = ["write_report", "render_report", "provenance", "REPORT_NAME", "SECTIONS"]
 
 #: File name of the report inside a results directory.
 REPORT_NAME = "report.html"
@@ -136,6 +136,26 @@ def render_report(results, directory=None):
             f'<meta name="generator" content="crowdvib {_e(__version__)}">\n'
             f"<title>{title}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n<main>\n"
             + "\n".join(body) + "\n</main>\n</body>\n</html>\n")
+
+
+def provenance(case=None):
+    """Provenance keys for a ``results.json``, taken when the run starts.
+
+    Parameters
+    ----------
+    case : str or pathlib.Path, optional
+        The case file the run reads (None for an embedded example).
+
+    Returns
+    -------
+    dict
+        ``created`` (UTC, ISO 8601) and ``case_sha256`` (hex digest of the case file, or None):
+        recorded at run time they stay true when the case file is edited later.
+    """
+    created = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    path = None if case is None else Path(case)
+    return {"created": created,
+            "case_sha256": _sha256(path) if path is not None and path.is_file() else None}
 
 
 # ------------------------------------------------------------------------------ reading

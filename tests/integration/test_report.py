@@ -19,7 +19,8 @@ import pytest
 
 from crowdvib import DataError
 from crowdvib.cli import _COMMANDS, main
-from crowdvib.report import REPORT_NAME, SECTIONS, render_report, write_report
+from crowdvib.report import (REPORT_NAME, SECTIONS, provenance, render_report,
+                             write_report)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 PAPER_CASE = EXAMPLES / "paper_example.toml"
@@ -286,6 +287,20 @@ def test_listed_but_missing_and_broken_figures_are_reported(tmp_path):
     assert "figure gone.png is listed in results.json but missing." in text
     assert "figure fake.png is not a PNG file and is left out." in text
     assert "data:image" not in text
+
+
+def test_provenance_recorded_at_run_time_wins_over_the_file_now(tmp_path):
+    import hashlib
+
+    case = tmp_path / "case.toml"
+    case.write_text("name = 'x'\n")
+    keys = provenance(case)
+    assert keys["case_sha256"] == hashlib.sha256(b"name = 'x'\n").hexdigest()
+    assert provenance()["case_sha256"] is None
+    case.write_text("name = 'edited later'\n")
+    text = render_report({"command": "estimate", "case": str(case), **keys}, tmp_path)
+    assert f"<code>{keys['case_sha256']}</code>" in text and "recorded by the run" in text
+    assert f"<tr><td>run date</td><td>{keys['created']}</td></tr>" in text
 
 
 def test_bad_directories_are_data_errors(tmp_path):
