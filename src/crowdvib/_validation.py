@@ -76,3 +76,10 @@ def check_frequency_grid(frequency, name="frequency"):
         raise ParameterError(f"{name} must be a non-empty, strictly increasing grid [Hz], "
                              f"got {frequency.size} value(s)")
     return frequency
+
+
+def frozen_array(array, dtype=float):
+    """A read-only copy of ``array``: frozen dataclasses hold arrays nobody can change in place."""
+    array = np.array(array, dtype=dtype)
+    array.flags.writeable = False
+    return array

@@ -15,6 +15,7 @@ import numpy as np
 
 from . import __version__
 from ._files import write_json
+from .report import provenance, write_report
 from .errors import CrowdvibError
 
 __all__ = ["main"]
@@ -117,11 +118,10 @@ def _run_demo(args):
         "occupied_structure": occupied.to_dict(),
         "measured": {"source": measured.source, "duration_s": args.duration_s,
                      "window_length": window, "n_windows": n_windows},
+        **provenance(),
     }
     path = write_json(out / "results.json", results)
     _say(f"\n  wrote {path} and {figure}")
-    from .report import write_report
-
     _say(f"  report: {write_report(out)}")
     return 0
 
@@ -201,15 +201,18 @@ def _run_estimate(args):
     from .casefile import load_case
 
     case = load_case(args.case)
+    stamp = provenance(case.path)
     with _staged_output(args.out, args.force) as staging:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             results = _estimate_case(case, staging)
+        results.update(stamp)
         results["warnings"] = _warning_texts(caught)
         for text in results["warnings"]:
             print(f"crowdvib estimate: warning: {text}", file=sys.stderr)
         write_json(staging / "results.json", results)
-    _say(f"  wrote {args.out / 'results.json'} and figures")
+        write_report(staging)
+    _say(f"  wrote {args.out / 'results.json'}, figures and report.html")
     return 0
 
 
@@ -367,6 +370,7 @@ def _run_map(args):
     from .sensitivity import objective_map
 
     case = load_case(args.case)
+    stamp = provenance(case.path)
     with _staged_output(args.out, args.force) as staging:
         _say(f"crowdvib map: {case.name} ({case.path.name})")
         record, measured, _ = _case_measurement(case)
@@ -397,8 +401,9 @@ def _run_map(args):
             "diagnostics": {k: v for k, v in estimate.to_dict().items() if k != "estimate"},
             "objective_map": landscape.to_dict(),
             "curvature_ratio": landscape.curvature_ratio(),
-            "warnings": _warning_texts(caught), "figures": [figure]})
-    _say(f"  wrote {args.out / 'results.json'} and {args.out / figure}")
+            "warnings": _warning_texts(caught), "figures": [figure], **stamp})
+        write_report(staging)
+    _say(f"  wrote {args.out / 'results.json'}, {figure} and report.html")
     return 0
 
 
@@ -452,6 +457,7 @@ def _run_sensitivity(args):
     from .sensitivity import TaskStore, modelling_error_study, record_length_study
 
     case = load_case(args.case)
+    stamp = provenance(case.path)
     out = Path(args.out)
     if out.is_dir() and any(out.iterdir()) and not (args.resume or args.force):
         raise ParameterError(f"--out {out} already holds a study; use --resume to continue it "
@@ -507,8 +513,8 @@ def _run_sensitivity(args):
                      "damping_ratio": study.nominal["damping_ratio"],
                      "mass_ratio": study.nominal["mass_ratio"]},
         "expected": dict(case.expected), "sensitivity": study.to_dict(),
-        "record_length": lengths, "figures": [figure]})
-    _say(f"  wrote {out / 'results.json'} and {out / figure}")
+        "record_length": lengths, "figures": [figure], **stamp})
+    _say(f"  wrote {out / 'results.json'}, {figure} and {write_report(out).name}")
     return 0
 
 
@@ -534,7 +540,7 @@ def _add_simulate_arguments(parser):
 def _run_simulate(args):
     from .casefile import load_case, paper_example_case
     from .errors import ParameterError
-    from .plotting import plot_psd_comparison, save_figure
+    from .plotting import plot_psd_comparison, plot_time_history, save_figure
     from .records import RECORD_FORMATS, Record, write_record
     from .signals import resample, welch_psd
     from .simulation import simulate
@@ -575,6 +581,9 @@ def _run_simulate(args):
                                                  band=(0.0, min(rate / 2, 12.0)),
                                                  title=f"{case.name}: simulated record"),
                              staging / "psd.png").name
+        history = save_figure(plot_time_history(simulation,
+                                                title=f"{case.name}: simulated time history"),
+                              staging / "time_history.png").name
         results = {"command": "simulate", "crowdvib_version": __version__,
                    "versions": _versions(), "seed": int(simulation.seed),
                    "case": None if case.path is None else str(case.path),
@@ -584,8 +593,10 @@ def _run_simulate(args):
                    "rms": dict(zip(record.channel_names, np.sqrt(np.mean(
                        (record.data - record.data.mean(axis=1, keepdims=True)) ** 2,
                        axis=1)).tolist())),
-                   "elapsed_s": elapsed, "figures": [figure]}
+                   "elapsed_s": elapsed, "figures": [figure, history],
+                   **provenance(case.path)}
         write_json(staging / "results.json", results)
+        write_report(staging)
     _say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
     return 0
 
@@ -635,8 +646,6 @@ def _add_report_arguments(parser):
 
 
 def _run_report(args):
-    from .report import write_report
-
     path = write_report(args.directory)
     _say(f"wrote {path}")
     return 0

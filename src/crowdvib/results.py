@@ -8,16 +8,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validation import as_float_array
+from ._validation import as_float_array, frozen_array
 from .errors import DataError, ParameterError
 
 __all__ = ["ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate", "Simulation"]
-
-
-def _frozen(array, dtype=float):
-    array = np.array(array, dtype=dtype)
-    array.flags.writeable = False
-    return array
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,8 +58,8 @@ class ResponsePSD:
                 f"({len(names)}, {frequency.size}), got {psd.shape}")
         if frequency.size and np.any(np.diff(frequency) <= 0):
             raise ParameterError("frequency must be strictly increasing")
-        object.__setattr__(self, "frequency", _frozen(frequency))
-        object.__setattr__(self, "psd", _frozen(psd))
+        object.__setattr__(self, "frequency", frozen_array(frequency))
+        object.__setattr__(self, "psd", frozen_array(psd))
         object.__setattr__(self, "output_names", names)
 
     def check_measured(self):
@@ -146,8 +140,8 @@ class FRF:
     unit: str = "(m/s²)/N"
 
     def __post_init__(self):
-        object.__setattr__(self, "frequency", _frozen(self.frequency))
-        object.__setattr__(self, "values", _frozen(self.values, complex))
+        object.__setattr__(self, "frequency", frozen_array(self.frequency))
+        object.__setattr__(self, "values", frozen_array(self.values, complex))
 
     def magnitude(self, output, input=None):
         """|H| [(m/s²)/N] of one output/input pair (input defaults to the output itself)."""
@@ -305,12 +299,12 @@ class Simulation:
             raise ParameterError(
                 f"acceleration must have one row per output ({len(names)}), "
                 f"got shape {acceleration.shape}")
-        object.__setattr__(self, "time", _frozen(self.time))
-        object.__setattr__(self, "acceleration", _frozen(acceleration))
+        object.__setattr__(self, "time", frozen_array(self.time))
+        object.__setattr__(self, "acceleration", frozen_array(acceleration))
         object.__setattr__(self, "output_names", names)
-        object.__setattr__(self, "n_on_deck", _frozen(self.n_on_deck, dtype=np.int64))
+        object.__setattr__(self, "n_on_deck", frozen_array(self.n_on_deck, dtype=np.int64))
         if self.modal_load is not None:
-            object.__setattr__(self, "modal_load", _frozen(self.modal_load))
+            object.__setattr__(self, "modal_load", frozen_array(self.modal_load))
 
     @property
     def n_samples(self):

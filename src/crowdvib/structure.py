@@ -10,16 +10,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validation import as_float_array, check_damping_ratio, check_non_negative, check_positive
+from ._validation import (as_float_array, check_damping_ratio, check_non_negative, check_positive,
+                          frozen_array)
 from .errors import ParameterError
 
 __all__ = ["ModalModel"]
-
-
-def _readonly(array):
-    array = np.array(array, dtype=float)
-    array.flags.writeable = False
-    return array
 
 
 def _trapezoid_weights(points, lower, upper):
@@ -133,7 +128,7 @@ class ModalModel:
                             ("modal_masses", masses), ("positions", positions),
                             ("mode_shapes", shapes), ("lanes", lanes),
                             ("output_shapes", outputs), ("_area_weights", weights)):
-            object.__setattr__(self, name, _readonly(value))
+            object.__setattr__(self, name, frozen_array(value))
         object.__setattr__(self, "width", width)
         object.__setattr__(self, "output_names", names)
 

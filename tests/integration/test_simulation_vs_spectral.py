@@ -4,8 +4,8 @@ The paper's numerical example (physics.md §8.1). Each check runs one seeded rea
 tolerances are those of physics.md §8.4 and issue 3. Scatter between seeds seen while writing
 these tests (3600 s with HSI, seeds 1, 2, 3): modal-load band ratios within 0.95–1.07, recovered
 f_h1 = 2.999, 2.814, 3.041 Hz and ξ_h1 = 0.307, 0.328, 0.328 — a single hour is not always
-within 3 % in f_h1 (seed 2 is not), so the recovery check is a regression on one seed, as the
-paper's own verification (physics.md §8.4: 2.981 Hz, 0.271 for one seed).
+within 3 % in f_h1 (seed 2 is not), so the recovery check runs five seeds (the paper's own
+verification used one: physics.md §8.4, 2.981 Hz and 0.271).
 """
 
 import numpy as np
@@ -70,10 +70,22 @@ def test_modal_load_matches_load_spectrum(hour_with_hsi):
     assert record.modal_load.std() == pytest.approx(sigma, rel=0.05)
 
 
-def test_recovers_msd_parameters_from_one_hour(hour_with_hsi):
-    # physics.md §8.4 / paper's verification: (3.0 Hz, 0.30) back from a simulated hour with the
-    # Welch-smoothed spectral model: f_h1 within 3 %, ξ_h1 within 20 %.
-    bridge, crowd, record = hour_with_hsi
-    estimate = estimate_hsi(record.psd(WINDOW), bridge, crowd, band=(0.0, 10.0))
-    assert estimate.msd.frequency == pytest.approx(3.0, rel=0.03)
-    assert estimate.msd.damping_ratio == pytest.approx(0.30, rel=0.20)
+def test_recovers_msd_parameters_from_simulated_hours(hour_with_hsi):
+    # physics.md §8.4 / the paper's verification: (3.0 Hz, 0.30) back from a simulated hour with
+    # the Welch-smoothed spectral model: f_h1 within 3 %, ξ_h1 within 20 %. One hour is one
+    # random realisation (seeds 1–7 gave f_h1 = 2.999, 2.814, 3.041, 3.017, 2.934, 2.943, 2.917 Hz
+    # and ξ_h1 = 0.307–0.344), so the claim is checked over the first five seeds: at least four
+    # meet both tolerances and their mean is within them.
+    bridge, crowd, first = hour_with_hsi
+    from crowdvib import MSDModel
+    found = []
+    for seed in range(1, 6):
+        record = first if seed == 1 else simulate(bridge, crowd, 3600.0,
+                                                  msd=MSDModel(3.0, 0.30, 0.95), rng=seed,
+                                                  warm_up=WARM_UP)
+        estimate = estimate_hsi(record.psd(WINDOW), bridge, crowd, band=(0.0, 10.0))
+        found.append((estimate.msd.frequency, estimate.msd.damping_ratio))
+    error = np.array(found) / [3.0, 0.30] - 1.0
+    within = (np.abs(error[:, 0]) <= 0.03) & (np.abs(error[:, 1]) <= 0.20)
+    assert within.sum() >= 4, found
+    assert abs(error[:, 0].mean()) <= 0.03 and abs(error[:, 1].mean()) <= 0.20, found

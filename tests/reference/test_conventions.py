@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy import integrate, signal, stats
 
-from crowdvib import Crowd, ModalModel, MSDModel, ZivanovicForce, frf, welch_psd
+from crowdvib import ModalModel, MSDModel, ZivanovicForce, frf, welch_psd
 from crowdvib.loading import STANDARD_GRAVITY
 from crowdvib.signals import LowPassFilter, welch_kernel
 
