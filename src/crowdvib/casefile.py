@@ -476,12 +476,14 @@ def _crowd(table, path):
     std = table.number("step_frequency_std", 0.175, rule="positive")
     mass = table.number("body_mass", 70.0, rule="positive")
     fraction = table.number("forward_fraction", 1.0, rule="non_negative")
+    mass_std = table.number("body_mass_std", 0.0, rule="non_negative")
     table.finish()
     try:
         speed = float(weidmann_speed(density)) if speed is None else speed
         mean = float(bruno_venuti_step_frequency(speed)) if mean is None else mean
         return Crowd(density=density, walking_speed=speed, step_frequency_mean=mean,
-                     step_frequency_std=std, body_mass=mass, forward_fraction=fraction)
+                     step_frequency_std=std, body_mass=mass, forward_fraction=fraction,
+                     body_mass_std=mass_std)
     except ParameterError as exc:
         raise _wrap(path, "crowd", exc) from None
 

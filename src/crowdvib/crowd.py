@@ -65,6 +65,10 @@ class Crowd:
     forward_fraction : float
         Fraction of pedestrians walking in the +x direction (the others walk back); used by the
         time-domain simulator, irrelevant to the spectral model.
+    body_mass_std : float
+        Standard deviation σ_m of the body masses [kg] (0: everybody weighs ``body_mass``, as
+        in the paper). The simulator draws N(m_h, σ_m); the spectral load uses
+        E[W²] = g² (m_h² + σ_m²) (physics.md §3.2), the apparent mass the mean m_h.
     """
 
     density: float
@@ -73,6 +77,7 @@ class Crowd:
     step_frequency_std: float = UNRESTRICTED_STEP_FREQUENCY_STD
     body_mass: float = 70.0
     forward_fraction: float = 1.0
+    body_mass_std: float = 0.0
 
     def __post_init__(self):
         check_non_negative("density", self.density, unit="persons/m²")
@@ -83,16 +88,22 @@ class Crowd:
         check_positive("step_frequency_mean", self.step_frequency_mean, unit="Hz")
         check_positive("step_frequency_std", self.step_frequency_std, unit="Hz")
         check_positive("body_mass", self.body_mass, unit="kg")
+        check_non_negative("body_mass_std", self.body_mass_std, unit="kg")
+        if self.body_mass_std >= self.body_mass:
+            raise ParameterError(
+                f"body_mass_std must be < body_mass ({self.body_mass:g} kg), "
+                f"got {self.body_mass_std:g} kg")
         fraction = float(as_float_array("forward_fraction", self.forward_fraction, ndim=0))
         if not 0.0 <= fraction <= 1.0:
             raise ParameterError(f"forward_fraction must lie in [0, 1], got {fraction:g}")
         for name in ("density", "walking_speed", "step_frequency_mean", "step_frequency_std",
-                     "body_mass", "forward_fraction"):
+                     "body_mass", "forward_fraction", "body_mass_std"):
             object.__setattr__(self, name, float(getattr(self, name)))
 
     @classmethod
     def from_density(cls, density, *, body_mass=70.0,
-                     step_frequency_std=UNRESTRICTED_STEP_FREQUENCY_STD, forward_fraction=1.0):
+                     step_frequency_std=UNRESTRICTED_STEP_FREQUENCY_STD, forward_fraction=1.0,
+                     body_mass_std=0.0):
         """A crowd whose speed follows Weidmann and whose step frequency follows Bruno & Venuti.
 
         >>> crowd = Crowd.from_density(0.5)
@@ -103,11 +114,17 @@ class Crowd:
         return cls(density=density, walking_speed=speed,
                    step_frequency_mean=float(bruno_venuti_step_frequency(speed)),
                    step_frequency_std=step_frequency_std, body_mass=body_mass,
-                   forward_fraction=forward_fraction)
+                   forward_fraction=forward_fraction, body_mass_std=body_mass_std)
 
     def with_density(self, density):
         """The same walkers at another density (speed and step frequencies unchanged)."""
         return replace(self, density=density)
+
+    def mean_square_weight(self):
+        """E[W²] = g² (m_h² + σ_m²) [N²]: the weight factor of the crowd-load PSD (physics.md §3.2)."""
+        from .loading import STANDARD_GRAVITY
+
+        return STANDARD_GRAVITY**2 * (self.body_mass**2 + self.body_mass_std**2)
 
     def arrival_rate(self, width):
         """Poisson arrival rate λ = d·B·v [persons/s] onto a walkway of width B (physics.md §2.4)."""

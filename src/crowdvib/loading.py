@@ -69,7 +69,7 @@ class _WalkingForce:
     def load_spectrum(self, frequency, crowd):
         """One-sided crowd-load PSD per unit influence s(f) [N²/Hz] (physics.md §3.2).
 
-        s(f) = W² Σ_c E[α_c² | f_s = f/r_c] / 2 · p_fs(f/r_c) / r_c, so that the modal-load
+        s(f) = E[W²] Σ_c E[α_c² | f_s = f/r_c] / 2 · p_fs(f/r_c) / r_c, so that the modal-load
         cross-PSD is G_QQ(f) = Ψ s(f) with the crowd-influence matrix Ψ of physics.md §2.7.
         Narrow-band approximation: the crossing time is long against 1/(r_c σ_fs).
 
@@ -81,11 +81,10 @@ class _WalkingForce:
             Step-frequency distribution and body mass.
         """
         frequency = np.asarray(check_non_negative("frequency", frequency, unit="Hz"))
-        weight = crowd.body_mass * STANDARD_GRAVITY
         ratios = self.ratios.reshape((-1,) + (1,) * frequency.ndim)
         step = frequency / ratios                      # f_s at which component c sits at f
         terms = self.mean_square_dlf(step) / 2.0 * crowd.step_frequency_pdf(step) / ratios
-        return self.scale**2 * weight**2 * terms.sum(axis=0)
+        return self.scale**2 * crowd.mean_square_weight() * terms.sum(axis=0)
 
     def modal_load_psd(self, frequency, crowd, structure):
         """One-sided modal-load cross-PSD G_QQ(f) [N²/Hz], shape (n_f, n_modes, n_modes)."""

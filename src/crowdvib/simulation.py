@@ -163,7 +163,9 @@ def _crowd_draws(structure, crowd, start, end, force, rng):
 
     Per direction: the people already on the deck at ``start`` (Poisson(n·share) at uniform
     positions, i.e. arrival times start − U[0, L/v]), then Poisson arrivals on [start, end).
-    Then, for everybody: lateral positions U[0, B], step frequencies N(μ, σ), DLFs and phases.
+    Then, for everybody: lateral positions U[0, B], step frequencies N(μ, σ), DLFs and phases,
+    and, when the crowd has a body-mass spread, body masses N(m_h, σ_m) (drawn last, so a crowd
+    without spread gives the same stream as before the option existed).
     """
     length, width, speed = structure.length, structure.width, crowd.walking_speed
     crossing = length / speed
@@ -180,7 +182,11 @@ def _crowd_draws(structure, crowd, start, end, force, rng):
     step_frequency = _positive_normal(crowd.step_frequency_mean, crowd.step_frequency_std,
                                       arrival.size, rng)
     dlf, phase = force.sample(step_frequency, rng)
-    return arrival, direction, lateral, step_frequency, dlf, phase
+    if crowd.body_mass_std > 0:
+        mass = _positive_normal(crowd.body_mass, crowd.body_mass_std, arrival.size, rng)
+    else:
+        mass = np.full(arrival.size, crowd.body_mass)
+    return arrival, direction, lateral, step_frequency, dlf, phase, mass
 
 
 def _walkers(structure, crowd, pedestrians, start, end, force, rng):
@@ -188,9 +194,8 @@ def _walkers(structure, crowd, pedestrians, start, end, force, rng):
     x0, x1 = structure.positions[0], structure.positions[-1]
     parts = []
     if crowd is not None and crowd.density > 0:
-        arrival, direction, lateral, fs, dlf, phase = _crowd_draws(structure, crowd, start, end,
-                                                                  force, rng)
-        mass = np.full(arrival.size, crowd.body_mass)
+        arrival, direction, lateral, fs, dlf, phase, mass = _crowd_draws(structure, crowd, start,
+                                                                        end, force, rng)
         ratios = np.broadcast_to(force.ratios, dlf.shape)
         parts.append((arrival, np.where(direction > 0, x0, x1),
                       direction * crowd.walking_speed, lateral, fs, mass, dlf, ratios, phase))
@@ -495,7 +500,8 @@ def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None
         A stationary stream (physics.md §2.4): Poisson arrivals at rate d·B·v split between the
         directions by ``crowd.forward_fraction`` (the others start at the far end), the deck
         already populated at t = 0 (Poisson(d·B·L) people at uniform positions), lateral
-        positions U[0, B], step frequencies N(μ_fs, σ_fs), body mass ``crowd.body_mass``, DLFs
+        positions U[0, B], step frequencies N(μ_fs, σ_fs), body masses N(m_h, σ_m) (``crowd.body_mass``,
+        ``crowd.body_mass_std``; fixed when σ_m = 0), DLFs
         and phases from ``force``.
     duration : float
         Record length [s], > 0.

@@ -92,3 +92,30 @@ def test_influence_matrix_of_a_torsional_mode():
     # Interpolated shapes: at the edge lane the torsion shape is ±sin.
     rows = model.shapes_at([L / 2, L / 2, 30.0], [0.0, B, B / 2])
     np.testing.assert_allclose(rows, [[1, -1], [1, 1], [0, 0]], atol=1e-12)
+
+
+def test_body_mass_spread_enters_the_load_as_mean_square_weight():
+    # physics.md §3.2: G_QQ ∝ E[W²] = g²(m² + σ_m²); σ_m = 0 is the paper's single mass.
+    f = np.linspace(0.5, 10, 50)
+    plain = ZivanovicForce().load_spectrum(f, Crowd(0.5, 1.3, 1.89, body_mass=70.0))
+    spread = ZivanovicForce().load_spectrum(
+        f, Crowd(0.5, 1.3, 1.89, body_mass=70.0, body_mass_std=14.0))
+    np.testing.assert_allclose(spread, plain * (70**2 + 14**2) / 70**2, rtol=1e-12)
+
+
+def test_simulated_body_masses_follow_the_crowd():
+    from crowdvib.simulation import generate_traffic
+    bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+    crowd = Crowd(0.5, 1.3, 1.89, body_mass=72.0, body_mass_std=12.0)
+    masses = np.array([p.body_mass for p in generate_traffic(bridge, crowd, 1800.0, rng=4)])
+    assert masses.size > 3000
+    assert masses.mean() == pytest.approx(72.0, abs=0.5)       # N(72, 12): s.e. of mean ≈ 0.2
+    assert masses.std() == pytest.approx(12.0, rel=0.05)
+    fixed = generate_traffic(bridge, crowd.__class__(0.5, 1.3, 1.89, body_mass=72.0), 60.0, rng=4)
+    assert {p.body_mass for p in fixed} == {72.0}
+
+
+def test_body_mass_spread_must_be_below_the_mass():
+    from crowdvib import ParameterError
+    with pytest.raises(ParameterError, match=r"body_mass_std must be < body_mass \(70 kg\), got 80"):
+        Crowd(0.5, 1.3, 1.89, body_mass=70.0, body_mass_std=80.0)
