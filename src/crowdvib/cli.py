@@ -35,8 +35,8 @@ def _add_demo_arguments(parser):
                         help="length of the 'measured' record [s] (default 3600)")
     parser.add_argument("--spectral", action="store_true",
                         help="make the 'measured' PSD from the spectral model with Welch scatter "
-                             "instead of a time-domain simulation (seconds instead of ~half a "
-                             "minute)")
+                             "instead of a time-domain simulation (faster; no compiled kernel "
+                             "needed)")
 
 
 def _run_demo(args):
