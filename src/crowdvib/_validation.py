@@ -83,3 +83,14 @@ def frozen_array(array, dtype=float):
     array = np.array(array, dtype=dtype)
     array.flags.writeable = False
     return array
+
+
+def name_indices(names, known, what="output name"):
+    """Positions of ``names`` (one name or several) in ``known``; an unknown name is an error
+    that lists the known ones."""
+    names = [names] if isinstance(names, str) else list(names)
+    known = list(known)
+    for name in names:
+        if name not in known:
+            raise ParameterError(f"{what} must be one of {known}, got {name!r}")
+    return np.array([known.index(name) for name in names], dtype=int)

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validation import as_float_array, frozen_array
+from ._validation import as_float_array, frozen_array, name_indices
 from .errors import DataError, ParameterError
 
 __all__ = ["ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate", "Simulation"]
@@ -74,14 +74,9 @@ class ResponsePSD:
 
     def select(self, names):
         """The PSDs of the named outputs, in that order."""
-        names = [names] if isinstance(names, str) else list(names)
-        rows = []
-        for name in names:
-            if name not in self.output_names:
-                raise ParameterError(
-                    f"output name must be one of {list(self.output_names)}, got {name!r}")
-            rows.append(self.output_names.index(name))
-        return self._with(psd=self.psd[rows], output_names=tuple(names))
+        rows = name_indices(names, self.output_names)
+        return self._with(psd=self.psd[rows],
+                          output_names=tuple(self.output_names[i] for i in rows))
 
     def band(self, lower, upper):
         """The PSDs restricted to lower <= f <= upper [Hz]."""

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._validation import (as_float_array, check_damping_ratio, check_non_negative, check_positive,
-                          frozen_array)
+                          frozen_array, name_indices)
 from .errors import ParameterError
 
 __all__ = ["ModalModel"]
@@ -210,15 +210,7 @@ class ModalModel:
 
     def output_index(self, names):
         """Indices of the named outputs; a :class:`ParameterError` lists the known names."""
-        if isinstance(names, str):
-            names = [names]
-        index = []
-        for name in names:
-            if name not in self.output_names:
-                raise ParameterError(
-                    f"output name must be one of {list(self.output_names)}, got {name!r}")
-            index.append(self.output_names.index(name))
-        return np.array(index, dtype=int)
+        return name_indices(names, self.output_names)
 
     # ------------------------------------------------------------------ variants
     def rescaled(self, factors):
