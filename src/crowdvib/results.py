@@ -103,6 +103,13 @@ class ResponsePSD:
         fields.update(changes)
         return ResponsePSD(**fields)
 
+    def plot(self, *, output=None, band=None, ax=None, title=None, label=None):
+        """Draw the PSD of one output (see :func:`crowdvib.plotting.plot_psd_comparison`)."""
+        from .plotting import plot_psd_comparison
+
+        return plot_psd_comparison({label or self.source: self}, output=output, band=band,
+                                   ax=ax, title=title)
+
     def to_dict(self):
         """JSON-ready dict of the PSD and its metadata."""
         return {"frequency": self.frequency.tolist(), "psd": self.psd.tolist(),
@@ -137,6 +144,14 @@ class FRF:
     def __post_init__(self):
         object.__setattr__(self, "frequency", frozen_array(self.frequency))
         object.__setattr__(self, "values", frozen_array(self.values, complex))
+
+    def plot(self, occupied=None, *, output=None, input=None, band=None, ax=None, title=None):
+        """Draw |H| of one output/input pair, with an occupied FRF beside it if given
+        (see :func:`crowdvib.plotting.plot_frf`)."""
+        from .plotting import plot_frf
+
+        return plot_frf(self, occupied, output=output, input=input, band=band, ax=ax,
+                        title=title)
 
     def magnitude(self, output, input=None):
         """|H| [(m/s²)/N] of one output/input pair (input defaults to the output itself)."""
@@ -322,6 +337,13 @@ class Simulation:
 
         return welch_psd(self.acceleration, self.sample_rate, window_length=window_length,
                          overlap=overlap, output_names=self.output_names, lowpass=lowpass)
+
+    def plot(self, *, output=None, window=1.0, axes=None, title=None):
+        """Draw the record, its running RMS and the people on the deck
+        (see :func:`crowdvib.plotting.plot_time_history`)."""
+        from .plotting import plot_time_history
+
+        return plot_time_history(self, output=output, window=window, axes=axes, title=title)
 
     def to_dict(self):
         """JSON-ready metadata (no time series; write those with the I/O functions)."""

@@ -101,6 +101,13 @@ class ObjectiveMap:
         along_xi = second(self.cost[:, col], self.damping_ratios, row)
         return along_f / along_xi
 
+    def plot(self, *, uncertainty=None, search_bounds=None, ax=None, title=None):
+        """Draw the map with its optimum (see :func:`crowdvib.plotting.plot_objective_map`)."""
+        from .plotting import plot_objective_map
+
+        return plot_objective_map(self, uncertainty=uncertainty, search_bounds=search_bounds,
+                                  ax=ax, title=title)
+
     def to_dict(self):
         """JSON-ready dict."""
         optimum = self.optimum
@@ -406,6 +413,12 @@ class SensitivityResult:
                        "bound_percent": bound[name]}
                 for name in ("frequency", "damping_ratio")}
 
+    def plot(self, *, axes=None, title=None):
+        """Draw Δ per error case (see :func:`crowdvib.plotting.plot_estimation_errors`)."""
+        from .plotting import plot_estimation_errors
+
+        return plot_estimation_errors(self, axes=axes, title=title)
+
     def to_dict(self):
         """JSON-ready dict."""
         return {"nominal": self.nominal, "cases": list(self.cases),
@@ -525,6 +538,12 @@ class ParametricResult:
         """Rows matching every ``key=value`` given."""
         return [r for r in self.rows if all(np.isclose(r[k], v) if isinstance(v, float)
                                             else r[k] == v for k, v in criteria.items())]
+
+    def plot(self, *, parameters=None, axes=None, title=None):
+        """Draw estimated/true ratios (see :func:`crowdvib.plotting.plot_parametric_ratios`)."""
+        from .plotting import plot_parametric_ratios
+
+        return plot_parametric_ratios(self, parameters=parameters, axes=axes, title=title)
 
     def to_dict(self):
         """JSON-ready dict."""
