@@ -174,7 +174,9 @@ def test_estimation_errors_bars_span_zero_to_the_extremes_per_group_and_level():
     bars = frequency_ax.patches
     assert len(bars) == 4                                   # 2 groups × 2 levels
     spans = [(bar.get_y(), bar.get_y() + bar.get_height()) for bar in bars]
-    assert spans == pytest.approx([(-1.0, 1.0), (-3.0, 3.0), (0.0, 4.0), (0.0, 12.0)])
+    # np.testing rather than pytest.approx: newer pytest refuses nested sequences in approx.
+    np.testing.assert_allclose(spans, [(-1.0, 1.0), (-3.0, 3.0), (0.0, 4.0), (0.0, 12.0)],
+                               rtol=1e-6, atol=1e-12)
     damping_spans = [(b.get_y(), b.get_y() + b.get_height()) for b in damping_ax.patches]
     assert damping_spans[1] == pytest.approx((-6.0, 0.0))
     assert "1 case(s) failed" in handles.figure.get_suptitle()
