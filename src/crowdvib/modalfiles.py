@@ -1,0 +1,158 @@
+"""Modal models from CSV files: a modal table and mode shapes along the walkway (issue 4).
+
+The files an FE program or an operational modal analysis exports: one row per mode (frequency,
+damping ratio, modal mass), the shapes at stations along the walkway (optionally per lane across
+the width), and the output points by name. Any mode-shape scaling works as long as the modal
+masses match it (physics.md §0): a mass-normalised export and a unity-scaled table are the same
+physics.
+"""
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from .errors import ParameterError
+from .structure import ModalModel
+
+__all__ = ["read_modal_model", "write_modal_model"]
+
+
+def _read_csv_table(path):
+    """Header and rows (as strings) of a small CSV file; ``#`` lines are comments."""
+    path = Path(path)
+    with open(path, encoding="utf-8", newline="") as handle:
+        lines = [line for line in handle if line.strip() and not line.lstrip().startswith("#")]
+    rows = [[cell.strip() for cell in row] for row in csv.reader(lines)]
+    if len(rows) < 2:
+        raise ParameterError(f"{path.name}: must hold a header line and at least one row")
+    header, body = rows[0], rows[1:]
+    for number, row in enumerate(body, start=1):
+        if len(row) != len(header):
+            raise ParameterError(f"{path.name}: row {number} has {len(row)} fields, the header "
+                                 f"has {len(header)} ({header})")
+    return header, body
+
+
+def _numbers(path, header, rows, columns):
+    try:
+        return np.array([[float(row[header.index(c)]) for c in columns] for row in rows])
+    except ValueError as exc:
+        raise ParameterError(f"{Path(path).name}: columns {columns} must hold numbers: {exc}") \
+            from None
+
+
+def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_points=None,
+                     name="footbridge"):
+    """A :class:`ModalModel` from a modal table and mode shapes along the walkway (CSV).
+
+    Parameters
+    ----------
+    modal_table : path
+        CSV with columns ``frequency`` [Hz], ``damping_ratio`` [-, fraction] and ``modal_mass``
+        [kg, in the scaling of the shapes: 1 for a mass-normalised FE export], one row per mode;
+        an optional ``mode`` column labels the modes.
+    mode_shapes : path
+        CSV with a ``position`` column [m] along the walkway, an optional ``lane`` column [m]
+        across it (then one block of identical positions per lane) and one column per mode, in
+        the order of the table (any other column names).
+    width : float
+        Walkway width [m].
+    outputs : dict of str to float or (float, float), optional
+        Output points as name → position x [m] (mid-width) or (x, y); shape rows interpolated.
+    output_points : path, optional
+        CSV with a ``name`` column and one column per mode: the mode-shape rows of the outputs
+        (e.g. sensor nodes of an FE model). Either this or ``outputs``.
+    name : str
+
+    Returns
+    -------
+    ModalModel
+    """
+    header, rows = _read_csv_table(modal_table)
+    missing = [c for c in ("frequency", "damping_ratio", "modal_mass") if c not in header]
+    if missing:
+        raise ParameterError(f"{Path(modal_table).name}: missing column(s) {missing}; found "
+                             f"{header}")
+    table = _numbers(modal_table, header, rows, ["frequency", "damping_ratio", "modal_mass"])
+    n_modes = table.shape[0]
+    shape_header, shape_rows = _read_csv_table(mode_shapes)
+    if "position" not in shape_header:
+        raise ParameterError(f"{Path(mode_shapes).name}: needs a 'position' column, found "
+                             f"{shape_header}")
+    mode_columns = [c for c in shape_header if c not in ("position", "lane")]
+    if len(mode_columns) != n_modes:
+        raise ParameterError(f"{Path(mode_shapes).name}: must have one column per mode of "
+                             f"{Path(modal_table).name} ({n_modes}), got {len(mode_columns)}: "
+                             f"{mode_columns}")
+    values = _numbers(mode_shapes, shape_header, shape_rows, mode_columns)
+    position = _numbers(mode_shapes, shape_header, shape_rows, ["position"])[:, 0]
+    if "lane" in shape_header:
+        lane = _numbers(mode_shapes, shape_header, shape_rows, ["lane"])[:, 0]
+        lanes = np.unique(lane)
+        blocks = [np.flatnonzero(lane == y) for y in lanes]
+        positions = position[blocks[0]]
+        for y, block in zip(lanes, blocks):
+            if block.size != positions.size or not np.allclose(position[block], positions):
+                raise ParameterError(f"{Path(mode_shapes).name}: lane {y:g} m must list the same "
+                                     "positions as the first lane")
+        shapes = np.stack([values[block] for block in blocks])
+    else:
+        lanes, positions, shapes = None, position, values
+    base = ModalModel(frequencies=table[:, 0], damping_ratios=table[:, 1],
+                      modal_masses=table[:, 2], positions=positions, mode_shapes=shapes,
+                      width=width, lanes=lanes, output_names=(), output_shapes=np.zeros((0, n_modes)),
+                      name=name)
+    if (outputs is None) == (output_points is None):
+        raise ParameterError("give exactly one of outputs (name → position) and output_points "
+                             "(a CSV of mode-shape rows)")
+    if output_points is not None:
+        point_header, point_rows = _read_csv_table(output_points)
+        if "name" not in point_header:
+            raise ParameterError(f"{Path(output_points).name}: needs a 'name' column, found "
+                                 f"{point_header}")
+        columns = [c for c in point_header if c != "name"]
+        if len(columns) != n_modes:
+            raise ParameterError(f"{Path(output_points).name}: must have one column per mode "
+                                 f"({n_modes}), got {len(columns)}: {columns}")
+        names = [row[point_header.index("name")] for row in point_rows]
+        rows_ = _numbers(output_points, point_header, point_rows, columns)
+    else:
+        names, rows_ = [], []
+        for label, where in outputs.items():
+            x, y = (float(where), None) if np.ndim(where) == 0 else (float(where[0]),
+                                                                   float(where[1]))
+            if not positions[0] <= x <= positions[-1]:
+                raise ParameterError(f"outputs[{label!r}] must lie on the walkway "
+                                     f"[{positions[0]:g}, {positions[-1]:g}] m, got {x:g}")
+            names.append(label)
+            rows_.append(base.shapes_at(np.array([x]), None if y is None else np.array([y]))[0])
+    return base.replace(output_names=tuple(names), output_shapes=np.array(rows_, dtype=float))
+
+
+def write_modal_model(structure, modal_table, mode_shapes, output_points=None, *, digits=10):
+    """Write a :class:`ModalModel` as the CSV files :func:`read_modal_model` reads (atomically)."""
+    from ._files import atomic_path
+
+    modes = [f"mode_{j + 1}" for j in range(structure.n_modes)]
+    fmt = f"{{:.{digits}g}}"
+
+    def write(path, header, rows):
+        with atomic_path(path) as temporary:
+            with open(temporary, "w", encoding="utf-8", newline="") as handle:
+                writer = csv.writer(handle, lineterminator="\n")
+                writer.writerow(header)
+                writer.writerows([[v if isinstance(v, str) else fmt.format(v) for v in row]
+                                  for row in rows])
+
+    write(modal_table, ["mode", "frequency", "damping_ratio", "modal_mass"],
+          [[modes[j], structure.frequencies[j], structure.damping_ratios[j],
+            structure.modal_masses[j]] for j in range(structure.n_modes)])
+    several = structure.lanes.size > 1
+    rows = [([x, y] if several else [x]) + list(shape)
+            for y, lane in zip(structure.lanes, structure.mode_shapes)
+            for x, shape in zip(structure.positions, lane)]
+    write(mode_shapes, ["position"] + (["lane"] if several else []) + modes, rows)
+    if output_points is not None:
+        write(output_points, ["name"] + modes,
+              [[n] + list(row) for n, row in zip(structure.output_names, structure.output_shapes)])
