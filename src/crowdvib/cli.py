@@ -245,11 +245,39 @@ def _case_measurement(case):
     return record, measured, lowpass
 
 
+def _case_crowd(case, record):
+    """The crowd the HSI estimate uses → (Crowd, StepFrequencyEstimate or None).
+
+    With ``[estimation.step_frequencies]`` the step-frequency distribution is first fitted on the
+    record low-passed at the cut-off, without HSI (the paper's Waalse Krook procedure), and used
+    when ``use_fitted``; otherwise the case file's crowd.
+    """
+    from .estimation import estimate_step_frequencies
+    from .signals import LowPassFilter, welch_psd
+
+    spec, est = case.measurement, case.estimation
+    crowd = case.crowd
+    if est.step_frequencies is None:
+        return crowd, None
+    sf = est.step_frequencies
+    low = LowPassFilter(sf.cutoff, spec.lowpass_order, record.sample_rate)
+    measured_low = welch_psd(record.data, record.sample_rate, window_length=spec.window_length,
+                             overlap=spec.overlap, output_names=record.channel_names,
+                             lowpass=low)
+    fitted = estimate_step_frequencies(measured_low, case.structure, crowd, cutoff=sf.cutoff,
+                                       band=sf.band, starts=sf.starts, bounds=sf.bounds,
+                                       outputs=sf.outputs, match_welch=est.match_welch)
+    _say(f"  step frequencies below {sf.cutoff:g} Hz: N({fitted.crowd.step_frequency_mean:.3f}, "
+         f"{fitted.crowd.step_frequency_std:.3f}) Hz (case file: "
+         f"N({crowd.step_frequency_mean:g}, {crowd.step_frequency_std:g}) Hz)")
+    return (fitted.crowd if sf.use_fitted else crowd), fitted
+
+
 def _estimate_case(case, out):
     """The estimate pipeline on a loaded case; figures into ``out``; returns the results dict."""
-    from .estimation import estimate_hsi, estimate_step_frequencies
+    from .estimation import estimate_hsi
     from .plotting import plot_psd_comparison, plot_psd_convergence, save_figure
-    from .signals import LowPassFilter, psd_convergence, welch_psd
+    from .signals import psd_convergence
     from .spectral import response_psd
 
     spec, est = case.measurement, case.estimation
@@ -267,23 +295,7 @@ def _estimate_case(case, out):
     reach = convergence.duration_to_reach(0.10)
     _say("          below 10 % from " + (f"{reach:g} s of record on" if reach is not None
                                          else "no record length (record too short)"))
-    crowd = case.crowd
-    step_result = None
-    if est.step_frequencies is not None:
-        sf = est.step_frequencies
-        low = LowPassFilter(sf.cutoff, spec.lowpass_order, record.sample_rate)
-        measured_low = welch_psd(record.data, record.sample_rate,
-                                 window_length=spec.window_length, overlap=spec.overlap,
-                                 output_names=outputs, lowpass=low)
-        step_result = estimate_step_frequencies(
-            measured_low, case.structure, crowd, cutoff=sf.cutoff, band=sf.band,
-            starts=sf.starts, bounds=sf.bounds, outputs=sf.outputs,
-            match_welch=est.match_welch)
-        _say(f"  step frequencies below {sf.cutoff:g} Hz: N({step_result.crowd.step_frequency_mean:.3f}, "
-             f"{step_result.crowd.step_frequency_std:.3f}) Hz (case file: "
-             f"N({crowd.step_frequency_mean:g}, {crowd.step_frequency_std:g}) Hz)")
-        if sf.use_fitted:
-            crowd = step_result.crowd
+    crowd, step_result = _case_crowd(case, record)
     free_mass = "mass_ratio" in est.free_parameters
     estimate = estimate_hsi(measured, case.structure, crowd, band=est.band, outputs=outputs,
                             output_weights=est.output_weights, starts=est.starts,
@@ -374,14 +386,15 @@ def _run_map(args):
     with _staged_output(args.out, args.force) as staging:
         _say(f"crowdvib map: {case.name} ({case.path.name})")
         record, measured, _ = _case_measurement(case)
+        crowd, _ = _case_crowd(case, record)
         options = _estimate_options(case)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            estimate = estimate_hsi(measured, case.structure, case.crowd, **options)
+            estimate = estimate_hsi(measured, case.structure, crowd, **options)
         options.pop("starts")
         options.pop("bounds")
         started = time.perf_counter()
-        landscape = objective_map(measured, case.structure, case.crowd,
+        landscape = objective_map(measured, case.structure, crowd,
                                   frequencies=args.frequencies,
                                   damping_ratios=args.damping_ratios, estimate=estimate,
                                   **options)
@@ -469,13 +482,14 @@ def _run_sensitivity(args):
     out.mkdir(parents=True, exist_ok=True)
     _say(f"crowdvib sensitivity: {case.name} ({case.path.name})")
     record, measured, lowpass = _case_measurement(case)
+    crowd, _ = _case_crowd(case, record)
     options = _estimate_options(case)
     store = TaskStore(out / "tasks")
     done = len(store.keys())
     if done:
         _say(f"  resuming: {done} finished task(s) found in {store.directory}")
     with _executor(args.workers, args.scheduler) as executor:
-        study = modelling_error_study(measured, case.structure, case.crowd, joint=not args.no_joint,
+        study = modelling_error_study(measured, case.structure, crowd, joint=not args.no_joint,
                                       executor=executor, store=store,
                                       progress=_progress_printer("estimations", unit="tasks"),
                                       **options)
@@ -483,7 +497,7 @@ def _run_sensitivity(args):
         if not args.no_record_length:
             options.pop("band")
             lengths = record_length_study(
-                record.data, record.sample_rate, case.structure, case.crowd,
+                record.data, record.sample_rate, case.structure, crowd,
                 window_length=case.measurement.window_length, band=case.estimation.band,
                 output_names=record.channel_names, lowpass=lowpass, executor=executor,
                 store=TaskStore(out / "record_length"), **options)
