@@ -11,6 +11,7 @@ import numpy as np
 
 from ._validation import as_float_array, check_non_negative, check_positive
 from .errors import ParameterError
+from .loading import STANDARD_GRAVITY
 
 __all__ = ["Crowd", "weidmann_speed", "bruno_venuti_step_frequency", "JAM_DENSITY"]
 
@@ -122,8 +123,6 @@ class Crowd:
 
     def mean_square_weight(self):
         """E[W²] = g² (m_h² + σ_m²) [N²]: the weight factor of the crowd-load PSD (physics.md §3.2)."""
-        from .loading import STANDARD_GRAVITY
-
         return STANDARD_GRAVITY**2 * (self.body_mass**2 + self.body_mass_std**2)
 
     def arrival_rate(self, width):

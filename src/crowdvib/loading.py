@@ -169,7 +169,7 @@ class ZivanovicForce(_WalkingForce):
         means = np.column_stack([mu1] + [np.full(n, m) for m in ZIVANOVIC_HARMONIC_MEAN[1:]])
         stds = np.column_stack([ZIVANOVIC_DLF1_COV * np.abs(mu1)]
                                + [np.full(n, s) for s in ZIVANOVIC_HARMONIC_STD[1:]])
-        main = _positive_normal(means, stds, rng)
+        main = positive_normal(means, stds, rng)
         alpha1 = main[:, :1] if self.subharmonics_follow_sampled_dlf else mu1[:, np.newaxis]
         sub = (np.asarray(ZIVANOVIC_SUBHARMONIC_SLOPE) * alpha1
                + np.asarray(ZIVANOVIC_SUBHARMONIC_OFFSET))
@@ -178,15 +178,18 @@ class ZivanovicForce(_WalkingForce):
         return amplitudes, phases
 
 
-def _positive_normal(means, stds, rng):
-    """Normal draws with negative values drawn again (physics.md §1.1: P(α < 0) ≤ 2.3 %).
+def positive_normal(means, stds, rng):
+    """Normal draws N(means, stds) with non-positive values drawn again.
 
-    A mean that is itself negative (μ₁ far outside the walking range) gives 0 rather than an
-    endless redraw.
+    For DLFs (physics.md §1.1: P(α < 0) ≤ 2.3 %), step frequencies and body masses, which are
+    > 0. A mean that is itself not positive (μ₁ far outside the walking range) gives 0 rather
+    than an endless redraw.
     """
+    means = np.asarray(means, dtype=float)
+    stds = np.broadcast_to(np.asarray(stds, dtype=float), means.shape)
     values = rng.normal(means, stds)
     for _ in range(50):
-        negative = (values < 0) & (means > 0)
+        negative = (values <= 0) & (means > 0)
         if not negative.any():
             break
         values[negative] = rng.normal(means[negative], stds[negative])

@@ -18,7 +18,7 @@ from . import _kernels
 from ._validation import as_float_array, check_non_negative, check_positive
 from .crowd import JAM_DENSITY, Crowd
 from .errors import ParameterError
-from .loading import STANDARD_GRAVITY, as_force_model
+from .loading import STANDARD_GRAVITY, as_force_model, positive_normal
 from .pedestrian import MSDModel
 from .results import Simulation
 from .structure import ModalModel
@@ -149,17 +149,6 @@ def _seed_from(rng):
         f"rng must be None, a non-negative int or a numpy.random.Generator, got {type(rng).__name__}")
 
 
-def _positive_normal(mean, std, size, rng):
-    """Normal draws with non-positive values drawn again (step frequencies are > 0)."""
-    values = rng.normal(mean, std, size)
-    for _ in range(50):
-        bad = values <= 0
-        if not bad.any():
-            break
-        values[bad] = rng.normal(mean, std, int(bad.sum()))
-    return np.maximum(values, 1e-6)
-
-
 def _crowd_draws(structure, crowd, start, end, force, rng):
     """Draw the stream of a crowd over [start, end) in a fixed order (physics.md §2.4).
 
@@ -181,11 +170,11 @@ def _crowd_draws(structure, crowd, start, end, force, rng):
     arrival = np.concatenate(arrivals)
     direction = np.concatenate(directions)
     lateral = rng.uniform(0.0, width, arrival.size)
-    step_frequency = _positive_normal(crowd.step_frequency_mean, crowd.step_frequency_std,
-                                      arrival.size, rng)
+    step_frequency = positive_normal(np.full(arrival.size, crowd.step_frequency_mean),
+                                     crowd.step_frequency_std, rng)
     dlf, phase = force.sample(step_frequency, rng)
     if crowd.body_mass_std > 0:
-        mass = _positive_normal(crowd.body_mass, crowd.body_mass_std, arrival.size, rng)
+        mass = positive_normal(np.full(arrival.size, crowd.body_mass), crowd.body_mass_std, rng)
     else:
         mass = np.full(arrival.size, crowd.body_mass)
     return arrival, direction, lateral, step_frequency, dlf, phase, mass

@@ -17,6 +17,7 @@ from ._linalg import solve_occupied
 from ._validation import check_frequency_grid, check_positive
 from .errors import ParameterError
 from .loading import as_force_model
+from .pedestrian import MSDModel
 from .results import FRF, EffectiveModalProperties, ResponsePSD
 from .signals import welch_kernel
 
@@ -29,8 +30,6 @@ _POINTS_PER_BIN = 16
 
 
 def _check_msd_inputs(crowd, msd):
-    from .pedestrian import MSDModel
-
     if msd is not None and not isinstance(msd, MSDModel):
         raise ParameterError(f"msd must be an MSDModel or None, got {type(msd).__name__}")
     if msd is not None and crowd is None:
