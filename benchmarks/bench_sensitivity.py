@@ -8,7 +8,7 @@ Prints the wall time per worker count and the speed-up; asserts nothing.
 import concurrent.futures
 import time
 
-from crowdvib.sensitivity import parametric_study
+from crowdvib.identification.sensitivity import parametric_study
 
 
 def main():

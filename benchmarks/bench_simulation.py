@@ -18,10 +18,10 @@ import tracemalloc
 
 from bench_spectral import fourteen_mode_bridge
 
-import crowdvib.simulation
+import crowdvib.response.simulation
 from crowdvib import Crowd, MSDModel, simulate
-from crowdvib._kernels import advance
-from crowdvib.examples import paper_example
+from crowdvib.response._kernels import advance
+from crowdvib.models.examples import paper_example
 
 
 def wall_per_second(structure, crowd, msd, duration, repeat=3):
@@ -37,7 +37,7 @@ def wall_per_second(structure, crowd, msd, duration, repeat=3):
 COLD_START = """
 import time
 from crowdvib import simulate
-from crowdvib.examples import paper_example
+from crowdvib.models.examples import paper_example
 case = paper_example()
 started = time.perf_counter()
 simulate(case.structure, case.crowd, 1.0, msd=case.msd, rng=0)
@@ -76,10 +76,10 @@ def main():
                      + (", target <= 2 ms/s" if msd is not None else "")))
 
     # For scale: the force components sampled at 10 steps per period too (a finer step).
-    default = crowdvib.simulation.FORCE_STEPS_PER_PERIOD
-    crowdvib.simulation.FORCE_STEPS_PER_PERIOD = 10
+    default = crowdvib.response.simulation.FORCE_STEPS_PER_PERIOD
+    crowdvib.response.simulation.FORCE_STEPS_PER_PERIOD = 10
     ms, record = wall_per_second(case.structure, case.crowd, case.msd, 300.0)
-    crowdvib.simulation.FORCE_STEPS_PER_PERIOD = default
+    crowdvib.response.simulation.FORCE_STEPS_PER_PERIOD = default
     results["paper_hsi_force_10_steps_per_period_ms_per_s"] = ms
     rows.append(("paper example, HSI, forces at 10 steps/period", f"{ms:.2f} ms/s",
                  f"h = {1e3 * record.time_step:.2f} ms (not the default)"))

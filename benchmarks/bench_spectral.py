@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from crowdvib import Crowd, ModalModel, MSDModel, estimate_hsi, response_psd
-from crowdvib.examples import paper_example
+from crowdvib.models.examples import paper_example
 
 
 def best_of(function, repeat=7, number=None):

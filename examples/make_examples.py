@@ -18,10 +18,10 @@ from pathlib import Path
 import numpy as np
 
 import crowdvib
-from crowdvib.casefile import load_case, write_modal_model
-from crowdvib.records import Record, write_record
+from crowdvib.io.casefile import load_case, write_modal_model
+from crowdvib.io.records import Record, write_record
 from crowdvib.signals import resample
-from crowdvib.structure import ModalModel
+from crowdvib.models.structure import ModalModel
 
 HERE = Path(__file__).resolve().parent
 

@@ -7,20 +7,16 @@ inverse problem of Van Nimmen & Van den Broeck (2023): ``estimate_hsi``.
 
 from importlib.metadata import PackageNotFoundError, version
 
-from .casefile import Case, load_case, read_modal_model
-from .crowd import Crowd
-from .estimation import StepFrequencyEstimate, estimate_hsi, estimate_step_frequencies
 from .errors import (BoundWarning, ConvergenceWarning, CrowdvibError, CrowdvibWarning, DataError,
                      DataWarning, EstimationError, ParameterError, ResolutionWarning)
-from .loading import YoungForce, ZivanovicForce
-from .pedestrian import MSDModel
-from .results import FRF, EffectiveModalProperties, HSIEstimate, ResponsePSD, Simulation
-from .records import Record, check_record, read_record, write_record
-from .signals import (LowPassFilter, PSDConvergence, detrend, psd_convergence, resample,
-                      welch_psd)
-from .simulation import Pedestrian, simulate
-from .spectral import SpectralModel, effective_modal_properties, frf, response_psd
-from .structure import ModalModel
+from .identification import (HSIEstimate, StepFrequencyEstimate, estimate_hsi,
+                             estimate_step_frequencies)
+from .io import Case, Record, check_record, load_case, read_modal_model, read_record, write_record
+from .models import Crowd, ModalModel, MSDModel, YoungForce, ZivanovicForce
+from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
+                       effective_modal_properties, frf, response_psd, simulate)
+from .signals import (LowPassFilter, PSDConvergence, ResponsePSD, detrend, psd_convergence,
+                      resample, welch_psd)
 
 try:
     __version__ = version("crowdvib")

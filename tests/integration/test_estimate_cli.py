@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from crowdvib.cli import main
-from crowdvib.records import read_record
+from crowdvib.io.records import read_record
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -125,7 +125,7 @@ def test_simulate_embedded_paper_example(tmp_path):
 
 
 def test_unmapped_channels_are_reported(tmp_path, capsys):
-    from crowdvib.records import Record, write_record
+    from crowdvib.io.records import Record, write_record
     case = _small_case(tmp_path, record_name="rec.npz")
     write_record(Record(np.random.default_rng(1).normal(size=(1, 9000)), 25.0, ["acc_7"]),
                  tmp_path / "rec.npz")

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from crowdvib import LowPassFilter, welch_psd
-from crowdvib.casefile import load_case, load_measurement
-from crowdvib.estimation import estimate_step_frequencies
+from crowdvib.io.casefile import load_case, load_measurement
+from crowdvib.identification import estimate_step_frequencies
 from crowdvib.signals import psd_convergence
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"

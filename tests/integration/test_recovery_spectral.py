@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from crowdvib import estimate_hsi, response_psd
-from crowdvib.estimation import DEFAULT_STARTS
+from crowdvib.identification.estimation import DEFAULT_STARTS
 from crowdvib.signals import synthetic_welch_psd
 
 

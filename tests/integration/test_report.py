@@ -19,7 +19,7 @@ import pytest
 
 from crowdvib import DataError
 from crowdvib.cli import main
-from crowdvib.report import (REPORT_NAME, SECTIONS, provenance, render_report,
+from crowdvib.reporting.report import (REPORT_NAME, SECTIONS, provenance, render_report,
                              write_report)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"

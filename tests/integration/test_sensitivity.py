@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from crowdvib import estimate_hsi, response_psd
-from crowdvib.sensitivity import (TaskStore, modelling_error_study, objective_map,
+from crowdvib.identification.sensitivity import (TaskStore, modelling_error_study, objective_map,
                                   parametric_study, run_tasks)
 
 SMALL_LEVELS = {"frequencies": (0.01,), "damping_ratios": (0.1,), "modal_masses": (0.02,),
@@ -91,7 +91,7 @@ def test_interrupted_study_resumes_without_recomputing(tmp_path):
     script = tmp_path / "study.py"
     script.write_text(textwrap.dedent(f"""
         import time
-        from crowdvib.sensitivity import TaskStore, run_tasks
+        from crowdvib.identification.sensitivity import TaskStore, run_tasks
 
         def slow(payload):
             key, log = payload

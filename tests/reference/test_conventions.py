@@ -5,7 +5,7 @@ import pytest
 from scipy import integrate, signal, stats
 
 from crowdvib import ModalModel, MSDModel, ZivanovicForce, frf, welch_psd
-from crowdvib.loading import STANDARD_GRAVITY
+from crowdvib.models.loading import STANDARD_GRAVITY
 from crowdvib.signals import LowPassFilter, welch_kernel
 
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from crowdvib import Crowd, MSDModel, ModalModel, response_psd
-from crowdvib.casefile import load_case, read_modal_model, write_modal_model
+from crowdvib.io.casefile import load_case, read_modal_model, write_modal_model
 from crowdvib.errors import ParameterError
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -175,7 +175,7 @@ def test_waalse_krook_like_follows_the_paper():
 
 
 def test_load_measurement_frame_units_resample_and_channel_map(tmp_path):
-    from crowdvib.casefile import load_measurement
+    from crowdvib.io.casefile import load_measurement
     rate = 100.0
     t = np.arange(int(300 * rate)) / rate
     signal = 0.01 * np.sin(2 * np.pi * 1.9 * t) + 0.002   # [g], with an offset to detrend
@@ -192,7 +192,7 @@ def test_load_measurement_frame_units_resample_and_channel_map(tmp_path):
 
 
 def test_load_measurement_needs_the_records(tmp_path):
-    from crowdvib.casefile import load_measurement
+    from crowdvib.io.casefile import load_measurement
     case = load_case(write_case(tmp_path, extra='[measurement]\nfiles = ["none.npz"]\n'))
     with pytest.raises(ParameterError, match=r"measurement.files\[0\] names a file that does "
                                              r"not exist"):

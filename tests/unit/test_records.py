@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from crowdvib.errors import DataError, DataWarning, ParameterError
-from crowdvib.records import (Record, check_record, convert_units, merge_records, read_record,
+from crowdvib.io.records import (Record, check_record, convert_units, merge_records, read_record,
                               write_record)
 
 FORMATS = [("csv", "record.csv"), ("npz", "record.npz"), ("mat", "record.mat"),

@@ -1,11 +1,11 @@
-"""Unit tests of the time-domain simulator (crowdvib.simulation, physics.md §2)."""
+"""Unit tests of the time-domain simulator (crowdvib.response.simulation, physics.md §2)."""
 
 import numpy as np
 import pytest
 
 from crowdvib import (Crowd, ModalModel, MSDModel, ParameterError, Pedestrian, Simulation,
                       YoungForce, simulate)
-from crowdvib.simulation import _prepare, generate_traffic
+from crowdvib.response.simulation import _prepare, generate_traffic
 
 
 @pytest.fixture

@@ -13,13 +13,13 @@ import numpy as np
 from scipy import sparse
 from scipy.optimize import linear_sum_assignment
 
+from .._validation import check_frequency_grid, check_positive
+from ..errors import ParameterError
+from ..models.loading import as_force_model
+from ..models.pedestrian import MSDModel
+from ..signals import ResponsePSD, welch_kernel
 from ._linalg import solve_occupied
-from ._validation import check_frequency_grid, check_positive
-from .errors import ParameterError
-from .loading import as_force_model
-from .pedestrian import MSDModel
-from .results import FRF, EffectiveModalProperties, ResponsePSD
-from .signals import welch_kernel
+from .results import FRF, EffectiveModalProperties
 
 __all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties"]
 

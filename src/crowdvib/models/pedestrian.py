@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_damping_ratio, check_open_unit, check_positive
+from .._validation import check_damping_ratio, check_open_unit, check_positive
 
 __all__ = ["MSDModel"]
 

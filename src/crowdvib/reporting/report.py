@@ -30,9 +30,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
-from ._files import atomic_path
-from .errors import DataError
+from .. import __version__
+from .._files import atomic_path
+from ..errors import DataError
 
 __all__ = ["write_report", "render_report", "provenance", "REPORT_NAME", "SECTIONS"]
 
@@ -644,7 +644,7 @@ def _caption(name):
 
 def _draw_convergence(results):
     from .plotting import figure_bytes, plot_psd_convergence
-    from .signals import PSDConvergence
+    from ..signals import PSDConvergence
 
     data = _hsi(results, "convergence")
     if not isinstance(data, dict) or "error" not in data:
@@ -658,9 +658,9 @@ def _draw_convergence(results):
 
 
 def _draw_map(results):
-    from .pedestrian import MSDModel
+    from ..models.pedestrian import MSDModel
     from .plotting import figure_bytes, plot_objective_map
-    from .sensitivity import ObjectiveMap
+    from ..identification.sensitivity import ObjectiveMap
 
     data = _get(results, ("objective_map",), ("map",))
     if not isinstance(data, dict) or "cost" not in data:

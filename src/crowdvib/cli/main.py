@@ -13,10 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
-from ._files import write_json
-from .report import provenance, write_report
-from .errors import CrowdvibError
+from .. import __version__
+from .._files import write_json
+from ..errors import CrowdvibError
+from ..reporting.report import provenance, write_report
 
 __all__ = ["main"]
 
@@ -40,12 +40,12 @@ def _add_demo_arguments(parser):
 
 
 def _run_demo(args):
-    from .estimation import estimate_hsi
-    from .examples import paper_example
-    from .plotting import plot_psd_comparison, save_figure
-    from .signals import LowPassFilter, synthetic_welch_psd, welch_psd, welch_segment_count
-    from .simulation import simulate
-    from .spectral import effective_modal_properties, response_psd
+    from ..identification.estimation import estimate_hsi
+    from ..models.examples import paper_example
+    from ..reporting.plotting import plot_psd_comparison, save_figure
+    from ..signals import LowPassFilter, synthetic_welch_psd, welch_psd, welch_segment_count
+    from ..response.simulation import simulate
+    from ..response.spectral import effective_modal_properties, response_psd
 
     case = paper_example()
     structure, crowd, truth = case.structure, case.crowd, case.msd
@@ -131,7 +131,7 @@ def _prepare_out(out, force):
     """A fresh temporary directory beside ``out``; refuses an existing ``out`` without --force."""
     import tempfile
 
-    from .errors import ParameterError
+    from ..errors import ParameterError
 
     out = Path(out)
     if out.exists() and not out.is_dir():
@@ -198,7 +198,7 @@ def _add_estimate_arguments(parser):
 def _run_estimate(args):
     import warnings
 
-    from .casefile import load_case
+    from ..io.casefile import load_case
 
     case = load_case(args.case)
     stamp = provenance(case.path)
@@ -222,9 +222,9 @@ def _case_measurement(case):
     The record keeps the outputs to be fitted (``estimation.outputs``, else every channel); the
     PSD is the Welch estimate of ``[measurement]`` after the zero-phase low-pass filter.
     """
-    from .casefile import load_measurement
-    from .errors import ParameterError
-    from .signals import LowPassFilter, welch_psd
+    from ..io.casefile import load_measurement
+    from ..errors import ParameterError
+    from ..signals import LowPassFilter, welch_psd
 
     spec, est = case.measurement, case.estimation
     record = load_measurement(case)
@@ -252,8 +252,8 @@ def _case_crowd(case, record):
     record low-passed at the cut-off, without HSI (the paper's Waalse Krook procedure), and used
     when ``use_fitted``; otherwise the case file's crowd.
     """
-    from .estimation import estimate_step_frequencies
-    from .signals import LowPassFilter, welch_psd
+    from ..identification.step_frequencies import estimate_step_frequencies
+    from ..signals import LowPassFilter, welch_psd
 
     spec, est = case.measurement, case.estimation
     crowd = case.crowd
@@ -275,10 +275,10 @@ def _case_crowd(case, record):
 
 def _estimate_case(case, out):
     """The estimate pipeline on a loaded case; figures into ``out``; returns the results dict."""
-    from .estimation import estimate_hsi
-    from .plotting import plot_psd_comparison, plot_psd_convergence, save_figure
-    from .signals import psd_convergence
-    from .spectral import response_psd
+    from ..identification.estimation import estimate_hsi
+    from ..reporting.plotting import plot_psd_comparison, plot_psd_convergence, save_figure
+    from ..signals import psd_convergence
+    from ..response.spectral import response_psd
 
     spec, est = case.measurement, case.estimation
     _say(f"crowdvib estimate: {case.name} ({case.path.name})")
@@ -376,10 +376,10 @@ def _estimate_options(case):
 def _run_map(args):
     import warnings
 
-    from .casefile import load_case
-    from .estimation import estimate_hsi
-    from .plotting import plot_objective_map, save_figure
-    from .sensitivity import objective_map
+    from ..io.casefile import load_case
+    from ..identification.estimation import estimate_hsi
+    from ..reporting.plotting import plot_objective_map, save_figure
+    from ..identification.sensitivity import objective_map
 
     case = load_case(args.case)
     stamp = provenance(case.path)
@@ -442,7 +442,7 @@ def _add_sensitivity_arguments(parser):
 @contextlib.contextmanager
 def _executor(workers, scheduler):
     """The executor a study runs on: none (serial), a process pool, or a dask cluster."""
-    from .errors import ParameterError
+    from ..errors import ParameterError
 
     if scheduler is not None:
         try:
@@ -464,10 +464,10 @@ def _executor(workers, scheduler):
 
 
 def _run_sensitivity(args):
-    from .casefile import load_case
-    from .errors import ParameterError
-    from .plotting import plot_estimation_errors, save_figure
-    from .sensitivity import TaskStore, modelling_error_study, record_length_study
+    from ..io.casefile import load_case
+    from ..errors import ParameterError
+    from ..reporting.plotting import plot_estimation_errors, save_figure
+    from ..identification.sensitivity import TaskStore, modelling_error_study, record_length_study
 
     case = load_case(args.case)
     stamp = provenance(case.path)
@@ -552,12 +552,12 @@ def _add_simulate_arguments(parser):
 
 
 def _run_simulate(args):
-    from .casefile import load_case, paper_example_case
-    from .errors import ParameterError
-    from .plotting import plot_psd_comparison, plot_time_history, save_figure
-    from .records import RECORD_FORMATS, Record, write_record
-    from .signals import resample, welch_psd
-    from .simulation import simulate
+    from ..io.casefile import load_case, paper_example_case
+    from ..errors import ParameterError
+    from ..reporting.plotting import plot_psd_comparison, plot_time_history, save_figure
+    from ..io.records import RECORD_FORMATS, Record, write_record
+    from ..signals import resample, welch_psd
+    from ..response.simulation import simulate
 
     case = paper_example_case() if args.case is None else load_case(args.case)
     spec = case.simulation
@@ -643,7 +643,7 @@ def _progress_printer(label, unit="s"):
 
 def _simulation_msd(case):
     """The MSD a case simulates with: its [expected] truth if given, else its [hsi] table."""
-    from .pedestrian import MSDModel
+    from ..models.pedestrian import MSDModel
 
     expected = case.expected
     if "frequency" in expected and "damping_ratio" in expected:

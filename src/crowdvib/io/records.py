@@ -34,10 +34,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ._files import atomic_path
-from ._validation import check_positive
-from .errors import DataError, DataWarning, ParameterError
-from .loading import STANDARD_GRAVITY
+from .._files import atomic_path
+from .._validation import check_positive
+from ..errors import DataError, DataWarning, ParameterError
+from ..models.loading import STANDARD_GRAVITY
 
 __all__ = ["Record", "read_record", "write_record", "check_record", "merge_records",
            "RECORD_FORMATS", "convert_units"]

@@ -1,6 +1,6 @@
 """Running many independent tasks on any ``concurrent.futures.Executor``, losing nothing.
 
-The studies of :mod:`crowdvib.sensitivity` are lists of deterministic tasks. :func:`run_tasks`
+The studies of :mod:`crowdvib.identification.sensitivity` are lists of deterministic tasks. :func:`run_tasks`
 runs them in this process, on a local process pool or on a dask.distributed cluster
 (``Client.get_executor()``); every finished task is written at once, atomically, to a
 :class:`TaskStore`, so an interrupted study resumes without recomputing what is done, a task whose
@@ -14,8 +14,8 @@ import json
 import logging
 from pathlib import Path
 
-from ._files import write_json
-from .errors import CrowdvibError, ParameterError
+from .._files import write_json
+from ..errors import CrowdvibError, ParameterError
 
 __all__ = ["TaskStore", "run_tasks"]
 

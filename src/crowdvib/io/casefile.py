@@ -33,11 +33,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
-from .errors import ParameterError
-from .pedestrian import MSDModel
+from ..errors import ParameterError
+from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
+from ..models.pedestrian import MSDModel
+from ..models.structure import ModalModel
 from .modalfiles import read_modal_model, write_modal_model
-from .structure import ModalModel
 
 __all__ = ["Case", "MeasurementSpec", "EstimationSpec", "StepFrequencySpec", "SimulationSpec",
            "load_case", "load_measurement", "read_modal_model", "write_modal_model",
@@ -549,7 +549,7 @@ def load_case(path):
 
 def paper_example_case():
     """The embedded paper example (physics.md §8.1) as a :class:`Case` without records."""
-    from .examples import paper_example
+    from ..models.examples import paper_example
 
     example = paper_example()
     return Case(name=example.name, path=None, structure=example.structure, crowd=example.crowd,
@@ -566,7 +566,7 @@ def load_measurement(case, *, band=None):
     """Read, merge, check and pre-process the records of a case (``[measurement]``).
 
     Steps (physics.md §6): read every file (channels mapped to output names, units converted to
-    m/s²), merge the files' channels, check the samples (:func:`crowdvib.records.check_record`,
+    m/s²), merge the files' channels, check the samples (:func:`crowdvib.io.records.check_record`,
     Nyquist above ``band``'s upper edge and the filter cut-off), cut the time frame (explicit, or
     the longest stationary stretch), remove the trend and resample if asked. The low-pass filter
     is *not* applied here: :func:`crowdvib.welch_psd` applies it and records it in the PSD, so the
@@ -583,7 +583,7 @@ def load_measurement(case, *, band=None):
     Record
     """
     from .records import check_record, merge_records, read_record
-    from .signals import detrend, resample, stationary_time_frame
+    from ..signals import detrend, resample, stationary_time_frame
 
     spec = case.measurement
     if not spec.files:

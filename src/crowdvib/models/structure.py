@@ -10,9 +10,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validation import (as_float_array, check_damping_ratio, check_non_negative, check_positive,
+from .._validation import (as_float_array, check_damping_ratio, check_non_negative, check_positive,
                           frozen_array, name_indices)
-from .errors import ParameterError
+from ..errors import ParameterError
 
 __all__ = ["ModalModel"]
 

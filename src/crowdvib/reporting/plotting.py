@@ -62,7 +62,7 @@ def _panels(axes, nrows, ncols, figsize, **options):
     if axes is not None:
         axes = tuple(np.ravel(axes))
         if len(axes) != nrows * ncols:
-            from .errors import ParameterError
+            from ..errors import ParameterError
 
             raise ParameterError(f"axes must hold {nrows * ncols} panels, got {len(axes)}")
         return FigureAxes(axes[0].figure, axes)
@@ -144,7 +144,7 @@ def plot_load_psd(frequency, crowd, *, structure=None, force=None, ax=None, titl
     -------
     matplotlib.axes.Axes
     """
-    from .loading import as_force_model
+    from ..models.loading import as_force_model
 
     force = as_force_model(force)
     frequency = np.asarray(frequency, dtype=float)
@@ -290,7 +290,7 @@ def plot_objective_map(objective_map, *, uncertainty=None, search_bounds=None, r
     Parameters
     ----------
     objective_map : ObjectiveMap
-        From :func:`crowdvib.sensitivity.objective_map`.
+        From :func:`crowdvib.identification.sensitivity.objective_map`.
     uncertainty : SensitivityResult or dict, optional
         A modelling-error study (or its ``summary()``): its nominal ± bound are drawn as dashed
         lines around the optimum (paper Fig. 10).
@@ -377,7 +377,7 @@ def plot_estimation_errors(sensitivity, *, axes=None, title=None):
     Parameters
     ----------
     sensitivity : SensitivityResult or dict
-        From :func:`crowdvib.sensitivity.modelling_error_study` (or its ``to_dict()``).
+        From :func:`crowdvib.identification.sensitivity.modelling_error_study` (or its ``to_dict()``).
     axes : sequence of two matplotlib.axes.Axes, optional
     title : str, optional
 
@@ -445,7 +445,7 @@ def plot_parametric_ratios(parametric, *, parameters=None, axes=None, title=None
     Parameters
     ----------
     parametric : ParametricResult or dict
-        From :func:`crowdvib.sensitivity.parametric_study` (or its ``to_dict()``).
+        From :func:`crowdvib.identification.sensitivity.parametric_study` (or its ``to_dict()``).
     parameters : sequence of str, optional
         Perturbed inputs to show (default all in the result; the paper's Fig. 5 is
         ``("modal_masses", "damping_ratios", "frequencies")``, Fig. 6
@@ -548,7 +548,7 @@ def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=N
     names = tuple(simulation.output_names)
     name = output or names[0]
     if name not in names:
-        from .errors import ParameterError
+        from ..errors import ParameterError
 
         raise ParameterError(f"output must be one of {list(names)}, got {name!r}")
     signal = np.asarray(simulation.acceleration)[names.index(name)]
@@ -586,7 +586,7 @@ def save_figure(ax, path):
     """
     import matplotlib.pyplot as plt
 
-    from ._files import atomic_path
+    from .._files import atomic_path
 
     figure = ax.figure
     with atomic_path(path) as temporary:

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_non_negative, check_positive
-from .errors import ParameterError
+from .._validation import check_non_negative, check_positive
+from ..errors import ParameterError
 
 __all__ = ["ZivanovicForce", "YoungForce", "STANDARD_GRAVITY"]
 

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import ParameterError
-from .structure import ModalModel
+from ..errors import ParameterError
+from ..models.structure import ModalModel
 
 __all__ = ["read_modal_model", "write_modal_model"]
 
@@ -132,7 +132,7 @@ def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_po
 
 def write_modal_model(structure, modal_table, mode_shapes, output_points=None, *, digits=10):
     """Write a :class:`ModalModel` as the CSV files :func:`read_modal_model` reads (atomically)."""
-    from ._files import atomic_path
+    from .._files import atomic_path
 
     modes = [f"mode_{j + 1}" for j in range(structure.n_modes)]
     fmt = f"{{:.{digits}g}}"

@@ -7,9 +7,9 @@
   spread into the paper's "nominal ± bound".
 * :func:`parametric_study` repeats the paper's study of Figs. 5 and 6 over a family of structures.
 
-Studies are lists of independent tasks run by :func:`crowdvib.tasks.run_tasks` on any
+Studies are lists of independent tasks run by :func:`crowdvib.identification.tasks.run_tasks` on any
 ``concurrent.futures.Executor`` (a local process pool, or a dask.distributed cluster through
-``Client.get_executor()``), each finished task kept in a :class:`~crowdvib.tasks.TaskStore`. The
+``Client.get_executor()``), each finished task kept in a :class:`~crowdvib.identification.tasks.TaskStore`. The
 tasks are deterministic: same inputs, same result, on any executor.
 """
 
@@ -18,10 +18,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ._validation import as_float_array, check_positive
-from .errors import CrowdvibError, ParameterError
+from .._validation import as_float_array, check_positive
+from ..errors import CrowdvibError, ParameterError
+from ..models.pedestrian import MSDModel
 from .estimation import PSDObjective, estimate_hsi
-from .pedestrian import MSDModel
 from .tasks import TaskStore, run_tasks
 
 __all__ = ["ObjectiveMap", "objective_map", "ErrorCase", "SensitivityResult",
@@ -96,8 +96,8 @@ class ObjectiveMap:
         return along_f / along_xi
 
     def plot(self, *, uncertainty=None, search_bounds=None, ax=None, title=None):
-        """Draw the map with its optimum (see :func:`crowdvib.plotting.plot_objective_map`)."""
-        from .plotting import plot_objective_map
+        """Draw the map with its optimum (see :func:`crowdvib.reporting.plotting.plot_objective_map`)."""
+        from ..reporting.plotting import plot_objective_map
 
         return plot_objective_map(self, uncertainty=uncertainty, search_bounds=search_bounds,
                                   ax=ax, title=title)
@@ -117,7 +117,7 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
                   force=None, match_welch=True, estimate=None):
     """Objective J(f_h1, ξ_h1) of paper Eq. (6) on a grid → :class:`ObjectiveMap`.
 
-    The forward model's θ-independent parts are built once (:class:`~crowdvib.spectral.SpectralModel`),
+    The forward model's θ-independent parts are built once (:class:`~crowdvib.response.spectral.SpectralModel`),
     so each grid point costs one PSD evaluation vectorised over frequency.
 
     Parameters
@@ -234,7 +234,7 @@ def _estimate_task(task):
     structure, crowd = task.case.apply(task.structure, task.crowd)
     import warnings
 
-    from .errors import BoundWarning
+    from ..errors import BoundWarning
 
     with warnings.catch_warnings():
         # An active bound is reported in the result; a warning per task would only be noise.
@@ -300,8 +300,8 @@ class SensitivityResult:
                 for name in ("frequency", "damping_ratio")}
 
     def plot(self, *, axes=None, title=None):
-        """Draw Δ per error case (see :func:`crowdvib.plotting.plot_estimation_errors`)."""
-        from .plotting import plot_estimation_errors
+        """Draw Δ per error case (see :func:`crowdvib.reporting.plotting.plot_estimation_errors`)."""
+        from ..reporting.plotting import plot_estimation_errors
 
         return plot_estimation_errors(self, axes=axes, title=title)
 
@@ -381,7 +381,7 @@ class _ParametricTask:
 
 def _paper_family_structure(frequency, damping_ratio, mass_ratio, crowd):
     """The paper example's 50 m × 3 m beam with f_1, ξ_1 and a modal mass giving μ_m (Figs. 5–6)."""
-    from .structure import ModalModel
+    from ..models.structure import ModalModel
 
     reference = ModalModel.simply_supported_beam(50.0, 3.0, frequency, damping_ratio, 1.0)
     psi = reference.influence_matrix(crowd.density)[0, 0]
@@ -389,7 +389,7 @@ def _paper_family_structure(frequency, damping_ratio, mass_ratio, crowd):
 
 
 def _parametric_task(task):
-    from .spectral import response_psd
+    from ..response.spectral import response_psd
 
     structure = _paper_family_structure(task.structure_frequency, task.structure_damping,
                                         task.mass_ratio, task.crowd)
@@ -426,8 +426,8 @@ class ParametricResult:
                                             else r[k] == v for k, v in criteria.items())]
 
     def plot(self, *, parameters=None, axes=None, title=None):
-        """Draw estimated/true ratios (see :func:`crowdvib.plotting.plot_parametric_ratios`)."""
-        from .plotting import plot_parametric_ratios
+        """Draw estimated/true ratios (see :func:`crowdvib.reporting.plotting.plot_parametric_ratios`)."""
+        from ..reporting.plotting import plot_parametric_ratios
 
         return plot_parametric_ratios(self, parameters=parameters, axes=axes, title=title)
 
@@ -467,7 +467,7 @@ def parametric_study(*, structure_frequencies=None, structure_damping_ratios=(0.
     -------
     ParametricResult
     """
-    from .examples import paper_example
+    from ..models.examples import paper_example
 
     example = paper_example()
     msd = example.msd if msd is None else msd
@@ -511,7 +511,7 @@ class _WindowCountTask:
 
 
 def _window_count_task(task):
-    from .signals import welch_psd
+    from ..signals import welch_psd
 
     samples = int(round(task.duration * task.sample_rate))
     measured = welch_psd(task.signals[:, :samples], task.sample_rate,

@@ -9,8 +9,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ._validation import as_float_array, check_non_negative, check_positive
-from .errors import ParameterError
+from .._validation import as_float_array, check_non_negative, check_positive
+from ..errors import ParameterError
 from .loading import STANDARD_GRAVITY
 
 __all__ = ["Crowd", "weidmann_speed", "bruno_venuti_step_frequency", "JAM_DENSITY"]

@@ -3,7 +3,7 @@
 Each pedestrian is a moving force on a rigid floor plus, with HSI, a moving mass-spring-damper
 (MSD) whose unsprung mass rides on the deck (paper Eq. 1–4; physics.md §2.2–2.3). The crowd is a
 stationary Poisson stream with the deck already populated at the start (physics.md §2.4). The
-numerics (fixed-step RK4 over the pedestrians on the deck) live in :mod:`crowdvib._kernels`.
+numerics (fixed-step RK4 over the pedestrians on the deck) live in :mod:`crowdvib.response._kernels`.
 
 Public: :func:`simulate`, :class:`Pedestrian` and :func:`generate_traffic`.
 """
@@ -15,13 +15,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernels
-from ._validation import as_float_array, check_non_negative, check_positive
-from .crowd import JAM_DENSITY, Crowd
-from .errors import ParameterError
-from .loading import STANDARD_GRAVITY, as_force_model, positive_normal
-from .pedestrian import MSDModel
+from .._validation import as_float_array, check_non_negative, check_positive
+from ..errors import ParameterError
+from ..models.crowd import JAM_DENSITY, Crowd
+from ..models.loading import STANDARD_GRAVITY, as_force_model, positive_normal
+from ..models.pedestrian import MSDModel
+from ..models.structure import ModalModel
 from .results import Simulation
-from .structure import ModalModel
 
 __all__ = ["simulate", "Pedestrian", "generate_traffic"]
 

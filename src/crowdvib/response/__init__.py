@@ -1,0 +1,13 @@
+"""The forward models: what the bridge does under its crowd.
+
+``spectral`` (frequency domain: FRFs, occupied modal properties, the acceleration PSD with HSI)
+and ``simulation`` (time-domain Monte Carlo with moving pedestrians; its compiled kernel is
+``_kernels``); their results are in ``results``.
+"""
+
+from .results import FRF, EffectiveModalProperties, Simulation
+from .simulation import Pedestrian, generate_traffic, simulate
+from .spectral import SpectralModel, effective_modal_properties, frf, response_psd
+
+__all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties", "simulate",
+           "Pedestrian", "generate_traffic", "FRF", "EffectiveModalProperties", "Simulation"]

@@ -1,0 +1,184 @@
+"""Frozen results of the forward models: FRFs, occupied modal properties, simulated records.
+
+Each documents its fields with units, offers ``to_dict()`` for JSON and, where a picture helps,
+``plot()`` which delegates to :mod:`crowdvib.reporting.plotting` (imported only then).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import frozen_array
+from ..errors import ParameterError
+from ..signals.welch import welch_psd
+
+__all__ = ["FRF", "EffectiveModalProperties", "Simulation"]
+
+
+@dataclass(frozen=True, eq=False)
+class FRF:
+    """Accelerance frequency-response functions between points of the deck.
+
+    Attributes
+    ----------
+    frequency : ndarray, shape (n_frequencies,)
+        Frequencies [Hz].
+    values : ndarray of complex, shape (n_outputs, n_inputs, n_frequencies)
+        Acceleration at each output per unit vertical force at each input [(m/s²)/N].
+    output_names, input_names : tuple of str
+    occupied : bool
+        True when the crowd's apparent mass is included.
+    unit : str
+    """
+
+    frequency: np.ndarray
+    values: np.ndarray
+    output_names: tuple
+    input_names: tuple
+    occupied: bool = False
+    unit: str = "(m/s²)/N"
+
+    def __post_init__(self):
+        object.__setattr__(self, "frequency", frozen_array(self.frequency))
+        object.__setattr__(self, "values", frozen_array(self.values, complex))
+
+    def plot(self, occupied=None, *, output=None, input=None, band=None, ax=None, title=None):
+        """Draw |H| of one output/input pair, with an occupied FRF beside it if given
+        (see :func:`crowdvib.reporting.plotting.plot_frf`)."""
+        from ..reporting.plotting import plot_frf
+
+        return plot_frf(self, occupied, output=output, input=input, band=band, ax=ax,
+                        title=title)
+
+    def magnitude(self, output, input=None):
+        """|H| [(m/s²)/N] of one output/input pair (input defaults to the output itself)."""
+        o = self.output_names.index(output)
+        i = self.input_names.index(output if input is None else input)
+        return np.abs(self.values[o, i])
+
+
+@dataclass(frozen=True, eq=False)
+class EffectiveModalProperties:
+    """Modal properties of the occupied structure (smeared crowd of MSDs, physics.md §2.7).
+
+    Attributes
+    ----------
+    frequencies : ndarray, shape (n_modes,)
+        Effective natural frequencies f = |λ|/2π [Hz], one per structural mode.
+    damping_ratios : ndarray, shape (n_modes,)
+        Effective damping ratios ξ = −Re λ/|λ| [-].
+    participation : ndarray, shape (n_modes,)
+        Share of the pole's modal kinetic energy in that structural mode [-]; near 1 for a
+        structure-like pole.
+    interaction_frequencies, interaction_damping_ratios : ndarray
+        The remaining, MSD-like poles (the crowd's own resonance), kept apart [Hz], [-].
+    """
+
+    frequencies: np.ndarray
+    damping_ratios: np.ndarray
+    participation: np.ndarray
+    interaction_frequencies: np.ndarray
+    interaction_damping_ratios: np.ndarray
+
+    def to_dict(self):
+        """JSON-ready dict."""
+        return {name: np.asarray(getattr(self, name)).tolist() for name in
+                ("frequencies", "damping_ratios", "participation", "interaction_frequencies",
+                 "interaction_damping_ratios")}
+
+
+@dataclass(frozen=True, eq=False)
+class Simulation:
+    """Record of a time-domain simulation (:func:`crowdvib.simulate`, physics.md §2).
+
+    Attributes
+    ----------
+    time : ndarray, shape (n_samples,)
+        Sample times [s], from 0 at 1/sample_rate.
+    acceleration : ndarray, shape (n_outputs, n_samples)
+        Vertical accelerations at the output points [m/s²].
+    output_names : tuple of str
+        Names of the outputs (rows of ``acceleration``).
+    n_on_deck : ndarray of int, shape (n_samples,)
+        Pedestrians on the deck at each sample [-].
+    sample_rate : float
+        Output sample rate [Hz].
+    seed : int
+        The seed actually used: ``simulate(..., rng=seed)`` repeats the record bit for bit.
+    duration : float
+        Record length n_samples / sample_rate [s].
+    modal_load : ndarray, shape (n_modes, n_samples), or None
+        Modal walking load Q(t) = Σ_k φ_k p_k [N] when recorded (no interaction forces).
+    time_step : float or None
+        Internal RK4 step [s].
+    n_pedestrians : int or None
+        Pedestrians generated for the run (including those already on the deck at the start).
+    hsi : bool
+        Whether the pedestrians were MSDs (True) or moving forces only.
+    warm_up : float
+        Simulated time before t = 0 that was discarded [s].
+    """
+
+    time: np.ndarray
+    acceleration: np.ndarray
+    output_names: tuple
+    n_on_deck: np.ndarray
+    sample_rate: float
+    seed: int
+    duration: float
+    modal_load: np.ndarray = None
+    time_step: float = None
+    n_pedestrians: int = None
+    hsi: bool = False
+    warm_up: float = 0.0
+
+    def __post_init__(self):
+        acceleration = np.atleast_2d(np.asarray(self.acceleration, dtype=float))
+        names = tuple(str(n) for n in self.output_names)
+        if acceleration.shape[0] != len(names):
+            raise ParameterError(
+                f"acceleration must have one row per output ({len(names)}), "
+                f"got shape {acceleration.shape}")
+        object.__setattr__(self, "time", frozen_array(self.time))
+        object.__setattr__(self, "acceleration", frozen_array(acceleration))
+        object.__setattr__(self, "output_names", names)
+        object.__setattr__(self, "n_on_deck", frozen_array(self.n_on_deck, dtype=np.int64))
+        if self.modal_load is not None:
+            object.__setattr__(self, "modal_load", frozen_array(self.modal_load))
+
+    @property
+    def n_samples(self):
+        """Number of samples per output."""
+        return self.time.size
+
+    def psd(self, window_length, overlap=0.5, lowpass=None):
+        """Welch PSD of the accelerations → :class:`ResponsePSD` (physics.md §6).
+
+        Parameters
+        ----------
+        window_length : float
+            Segment length T [s] (Hann window).
+        overlap : float
+            Overlap of consecutive segments, fraction of T.
+        lowpass : LowPassFilter, optional
+            Zero-phase filter applied first.
+        """
+        return welch_psd(self.acceleration, self.sample_rate, window_length=window_length,
+                         overlap=overlap, output_names=self.output_names, lowpass=lowpass)
+
+    def plot(self, *, output=None, window=1.0, axes=None, title=None):
+        """Draw the record, its running RMS and the people on the deck
+        (see :func:`crowdvib.reporting.plotting.plot_time_history`)."""
+        from ..reporting.plotting import plot_time_history
+
+        return plot_time_history(self, output=output, window=window, axes=axes, title=title)
+
+    def to_dict(self):
+        """JSON-ready metadata (no time series; write those with the I/O functions)."""
+        return {"output_names": list(self.output_names), "sample_rate": self.sample_rate,
+                "n_samples": self.n_samples, "duration": self.duration, "seed": self.seed,
+                "time_step": self.time_step, "n_pedestrians": self.n_pedestrians,
+                "hsi": self.hsi, "warm_up": self.warm_up,
+                "mean_on_deck": float(self.n_on_deck.mean()) if self.n_samples else 0.0,
+                "rms": np.sqrt(np.mean(self.acceleration**2, axis=-1)).tolist(),
+                "modal_load_recorded": self.modal_load is not None}

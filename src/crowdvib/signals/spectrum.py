@@ -1,0 +1,118 @@
+"""PSDs at named outputs: the one container that measured and modelled spectra share.
+
+:class:`ResponsePSD` is made by :func:`crowdvib.welch_psd` from records and by
+:func:`crowdvib.response_psd` from the spectral model, and compared by the estimator.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import as_float_array, frozen_array, name_indices
+from ..errors import DataError, ParameterError
+
+__all__ = ["ResponsePSD"]
+
+
+@dataclass(frozen=True, eq=False)
+class ResponsePSD:
+    """One-sided acceleration PSDs at named outputs.
+
+    Attributes
+    ----------
+    frequency : ndarray, shape (n_frequencies,)
+        Frequencies [Hz], strictly increasing.
+    psd : ndarray, shape (n_outputs, n_frequencies)
+        One-sided PSD per Hz [(m/s²)²/Hz], as ``scipy.signal.welch(scaling='density')``.
+    output_names : tuple of str
+        Names of the outputs (rows of ``psd``).
+    window_length : float or None
+        Welch segment length T [s] the PSD was estimated (or modelled) with; None for the exact
+        (infinitely resolved) model PSD.
+    n_windows : int or None
+        Number of Welch segments averaged (measured PSDs).
+    lowpass : LowPassFilter or None
+        Zero-phase filter applied before the PSD.
+    source : str
+        Where it comes from: ``"model"``, ``"welch"`` or ``"synthetic"``.
+    unit : str
+        Unit of ``psd``.
+    """
+
+    frequency: np.ndarray
+    psd: np.ndarray
+    output_names: tuple
+    window_length: float = None
+    n_windows: int = None
+    lowpass: object = None
+    source: str = "model"
+    unit: str = "(m/s²)²/Hz"
+
+    def __post_init__(self):
+        frequency = as_float_array("frequency", self.frequency, ndim=1)
+        psd = np.atleast_2d(np.array(self.psd, dtype=float))
+        names = tuple(str(n) for n in self.output_names)
+        if psd.shape != (len(names), frequency.size):
+            raise ParameterError(
+                "psd must have shape (n_outputs, n_frequencies) = "
+                f"({len(names)}, {frequency.size}), got {psd.shape}")
+        if frequency.size and np.any(np.diff(frequency) <= 0):
+            raise ParameterError("frequency must be strictly increasing")
+        object.__setattr__(self, "frequency", frozen_array(frequency))
+        object.__setattr__(self, "psd", frozen_array(psd))
+        object.__setattr__(self, "output_names", names)
+
+    def check_measured(self):
+        """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values."""
+        for row, name in zip(self.psd, self.output_names):
+            bad = np.flatnonzero(~np.isfinite(row) | (row < 0))
+            if bad.size:
+                raise DataError(
+                    f"measured PSD of output {name!r} must be finite and >= 0, got {row[bad[0]]} "
+                    f"at {self.frequency[bad[0]]:g} Hz (index {bad[0]})")
+        return self
+
+    def select(self, names):
+        """The PSDs of the named outputs, in that order."""
+        rows = name_indices(names, self.output_names)
+        return self._with(psd=self.psd[rows],
+                          output_names=tuple(self.output_names[i] for i in rows))
+
+    def band(self, lower, upper):
+        """The PSDs restricted to lower <= f <= upper [Hz]."""
+        keep = (self.frequency >= lower) & (self.frequency <= upper)
+        return self._with(frequency=self.frequency[keep], psd=self.psd[:, keep])
+
+    def variance(self, lower=0.0, upper=np.inf):
+        """Band variance ∫ G df over [lower, upper] per output [(m/s²)²], trapezoid rule."""
+        keep = (self.frequency >= lower) & (self.frequency <= upper)
+        return np.trapezoid(self.psd[:, keep], self.frequency[keep], axis=-1)
+
+    def rms(self, lower=0.0, upper=np.inf):
+        """RMS value per output over a band [m/s²]."""
+        return np.sqrt(self.variance(lower, upper))
+
+    def peak_frequency(self):
+        """Frequency of the PSD maximum per output [Hz]."""
+        return self.frequency[np.argmax(self.psd, axis=-1)]
+
+    def _with(self, **changes):
+        fields = dict(frequency=self.frequency, psd=self.psd, output_names=self.output_names,
+                      window_length=self.window_length, n_windows=self.n_windows,
+                      lowpass=self.lowpass, source=self.source, unit=self.unit)
+        fields.update(changes)
+        return ResponsePSD(**fields)
+
+    def plot(self, *, output=None, band=None, ax=None, title=None, label=None):
+        """Draw the PSD of one output (see :func:`crowdvib.reporting.plotting.plot_psd_comparison`)."""
+        from ..reporting.plotting import plot_psd_comparison
+
+        return plot_psd_comparison({label or self.source: self}, output=output, band=band,
+                                   ax=ax, title=title)
+
+    def to_dict(self):
+        """JSON-ready dict of the PSD and its metadata."""
+        return {"frequency": self.frequency.tolist(), "psd": self.psd.tolist(),
+                "output_names": list(self.output_names), "window_length": self.window_length,
+                "n_windows": self.n_windows, "source": self.source, "unit": self.unit,
+                "lowpass": None if self.lowpass is None else self.lowpass.to_dict()}

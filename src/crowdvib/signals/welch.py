@@ -1,0 +1,200 @@
+"""Signal processing of acceleration records: low-pass filtering and Welch PSDs (physics.md §6).
+
+Also the two facts the spectral model needs to mimic a measured PSD: the power gain of the
+zero-phase filter and the expectation kernel of a Hann-window Welch estimate (physics.md §3.4).
+Signals have time on the last axis: (n_channels, n_samples).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import signal as _signal
+
+from .._validation import as_float_array, check_positive
+from ..errors import DataError, ParameterError
+from .spectrum import ResponsePSD
+
+__all__ = ["LowPassFilter", "welch_psd", "welch_kernel", "welch_segment_count",
+           "welch_degrees_of_freedom", "synthetic_welch_psd"]
+
+
+@dataclass(frozen=True)
+class LowPassFilter:
+    """Zero-phase Butterworth low-pass filter (``scipy.signal.sosfiltfilt``).
+
+    Parameters
+    ----------
+    cutoff : float
+        Cut-off frequency [Hz] of one pass (10 Hz in the paper; 2.3 Hz for the step-frequency fit).
+    order : int
+        Butterworth order of one pass; the forward-backward filter has twice the roll-off.
+    sample_rate : float
+        Sample rate [Hz] of the records it is applied to.
+    """
+
+    cutoff: float = 10.0
+    order: int = 4
+    sample_rate: float = 100.0
+
+    def __post_init__(self):
+        check_positive("cutoff", self.cutoff, unit="Hz")
+        check_positive("sample_rate", self.sample_rate, unit="Hz")
+        if int(self.order) != self.order or not 1 <= self.order <= 20:
+            raise ParameterError(f"order must be an integer in [1, 20], got {self.order!r}")
+        if self.cutoff >= self.sample_rate / 2:
+            raise ParameterError(
+                f"cutoff must be below the Nyquist frequency {self.sample_rate / 2:g} Hz, "
+                f"got {self.cutoff:g} Hz")
+
+    def _sos(self):
+        return _signal.butter(int(self.order), self.cutoff, btype="low", output="sos",
+                              fs=self.sample_rate)
+
+    def apply(self, signals):
+        """Filtered copy of ``signals`` (time on the last axis)."""
+        return _signal.sosfiltfilt(self._sos(), np.asarray(signals, dtype=float), axis=-1)
+
+    def power_gain(self, frequency):
+        """|H(f)|⁴ [-]: the PSD gain of the forward-backward filter (physics.md §3.4)."""
+        _, response = _signal.sosfreqz(self._sos(), worN=np.asarray(frequency, dtype=float),
+                                       fs=self.sample_rate)
+        return np.abs(response) ** 4
+
+    def to_dict(self):
+        """The filter settings as a JSON-ready dict."""
+        return {"cutoff": self.cutoff, "order": int(self.order), "sample_rate": self.sample_rate}
+
+
+def welch_kernel(offset, window_length):
+    """Expectation kernel of a Hann-window Welch PSD estimate [1/Hz] (physics.md §3.4).
+
+    E[Ĝ](f) = ∫ G(ν) K(f − ν) dν with K(ν) = |W_T(ν)|² / ∫ w², the continuous Hann window
+    w(t) = ½(1 − cos 2πt/T) on [0, T]: K(ν) = (8T/3) [½ sinc(νT) + ¼ sinc(νT − 1) + ¼ sinc(νT + 1)]²,
+    which has unit area (Parseval).
+
+    Parameters
+    ----------
+    offset : array_like
+        Frequency offsets f − ν [Hz].
+    window_length : float
+        Segment length T [s].
+    """
+    x = np.asarray(offset, dtype=float) * window_length
+    # The three sincs share sin(πx) up to sign: ½ sinc x + ¼ sinc(x−1) + ¼ sinc(x+1)
+    # = sin(πx) / (2πx(1 − x²)), with the removable limits ½ at x = 0 and ¼ at x = ±1.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        amplitude = np.sin(np.pi * x) / (2 * np.pi * x * (1.0 - x * x))
+    amplitude = np.where(np.abs(x) < 1e-9, 0.5, amplitude)
+    amplitude = np.where(np.abs(np.abs(x) - 1.0) < 1e-9, 0.25, amplitude)
+    return 8.0 * window_length / 3.0 * amplitude**2
+
+
+def welch_segment_count(n_samples, segment_samples, overlap=0.5):
+    """Number of Welch segments of ``segment_samples`` in a record of ``n_samples``."""
+    step = segment_samples - int(segment_samples * overlap)
+    return 0 if n_samples < segment_samples else 1 + (n_samples - segment_samples) // step
+
+
+def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=None,
+              lowpass=None):
+    """One-sided Welch PSD of acceleration records → :class:`ResponsePSD` (physics.md §6).
+
+    Hann window of length T, constant detrend per segment, ``scaling='density'``: the result
+    G(f) integrates to the variance over 0…Nyquist [(m/s²)²/Hz].
+
+    Parameters
+    ----------
+    signals : array_like, shape (n_channels, n_samples) or (n_samples,)
+        Accelerations [m/s²].
+    sample_rate : float
+        Sample rate [Hz].
+    window_length : float
+        Segment length T [s]; frequency resolution 1/T.
+    overlap : float
+        Overlap of consecutive segments as a fraction of T, in [0, 1).
+    output_names : sequence of str, optional
+        Channel names; default ``ch0``, ``ch1``, ….
+    lowpass : LowPassFilter, optional
+        Applied (zero-phase) before the PSD and recorded in the result, so a model can apply the
+        same filter.
+    """
+    data = as_float_array("signals", signals)
+    data = np.atleast_2d(data)
+    if data.ndim != 2:
+        raise ParameterError(f"signals must have shape (n_channels, n_samples), got {data.shape}")
+    sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
+    window_length = check_positive("window_length", window_length, unit="s")
+    if not 0.0 <= overlap < 1.0:
+        raise ParameterError(f"overlap must lie in [0, 1), got {overlap!r}")
+    segment = int(round(window_length * sample_rate))
+    if segment < 8:
+        raise ParameterError(
+            f"window_length × sample_rate must give at least 8 samples, got {segment}")
+    if data.shape[1] < segment:
+        raise DataError(
+            f"record of {data.shape[1] / sample_rate:g} s is shorter than one window of "
+            f"{window_length:g} s")
+    names = (tuple(f"ch{i}" for i in range(data.shape[0])) if output_names is None
+             else tuple(output_names))
+    if len(names) != data.shape[0]:
+        raise ParameterError(
+            f"output_names must name every channel ({data.shape[0]}), got {len(names)}")
+    if lowpass is not None:
+        if abs(lowpass.sample_rate - sample_rate) > 1e-9 * sample_rate:
+            raise ParameterError(
+                f"lowpass.sample_rate must equal sample_rate {sample_rate:g} Hz, "
+                f"got {lowpass.sample_rate:g} Hz")
+        data = lowpass.apply(data)
+    frequency, psd = _signal.welch(data, fs=sample_rate, window="hann", nperseg=segment,
+                                   noverlap=int(segment * overlap), detrend="constant",
+                                   return_onesided=True, scaling="density", axis=-1)
+    return ResponsePSD(frequency=frequency, psd=psd, output_names=names,
+                       window_length=segment / sample_rate,
+                       n_windows=welch_segment_count(data.shape[1], segment, overlap),
+                       lowpass=lowpass, source="welch")
+
+
+def welch_degrees_of_freedom(n_windows, overlap=0.5):
+    """Equivalent degrees of freedom ν of a Hann-window Welch estimate of ``n_windows`` segments.
+
+    ν = 2K / (1 + 2 Σ_j (1 − j/K) ρ_j), ρ_j the squared normalised overlap correlation of
+    the window at a lag of j segment steps (Welch 1967; for Hann at 50 % overlap ρ₁ = 1/36).
+    Each PSD ordinate is then distributed as G·χ²_ν/ν.
+    """
+    k = int(n_windows)
+    if k < 1:
+        raise ParameterError(f"n_windows must be >= 1, got {n_windows!r}")
+    samples = 1024
+    window = _signal.get_window("hann", samples)
+    step = samples - int(samples * overlap)
+    total = 0.0
+    for j in range(1, k):
+        lag = j * step
+        if lag >= samples:
+            break
+        rho = (np.dot(window[:-lag], window[lag:]) / np.dot(window, window)) ** 2
+        total += (1.0 - j / k) * rho
+    return 2.0 * k / (1.0 + 2.0 * total)
+
+
+def synthetic_welch_psd(expected, n_windows, rng=None):
+    """A random PSD with the scatter of a Welch estimate around its expectation.
+
+    Each ordinate is drawn as E[Ĝ]·χ²_ν/ν with ν from :func:`welch_degrees_of_freedom`
+    (independent between bins — real Welch bins are mildly correlated across a Hann main lobe).
+    Used to make a "measured" PSD from the spectral model without a time-domain simulation.
+
+    Parameters
+    ----------
+    expected : ResponsePSD
+        The Welch expectation (``response_psd(..., welch_window_length=T)``).
+    n_windows : int
+        Number of Welch segments of the imagined record (2·duration/T − 1 at 50 % overlap).
+    rng : None, int or numpy.random.Generator
+    """
+    rng = np.random.default_rng(rng)
+    dof = welch_degrees_of_freedom(n_windows)
+    scatter = rng.chisquare(dof, size=expected.psd.shape) / dof
+    return ResponsePSD(frequency=expected.frequency, psd=expected.psd * scatter,
+                       output_names=expected.output_names, window_length=expected.window_length,
+                       n_windows=int(n_windows), lowpass=expected.lowpass, source="synthetic")
