@@ -1,0 +1,173 @@
+"""``crowdvib estimate``: read, check and filter a case's records and estimate f_h1, ξ_h1."""
+
+import sys
+from pathlib import Path
+
+from .. import __version__
+from .._files import write_json
+from ..reporting.report import provenance, write_report
+from .common import say, staged_output, versions, warning_texts
+
+
+
+def add_arguments(parser):
+    parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
+    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--force", action="store_true",
+                        help="replace an existing output directory")
+
+
+def run(args):
+    import warnings
+
+    from ..io.casefile import load_case
+
+    case = load_case(args.case)
+    stamp = provenance(case.path)
+    with staged_output(args.out, args.force) as staging:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            results = _estimate_case(case, staging)
+        results.update(stamp)
+        results["warnings"] = warning_texts(caught)
+        for text in results["warnings"]:
+            print(f"crowdvib estimate: warning: {text}", file=sys.stderr)
+        write_json(staging / "results.json", results)
+        write_report(staging)
+    say(f"  wrote {args.out / 'results.json'}, figures and report.html")
+    return 0
+
+
+def case_measurement(case):
+    """Read a case's records and make its measured PSD → (record, ResponsePSD, low-pass filter).
+
+    The record keeps the outputs to be fitted (``estimation.outputs``, else every channel); the
+    PSD is the Welch estimate of ``[measurement]`` after the zero-phase low-pass filter.
+    """
+    from ..io.casefile import load_measurement
+    from ..errors import ParameterError
+    from ..signals import LowPassFilter, welch_psd
+
+    spec, est = case.measurement, case.estimation
+    record = load_measurement(case)
+    outputs = tuple(est.outputs or record.channel_names)
+    unknown = [name for name in outputs if name not in case.structure.output_names]
+    if unknown:
+        raise ParameterError(
+            f"{case.path.name}: record channel(s) {unknown} are not outputs of the structure "
+            f"{list(case.structure.output_names)}: map them with measurement.channels "
+            "(output = \"channel in file\") or list the outputs in estimation.outputs")
+    record = record.select(outputs)
+    say(f"  record  {record.n_channels} channel(s) {list(record.channel_names)}, "
+         f"{record.duration:g} s at {record.sample_rate:g} Hz")
+    lowpass = (None if spec.lowpass_cutoff is None else
+               LowPassFilter(spec.lowpass_cutoff, spec.lowpass_order, record.sample_rate))
+    measured = welch_psd(record.data, record.sample_rate, window_length=spec.window_length,
+                         overlap=spec.overlap, output_names=outputs, lowpass=lowpass)
+    return record, measured, lowpass
+
+
+def case_crowd(case, record):
+    """The crowd the HSI estimate uses → (Crowd, StepFrequencyEstimate or None).
+
+    With ``[estimation.step_frequencies]`` the step-frequency distribution is first fitted on the
+    record low-passed at the cut-off, without HSI (the paper's Waalse Krook procedure), and used
+    when ``use_fitted``; otherwise the case file's crowd.
+    """
+    from ..identification.step_frequencies import estimate_step_frequencies
+    from ..signals import LowPassFilter, welch_psd
+
+    spec, est = case.measurement, case.estimation
+    crowd = case.crowd
+    if est.step_frequencies is None:
+        return crowd, None
+    sf = est.step_frequencies
+    low = LowPassFilter(sf.cutoff, spec.lowpass_order, record.sample_rate)
+    measured_low = welch_psd(record.data, record.sample_rate, window_length=spec.window_length,
+                             overlap=spec.overlap, output_names=record.channel_names,
+                             lowpass=low)
+    fitted = estimate_step_frequencies(measured_low, case.structure, crowd, cutoff=sf.cutoff,
+                                       band=sf.band, starts=sf.starts, bounds=sf.bounds,
+                                       outputs=sf.outputs, match_welch=est.match_welch)
+    say(f"  step frequencies below {sf.cutoff:g} Hz: N({fitted.crowd.step_frequency_mean:.3f}, "
+         f"{fitted.crowd.step_frequency_std:.3f}) Hz (case file: "
+         f"N({crowd.step_frequency_mean:g}, {crowd.step_frequency_std:g}) Hz)")
+    return (fitted.crowd if sf.use_fitted else crowd), fitted
+
+
+def _estimate_case(case, out):
+    """The estimate pipeline on a loaded case; figures into ``out``; returns the results dict."""
+    from ..identification.estimation import estimate_hsi
+    from ..reporting.plotting import plot_psd_comparison, plot_psd_convergence, save_figure
+    from ..signals import psd_convergence
+    from ..response.spectral import response_psd
+
+    spec, est = case.measurement, case.estimation
+    say(f"crowdvib estimate: {case.name} ({case.path.name})")
+    record, measured, lowpass = case_measurement(case)
+    outputs = record.channel_names
+    convergence = psd_convergence(record.data, record.sample_rate,
+                                  window_length=spec.window_length, band=est.band,
+                                  norm=est.convergence_norm, overlap=spec.overlap,
+                                  output_names=outputs, lowpass=lowpass)
+    last = convergence.error[:, -2] if convergence.error.shape[1] > 1 else convergence.error[:, 0]
+    say(f"  PSD     Welch T = {spec.window_length:g} s, {measured.n_windows} windows; "
+         f"convergence error of the last window added ({convergence.norm}-norm over the band): "
+         + ", ".join(f"{v:.1%}" for v in last))
+    reach = convergence.duration_to_reach(0.10)
+    say("          below 10 % from " + (f"{reach:g} s of record on" if reach is not None
+                                         else "no record length (record too short)"))
+    crowd, step_result = case_crowd(case, record)
+    free_mass = "mass_ratio" in est.free_parameters
+    estimate = estimate_hsi(measured, case.structure, crowd, band=est.band, outputs=outputs,
+                            output_weights=est.output_weights, starts=est.starts,
+                            bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
+                            free_mass_ratio=free_mass, match_welch=est.match_welch)
+    found = estimate.msd
+    say(f"  estimate f_h1 = {found.frequency:.3f} Hz, ξ_h1 = {found.damping_ratio:.3f}, "
+         f"μ_h1 = {found.mass_ratio:.3f}; J/J_noHSI = {estimate.relative_cost:.3g}")
+    if case.expected:
+        for key, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1")):
+            if key in case.expected:
+                value = getattr(found, key)
+                say(f"           {label}: expected {case.expected[key]:g}, "
+                     f"error {(value - case.expected[key]) / case.expected[key]:+.1%}")
+    figures = []
+    window = measured.window_length if est.match_welch else None
+    fitted = response_psd(case.structure, crowd, measured.frequency, msd=found, outputs=outputs,
+                          welch_window_length=window, lowpass=lowpass if est.match_welch else None)
+    no_hsi = response_psd(case.structure, crowd, measured.frequency, outputs=outputs,
+                          welch_window_length=window,
+                          lowpass=lowpass if est.match_welch else None)
+    for name in outputs:
+        ax = plot_psd_comparison({"measured": measured, "fitted MSD": fitted, "no HSI": no_hsi},
+                                 output=name, band=(0.0, max(est.band[1], 2 * est.band[0])),
+                                 title=f"{case.name}: {name}")
+        ax.axvspan(*est.band, color="tab:green", alpha=0.07, label="band")
+        figures.append(save_figure(ax, out / f"psd_{name}.png").name)
+    figures.append(save_figure(plot_psd_convergence(convergence, title=f"{case.name}: PSD "
+                                                    "convergence"),
+                               out / "psd_convergence.png").name)
+    hsi = estimate.to_dict()
+    diagnostics = {k: v for k, v in hsi.items() if k != "estimate"}
+    diagnostics["convergence"] = convergence.to_dict()
+    diagnostics["measured_psd"] = {"window_length": measured.window_length,
+                                   "n_windows": measured.n_windows,
+                                   "lowpass": None if lowpass is None else lowpass.to_dict()}
+    if step_result is not None:
+        diagnostics["step_frequencies"] = step_result.to_dict()
+    return {"command": "estimate", "crowdvib_version": __version__, "versions": versions(),
+            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
+            "record": record.to_dict(), "crowd_used": {
+                "step_frequency_mean": crowd.step_frequency_mean,
+                "step_frequency_std": crowd.step_frequency_std},
+            "estimate": hsi["estimate"], "expected": dict(case.expected),
+            "diagnostics": diagnostics, "figures": figures}
+
+
+def estimate_options(case):
+    """Keyword arguments of estimate_hsi from a case's [estimation] table."""
+    est = case.estimation
+    return dict(band=est.band, outputs=est.outputs, output_weights=est.output_weights,
+                starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
+                match_welch=est.match_welch)

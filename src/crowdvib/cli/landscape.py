@@ -1,0 +1,83 @@
+"""``crowdvib map``: the objective landscape J(f_h1, ξ_h1) of a case (paper Figs. 4, 10)."""
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+from .._files import write_json
+from ..reporting.report import provenance, write_report
+from .common import say, staged_output, versions, warning_texts
+from .estimate import case_crowd, case_measurement, estimate_options
+
+
+
+# ------------------------------------------------------------------------------ map/sensitivity
+def grid(text):
+    """``lower:upper:count`` → a linearly spaced grid (argparse type)."""
+    try:
+        lower, upper, count = text.split(":")
+        return np.linspace(float(lower), float(upper), int(count))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected lower:upper:count, got {text!r}") from None
+
+
+def add_arguments(parser):
+    parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
+    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--force", action="store_true",
+                        help="replace an existing output directory")
+    parser.add_argument("--frequencies", type=grid, default=np.linspace(1.0, 6.0, 51),
+                        metavar="LOW:HIGH:N", help="grid of f_h1 [Hz] (default 1:6:51, paper)")
+    parser.add_argument("--damping-ratios", type=grid, default=np.linspace(0.1, 0.8, 36),
+                        metavar="LOW:HIGH:N",
+                        help="grid of ξ_h1 [-] (default 0.1:0.8:36, paper)")
+
+
+def run(args):
+    import warnings
+
+    from ..io.casefile import load_case
+    from ..identification.estimation import estimate_hsi
+    from ..reporting.plotting import plot_objective_map, save_figure
+    from ..identification.sensitivity import objective_map
+
+    case = load_case(args.case)
+    stamp = provenance(case.path)
+    with staged_output(args.out, args.force) as staging:
+        say(f"crowdvib map: {case.name} ({case.path.name})")
+        record, measured, _ = case_measurement(case)
+        crowd, _ = case_crowd(case, record)
+        options = estimate_options(case)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            estimate = estimate_hsi(measured, case.structure, crowd, **options)
+        options.pop("starts")
+        options.pop("bounds")
+        started = time.perf_counter()
+        landscape = objective_map(measured, case.structure, crowd,
+                                  frequencies=args.frequencies,
+                                  damping_ratios=args.damping_ratios, estimate=estimate,
+                                  **options)
+        best = landscape.optimum
+        say(f"  {landscape.cost.size} grid points in {time.perf_counter() - started:.1f} s; "
+             f"grid minimum f_h1 = {best.frequency:.3f} Hz, ξ_h1 = {best.damping_ratio:.3f}; "
+             f"optimiser {estimate.msd.frequency:.3f} Hz, {estimate.msd.damping_ratio:.3f}")
+        say(f"  curvature along f_h1 / along ξ_h1 at the minimum: "
+             f"{landscape.curvature_ratio():.3g}")
+        ax = plot_objective_map(landscape, search_bounds=estimate.bounds,
+                                title=f"{case.name}: objective J(f_h1, ξ_h1)")
+        figure = save_figure(ax, staging / "objective_map.png").name
+        write_json(staging / "results.json", {
+            "command": "map", "crowdvib_version": __version__, "versions": versions(),
+            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
+            "estimate": estimate.msd.to_dict(), "expected": dict(case.expected),
+            "diagnostics": {k: v for k, v in estimate.to_dict().items() if k != "estimate"},
+            "objective_map": landscape.to_dict(),
+            "curvature_ratio": landscape.curvature_ratio(),
+            "warnings": warning_texts(caught), "figures": [figure], **stamp})
+        write_report(staging)
+    say(f"  wrote {args.out / 'results.json'}, {figure} and report.html")
+    return 0

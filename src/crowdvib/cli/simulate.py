@@ -1,0 +1,106 @@
+"""``crowdvib simulate``: a simulated record of a case, written in the chosen formats."""
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+from .._files import write_json
+from ..reporting.report import provenance, write_report
+from .common import progress_printer, say, staged_output, versions
+
+
+
+def add_arguments(parser):
+    parser.add_argument("case", type=Path, nargs="?", default=None,
+                        help="case file (TOML); default the embedded paper example")
+    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--force", action="store_true",
+                        help="replace an existing output directory")
+    parser.add_argument("--duration-s", type=float, default=None,
+                        help="record length [s] (default the case's simulation.duration)")
+    parser.add_argument("--sample-rate", type=float, default=None,
+                        help="simulation sample rate [Hz] (default the case's)")
+    parser.add_argument("--seed", type=int, default=None,
+                        help="seed of every random draw (default the case's seed)")
+    parser.add_argument("--format", default=None,
+                        help="comma-separated record formats among csv, npz, mat, mat73, uff "
+                             "(default the case's simulation.formats)")
+    parser.add_argument("--no-hsi", action="store_true",
+                        help="pedestrians as moving forces only (no MSD)")
+
+
+def run(args):
+    from ..io.casefile import load_case, paper_example_case
+    from ..errors import ParameterError
+    from ..reporting.plotting import plot_psd_comparison, plot_time_history, save_figure
+    from ..io.records import RECORD_FORMATS, Record, write_record
+    from ..signals import resample, welch_psd
+    from ..response.simulation import simulate
+
+    case = paper_example_case() if args.case is None else load_case(args.case)
+    spec = case.simulation
+    formats = spec.formats if args.format is None else tuple(
+        f.strip() for f in args.format.split(",") if f.strip())
+    for fmt in formats:
+        if fmt not in RECORD_FORMATS:
+            raise ParameterError(f"--format must list formats among {list(RECORD_FORMATS)}, "
+                                 f"got {fmt!r}")
+    duration = spec.duration if args.duration_s is None else args.duration_s
+    sample_rate = spec.sample_rate if args.sample_rate is None else args.sample_rate
+    seed = case.seed if args.seed is None else args.seed
+    msd = None if (args.no_hsi or not spec.hsi) else _simulation_msd(case)
+    say(f"crowdvib simulate: {case.name}, {duration:g} s at {sample_rate:g} Hz, "
+         f"{'MSD ' + str(msd.to_dict()) if msd else 'no HSI'}")
+    with staged_output(args.out, args.force) as staging:
+        started = time.perf_counter()
+        simulation = simulate(case.structure, case.crowd, duration, msd=msd,
+                              sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up,
+                              progress=progress_printer("simulated"))
+        data, rate = simulation.acceleration, sample_rate
+        if spec.record_sample_rate is not None:
+            data, rate = resample(data, rate, spec.record_sample_rate)
+        record = Record(data=data, sample_rate=rate, channel_names=simulation.output_names)
+        files = []
+        for fmt in formats:
+            suffix = "_v73.mat" if fmt == "mat73" else RECORD_FORMATS[fmt][0]
+            files.append(write_record(record, staging / f"record{suffix}", format=fmt,
+                                      dtype=spec.dtype).name)
+        elapsed = time.perf_counter() - started
+        window = min(case.measurement.window_length, record.duration)
+        psd = welch_psd(record.data, rate, window_length=window,
+                        output_names=record.channel_names)
+        figure = save_figure(plot_psd_comparison({"simulated (Welch)": psd},
+                                                 band=(0.0, min(rate / 2, 12.0)),
+                                                 title=f"{case.name}: simulated record"),
+                             staging / "psd.png").name
+        history = save_figure(plot_time_history(simulation,
+                                                title=f"{case.name}: simulated time history"),
+                              staging / "time_history.png").name
+        results = {"command": "simulate", "crowdvib_version": __version__,
+                   "versions": versions(), "seed": int(simulation.seed),
+                   "case": None if case.path is None else str(case.path),
+                   "inputs": case.to_dict(), "msd": None if msd is None else msd.to_dict(),
+                   "duration": duration, "sample_rate": sample_rate,
+                   "record": {**record.to_dict(), "files": files},
+                   "rms": dict(zip(record.channel_names, np.sqrt(np.mean(
+                       (record.data - record.data.mean(axis=1, keepdims=True)) ** 2,
+                       axis=1)).tolist())),
+                   "elapsed_s": elapsed, "figures": [figure, history],
+                   **provenance(case.path)}
+        write_json(staging / "results.json", results)
+        write_report(staging)
+    say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
+    return 0
+
+
+def _simulation_msd(case):
+    """The MSD a case simulates with: its [expected] truth if given, else its [hsi] table."""
+    from ..models.pedestrian import MSDModel
+
+    expected = case.expected
+    if "frequency" in expected and "damping_ratio" in expected:
+        return MSDModel(expected["frequency"], expected["damping_ratio"],
+                        expected.get("mass_ratio", case.msd.mass_ratio))
+    return case.msd
