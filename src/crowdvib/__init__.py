@@ -8,7 +8,8 @@ inverse problem of Van Nimmen & Van den Broeck (2023): ``estimate_hsi``.
 from importlib.metadata import PackageNotFoundError, version
 
 from .errors import (BoundWarning, ConvergenceWarning, CrowdvibError, CrowdvibWarning, DataError,
-                     DataWarning, EstimationError, ParameterError, ResolutionWarning)
+                     DataWarning, EstimationError, ParameterError, PlausibilityWarning,
+                     ResolutionWarning)
 from .identification import (HSIEstimate, StepFrequencyEstimate, estimate_hsi,
                              estimate_step_frequencies)
 from .io import Case, Record, check_record, load_case, read_modal_model, read_record, write_record
@@ -30,7 +31,7 @@ __all__ = [
     "ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate", "Simulation",
     "CrowdvibError", "ParameterError", "DataError", "EstimationError",
     "CrowdvibWarning", "BoundWarning", "ConvergenceWarning", "ResolutionWarning",
-    "DataWarning", "Record", "read_record", "write_record", "check_record", "Case",
+    "DataWarning", "PlausibilityWarning", "Record", "read_record", "write_record", "check_record", "Case",
     "load_case", "read_modal_model", "estimate_step_frequencies", "StepFrequencyEstimate",
     "psd_convergence", "PSDConvergence", "detrend", "resample",
     "__version__",

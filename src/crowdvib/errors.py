@@ -15,6 +15,7 @@ __all__ = [
     "ConvergenceWarning",
     "ResolutionWarning",
     "DataWarning",
+    "PlausibilityWarning",
 ]
 
 
@@ -52,3 +53,9 @@ class ResolutionWarning(CrowdvibWarning):
 
 class DataWarning(CrowdvibWarning):
     """A measured record is usable but doubtful (flat or clipped stretches)."""
+
+
+class PlausibilityWarning(CrowdvibWarning):
+    """A value is legal but implausible for a footbridge or for the model: likely a unit, a
+    percentage given for a fraction, a gain or a channel mix-up. The message names the likely
+    cause."""

@@ -5,6 +5,7 @@ J(θ) = Σ_l γ_l ‖G̃_l − G_l(θ)‖₂² / ‖G̃_l‖₂² over the analy
 r_{l,k} = sqrt(γ_l w_k) (G̃_l(f_k) − G_l(f_k; θ)) / ‖G̃_l‖₂ has Σ r² = J.
 """
 
+import copy
 import logging
 import warnings
 from dataclasses import dataclass, field
@@ -13,7 +14,9 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .._validation import as_float_array, check_positive
-from ..errors import BoundWarning, ConvergenceWarning, EstimationError, ParameterError
+from ..errors import (BoundWarning, ConvergenceWarning, EstimationError, ParameterError,
+                      PlausibilityWarning)
+from ..models.loading import STANDARD_GRAVITY
 from ..models.pedestrian import MSDModel
 from ..response.spectral import SpectralModel
 from ..signals.spectrum import ResponsePSD
@@ -31,6 +34,15 @@ DEFAULT_BOUNDS = {"frequency": (1e-3, 10.0), "damping_ratio": (1e-3, 1.0),
 _PARAMETERS = ("frequency", "damping_ratio", "mass_ratio")
 # A parameter within this fraction of its bound's range of the bound counts as on it.
 _BOUND_TOLERANCE = 1e-4
+#: Measured over modelled band variance beyond which (either way) the level itself is in doubt:
+#: at a sound optimum the two agree within the Welch scatter and the modelling errors (a few
+#: tens of per cent); a unit or gain mix-up is a factor of ~100 or more.
+LEVEL_RATIO_LIMIT = 3.0
+#: Unit mix-ups tried when the level is in doubt: factor on the measured PSD → likely cause.
+_UNIT_MIXUPS = ((STANDARD_GRAVITY**2, "a record in g read as m/s²"),
+                (STANDARD_GRAVITY**-2, "a record in m/s² declared as g"),
+                (1e-6, "a record in mm/s² read as m/s²"),
+                (1e6, "a record in m/s² declared as mm/s²"))
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +76,9 @@ class HSIEstimate:
         Per starting point: ``start``, ``estimate``, ``cost``, ``n_evaluations``, ``status``.
     message : str
         The optimiser's message for the best start.
+    level_ratio : ndarray
+        Per output, measured over modelled variance in the band at the estimate [-]; far from 1
+        (beyond a factor ``LEVEL_RATIO_LIMIT``) the level itself is wrong (units, gain, channel).
     """
 
     msd: object
@@ -79,6 +94,7 @@ class HSIEstimate:
     output_weights: np.ndarray
     starts: tuple = field(default=())
     message: str = ""
+    level_ratio: np.ndarray = None
 
     @property
     def relative_cost(self):
@@ -97,6 +113,8 @@ class HSIEstimate:
             "band": list(self.band), "output_names": list(self.output_names),
             "output_weights": np.asarray(self.output_weights).tolist(),
             "starts": [dict(s) for s in self.starts], "message": self.message,
+            "level_ratio": None if self.level_ratio is None else
+            np.asarray(self.level_ratio).tolist(),
         }
 
 
@@ -166,10 +184,15 @@ class PSDObjective:
         self.band, keep = _check_band(band, measured.frequency)
         self.frequency = measured.frequency[keep]
         self.target = measured.select(outputs).psd[:, keep]
-        norms = np.linalg.norm(self.target, axis=1)
-        for name, norm in zip(outputs, norms):
-            if norm == 0:
+        # Work on PSDs divided by each output's peak in the band: J is unchanged, and no square
+        # over- or underflows whatever the level (a record in the wrong units reaches the
+        # plausibility check below instead of a cost of 0 or inf).
+        self.level = self.target.max(axis=1)
+        for name, level in zip(outputs, self.level):
+            if not level > 0:
                 raise ParameterError(f"measured PSD of output {name!r} is zero over the band")
+        self._target = self.target / self.level[:, np.newaxis]
+        norms = np.linalg.norm(self._target, axis=1)
         self.output_names = outputs
         self.output_weights = _normalised_weights("output_weights", output_weights, len(outputs))
         if frequency_weights is None:
@@ -200,7 +223,18 @@ class PSDObjective:
         """
         self.evaluations += 1
         model = self.model if model is None else model
-        return ((self.target - model.psd_array(msd)) * self._scale).ravel()
+        modelled = model.psd_array(msd) / self.level[:, np.newaxis]
+        return ((self._target - modelled) * self._scale).ravel()
+
+    def level_ratio(self, msd):
+        """Measured over modelled variance in the band, per output [-] (1 for a consistent level).
+
+        ∫ G̃_l df / ∫ G_l(θ) df over the band: far from 1 at the optimum means the data and the
+        model disagree on the level itself (units, gain, channel), which no MSD can fix.
+        """
+        modelled = self.model.psd_array(msd) / self.level[:, np.newaxis]
+        with np.errstate(divide="ignore"):
+            return self._target.sum(axis=1) / modelled.sum(axis=1)
 
     def cost(self, msd):
         """J(θ) of paper Eq. (6) [-]."""
@@ -258,6 +292,8 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         When no start converged.
     """
     MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
+    for note in structure.implausibilities():
+        warnings.warn(f"structure: {note}", PlausibilityWarning, stacklevel=2)
     objective = PSDObjective(measured, structure, crowd, band=band, force=force,
                              outputs=outputs, output_weights=output_weights,
                              frequency_weights=frequency_weights, match_welch=match_welch)
@@ -273,21 +309,68 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         return MSDModel(frequency=values["frequency"], damping_ratio=values["damping_ratio"],
                         mass_ratio=values.get("mass_ratio", mass_ratio))
 
-    def residuals(theta):
-        return objective.residuals(to_msd(theta))
-
     points = _starting_points(starts, names, mass_ratio, lower, upper)
-    best, runs = _multistart(residuals, points, lower, upper, objective)
+
+    def fit(objective):
+        return _multistart(lambda theta: objective.residuals(to_msd(theta)), points, lower, upper,
+                           objective)
+
+    absurd = objective.level_ratio(None)
+    if np.any(~((absurd > 1e-100) & (absurd < 1e100))):
+        raise ParameterError(
+            "measured PSD level must be within a factor 1e100 of the model's without HSI over the "
+            f"band (no unit or gain mix-up goes further), got measured/model variance "
+            f"{', '.join(f'{v:.3g}' for v in absurd)} for outputs {list(objective.output_names)}")
+    best, runs = fit(objective)
     msd = to_msd(best.x)
     active, success, table = _diagnose(best, runs, names, lower, upper,
                                        "the optimum sits on a bound", "check the model inputs")
+    level_ratio = objective.level_ratio(msd)
+    _check_level(objective, level_ratio, 2 * best.cost, fit, to_msd)
     return HSIEstimate(
         msd=msd, cost=float(2 * best.cost), cost_no_hsi=objective.cost(None),
         n_evaluations=sum(n for _, _, n in runs), success=success, active_bounds=active,
         free_parameters=names, bounds={n: (float(lo), float(hi)) for n, lo, hi in
                                        zip(names, lower, upper)},
         band=objective.band, output_names=objective.output_names,
-        output_weights=objective.output_weights, starts=table, message=str(best.message))
+        output_weights=objective.output_weights, starts=table, message=str(best.message),
+        level_ratio=level_ratio)
+
+
+def _check_level(objective, ratio, cost, fit, to_msd):
+    """Warn when the measured level disagrees with the fitted model's, naming the likely cause.
+
+    Each unit mix-up of ``_UNIT_MIXUPS`` is tried by fitting the rescaled data again; one that
+    makes the level consistent and fits ten times better is named in the warning (the estimate itself is
+    left as it is: the user must correct the input).
+    """
+    off = (ratio > LEVEL_RATIO_LIMIT) | (ratio < 1 / LEVEL_RATIO_LIMIT)
+    if not off.any():
+        return
+    where = ", ".join(f"{name!r}: {value:.3g}" for name, value, bad in
+                      zip(objective.output_names, ratio, off) if bad)
+    hint = "check the units, the sensor gain and the channel mapping"
+    found = []
+    for factor, cause in _UNIT_MIXUPS:
+        rescaled = copy.copy(objective)
+        rescaled.level = objective.level * factor
+        best, _ = fit(rescaled)
+        msd = to_msd(best.x)
+        ratios = rescaled.level_ratio(msd)
+        if np.all((ratios <= LEVEL_RATIO_LIMIT) & (ratios >= 1 / LEVEL_RATIO_LIMIT)):
+            found.append((2 * best.cost, cause, msd))
+    if found:
+        rescaled_cost, cause, msd = min(found, key=lambda item: item[0])
+        # Named only when it explains the data: a consistent level AND a fit ten times better
+        # (a mere gain error can come within the level limit after a wrong rescaling).
+        if rescaled_cost < 0.1 * cost:
+            hint = (f"{cause}? Rescaled so, the data fit with J = {rescaled_cost:.3g} instead of "
+                    f"{cost:.3g} and give f_h1 = {msd.frequency:.3g} Hz, "
+                    f"ξ_h1 = {msd.damping_ratio:.3g}")
+    warnings.warn(
+        f"the measured PSD level over the band is not the fitted model's (measured/model "
+        f"variance {where}; a consistent level lies within a factor {LEVEL_RATIO_LIMIT:g}), so "
+        f"the estimate is not to be trusted: {hint}", PlausibilityWarning, stacklevel=3)
 
 
 def _merge_bounds(bounds, defaults):

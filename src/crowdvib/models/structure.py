@@ -17,6 +17,16 @@ from ..errors import ParameterError
 __all__ = ["ModalModel"]
 
 
+#: Damping ratio above which a footbridge mode is doubtful (theory: conventions). Measured
+#: footbridge modes lie around 0.002–0.05 (paper's bridges: 0.25–0.86 %).
+MAX_PLAUSIBLE_DAMPING_RATIO = 0.10
+#: Equivalent deck mass m_j / ∫φ_j² dA [kg/m²] of footbridges: light FRP or timber decks from
+#: ~50 kg/m², heavy concrete decks a few t/m²; modes moving little of the walkway weigh more.
+#: The range is wide on purpose: it catches factors of 1000 (tonnes for kg) and mismatched
+#: scalings, not unusual bridges.
+PLAUSIBLE_DECK_MASS = (20.0, 1e5)
+
+
 def _trapezoid_weights(points, lower, upper):
     """Quadrature weights of ``points`` for ∫_lower^upper f: trapezoid between the points,
     the end values held constant out to the limits (so a single point gets the whole length)."""
@@ -152,6 +162,39 @@ class ModalModel:
     def area(self):
         """Walkway area A = L·B [m²]."""
         return self.length * self.width
+
+    def implausibilities(self):
+        """Values that are legal but unlikely for a footbridge, with their likely cause.
+
+        Two checks (theory: conventions), both independent of the mode-shape scaling:
+
+        * a damping ratio ξ_j above ``MAX_PLAUSIBLE_DAMPING_RATIO`` (a percentage given for a
+          fraction: 0.5 meant as 0.5 %);
+        * an equivalent deck mass m_j / ∫_A φ_j² dA outside ``PLAUSIBLE_DECK_MASS`` [kg/m²]
+          (tonnes for kilograms, or modal masses that do not match the shapes' scaling).
+
+        Returns
+        -------
+        list of str
+            One sentence per doubtful value; empty when all is plausible.
+        """
+        notes = []
+        for j, ratio in enumerate(self.damping_ratios):
+            if ratio > MAX_PLAUSIBLE_DAMPING_RATIO:
+                notes.append(
+                    f"damping_ratios[{j}] = {ratio:g} is above {MAX_PLAUSIBLE_DAMPING_RATIO:g}, "
+                    f"unusual for a footbridge mode: percent instead of fraction? "
+                    f"({ratio:g} % is {ratio / 100:g})")
+        low, high = PLAUSIBLE_DECK_MASS
+        mass_per_area = self.modal_masses / np.diag(self.influence_matrix(1.0))
+        for j, value in enumerate(mass_per_area):
+            if not low <= value <= high:
+                notes.append(
+                    f"modal_masses[{j}] = {self.modal_masses[j]:g} kg stands for a deck of "
+                    f"{value:.3g} kg/m² over the walkway (m_j / ∫φ_j² dA), outside the "
+                    f"{low:g}–{high:g} kg/m² of footbridges: tonnes instead of kg, or modal "
+                    "masses not in the scaling of the mode shapes?")
+        return notes
 
     def influence_matrix(self, density):
         """Crowd-influence matrix Ψ = d ∫_A φ φᵀ dA [persons] (physics.md §2.7).

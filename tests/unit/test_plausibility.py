@@ -1,0 +1,119 @@
+"""Plausibility guards against silently wrong estimates (issue 9, fault 5).
+
+Each test reproduces a fault that crowdvib 4bf1026 let through: a record in g read as m/s²
+estimated f_h1 = 1.95 Hz, ξ_h1 = 0.088 with success=True and no warning; a PSD scaled by 1e300
+returned the first start with cost 0; a bridge damping of 0.5 meant as 0.5 % ran to an absurd
+estimate with only a bound warning.
+"""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from crowdvib import (ModalModel, ParameterError, PlausibilityWarning, ResponsePSD, ZivanovicForce,
+                      estimate_hsi, response_psd)
+from crowdvib.identification.estimation import LEVEL_RATIO_LIMIT, PSDObjective
+from crowdvib.models.loading import STANDARD_GRAVITY
+from crowdvib.signals import synthetic_welch_psd
+
+
+@pytest.fixture
+def measured(paper_bridge, paper_crowd, paper_msd, welch_grid):
+    """One simulated hour of the paper example as a Welch estimate (T = 60 s, 119 windows)."""
+    expected = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
+                            welch_window_length=60.0)
+    return synthetic_welch_psd(expected, 119, rng=1)
+
+
+def _scaled(psd, factor):
+    return ResponsePSD(frequency=psd.frequency, psd=psd.psd * factor,
+                       output_names=psd.output_names, window_length=psd.window_length,
+                       n_windows=psd.n_windows)
+
+
+def test_consistent_record_passes_silently(measured, paper_bridge, paper_crowd):
+    # At a sound optimum the measured and modelled band variances agree (theory: estimator).
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        estimate = estimate_hsi(measured, paper_bridge, paper_crowd, band=(0.0, 10.0))
+    assert estimate.level_ratio[0] == pytest.approx(1.0, rel=0.05)
+    assert estimate.to_dict()["level_ratio"] == [pytest.approx(estimate.level_ratio[0])]
+
+
+def test_record_in_g_read_as_m_s2_is_named(measured, paper_bridge, paper_crowd):
+    # Fault 5a: accelerations in g declared as m/s² are g = 9.81 times too small, the PSD g² too
+    # small; the old estimator returned 1.95 Hz / 0.088 as a success without a word.
+    with pytest.warns(PlausibilityWarning, match="record in g read as m/s²") as caught:
+        estimate = estimate_hsi(_scaled(measured, STANDARD_GRAVITY**-2), paper_bridge,
+                                paper_crowd, band=(0.0, 10.0))
+    assert estimate.level_ratio[0] < 1 / LEVEL_RATIO_LIMIT
+    # The hint quotes what the rescaled data give: the truth of the paper example, 3.0 Hz / 0.30.
+    message = str(caught[0].message)
+    assert "f_h1 = 2.97 Hz" in message and "ξ_h1 = 0.294" in message
+
+
+@pytest.mark.filterwarnings("ignore::crowdvib.errors.BoundWarning")  # the level drags ξ to a bound
+def test_record_in_m_s2_declared_as_g_is_named(measured, paper_bridge, paper_crowd):
+    with pytest.warns(PlausibilityWarning, match="record in m/s² declared as g"):
+        estimate_hsi(_scaled(measured, STANDARD_GRAVITY**2), paper_bridge, paper_crowd,
+                     band=(0.0, 10.0))
+
+
+@pytest.mark.filterwarnings("ignore::crowdvib.errors.BoundWarning")
+def test_gain_error_without_a_unit_mix_up_still_warns(measured, paper_bridge, paper_crowd):
+    # A factor 20 in variance is no unit mix-up of the list, but the level is still wrong.
+    with pytest.warns(PlausibilityWarning, match="check the units, the sensor gain"):
+        estimate_hsi(_scaled(measured, 20.0), paper_bridge, paper_crowd, band=(0.0, 10.0))
+
+
+@pytest.mark.parametrize("factor", [1e-200, 1e-20, 1e20, 1e200])
+def test_objective_is_scale_invariant(measured, paper_bridge, paper_crowd, paper_msd, factor):
+    # J of paper Eq. (6) is a ratio of norms: data × k with the force × √k gives the same J.
+    # The old objective squared the raw PSD and overflowed (1e300 → cost 0, 1e-300 → "zero").
+    reference = PSDObjective(measured, paper_bridge, paper_crowd, band=(0.0, 10.0))
+    scaled = PSDObjective(_scaled(measured, factor), paper_bridge, paper_crowd, band=(0.0, 10.0),
+                          force=ZivanovicForce(scale=np.sqrt(factor)))
+    for msd in (paper_msd, None):
+        assert scaled.cost(msd) == pytest.approx(reference.cost(msd), rel=1e-10)
+        assert np.isfinite(scaled.cost(msd))
+
+
+@pytest.mark.parametrize("factor", [1e300, 1e-300])
+def test_absurd_level_is_refused(measured, paper_bridge, paper_crowd, factor):
+    with pytest.raises(ParameterError, match="measured PSD level must be within a factor 1e100"):
+        estimate_hsi(_scaled(measured, factor), paper_bridge, paper_crowd, band=(0.0, 10.0))
+
+
+@pytest.mark.filterwarnings("ignore::crowdvib.errors.BoundWarning")
+def test_damping_in_percent_warns(measured, paper_crowd):
+    # Fault 5c: ξ = 0.5 meant as 0.5 % (0.005); the old estimator ran to an absurd estimate with
+    # only a bound warning. Now the structure is named first, and the level guard fires too.
+    bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.5, 50e3)
+    with pytest.warns(PlausibilityWarning) as caught:
+        estimate_hsi(measured, bridge, paper_crowd, band=(0.0, 10.0))
+    messages = [str(w.message) for w in caught if w.category is PlausibilityWarning]
+    assert messages[0] == ("structure: damping_ratios[0] = 0.5 is above 0.1, unusual for a "
+                           "footbridge mode: percent instead of fraction? (0.5 % is 0.005)")
+
+
+def test_modal_mass_plausibility_is_scale_invariant(paper_bridge):
+    # A sine mode unity-scaled over L × B has ∫φ² dA = L·B/2 (theory: crowd influence), so the
+    # paper example stands for 50 t / 75 m² = 667 kg/m²; the mass-normalised model is the same
+    # bridge and must pass too; tonnes typed for kilograms (50) must not.
+    assert paper_bridge.implausibilities() == []
+    assert paper_bridge.mass_normalised().implausibilities() == []
+    notes = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50.0).implausibilities()
+    assert len(notes) == 1
+    assert "0.667 kg/m²" in notes[0] and "tonnes instead of kg" in notes[0]
+
+
+def test_example_bridges_are_plausible():
+    # The three shipped cases (examples/README.md) must not raise false alarms.
+    from pathlib import Path
+
+    from crowdvib import load_case
+
+    root = Path(__file__).resolve().parents[2] / "examples"
+    for name in ("paper_example", "eeklo_like", "waalse_krook_like"):
+        assert load_case(root / f"{name}.toml").structure.implausibilities() == []
