@@ -8,6 +8,13 @@ import numpy as np
 from .errors import ParameterError
 
 
+def check_type(name, value, kind):
+    """Require ``value`` to be an instance of ``kind``; return it."""
+    if not isinstance(value, kind):
+        raise ParameterError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
+    return value
+
+
 def as_float_array(name, value, *, ndim=None):
     """Return ``value`` as a finite float64 array, checking its number of dimensions."""
     try:

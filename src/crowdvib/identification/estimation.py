@@ -13,11 +13,13 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from .._validation import as_float_array, check_positive
+from .._validation import as_float_array, check_positive, check_type
 from ..errors import (BoundWarning, ConvergenceWarning, EstimationError, ParameterError,
                       PlausibilityWarning)
+from ..models.crowd import Crowd
 from ..models.loading import STANDARD_GRAVITY
 from ..models.pedestrian import MSDModel
+from ..models.structure import ModalModel
 from ..response.spectral import SpectralModel
 from ..signals.spectrum import ResponsePSD
 
@@ -174,6 +176,8 @@ class PSDObjective:
         if not isinstance(measured, ResponsePSD):
             raise ParameterError(f"measured must be a ResponsePSD, got {type(measured).__name__}")
         measured.check_measured()
+        check_type("structure", structure, ModalModel)
+        check_type("crowd", crowd, Crowd)
         if crowd.density <= 0:
             raise ParameterError(
                 f"crowd.density must be > 0 to estimate HSI (no crowd, no interaction), "
@@ -292,11 +296,11 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         When no start converged.
     """
     MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
-    for note in structure.implausibilities():
-        warnings.warn(f"structure: {note}", PlausibilityWarning, stacklevel=2)
     objective = PSDObjective(measured, structure, crowd, band=band, force=force,
                              outputs=outputs, output_weights=output_weights,
                              frequency_weights=frequency_weights, match_welch=match_welch)
+    for note in structure.implausibilities():
+        warnings.warn(f"structure: {note}", PlausibilityWarning, stacklevel=2)
     names = _PARAMETERS if free_mass_ratio else _PARAMETERS[:2]
     limits = _merge_bounds(bounds, DEFAULT_BOUNDS)
     if limits["mass_ratio"][1] >= 1:
@@ -379,7 +383,10 @@ def _merge_bounds(bounds, defaults):
     for key, value in (bounds or {}).items():
         if key not in defaults:
             raise ParameterError(f"bounds keys must be among {list(defaults)}, got {key!r}")
-        low, high = (float(v) for v in value)
+        try:
+            low, high = (float(v) for v in value)
+        except (TypeError, ValueError):
+            raise ParameterError(f"bounds[{key!r}] must be a pair (lower, upper), got {value!r}")
         if not 0 < low < high:
             raise ParameterError(f"bounds[{key!r}] must satisfy 0 < lower < upper, got {value!r}")
         limits[key] = (low, high)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernels
-from .._validation import as_float_array, check_non_negative, check_positive
+from .._validation import as_float_array, check_non_negative, check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import JAM_DENSITY, Crowd
 from ..models.loading import STANDARD_GRAVITY, as_force_model, positive_normal
@@ -277,8 +277,7 @@ def generate_traffic(structure, crowd, duration, *, force=None, rng=None, warm_u
         Sorted by arrival time; every pedestrian carries explicit harmonics.
     """
     _check_structure(structure)
-    if not isinstance(crowd, Crowd):
-        raise ParameterError(f"crowd must be a Crowd, got {type(crowd).__name__}")
+    check_type("crowd", crowd, Crowd)
     duration, warm_up = _check_duration(duration, warm_up)
     force = as_force_model(force)
     walkers = _walkers(structure, crowd, None, -warm_up, duration, force,
@@ -301,8 +300,7 @@ def generate_traffic(structure, crowd, duration, *, force=None, rng=None, warm_u
 
 
 def _check_structure(structure):
-    if not isinstance(structure, ModalModel):
-        raise ParameterError(f"structure must be a ModalModel, got {type(structure).__name__}")
+    check_type("structure", structure, ModalModel)
 
 
 def _check_duration(duration, warm_up):
@@ -439,8 +437,7 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
     if crowd is None and pedestrians is None:
         raise ParameterError("crowd or pedestrians must be given, got neither")
     if crowd is not None:
-        if not isinstance(crowd, Crowd):
-            raise ParameterError(f"crowd must be a Crowd, got {type(crowd).__name__}")
+        check_type("crowd", crowd, Crowd)
         if crowd.density >= JAM_DENSITY:
             raise ParameterError(
                 f"crowd.density must be < the jam density {JAM_DENSITY} persons/m², "
