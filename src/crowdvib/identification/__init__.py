@@ -5,7 +5,8 @@ crowd's N(μ, σ) from the low band); ``sensitivity`` (objective landscape and m
 studies), run as independent tasks by ``tasks`` on any executor.
 """
 
-from .estimation import DEFAULT_BOUNDS, DEFAULT_STARTS, HSIEstimate, PSDObjective, estimate_hsi
+from .estimation import DEFAULT_BOUNDS, DEFAULT_STARTS, HSIEstimate, estimate_hsi
+from .objective import PSDObjective
 from .sensitivity import (PAPER_ERROR_LEVELS, ErrorCase, ObjectiveMap, SensitivityResult,
                           modelling_error_study, objective_map, parametric_study,
                           record_length_study)

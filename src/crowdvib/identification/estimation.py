@@ -11,17 +11,17 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import stats
 from scipy.optimize import least_squares
 
-from .._validation import as_float_array, check_positive, check_type
+from .._validation import as_float_array
 from ..errors import (BoundWarning, ConvergenceWarning, EstimationError, ParameterError,
                       PlausibilityWarning)
-from ..models.crowd import Crowd
 from ..models.loading import STANDARD_GRAVITY
 from ..models.pedestrian import MSDModel
-from ..models.structure import ModalModel
-from ..response.spectral import SpectralModel
-from ..signals.spectrum import ResponsePSD
+from ..signals.welch import welch_bin_correlation
+from .objective import PSDObjective
+from .uncertainty import profile_interval, sandwich_covariance
 
 __all__ = ["estimate_hsi", "HSIEstimate", "PSDObjective", "DEFAULT_STARTS", "DEFAULT_BOUNDS"]
 
@@ -81,6 +81,17 @@ class HSIEstimate:
     level_ratio : ndarray
         Per output, measured over modelled variance in the band at the estimate [-]; far from 1
         (beyond a factor ``LEVEL_RATIO_LIMIT``) the level itself is wrong (units, gain, channel).
+    method : str
+        The misfit: ``"least_squares"`` (paper Eq. 6) or ``"likelihood"`` (Whittle deviance).
+    covariance : ndarray, shape (n_free, n_free), or None
+        Sandwich covariance of the free parameters (order of ``free_parameters``), from the
+        Welch scatter of this one record (theory: uncertainty).
+    intervals : dict
+        Parameter → (low, high) profile interval at ``interval_level`` (empty if not computed).
+    interval_level : float
+        Confidence level of ``intervals``.
+    interval_on_bound : tuple of str
+        Interval ends that stopped at a search bound, e.g. ``("damping_ratio:upper",)``.
     """
 
     msd: object
@@ -97,16 +108,65 @@ class HSIEstimate:
     starts: tuple = field(default=())
     message: str = ""
     level_ratio: np.ndarray = None
+    method: str = "least_squares"
+    covariance: np.ndarray = None
+    intervals: dict = field(default_factory=dict)
+    interval_level: float = 0.95
+    interval_on_bound: tuple = ()
 
     @property
     def relative_cost(self):
         """J(θ̂)/J(no HSI) [-]: the paper's "residual relative to no HSI"."""
         return self.cost / self.cost_no_hsi if self.cost_no_hsi > 0 else np.nan
 
+    @property
+    def standard_errors(self):
+        """Parameter → standard error from the sandwich covariance (units of the parameter)."""
+        if self.covariance is None:
+            return {}
+        return {name: float(np.sqrt(max(self.covariance[i, i], 0.0)))
+                for i, name in enumerate(self.free_parameters)}
+
+    @property
+    def correlation(self):
+        """Correlation matrix of the free parameters [-], or None."""
+        if self.covariance is None:
+            return None
+        scale = np.sqrt(np.maximum(np.diag(self.covariance), 1e-300))
+        return self.covariance / np.outer(scale, scale)
+
+    def interval(self, parameter, level=0.95):
+        """Confidence interval (low, high) of a free parameter.
+
+        The profile interval when it was computed at this level, else the Wald interval
+        estimate ± z·SE from the sandwich covariance; both clipped to the search bounds.
+        """
+        if parameter not in self.free_parameters:
+            raise ParameterError(f"parameter must be one of {list(self.free_parameters)}, "
+                                 f"got {parameter!r}")
+        if not 0 < level < 1:
+            raise ParameterError(f"level must lie in (0, 1), got {level!r}")
+        if parameter in self.intervals and np.isclose(level, self.interval_level):
+            return tuple(self.intervals[parameter])
+        if self.covariance is None:
+            raise ParameterError("this estimate carries no covariance (interval=None)")
+        value = getattr(self.msd, parameter)
+        half = stats.norm.ppf(0.5 + level / 2) * self.standard_errors[parameter]
+        low, high = self.bounds[parameter]
+        return (max(value - half, low), min(value + half, high))
+
     def to_dict(self):
-        """JSON-ready dict; the estimate sits under ``"estimate"``."""
+        """JSON-ready dict; the estimate sits under ``"estimate"`` with its interval."""
+        estimate = self.msd.to_dict()
+        if self.covariance is not None:
+            estimate["interval"] = {name: list(self.interval(name, self.interval_level))
+                                    for name in self.free_parameters}
+            estimate["interval"]["level"] = self.interval_level
+            estimate["standard_error"] = self.standard_errors
         return {
-            "estimate": self.msd.to_dict(),
+            "estimate": estimate, "method": self.method,
+            "correlation": None if self.covariance is None else self.correlation.tolist(),
+            "interval_on_bound": list(self.interval_on_bound),
             "cost": self.cost, "cost_no_hsi": self.cost_no_hsi,
             "relative_cost": self.relative_cost, "n_evaluations": self.n_evaluations,
             "success": self.success, "active_bounds": list(self.active_bounds),
@@ -120,135 +180,10 @@ class HSIEstimate:
         }
 
 
-def _check_band(band, frequency):
-    try:
-        lower, upper = (float(b) for b in band)
-    except (TypeError, ValueError) as exc:
-        raise ParameterError(f"band must be a pair (lower, upper) in Hz, got {band!r}") from exc
-    if not lower < upper:
-        raise ParameterError(f"band must have lower < upper, got ({lower:g}, {upper:g}) Hz")
-    if lower < frequency[0] - 1e-12 or upper > frequency[-1] + 1e-12:
-        raise ParameterError(
-            f"band must lie within the measured frequency grid [{frequency[0]:g}, "
-            f"{frequency[-1]:g}] Hz, got ({lower:g}, {upper:g}) Hz")
-    keep = (frequency >= lower) & (frequency <= upper)
-    if keep.sum() < 3:
-        raise ParameterError(
-            f"band ({lower:g}, {upper:g}) Hz must hold at least 3 frequencies of the measured "
-            f"grid, got {int(keep.sum())}")
-    return (lower, upper), keep
-
-
-def _normalised_weights(name, weights, size):
-    if weights is None:
-        return np.full(size, 1.0 / size)
-    weights = as_float_array(name, weights, ndim=1)
-    if weights.shape != (size,):
-        raise ParameterError(f"{name} must have {size} entries, got {weights.size}")
-    check_positive(name, weights)
-    return weights / weights.sum()
-
-
-class PSDObjective:
-    """Residuals of paper Eq. (6) for a measured PSD and a spectral forward model.
-
-    Parameters
-    ----------
-    measured : ResponsePSD
-        Measured (or synthetic) PSDs, one row per output.
-    structure, crowd, force
-        The model assumed known.
-    band : (float, float)
-        Analysis band [Hz].
-    outputs : sequence of str, optional
-        Outputs used (default all of ``measured``); each must exist in ``structure``.
-    output_weights : array_like, optional
-        γ_l > 0, normalised to sum 1 (default equal).
-    frequency_weights : callable or array_like, optional
-        w(f) > 0 on the band frequencies (a function of f [Hz] or an array).
-    match_welch : bool
-        Model what a Welch estimate with the measured window length (and low-pass filter) sees
-        (physics.md §3.4); only when ``measured.window_length`` is known.
-    """
-
-    def __init__(self, measured, structure, crowd, *, band, force=None, outputs=None,
-                 output_weights=None, frequency_weights=None, match_welch=True):
-        if not isinstance(measured, ResponsePSD):
-            raise ParameterError(f"measured must be a ResponsePSD, got {type(measured).__name__}")
-        measured.check_measured()
-        check_type("structure", structure, ModalModel)
-        check_type("crowd", crowd, Crowd)
-        if crowd.density <= 0:
-            raise ParameterError(
-                f"crowd.density must be > 0 to estimate HSI (no crowd, no interaction), "
-                f"got {crowd.density:g}")
-        outputs = measured.output_names if outputs is None else tuple(
-            [outputs] if isinstance(outputs, str) else outputs)
-        structure.output_index(outputs)
-        self.band, keep = _check_band(band, measured.frequency)
-        self.frequency = measured.frequency[keep]
-        self.target = measured.select(outputs).psd[:, keep]
-        # Work on PSDs divided by each output's peak in the band: J is unchanged, and no square
-        # over- or underflows whatever the level (a record in the wrong units reaches the
-        # plausibility check below instead of a cost of 0 or inf).
-        self.level = self.target.max(axis=1)
-        for name, level in zip(outputs, self.level):
-            if not level > 0:
-                raise ParameterError(f"measured PSD of output {name!r} is zero over the band")
-        self._target = self.target / self.level[:, np.newaxis]
-        norms = np.linalg.norm(self._target, axis=1)
-        self.output_names = outputs
-        self.output_weights = _normalised_weights("output_weights", output_weights, len(outputs))
-        if frequency_weights is None:
-            w = np.ones(self.frequency.size)
-        elif callable(frequency_weights):
-            w = as_float_array("frequency_weights", frequency_weights(self.frequency), ndim=1)
-        else:
-            w = as_float_array("frequency_weights", frequency_weights, ndim=1)[keep]
-        check_positive("frequency_weights", w)
-        self._scale = (np.sqrt(self.output_weights)[:, np.newaxis] * np.sqrt(w)
-                       / norms[:, np.newaxis])
-        window = measured.window_length if match_welch else None
-        lowpass = measured.lowpass if match_welch else None
-        self._model_inputs = dict(structure=structure, force=force, outputs=outputs,
-                                  welch_window_length=window, lowpass=lowpass)
-        self.model = self.spectral_model(crowd)
-        self.evaluations = 0
-
-    def spectral_model(self, crowd):
-        """The forward model on the band grid for another crowd (same structure, filter, window)."""
-        inputs = dict(self._model_inputs)
-        return SpectralModel(inputs.pop("structure"), crowd, self.frequency, **inputs)
-
-    def residuals(self, msd, *, model=None):
-        """Residual vector r (Σ r² = J) for an MSD model, or for no HSI with ``msd=None``.
-
-        ``model`` replaces the objective's own forward model (e.g. one for another crowd).
-        """
-        self.evaluations += 1
-        model = self.model if model is None else model
-        modelled = model.psd_array(msd) / self.level[:, np.newaxis]
-        return ((self._target - modelled) * self._scale).ravel()
-
-    def level_ratio(self, msd):
-        """Measured over modelled variance in the band, per output [-] (1 for a consistent level).
-
-        ∫ G̃_l df / ∫ G_l(θ) df over the band: far from 1 at the optimum means the data and the
-        model disagree on the level itself (units, gain, channel), which no MSD can fix.
-        """
-        modelled = self.model.psd_array(msd) / self.level[:, np.newaxis]
-        with np.errstate(divide="ignore"):
-            return self._target.sum(axis=1) / modelled.sum(axis=1)
-
-    def cost(self, msd):
-        """J(θ) of paper Eq. (6) [-]."""
-        r = self.residuals(msd)
-        return float(r @ r)
-
-
 def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weights=None,
                  frequency_weights=None, starts=None, bounds=None, mass_ratio=0.95,
-                 free_mass_ratio=False, force=None, match_welch=True):
+                 free_mass_ratio=False, force=None, match_welch=True, method="least_squares",
+                 interval="profile", level=0.95):
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Eq. 5, 6).
 
     Parameters
@@ -282,6 +217,15 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         Walking force model (default Živanović 2007).
     match_welch : bool
         Compare with what a Welch estimate of the measured window length would see (default).
+    method : {"least_squares", "likelihood"}
+        The paper's normalised least squares (Eq. 6), or the Whittle likelihood of the Welch
+        ordinates (theory: estimator).
+    interval : {"profile", "wald", None}
+        Statistical uncertainty from this record's Welch scatter: sandwich covariance with
+        profile intervals (default), the covariance only (Wald intervals), or nothing (fastest,
+        for studies that re-estimate many times).
+    level : float
+        Confidence level of the profile intervals (default 0.95).
 
     Returns
     -------
@@ -296,9 +240,14 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         When no start converged.
     """
     MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
+    if interval not in ("profile", "wald", None):
+        raise ParameterError(f"interval must be 'profile', 'wald' or None, got {interval!r}")
+    if not 0 < level < 1:
+        raise ParameterError(f"level must lie in (0, 1), got {level!r}")
     objective = PSDObjective(measured, structure, crowd, band=band, force=force,
                              outputs=outputs, output_weights=output_weights,
-                             frequency_weights=frequency_weights, match_welch=match_welch)
+                             frequency_weights=frequency_weights, match_welch=match_welch,
+                             method=method)
     for note in structure.implausibilities():
         warnings.warn(f"structure: {note}", PlausibilityWarning, stacklevel=2)
     names = _PARAMETERS if free_mass_ratio else _PARAMETERS[:2]
@@ -331,6 +280,25 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
                                        "the optimum sits on a bound", "check the model inputs")
     level_ratio = objective.level_ratio(msd)
     _check_level(objective, level_ratio, 2 * best.cost, fit, to_msd)
+    covariance, intervals, on_bound = None, {}, ()
+    if interval is not None:
+        modelled = objective.modelled(msd)
+        gradient = _model_gradient(objective, best.x, to_msd, lower, upper)
+        q, hessian = objective.score_terms(modelled, gradient)
+        covariance = sandwich_covariance(q, hessian, modelled, objective.degrees_of_freedom,
+                                         welch_bin_correlation(objective.n_windows))
+        if interval == "profile":
+            ends = []
+            for i, name in enumerate(names):
+                intervals[name], hit = profile_interval(
+                    lambda theta: objective.residuals(to_msd(theta)), best.x, i, lower, upper,
+                    covariance, hessian, level)
+                ends += [f"{name}:{side}" for side, h in zip(("lower", "upper"), hit) if h]
+            on_bound = tuple(ends)
+            if on_bound:
+                warnings.warn(f"the {level:.0%} interval reaches a search bound "
+                              f"({', '.join(on_bound)}): the data do not bound the parameter "
+                              "there; widen the bounds or add data", BoundWarning, stacklevel=2)
     return HSIEstimate(
         msd=msd, cost=float(2 * best.cost), cost_no_hsi=objective.cost(None),
         n_evaluations=sum(n for _, _, n in runs), success=success, active_bounds=active,
@@ -338,7 +306,21 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
                                        zip(names, lower, upper)},
         band=objective.band, output_names=objective.output_names,
         output_weights=objective.output_weights, starts=table, message=str(best.message),
-        level_ratio=level_ratio)
+        level_ratio=level_ratio, method=method, covariance=covariance, intervals=intervals,
+        interval_level=level, interval_on_bound=on_bound)
+
+
+def _model_gradient(objective, theta, to_msd, lower, upper):
+    """∂G/∂θ at θ by central differences (one-sided at a bound), shape (L, K, n_parameters)."""
+    columns = []
+    for i in range(theta.size):
+        step = 1e-5 * max(abs(theta[i]), 1e-2)
+        up, down = theta.copy(), theta.copy()
+        up[i] = min(theta[i] + step, upper[i])
+        down[i] = max(theta[i] - step, lower[i])
+        columns.append((objective.modelled(to_msd(up)) - objective.modelled(to_msd(down)))
+                       / (up[i] - down[i]))
+    return np.stack(columns, axis=-1)
 
 
 def _check_level(objective, ratio, cost, fit, to_msd):

@@ -15,7 +15,7 @@ from ..errors import DataError, ParameterError
 from .spectrum import ResponsePSD
 
 __all__ = ["LowPassFilter", "welch_psd", "welch_kernel", "welch_segment_count",
-           "welch_degrees_of_freedom", "synthetic_welch_psd"]
+           "welch_degrees_of_freedom", "welch_bin_correlation", "synthetic_welch_psd"]
 
 
 @dataclass(frozen=True)
@@ -175,6 +175,38 @@ def welch_degrees_of_freedom(n_windows, overlap=0.5):
         rho = (np.dot(window[:-lag], window[lag:]) / np.dot(window, window)) ** 2
         total += (1.0 - j / k) * rho
     return 2.0 * k / (1.0 + 2.0 * total)
+
+
+def welch_bin_correlation(n_windows, overlap=0.5, max_lag=3):
+    """Correlation of Welch PSD ordinates d = 0 … ``max_lag`` bins apart (white-noise limit).
+
+    For Gaussian data the periodogram covariance of segments i, j at bins k, k + d is
+    |Σ_t w(t) w(t + Δ_ij) e^{−2πi d t/N}|², Δ_ij the segments' offset; summed over the segment
+    pairs of the average and normalised by d = 0 (theory: Welch statistics). For one Hann
+    segment ρ(1) = (2/3)² = 4/9 and ρ(2) = (1/6)² = 1/36.
+
+    Returns
+    -------
+    ndarray, shape (max_lag + 1,)
+        ρ(0) = 1, ρ(1), …
+    """
+    k = int(n_windows)
+    if k < 1:
+        raise ParameterError(f"n_windows must be >= 1, got {n_windows!r}")
+    samples = 256
+    window = _signal.get_window("hann", samples)
+    step = samples - int(samples * overlap)
+    phases = np.exp(-2j * np.pi * np.outer(np.arange(max_lag + 1), np.arange(samples)) / samples)
+    total = np.zeros(max_lag + 1)
+    for j in range(0, k):
+        lag = j * step
+        if lag >= samples:
+            break
+        overlap_product = np.zeros(samples)
+        overlap_product[:samples - lag] = window[:samples - lag] * window[lag:]
+        pairs = k if j == 0 else 2 * (k - j)
+        total += pairs * np.abs(phases @ overlap_product) ** 2
+    return total / total[0]
 
 
 def synthetic_welch_psd(expected, n_windows, rng=None):

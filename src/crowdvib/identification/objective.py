@@ -1,0 +1,238 @@
+"""The misfit between a measured and a modelled PSD, as a residual vector (theory: estimator).
+
+Two misfits share one interface, a residual vector r(θ) with Σ r² the objective:
+
+* ``"least_squares"`` — paper Eq. (6): J(θ) = Σ_l γ_l ‖G̃_l − G_l(θ)‖₂² / ‖G̃_l‖₂², with
+  r_{l,k} = sqrt(γ_l w_k) (G̃_l(f_k) − G_l(f_k; θ)) / ‖G̃_l‖₂.
+* ``"likelihood"`` — the Whittle (gamma) likelihood of Welch ordinates: Ĝ = G·χ²_ν/ν per bin, so
+  −2 log L = Σ ν (x − 1 − ln x) + const with x = Ĝ/G, the deviance D(θ); its deviance residuals
+  r_{l,k} = sign(x − 1) sqrt(L γ_l w_k ν (x − 1 − ln x)). Neighbouring bins and coherent outputs
+  are not independent: the composite likelihood keeps the estimate consistent, and
+  :mod:`crowdvib.identification.uncertainty` corrects its curvature (sandwich) for the intervals.
+"""
+
+import numpy as np
+
+from .._validation import as_float_array, check_positive, check_type
+from ..errors import ParameterError
+from ..models.crowd import Crowd
+from ..models.structure import ModalModel
+from ..response.spectral import SpectralModel
+from ..signals.spectrum import ResponsePSD
+from ..signals.welch import welch_degrees_of_freedom
+
+__all__ = ["PSDObjective", "METHODS"]
+
+#: The misfits :class:`PSDObjective` offers.
+METHODS = ("least_squares", "likelihood")
+#: The likelihood uses the bins where the modelled response (without HSI) lies within this
+#: fraction of its peak in the band (40 dB): there the model, not noise or leakage, rules.
+LIKELIHOOD_DYNAMIC_RANGE = 1e-4
+
+
+def _check_band(band, frequency):
+    try:
+        lower, upper = (float(b) for b in band)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"band must be a pair (lower, upper) in Hz, got {band!r}") from exc
+    if not lower < upper:
+        raise ParameterError(f"band must have lower < upper, got ({lower:g}, {upper:g}) Hz")
+    if lower < frequency[0] - 1e-12 or upper > frequency[-1] + 1e-12:
+        raise ParameterError(
+            f"band must lie within the measured frequency grid [{frequency[0]:g}, "
+            f"{frequency[-1]:g}] Hz, got ({lower:g}, {upper:g}) Hz")
+    keep = (frequency >= lower) & (frequency <= upper)
+    if keep.sum() < 3:
+        raise ParameterError(
+            f"band ({lower:g}, {upper:g}) Hz must hold at least 3 frequencies of the measured "
+            f"grid, got {int(keep.sum())}")
+    return (lower, upper), keep
+
+
+def _normalised_weights(name, weights, size):
+    if weights is None:
+        return np.full(size, 1.0 / size)
+    weights = as_float_array(name, weights, ndim=1)
+    if weights.shape != (size,):
+        raise ParameterError(f"{name} must have {size} entries, got {weights.size}")
+    check_positive(name, weights)
+    return weights / weights.sum()
+
+
+class PSDObjective:
+    """Residuals of paper Eq. (6) for a measured PSD and a spectral forward model.
+
+    Parameters
+    ----------
+    measured : ResponsePSD
+        Measured (or synthetic) PSDs, one row per output.
+    structure, crowd, force
+        The model assumed known.
+    band : (float, float)
+        Analysis band [Hz].
+    outputs : sequence of str, optional
+        Outputs used (default all of ``measured``); each must exist in ``structure``.
+    output_weights : array_like, optional
+        γ_l > 0, normalised to sum 1 (default equal).
+    frequency_weights : callable or array_like, optional
+        w(f) > 0 on the band frequencies (a function of f [Hz] or an array).
+    match_welch : bool
+        Model what a Welch estimate with the measured window length (and low-pass filter) sees
+        (physics.md §3.4); only when ``measured.window_length`` is known.
+    method : {"least_squares", "likelihood"}
+        The misfit (module docstring). The likelihood leaves out the 0 Hz bin, whose ordinate
+        is not a χ²_ν variable (and is removed by detrending).
+    """
+
+    def __init__(self, measured, structure, crowd, *, band, force=None, outputs=None,
+                 output_weights=None, frequency_weights=None, match_welch=True,
+                 method="least_squares"):
+        if method not in METHODS:
+            raise ParameterError(f"method must be one of {list(METHODS)}, got {method!r}")
+        self.method = method
+        if not isinstance(measured, ResponsePSD):
+            raise ParameterError(f"measured must be a ResponsePSD, got {type(measured).__name__}")
+        measured.check_measured()
+        check_type("structure", structure, ModalModel)
+        check_type("crowd", crowd, Crowd)
+        if crowd.density <= 0:
+            raise ParameterError(
+                f"crowd.density must be > 0 to estimate HSI (no crowd, no interaction), "
+                f"got {crowd.density:g}")
+        outputs = measured.output_names if outputs is None else tuple(
+            [outputs] if isinstance(outputs, str) else outputs)
+        structure.output_index(outputs)
+        self.band, keep = _check_band(band, measured.frequency)
+        self.frequency = measured.frequency[keep]
+        self.target = measured.select(outputs).psd[:, keep]
+        # Work on PSDs divided by each output's peak in the band: J is unchanged, and no square
+        # over- or underflows whatever the level (a record in the wrong units reaches the
+        # plausibility check below instead of a cost of 0 or inf).
+        self.level = self.target.max(axis=1)
+        for name, level in zip(outputs, self.level):
+            if not level > 0:
+                raise ParameterError(f"measured PSD of output {name!r} is zero over the band")
+        self._target = self.target / self.level[:, np.newaxis]
+        norms = np.linalg.norm(self._target, axis=1)
+        self.output_names = outputs
+        self.output_weights = _normalised_weights("output_weights", output_weights, len(outputs))
+        if frequency_weights is None:
+            w = np.ones(self.frequency.size)
+        elif callable(frequency_weights):
+            w = as_float_array("frequency_weights", frequency_weights(self.frequency), ndim=1)
+        else:
+            w = as_float_array("frequency_weights", frequency_weights, ndim=1)[keep]
+        check_positive("frequency_weights", w)
+        # ν and the bin correlation of the Welch estimate (a periodogram if unknown): the
+        # statistics of the measured ordinates, used by the likelihood and the uncertainty.
+        self.n_windows = measured.n_windows or 1
+        self.degrees_of_freedom = welch_degrees_of_freedom(self.n_windows)
+        if method == "least_squares":
+            self._scale = (np.sqrt(self.output_weights)[:, np.newaxis] * np.sqrt(w)
+                           / norms[:, np.newaxis])
+        else:
+            # Weights γ_l sum to 1: L γ_l is 1 per output when they are equal, as in a plain
+            # sum of log-likelihoods. ν scales D, not its minimum.
+            self._scale = (len(outputs) * self.output_weights[:, np.newaxis] * w
+                           * self.degrees_of_freedom)
+        window = measured.window_length if match_welch else None
+        lowpass = measured.lowpass if match_welch else None
+        self._model_inputs = dict(structure=structure, force=force, outputs=outputs,
+                                  welch_window_length=window, lowpass=lowpass)
+        self.model = self.spectral_model(crowd)
+        if method == "likelihood":
+            self._likelihood_bins(outputs)
+        self.evaluations = 0
+
+    def _likelihood_bins(self, outputs):
+        """Keep the bins the likelihood can use: within ``LIKELIHOOD_DYNAMIC_RANGE`` of the peak.
+
+        The likelihood weighs relative errors, so a bin where the crowd's response is negligible
+        (below the subharmonics, far above the harmonics) would be ruled by whatever else the
+        record holds there — sensor noise, far leakage of the Hann window — which the model does
+        not describe. The selection uses the model without HSI, hence neither θ nor the noise of
+        the data; the 0 Hz bin (not a χ²_ν ordinate) is always left out.
+        """
+        reference = self.model.psd_array(None)
+        use = (reference >= LIKELIHOOD_DYNAMIC_RANGE * reference.max(axis=1, keepdims=True))
+        use = use.all(axis=0) & (self.frequency > 0)
+        if use.sum() < 3:
+            raise ParameterError(
+                f"band {self.band} holds {int(use.sum())} frequencies where the crowd's response "
+                "is within the likelihood's dynamic range; widen the band")
+        self.frequency = self.frequency[use]
+        self.target, self._target = self.target[:, use], self._target[:, use]
+        self._scale = self._scale[:, use]
+        self.model = self.spectral_model(self.model.crowd)
+        positive = self._target > 0
+        if not positive.all():
+            row, column = np.argwhere(~positive)[0]
+            raise ParameterError(
+                f"measured PSD of output {outputs[row]!r} must be > 0 where the likelihood "
+                f"uses it, got 0 at {self.frequency[column]:g} Hz")
+
+    def spectral_model(self, crowd):
+        """The forward model on the band grid for another crowd (same structure, filter, window)."""
+        inputs = dict(self._model_inputs)
+        return SpectralModel(inputs.pop("structure"), crowd, self.frequency, **inputs)
+
+    def residuals(self, msd, *, model=None):
+        """Residual vector r (Σ r² = J) for an MSD model, or for no HSI with ``msd=None``.
+
+        ``model`` replaces the objective's own forward model (e.g. one for another crowd).
+        """
+        self.evaluations += 1
+        model = self.model if model is None else model
+        modelled = model.psd_array(msd) / self.level[:, np.newaxis]
+        if self.method == "least_squares":
+            return ((self._target - modelled) * self._scale).ravel()
+        # x − 1 − ln x ≥ 0, computed without cancellation near x = 1; a model ordinate that
+        # underflows is held at a tiny level so that the deviance stays finite but large.
+        x = self._target / np.maximum(modelled, 1e-300)
+        deviance = np.maximum(x - 1.0 - np.log(x), 0.0)
+        return (np.sign(x - 1.0) * np.sqrt(deviance * self._scale)).ravel()
+
+    def modelled(self, msd):
+        """The model PSD in the objective's normalised units (each output over its level)."""
+        return self.model.psd_array(msd) / self.level[:, np.newaxis]
+
+    def score_terms(self, modelled, gradient):
+        """Linearised score and curvature of S = Σ r² about a model PSD (theory: uncertainty).
+
+        The score is ∂S/∂θ = Σ_{l,k} q_{l,k} (Ĝ_{l,k} − G_{l,k}) and the expected Hessian H
+        (E[Ĝ] = G), both in the normalised units of :meth:`modelled`.
+
+        Parameters
+        ----------
+        modelled : ndarray, shape (n_outputs, n_bins)
+            G(θ̂) from :meth:`modelled`.
+        gradient : ndarray, shape (n_outputs, n_bins, n_parameters)
+            ∂G/∂θ at θ̂, same units.
+
+        Returns
+        -------
+        q : ndarray, shape (n_outputs, n_bins, n_parameters)
+        hessian : ndarray, shape (n_parameters, n_parameters)
+        """
+        if self.method == "least_squares":
+            weight = 2.0 * self._scale**2                     # S = Σ s² (Ĝ − G)²
+        else:
+            weight = self._scale / modelled**2                # S = Σ s (x − 1 − ln x)
+        q = -weight[..., np.newaxis] * gradient
+        hessian = np.einsum("lk,lkp,lkq->pq", weight, gradient, gradient)
+        return q, hessian
+
+    def level_ratio(self, msd):
+        """Measured over modelled variance in the band, per output [-] (1 for a consistent level).
+
+        ∫ G̃_l df / ∫ G_l(θ) df over the band: far from 1 at the optimum means the data and the
+        model disagree on the level itself (units, gain, channel), which no MSD can fix.
+        """
+        modelled = self.model.psd_array(msd) / self.level[:, np.newaxis]
+        with np.errstate(divide="ignore"):
+            return self._target.sum(axis=1) / modelled.sum(axis=1)
+
+    def cost(self, msd):
+        """J(θ) of paper Eq. (6), or the deviance D(θ) for the likelihood [-]."""
+        r = self.residuals(msd)
+        return float(r @ r)

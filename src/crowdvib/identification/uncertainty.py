@@ -1,0 +1,129 @@
+"""Statistical uncertainty of an estimate from one Welch PSD: sandwich covariance, profile intervals.
+
+Both misfits of :mod:`crowdvib.identification.objective` are sums over frequency bins,
+S(θ) = Σ_{l,k} ρ_{l,k}(θ), minimised at θ̂. Linearised about the model G = G(θ̂), the score is
+g = ∂S/∂θ = Σ_{l,k} q_{l,k} (Ĝ_{l,k} − G_{l,k}) and S(θ) ≈ S(θ̂) + ½ δᵀ H δ with the expected
+Hessian H. The estimate's covariance is the sandwich
+
+    Cov(θ̂) = H⁻¹ Var(g) H⁻¹,
+
+with Var(g) from the statistics of Welch ordinates (theory: Welch statistics):
+Var(Ĝ_k) = (2/ν) G_k², and ordinates d bins apart correlated by ρ(d)
+(:func:`crowdvib.signals.welch.welch_bin_correlation`: 0.46 and 0.04 for 50 %-overlapped Hann
+segments). The outputs are taken as fully coherent — exact for one output or one mode, and on
+the safe (wider) side otherwise. For the likelihood with independent bins this reduces to the
+inverse Fisher information; the correlation of neighbouring bins is what makes the plain
+curvature overstate the information (by about 1 + 2(ρ(1) + ρ(2)) ≈ 2).
+
+Profile intervals: S is minimised over the other parameters with θ_p = t held, and
+c_p (S_p(t) − S(θ̂)) ≤ χ²₁(level) with c_p = 2 (H⁻¹)_pp / Cov_pp, the factor that turns the
+curvature of S into the sandwich variance (a calibrated composite-likelihood ratio:
+Chandler & Bate 2007). Coverage is checked over seeded synthetic records in the tests.
+"""
+
+import numpy as np
+from scipy import optimize, stats
+
+__all__ = ["sandwich_covariance", "profile_interval"]
+
+
+def sandwich_covariance(q, hessian, modelled, degrees_of_freedom, correlation):
+    """Sandwich covariance H⁻¹ Var(g) H⁻¹ of the parameters (module docstring).
+
+    Parameters
+    ----------
+    q : ndarray, shape (n_outputs, n_bins, n_parameters)
+        Score coefficients (:meth:`PSDObjective.score_terms`).
+    hessian : ndarray, shape (n_parameters, n_parameters)
+        Expected Hessian H of S.
+    modelled : ndarray, shape (n_outputs, n_bins)
+        G(θ̂), in the units of ``q``.
+    degrees_of_freedom : float
+        ν of the Welch ordinates.
+    correlation : array_like
+        ρ(0) = 1, ρ(1), … of ordinates 0, 1, … bins apart.
+
+    Returns
+    -------
+    ndarray, shape (n_parameters, n_parameters)
+    """
+    v = np.einsum("lkp,lk->kp", q, modelled)      # coherent outputs: one ε per bin
+    variance = v.T @ v
+    for lag, rho in enumerate(np.asarray(correlation)[1:], start=1):
+        if lag < v.shape[0]:
+            cross = v[:-lag].T @ v[lag:]
+            variance = variance + rho * (cross + cross.T)
+    inverse = np.linalg.pinv(hessian)
+    return inverse @ (2.0 / degrees_of_freedom * variance) @ inverse
+
+
+def profile_interval(residuals, estimate, index, lower, upper, covariance, hessian, level):
+    """Profile interval of parameter ``index``, calibrated by the sandwich (module docstring).
+
+    Parameters
+    ----------
+    residuals : callable
+        ``residuals(theta)`` → r(θ) with S(θ) = Σ r², for a full parameter vector.
+    estimate : ndarray
+        θ̂.
+    index : int
+        The parameter profiled.
+    lower, upper : ndarray
+        Search bounds of every parameter.
+    covariance : ndarray
+        From :func:`sandwich_covariance`.
+    hessian : ndarray
+        Expected Hessian H of S.
+    level : float
+        Confidence level in (0, 1).
+
+    Returns
+    -------
+    (low, high), (low_on_bound, high_on_bound)
+        The interval, and whether each end stopped at a search bound.
+    """
+    variance = covariance[index, index]
+    inverse = np.linalg.pinv(hessian)
+    value = float(estimate[index])
+    if not variance > 0 or not inverse[index, index] > 0:
+        return (value, value), (False, False)
+    factor = 2.0 * inverse[index, index] / variance
+    threshold = stats.chi2.ppf(level, 1)
+    others = [i for i in range(estimate.size) if i != index]
+    r = residuals(estimate)
+    best = float(r @ r)
+
+    def excess(t):
+        """c_p (S_p(t) − S(θ̂)) − χ²₁(level), S minimised over the other parameters."""
+        theta = estimate.copy()
+        theta[index] = t
+        if others:
+            def inner(x):
+                theta[others] = x
+                return residuals(theta)
+
+            start = np.clip(estimate[others], lower[others], upper[others])
+            theta[others] = optimize.least_squares(
+                inner, start, method="trf", bounds=(lower[others], upper[others]),
+                x_scale="jac").x
+        r = residuals(theta)
+        return factor * (float(r @ r) - best) - threshold
+
+    half_width = np.sqrt(threshold * variance)
+    ends, on_bound = [], []
+    for side, limit in ((-1, lower[index]), (+1, upper[index])):
+        inside, step, end, hit = value, half_width, None, False
+        for _ in range(12):      # expand by doubling until the threshold is crossed
+            trial = value + side * step
+            if side * (trial - limit) >= 0:
+                trial = float(limit)
+            if excess(trial) > 0:
+                end = optimize.brentq(excess, inside, trial, xtol=1e-4 * half_width)
+                break
+            if trial == limit:
+                end, hit = float(limit), True
+                break
+            inside, step = trial, 2 * step
+        ends.append(float(end if end is not None else inside))
+        on_bound.append(hit)
+    return (ends[0], ends[1]), tuple(on_bound)
