@@ -372,3 +372,59 @@ def test_any_string_in_results_leaves_the_markup_unchanged(text):
     # The page's elements and attribute names are the same whatever text the file holds.
     assert _tags(render_report(_hostile_results(text))) == \
         _tags(render_report(_hostile_results("benign")))
+
+
+# ------------------------------------------------------------------------------ in-place studies
+def test_sensitivity_force_and_resume_follow_the_manifest(tmp_path, capsys):
+    case = _paper_case(tmp_path / "bridge")
+    out = tmp_path / "study"
+    argv = ["sensitivity", str(case), "--out", str(out), "--no-joint", "--no-record-length"]
+    assert main(argv) == 0
+    manifest = read_manifest(out)
+    assert manifest["complete"] is True and manifest["command"] == "sensitivity"
+    assert {"results.json", "report.html", "estimation_errors.png"} <= \
+        {f["path"] for f in manifest["files"]}
+    assert any(f["path"].startswith("tasks/") for f in manifest["files"])
+    assert foreign_files(out) == []
+    assert main(argv) == 1
+    assert "use --resume to continue it or --force to replace them" in capsys.readouterr().err
+    (out / "tasks" / "notes.txt").write_text("mine")
+    before = _tree(out)
+    assert main(argv + ["--force"]) == 1
+    assert "tasks/notes.txt" in capsys.readouterr().err
+    assert _tree(out) == before
+    (out / "tasks" / "notes.txt").unlink()
+    assert main(argv + ["--force"]) == 0
+    assert foreign_files(out) == [] and read_manifest(out)["complete"] is True
+
+
+def test_an_interrupted_study_can_be_resumed_or_replaced(tmp_path):
+    # A study killed after some tasks: an incomplete manifest naming its stores, task files and
+    # the hidden temporary of an unfinished atomic write (src/crowdvib/_files.py atomic_path).
+    from crowdvib.cli.common import prepare_output
+
+    out = tmp_path / "study"
+    prepare_output(out, force=False, resume=False, command="sensitivity", stores=("tasks",))
+    assert read_manifest(out)["complete"] is False
+    (out / "tasks").mkdir()
+    (out / "tasks" / "0123.json").write_text("{}")
+    (out / "tasks" / ".4567.json.abc.part").write_text("{")
+    assert foreign_files(out) == []
+    prepare_output(out, force=False, resume=True, command="sensitivity", stores=("tasks",))
+    assert (out / "tasks" / "0123.json").exists()
+    prepare_output(out, force=True, resume=False, command="sensitivity", stores=("tasks",))
+    assert sorted(p.name for p in out.rglob("*")) == [MANIFEST_NAME]
+
+
+def test_a_study_from_before_manifests_resumes_but_is_not_replaced(tmp_path):
+    from crowdvib.cli.common import prepare_output
+    from crowdvib.errors import ParameterError
+
+    out = tmp_path / "study"
+    (out / "tasks").mkdir(parents=True)
+    (out / "tasks" / "0123.json").write_text("{}")
+    with pytest.raises(ParameterError, match="not written by crowdvib"):
+        prepare_output(out, force=True, command="sensitivity", stores=("tasks",))
+    prepare_output(out, force=False, resume=True, command="sensitivity", stores=("tasks",))
+    assert (out / "tasks" / "0123.json").read_text() == "{}"
+    assert read_manifest(out)["stores"] == ["tasks"]
