@@ -20,8 +20,8 @@ from . import __version__
 from ._files import sha256_file, write_json
 from .errors import ParameterError
 
-__all__ = ["MANIFEST_NAME", "read_manifest", "write_manifest", "foreign_files", "record_file",
-           "remove_owned"]
+__all__ = ["MANIFEST_NAME", "read_manifest", "write_manifest", "only_stores", "foreign_files",
+           "record_file", "remove_owned"]
 
 #: File name of the manifest inside a results directory.
 MANIFEST_NAME = "crowdvib-manifest.json"
@@ -89,6 +89,14 @@ def _in_store(relative, stores):
     # A store holds the task files and, after a kill, the hidden temporaries of atomic writes.
     return (len(parts) == 2 and parts[0] in stores
             and (parts[1].endswith(".json") or parts[1].endswith(".part")))
+
+
+def only_stores(directory, stores):
+    """True if every file below ``directory`` is a task file of one of the ``stores``.
+
+    Such a directory is a study interrupted before crowdvib wrote manifests: it may be resumed.
+    """
+    return bool(stores) and all(_in_store(f, stores) for f in _walk(directory))
 
 
 def foreign_files(directory, manifest=None):

@@ -19,6 +19,8 @@ def say(message=""):
 # ------------------------------------------------------------------------------ output directories
 # One rule for every command (issue 9): crowdvib deletes or replaces only files its manifest
 # lists, and --out may never be, or contain, the working directory or a file the run reads.
+# A file a user added to (or edited in) crowdvib's results is foreign: --force and --resume
+# then refuse and name it rather than delete it or list it as crowdvib's in the next manifest.
 
 def case_inputs(case):
     """(label, path) of every file a case reads: the case file, its records and modal files.
@@ -89,7 +91,7 @@ def check_output(out, *, force, resume=None, inputs=(), command="", stores=()):
         write, existing results without --force/--resume, or files crowdvib did not write
         inside crowdvib's results.
     """
-    from .._manifest import MANIFEST_NAME, _in_store, _walk, foreign_files, read_manifest
+    from .._manifest import MANIFEST_NAME, foreign_files, only_stores, read_manifest
     from ..errors import ParameterError
 
     out = Path(out)
@@ -99,7 +101,7 @@ def check_output(out, *, force, resume=None, inputs=(), command="", stores=()):
     if not out.is_dir() or not any(out.iterdir()):
         return None
     manifest = read_manifest(out)
-    if manifest is None and resume and stores and all(_in_store(f, stores) for f in _walk(out)):
+    if manifest is None and resume and only_stores(out, stores):
         # A study killed before crowdvib wrote manifests: only its task stores are there.
         manifest = {"command": command, "stores": list(stores), "files": []}
     if manifest is None:
@@ -134,7 +136,7 @@ def prepare_output(out, *, force, resume=False, inputs=(), command, stores=()):
     -------
     pathlib.Path
     """
-    from .._manifest import remove_owned, write_manifest
+    from .._manifest import read_manifest, remove_owned, write_manifest
 
     out = Path(out)
     manifest = check_output(out, force=force, resume=resume, inputs=inputs, command=command,
@@ -143,7 +145,7 @@ def prepare_output(out, *, force, resume=False, inputs=(), command, stores=()):
         remove_owned(out)
         manifest = None
     out.mkdir(parents=True, exist_ok=True)
-    if manifest is None or not (out / "crowdvib-manifest.json").exists():
+    if manifest is None or read_manifest(out) is None:
         write_manifest(out, command, stores=stores, complete=False)
     return out
 

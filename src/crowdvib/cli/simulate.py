@@ -53,7 +53,7 @@ def run(args):
     say(f"crowdvib simulate: {case.name}, {duration:g} s at {sample_rate:g} Hz, "
          f"{'MSD ' + str(msd.to_dict()) if msd else 'no HSI'}")
     with staged_output(args.out, args.force, command="simulate",
-                       inputs=case_inputs(case if args.case else None)) as staging:
+                       inputs=case_inputs(case)) as staging:
         started = time.perf_counter()
         simulation = simulate(case.structure, case.crowd, duration, msd=msd,
                               sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up,

@@ -40,7 +40,7 @@ def collect_figures(results, directory, notes, convergence_level):
         listed = [n for n in results.get("figures") or [] if isinstance(n, str)]
         for name in dict.fromkeys(listed):
             path = child_path(directory, name)
-            if path is None or not path.suffix.lower() in (".png", ".svg"):
+            if path is None or path.suffix.lower() not in (".png", ".svg"):
                 notes.warn(html("figure {} is not a PNG or SVG file of the results directory "
                                 "and is left out.", name))
                 continue
@@ -54,8 +54,9 @@ def collect_figures(results, directory, notes, convergence_level):
                 continue
             figures.append((name, mime, data, caption(name)))
             names.append(path.stem)
-    for stem, draw in (("psd_convergence", _draw_convergence), ("objective_map", _draw_map),
-                       ("estimation_errors", _draw_errors), ("parametric_ratios", _draw_parametric)):
+    drawers = (("psd_convergence", _draw_convergence), ("objective_map", _draw_map),
+               ("estimation_errors", _draw_errors), ("parametric_ratios", _draw_parametric))
+    for stem, draw in drawers:
         if stem in names:
             continue
         try:
