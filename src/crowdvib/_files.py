@@ -1,4 +1,5 @@
-"""Atomic file output: a reader never sees a half-written file, a crash leaves the old one intact."""
+"""Safe file output: atomic writes (a reader never sees a half-written file, a crash leaves the
+old one intact) and file names from user strings that cannot leave their directory."""
 
 import contextlib
 import json
@@ -52,3 +53,110 @@ def _replace_nan(value):
     if isinstance(value, (list, tuple)):
         return [_replace_nan(v) for v in value]
     return value
+
+
+# ------------------------------------------------------------------------------ file names
+#: Longest stem :func:`safe_filename` returns, in characters (ASCII, so bytes): leaves room for a
+#: prefix, a collision counter and a suffix within the 255-byte limit of common file systems.
+MAX_STEM = 120
+#: Names Windows reserves for devices whatever the suffix (``NUL.png`` opens the null device).
+_RESERVED = frozenset(["CON", "PRN", "AUX", "NUL", *(f"COM{i}" for i in range(10)),
+                       *(f"LPT{i}" for i in range(10))])
+
+
+def safe_filename(text):
+    """A file-name stem made from a user string that cannot leave its directory.
+
+    Accents are dropped (``Überbau`` → ``Uberbau``), anything but ASCII letters, digits, ``-``,
+    ``_`` and ``.`` becomes ``_`` (so no path separator, NUL or control character survives),
+    leading and trailing dots and spaces go (no ``.``, ``..`` or hidden files), Windows device
+    names get a ``_`` appended, and a name longer than :data:`MAX_STEM` is cut and ends with a
+    hash of the whole text so long names stay distinct. The result is never empty and
+    ``safe_filename(safe_filename(t)) == safe_filename(t)``.
+
+    Parameters
+    ----------
+    text : str
+        Any string, e.g. an output or case name from a case file.
+
+    Returns
+    -------
+    str
+    """
+    import hashlib
+    import re
+    import unicodedata
+
+    text = str(text)
+    ascii_text = "".join(c for c in unicodedata.normalize("NFKD", text)
+                         if not unicodedata.combining(c))
+    stem = re.sub(r"[^A-Za-z0-9._-]", "_", ascii_text).strip(". ") or "unnamed"
+    if stem.split(".")[0].upper() in _RESERVED:
+        stem = stem + "_"
+    if len(stem) > MAX_STEM:
+        digest = hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()[:12]
+        stem = stem[:MAX_STEM - 13].rstrip(". ") + "-" + digest
+    return stem
+
+
+def unique_filenames(names, *, prefix="", suffix="", taken=()):
+    """Distinct safe file names for distinct user strings → {name: file name}.
+
+    Parameters
+    ----------
+    names : iterable of str
+        User strings in a fixed order (the order decides who keeps the plain name).
+    prefix, suffix : str
+        Put around every :func:`safe_filename` stem, e.g. ``"psd_"`` and ``".png"``.
+    taken : iterable of str
+        File names already used in the directory (e.g. ``psd_convergence.png``).
+
+    Returns
+    -------
+    dict
+        Collisions, compared without case as on macOS and Windows, get ``-2``, ``-3`` … .
+    """
+    used = {name.lower() for name in taken}
+    result = {}
+    for name in names:
+        if name in result:
+            continue
+        stem = safe_filename(name)
+        candidate, count = f"{prefix}{stem}{suffix}", 1
+        while candidate.lower() in used:
+            count += 1
+            candidate = f"{prefix}{stem}-{count}{suffix}"
+        used.add(candidate.lower())
+        result[name] = candidate
+    return result
+
+
+def child_path(directory, name):
+    """``directory / name`` if ``name`` is a plain file name of an entry directly inside it.
+
+    Returns None for names with separators, ``.``/``..``, NUL, or an entry that resolves
+    (through a symbolic link) outside ``directory``: used for names read from files, such as
+    the figure names of a ``results.json``.
+    """
+    name = str(name)
+    if (not name or name in (".", "..") or "\x00" in name or "/" in name or "\\" in name
+            or Path(name).name != name):
+        return None
+    path = Path(directory) / name
+    try:
+        if path.resolve().parent != Path(directory).resolve():
+            return None
+    except (OSError, RuntimeError):
+        return None
+    return path
+
+
+def sha256_file(path):
+    """Hex SHA-256 digest of a file's bytes, read in 1 MiB blocks."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()

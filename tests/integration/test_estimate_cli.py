@@ -37,7 +37,7 @@ def test_estimate_eeklo_like_recovers_the_simulated_msd(tmp_path, capsys):
     assert results["versions"]["crowdvib"] and results["seed"] == 2023
     assert results["warnings"] == []
     assert sorted(p.name for p in out.iterdir()) == [
-        "psd_convergence.png", "psd_main_span.png", "psd_side_span.png", "report.html",
+        "crowdvib-manifest.json", "psd_convergence.png", "psd_main_span.png", "psd_side_span.png", "report.html",
         "results.json"]
     assert "f_h1 = 3." in capsys.readouterr().out
 

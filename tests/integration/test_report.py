@@ -278,8 +278,9 @@ def test_an_empty_results_file_still_renders_every_section():
 
 
 def test_listed_but_missing_and_broken_figures_are_reported(tmp_path):
+    # Only the figures results.json names are embedded (no directory glob, issue 9).
     (tmp_path / "results.json").write_text(json.dumps({"command": "estimate",
-                                                       "figures": ["gone.png"]}))
+                                                       "figures": ["gone.png", "fake.png"]}))
     (tmp_path / "fake.png").write_bytes(b"not a png")
     text = write_report(tmp_path).read_text(encoding="utf-8")
     assert "figure gone.png is listed in results.json but missing." in text

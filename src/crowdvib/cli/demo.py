@@ -8,14 +8,15 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import progress_printer, say
-
+from .common import check_output, progress_printer, say, staged_output
 
 
 # --------------------------------------------------------------------------------------- demo
 def add_arguments(parser):
     parser.add_argument("--out", type=Path, default=Path("crowdvib-demo"),
-                        help="output directory (default ./crowdvib-demo; files in it are replaced)")
+                        help="output directory (default ./crowdvib-demo)")
+    parser.add_argument("--force", action="store_true",
+                        help="replace the results of an earlier crowdvib run in --out")
     parser.add_argument("--seed", type=int, default=20230101,
                         help="seed of every random draw (default 20230101)")
     parser.add_argument("--duration-s", type=float, default=3600.0,
@@ -29,11 +30,11 @@ def add_arguments(parser):
 def run(args):
     from ..identification.estimation import estimate_hsi
     from ..models.examples import paper_example
-    from ..reporting.plotting import plot_psd_comparison, save_figure
     from ..signals import LowPassFilter, synthetic_welch_psd, welch_psd, welch_segment_count
     from ..response.simulation import simulate
     from ..response.spectral import effective_modal_properties, response_psd
 
+    check_output(args.out, force=args.force, command="demo")   # refuse before the work
     case = paper_example()
     structure, crowd, truth = case.structure, case.crowd, case.msd
     say("crowdvib demo: the numerical example of Van Nimmen & Van den Broeck (2023)")
@@ -88,8 +89,21 @@ def run(args):
          f"{occupied.damping_ratios[0]:.2%} damping (empty: {structure.frequencies[0]:g} Hz, "
          f"{structure.damping_ratios[0]:.2%})")
 
-    out = args.out
-    out.mkdir(parents=True, exist_ok=True)
+    with staged_output(args.out, args.force, command="demo") as staging:
+        figure, path = _write_results(args, staging, case, measured, estimate, occupied,
+                                      n_windows)
+    say(f"\n  wrote {args.out / path.name} and {args.out / figure.name}")
+    say(f"  report: {args.out / 'report.html'}")
+    return 0
+
+
+def _write_results(args, out, case, measured, estimate, occupied, n_windows):
+    """The figure, results.json and report.html of the demo into ``out``."""
+    from ..reporting.plotting import plot_psd_comparison, save_figure
+    from ..response.spectral import response_psd
+
+    structure, crowd, truth, window = case.structure, case.crowd, case.msd, case.window_length
+    found = estimate.msd
     fitted = response_psd(structure, crowd, measured.frequency, msd=found,
                           welch_window_length=window, lowpass=measured.lowpass)
     no_hsi = response_psd(structure, crowd, measured.frequency, welch_window_length=window,
@@ -105,9 +119,8 @@ def run(args):
         "occupied_structure": occupied.to_dict(),
         "measured": {"source": measured.source, "duration_s": args.duration_s,
                      "window_length": window, "n_windows": n_windows},
-        **provenance(),
+        "figures": [figure.name], **provenance(),
     }
     path = write_json(out / "results.json", results)
-    say(f"\n  wrote {path} and {figure}")
-    say(f"  report: {write_report(out)}")
-    return 0
+    write_report(out)
+    return figure, path

@@ -4,10 +4,9 @@ import sys
 from pathlib import Path
 
 from .. import __version__
-from .._files import write_json
+from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
-from .common import say, staged_output, versions, warning_texts
-
+from .common import case_inputs, say, staged_output, versions, warning_texts
 
 
 def add_arguments(parser):
@@ -24,7 +23,8 @@ def run(args):
 
     case = load_case(args.case)
     stamp = provenance(case.path)
-    with staged_output(args.out, args.force) as staging:
+    with staged_output(args.out, args.force, command="estimate",
+                       inputs=case_inputs(case)) as staging:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             results = _estimate_case(case, staging)
@@ -132,6 +132,9 @@ def _estimate_case(case, out):
                 value = getattr(found, key)
                 say(f"           {label}: expected {case.expected[key]:g}, "
                      f"error {(value - case.expected[key]) / case.expected[key]:+.1%}")
+    # Output names come from the case file: one sanitiser keeps their figures inside `out`.
+    names = unique_filenames(outputs, prefix="psd_", suffix=".png",
+                             taken=("psd_convergence.png",))
     figures = []
     window = measured.window_length if est.match_welch else None
     fitted = response_psd(case.structure, crowd, measured.frequency, msd=found, outputs=outputs,
@@ -144,7 +147,7 @@ def _estimate_case(case, out):
                                  output=name, band=(0.0, max(est.band[1], 2 * est.band[0])),
                                  title=f"{case.name}: {name}")
         ax.axvspan(*est.band, color="tab:green", alpha=0.07, label="band")
-        figures.append(save_figure(ax, out / f"psd_{name}.png").name)
+        figures.append(save_figure(ax, out / names[name]).name)
     figures.append(save_figure(plot_psd_convergence(convergence, title=f"{case.name}: PSD "
                                                     "convergence"),
                                out / "psd_convergence.png").name)

@@ -9,9 +9,8 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import say, staged_output, versions, warning_texts
+from .common import case_inputs, say, staged_output, versions, warning_texts
 from .estimate import case_crowd, case_measurement, estimate_options
-
 
 
 # ------------------------------------------------------------------------------ map/sensitivity
@@ -46,7 +45,8 @@ def run(args):
 
     case = load_case(args.case)
     stamp = provenance(case.path)
-    with staged_output(args.out, args.force) as staging:
+    with staged_output(args.out, args.force, command="map",
+                       inputs=case_inputs(case)) as staging:
         say(f"crowdvib map: {case.name} ({case.path.name})")
         record, measured, _ = case_measurement(case)
         crowd, _ = case_crowd(case, record)

@@ -7,8 +7,12 @@ from pathlib import Path
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import progress_printer, say, versions
+from .common import case_inputs, finish_output, prepare_output, progress_printer, say, versions
 from .estimate import case_crowd, case_measurement, estimate_options
+
+
+#: Task-store subdirectories of --out (files a resumable study writes while it runs).
+_STORES = ("tasks", "record_length")
 
 
 def add_arguments(parser):
@@ -56,21 +60,13 @@ def _executor(workers, scheduler):
 
 def run(args):
     from ..io.casefile import load_case
-    from ..errors import ParameterError
     from ..reporting.plotting import plot_estimation_errors, save_figure
     from ..identification.sensitivity import TaskStore, modelling_error_study, record_length_study
 
     case = load_case(args.case)
     stamp = provenance(case.path)
-    out = Path(args.out)
-    if out.is_dir() and any(out.iterdir()) and not (args.resume or args.force):
-        raise ParameterError(f"--out {out} already holds a study; use --resume to continue it "
-                             "or --force to start afresh")
-    if args.force and out.is_dir():
-        import shutil
-
-        shutil.rmtree(out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = prepare_output(args.out, force=args.force, resume=args.resume,
+                         inputs=case_inputs(case), command="sensitivity", stores=_STORES)
     say(f"crowdvib sensitivity: {case.name} ({case.path.name})")
     record, measured, lowpass = case_measurement(case)
     crowd, _ = case_crowd(case, record)
@@ -119,5 +115,7 @@ def run(args):
                      "mass_ratio": study.nominal["mass_ratio"]},
         "expected": dict(case.expected), "sensitivity": study.to_dict(),
         "record_length": lengths, "figures": [figure], **stamp})
-    say(f"  wrote {out / 'results.json'}, {figure} and {write_report(out).name}")
+    report = write_report(out)
+    finish_output(out, command="sensitivity", stores=_STORES)
+    say(f"  wrote {out / 'results.json'}, {figure} and {report.name}")
     return 0

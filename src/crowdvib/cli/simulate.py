@@ -8,8 +8,7 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import progress_printer, say, staged_output, versions
-
+from .common import case_inputs, progress_printer, say, staged_output, versions
 
 
 def add_arguments(parser):
@@ -53,7 +52,8 @@ def run(args):
     msd = None if (args.no_hsi or not spec.hsi) else _simulation_msd(case)
     say(f"crowdvib simulate: {case.name}, {duration:g} s at {sample_rate:g} Hz, "
          f"{'MSD ' + str(msd.to_dict()) if msd else 'no HSI'}")
-    with staged_output(args.out, args.force) as staging:
+    with staged_output(args.out, args.force, command="simulate",
+                       inputs=case_inputs(case)) as staging:
         started = time.perf_counter()
         simulation = simulate(case.structure, case.crowd, duration, msd=msd,
                               sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up,

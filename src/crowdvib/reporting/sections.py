@@ -1,0 +1,355 @@
+"""The sections of report.html, each drawn from the keys a ``results.json`` holds.
+
+Every function returns :class:`markupsafe.Markup` built with :mod:`crowdvib.reporting.html`,
+so values from the file are escaped on the way in.
+"""
+
+import base64
+import datetime
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+from .._files import sha256_file
+from .html import Markup, html, join, label, number, span, table, value
+from .reading import case_name, estimate, get, hsi, sensitivity, summary
+
+__all__ = ["Notes", "SECTIONS", "header", "nav", "summary_section", "estimate_section",
+           "diagnostics_section", "figures_section", "inputs_section", "provenance_section"]
+
+#: Section ids, in page order (each present in every report).
+SECTIONS = ("summary", "estimate", "diagnostics", "figures", "inputs", "provenance")
+#: The paper's convergence criterion for a Welch PSD (Fig. 15): ΔG below 10 %.
+CONVERGENCE_LEVEL = 0.10
+#: J/J_noHSI above this means the MSD explains little of the misfit without HSI. The paper's fits
+#: reach below 1 % (Eeklo) and 2 % (Waalse Krook); 10 % leaves room for real data.
+RELATIVE_COST_LEVEL = 0.10
+
+_PARAMETERS = (("frequency", Markup("f<sub>h1</sub>"), "Hz"),
+               ("damping_ratio", Markup("ξ<sub>h1</sub>"), "-"),
+               ("mass_ratio", Markup("μ<sub>h1</sub>"), "-"))
+_RELATIVE = Markup("J/J<sub>noHSI</sub>")
+
+
+def _real(x):
+    """``x`` if it is a finite real number (not a bool), else None."""
+    ok = isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x)
+    return x if ok else None
+
+
+class Notes:
+    """Warnings and confirmations (Markup) collected while building the sections."""
+
+    def __init__(self):
+        self.warnings, self.good = [], []
+
+    def warn(self, text):
+        self.warnings.append(html("{}", text))
+
+    def ok(self, text):
+        self.good.append(html("{}", text))
+
+
+def header(results):
+    return html('<header><p class="kicker">crowdvib {} report</p><h1>{}</h1>'
+                '<p class="muted">{}</p></header>', results.get("command", "results"),
+                case_name(results), get(results, ("inputs", "description")) or "")
+
+
+def nav():
+    return html('<nav class="toc">{}</nav>',
+                join(html('<a href="#{}">{}</a>', s, s.capitalize()) for s in SECTIONS))
+
+
+def summary_section(results, notes):
+    found, bounds = estimate(results), summary(results) or {}
+    items = []
+    for key, symbol, unit in _PARAMETERS[:2] if found else ():
+        if key in found:
+            text = html("{} = {}", symbol, number(found[key]))
+            if key in bounds and bounds[key].get("bound") is not None:
+                text += html(" ± {}", number(bounds[key]["bound"], 2))
+            items.append(text + ("" if unit == "-" else html(" {}", unit)))
+    relative = hsi(results, "relative_cost")
+    if relative is not None:
+        items.append(html("{} = {}", _RELATIVE, number(relative, 3)))
+    verdict = (join(html("<li>{}</li>", item) for item in items)
+               or Markup("<li>no estimate in these results</li>"))
+    if notes.warnings:
+        box = html('<div class="callout warn"><strong>Check before use</strong><ul>{}</ul></div>',
+                   join(html("<li>{}</li>", w) for w in notes.warnings))
+    else:
+        good = (html("<ul>{}</ul>", join(html("<li>{}</li>", g) for g in notes.good))
+                if notes.good else "")
+        box = html('<div class="callout ok"><strong>No warnings</strong>{}</div>', good)
+    return html('<section id="summary"><h2>Summary</h2><ul class="headline">{}</ul>{}</section>',
+                verdict, box)
+
+
+def estimate_section(results):
+    found = estimate(results)
+    if not found:
+        return html('<section id="estimate"><h2>Estimate</h2><p class="muted">These results '
+                    "hold no MSD estimate (command {}).</p></section>",
+                    results.get("command", "?"))
+    reference = results.get("truth") or results.get("expected") or {}
+    reference_name = "truth" if results.get("truth") else "expected"
+    bounds_summary = summary(results) or {}
+    bounds = hsi(results, "bounds")
+    bounds = bounds if isinstance(bounds, dict) else {}
+    active = [a for a in hsi(results, "active_bounds") or [] if isinstance(a, str)]
+    free = hsi(results, "free_parameters")
+    rows = []
+    for key, symbol, unit in _PARAMETERS:
+        if key not in found:
+            continue
+        estimate_value = found[key]
+        bound = bounds_summary.get(key)
+        band = (html("{} ± {} ({} %)", number(bound.get("nominal")),
+                     number(bound["bound"], 3), number(bound.get("bound_percent"), 3))
+                if bound and bound.get("bound") is not None else "—")
+        truth = reference.get(key) if isinstance(reference, dict) else None
+        error = (f"{100 * (estimate_value - truth) / truth:+.1f} %"
+                 if _real(truth) and _real(estimate_value) is not None else "—")
+        limits = bounds.get(key)
+        limits_text = span(limits) if isinstance(limits, list) and len(limits) == 2 else "—"
+        hits = [a.split(":")[1] for a in sorted(set(active))
+                if a.split(":")[0] == key and ":" in a]
+        if hits:
+            limits_text = html('{} <span class="badge warn">on {} bound</span>', limits_text,
+                               "/".join(hits))
+        fixed = isinstance(free, list) and key not in free
+        name = html("{} [{}]{}", symbol, unit,
+                    Markup(' <span class="muted">(fixed)</span>') if fixed else "")
+        rows.append([name, html('<span class="num">{}</span>', number(estimate_value)), band,
+                     number(truth), error, limits_text])
+    parts = [table(["parameter", "estimate", "nominal ± bound", reference_name, "error",
+                    "search bounds"], rows, "data")]
+    if bounds_summary:
+        parts.append(Markup('<p class="muted">Bounds: the largest estimation error of the joint '
+                            "modelling-error cases at the highest error level (the paper's "
+                            "“nominal ± bound”).</p>"))
+    occupied = results.get("occupied_structure")
+    if isinstance(occupied, dict) and isinstance(occupied.get("frequencies"), list):
+        rows = [[f"mode {j + 1}", html("{} Hz", number(f)), html("{} %", number(
+            100 * x if _real(x) is not None else None, 3))]
+                for j, (f, x) in enumerate(zip(occupied["frequencies"],
+                                               occupied.get("damping_ratios") or []))]
+        parts.append(html("<h3>Occupied structure with the estimated MSD</h3>{}",
+                          table(["", "frequency", "damping ratio"], rows, "data")))
+    return html('<section id="estimate"><h2>Estimate</h2>{}</section>', join(parts))
+
+
+def diagnostics_section(results, notes):
+    rows = []
+    cost, no_hsi = hsi(results, "cost"), hsi(results, "cost_no_hsi")
+    relative = hsi(results, "relative_cost")
+    if relative is not None:
+        rows.append([html("relative cost {}", _RELATIVE), number(relative, 3)])
+        if _real(relative) is not None and relative > RELATIVE_COST_LEVEL:
+            notes.warn(html("{} = {} is above {}: the MSD model explains little of the misfit "
+                            "without HSI.", _RELATIVE, number(relative, 3),
+                            f"{RELATIVE_COST_LEVEL:.0%}"))
+        elif _real(relative) is not None:
+            notes.ok(html("the fit removes {} % of the misfit without HSI ({} = {}).",
+                          f"{100 * (1 - relative):.2f}", _RELATIVE, number(relative, 3)))
+    if cost is not None:
+        rows.append(["cost J (paper Eq. 6)", number(cost, 3)])
+    if no_hsi is not None:
+        rows.append([html("cost without HSI J<sub>noHSI</sub>"), number(no_hsi, 3)])
+    success = hsi(results, "success")
+    if success is not None:
+        rows.append(["optimiser converged", number(success)])
+        if not success:
+            notes.warn(html("the optimiser did not converge: {}", hsi(results, "message") or ""))
+    for key, text in (("n_evaluations", "model evaluations"), ("band", "analysis band [Hz]"),
+                      ("output_names", "outputs"), ("output_weights", "output weights γ")):
+        found = hsi(results, key)
+        if found is not None:
+            rows.append([text, span(found) if key == "band" else value(found)])
+    active = hsi(results, "active_bounds")
+    if isinstance(active, list):
+        names = ", ".join(str(a) for a in active)
+        rows.append(["active bounds", names or "none"])
+        if active:
+            notes.warn(html("the optimum sits on a bound ({}): widen the bounds or distrust "
+                            "that parameter.", names))
+    parts = []
+    if rows:
+        parts.append(table(["quantity", "value"], rows, "data narrow"))
+    parts += [_convergence(results, notes), _starts(results), _record_length(results, notes)]
+    study = sensitivity(results)
+    if study:
+        cases = [c for c in study["cases"] if isinstance(c, dict)]
+        failed = [c for c in cases if "error" in c]
+        parts.append(html("<p>Modelling-error study: {} case(s) estimated{}.</p>",
+                          len(cases) - len(failed),
+                          f", {len(failed)} failed" if failed else ""))
+        if failed:
+            notes.warn(html("{} modelling-error case(s) failed, e.g. {}: {}", len(failed),
+                            failed[0].get("name", "?"), failed[0]["error"]))
+    messages = results.get("warnings")
+    messages = messages if isinstance(messages, list) else []
+    for message in messages:
+        notes.warn(str(message))
+    if messages:
+        parts.append(html("<h3>Warnings raised during the run</h3><ul>{}</ul>",
+                          join(html("<li><code>{}</code></li>", m) for m in messages)))
+    elif "warnings" in results:
+        parts.append(Markup('<p class="muted">No warnings were raised during the run.</p>'))
+    parts = [part for part in parts if part]
+    if not parts:
+        parts.append(Markup('<p class="muted">No diagnostics in these results.</p>'))
+    return html('<section id="diagnostics"><h2>Diagnostics and warnings</h2>{}</section>',
+                join(parts))
+
+
+def _convergence(results, notes):
+    convergence = hsi(results, "convergence")
+    if not isinstance(convergence, dict) or "error" not in convergence:
+        return ""
+    try:
+        error = np.atleast_2d(np.asarray(convergence["error"], dtype=float))
+        duration = np.asarray(convergence.get("duration", []), dtype=float)
+    except (TypeError, ValueError):
+        notes.warn("the PSD convergence in results.json is not numeric and is left out.")
+        return ""
+    names = convergence.get("output_names")
+    names = names if isinstance(names, list) else [f"output {i + 1}" for i in range(len(error))]
+    # The last entry is 0 by construction (the full record against itself); the one before is
+    # the change that adding the last window made.
+    last = error[:, -2] if error.shape[1] > 1 else error[:, 0]
+    rows = []
+    for name, row, change in zip(names, error, last):
+        below = np.flatnonzero(~(row < CONVERGENCE_LEVEL))
+        reach = (duration[below[-1] + 1] if below.size and below[-1] + 1 < duration.size
+                 else (duration[0] if not below.size and duration.size else None))
+        rows.append([name, f"{100 * change:.1f} %", "—" if reach is None else f"{reach:g} s"])
+        if change >= CONVERGENCE_LEVEL:
+            notes.warn(html("the PSD of {} has not converged: the last window changed it by "
+                            "{} % (≥ {}); use a longer record.", name, f"{100 * change:.1f}",
+                            f"{CONVERGENCE_LEVEL:.0%}"))
+        else:
+            notes.ok(html("PSD of {} converged (last change {} %).", name,
+                          f"{100 * change:.1f}"))
+    band = convergence.get("band") or ["?", "?"]
+    return html("<h3>PSD convergence ({}-norm over {} Hz, T = {} s)</h3>{}",
+                convergence.get("norm", "2"), span(band),
+                number(convergence.get("window_length")),
+                table(["output", "change by the last window",
+                       f"ΔG below {CONVERGENCE_LEVEL:.0%} from"], rows, "data narrow"))
+
+
+def _record_length(results, notes):
+    """Table of the estimate against record length (the sensitivity command's second study)."""
+    rows = results.get("record_length")
+    rows = [r for r in rows if isinstance(r, dict) and "duration" in r] \
+        if isinstance(rows, list) else []
+    if not rows:
+        return ""
+    failed = [r for r in rows if "error" in r]
+    if failed:
+        notes.warn(html("{} record-length re-estimation(s) failed, e.g. {}", len(failed),
+                        failed[0]["error"]))
+    cells = [[number(r["duration"]), number(r.get("n_windows")), number(r.get("frequency")),
+              number(r.get("damping_ratio")), number(r.get("delta_frequency"), 3),
+              number(r.get("delta_damping_ratio"), 3), number(r.get("relative_cost"), 3)]
+             for r in rows if "error" not in r]
+    return html("<h3>Estimate against record length</h3>{}", table(
+        ["record length [s]", "windows", Markup("f<sub>h1</sub> [Hz]"),
+         Markup("ξ<sub>h1</sub> [-]"), Markup("Δf<sub>h1</sub> [%]"),
+         Markup("Δξ<sub>h1</sub> [%]"), _RELATIVE], cells, "data"))
+
+
+def _starts(results):
+    starts = hsi(results, "starts")
+    if not isinstance(starts, list) or not starts:
+        return ""
+    rows = [[value(s.get("start")), value(s.get("estimate")), number(s.get("cost"), 3),
+             number(s.get("n_evaluations")), number(s.get("status"))]
+            for s in starts[:20] if isinstance(s, dict)]
+    more = (html('<p class="muted">… and {} more.</p>', len(starts) - 20)
+            if len(starts) > 20 else "")
+    return html("<details open><summary>Starting points of the optimiser</summary>{}{}"
+                "</details>", table(["start", "estimate", "cost J", "evaluations", "status"],
+                                    rows, "data"), more)
+
+
+def figures_section(figures):
+    parts = []
+    if not figures:
+        parts.append(Markup('<p class="muted">No figures in this results directory.</p>'))
+    for count, (name, mime, data, caption) in enumerate(figures, start=1):
+        parts.append(html('<figure id="figure-{}"><img src="data:{};base64,{}" alt="{}">'
+                          "<figcaption><strong>Figure {}.</strong> {} "
+                          '<span class="muted">({})</span></figcaption></figure>', count, mime,
+                          base64.b64encode(data).decode("ascii"), name, count, caption, name))
+    return html('<section id="figures"><h2>Figures</h2>{}</section>', join(parts))
+
+
+def inputs_section(results):
+    inputs = results.get("inputs")
+    blocks = []
+    if isinstance(inputs, dict):
+        simple = {k: v for k, v in inputs.items() if not isinstance(v, dict)}
+        if simple:
+            blocks.append(("case", simple))
+        blocks += [(k, v) for k, v in inputs.items() if isinstance(v, dict) and v]
+    elif results.get("case") is not None:
+        blocks.append(("case", {"name": results["case"]}))
+    for key in ("truth", "expected", "measured", "record", "crowd_used", "msd", "levels"):
+        if isinstance(results.get(key), dict) and not (key == "expected" and isinstance(
+                inputs, dict) and inputs.get("expected") == results[key]):
+            blocks.append((key, results[key]))
+    for key in ("duration", "sample_rate", "rms", "elapsed_s"):
+        if key in results:
+            blocks.append((key, {key: results[key]}))
+    cards = join(html('<div class="card"><h3>{}</h3>{}</div>', label(title), value(block))
+                 for title, block in blocks)
+    if not blocks:
+        cards = Markup('<p class="muted">No inputs recorded in these results.</p>')
+    return html('<section id="inputs"><h2>Inputs</h2><div class="cards">{}</div></section>',
+                cards)
+
+
+def _now():
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+
+
+def provenance_section(results, directory):
+    rows = [["command", results.get("command", "—")],
+            ["crowdvib version of the run", results.get("crowdvib_version", "—")],
+            ["crowdvib version of this report", __version__]]
+    versions = results.get("versions")
+    if isinstance(versions, dict):
+        rows.append(["versions", ", ".join(f"{k} {v}" for k, v in versions.items())])
+    case = results.get("case")
+    rows.append(["case", case if case is not None else "—"])
+    digest, how = results.get("case_sha256"), "recorded by the run"
+    if digest is None and case is not None:
+        # Only a case file beside the results is hashed: a results file cannot make the report
+        # read an arbitrary path (issue 9).
+        path = Path(str(case))
+        if directory is not None and not path.is_absolute():
+            path = directory / path
+        if path.suffix == ".toml" and path.is_file():
+            digest, how = sha256_file(path), "of the file as it is now, when the report was written"
+        else:
+            how = "no case file (embedded example or file not found)"
+    rows.append(["case file SHA-256", html("{}<span class=\"muted\">({})</span>",
+                                           html("<code>{}</code> ", digest) if digest else "—",
+                                           how)])
+    rows.append(["seed", number(results.get("seed"))])
+    created = results.get("created") or results.get("date")
+    if created is None and directory is not None and (directory / "results.json").is_file():
+        stamp = (directory / "results.json").stat().st_mtime
+        created = (datetime.datetime.fromtimestamp(stamp, datetime.timezone.utc)
+                   .isoformat(timespec="seconds") + " (time of results.json)")
+    rows.append(["run date", created or "—"])
+    if directory is not None and (directory / "results.json").is_file():
+        rows.append(["results.json SHA-256",
+                     html("<code>{}</code>", sha256_file(directory / "results.json"))])
+    rows.append(["report written", _now()])
+    return html('<section id="provenance"><h2>Provenance</h2>{}</section>',
+                table(["", ""], rows, "data narrow provenance"))
