@@ -223,7 +223,8 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
     interval : {"profile", "wald", None}
         Statistical uncertainty from this record's Welch scatter: sandwich covariance with
         profile intervals (default), the covariance only (Wald intervals), or nothing (fastest,
-        for studies that re-estimate many times).
+        for studies that re-estimate many times). Only for a Welch estimate
+        (``measured.n_windows`` known); otherwise the estimate carries no interval.
     level : float
         Confidence level of the profile intervals (default 0.95).
 
@@ -281,7 +282,9 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
     level_ratio = objective.level_ratio(msd)
     _check_level(objective, level_ratio, 2 * best.cost, fit, to_msd)
     covariance, intervals, on_bound = None, {}, ()
-    if interval is not None:
+    # Intervals need the scatter of the ordinates: known for a Welch estimate (its n_windows),
+    # not for a PSD of unknown origin (a model curve, a PSD read from a table).
+    if interval is not None and measured.n_windows:
         modelled = objective.modelled(msd)
         gradient = _model_gradient(objective, best.x, to_msd, lower, upper)
         q, hessian = objective.score_terms(modelled, gradient)
