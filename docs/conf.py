@@ -10,6 +10,7 @@ from pathlib import Path
 # Document the source tree next to this file, not whichever crowdvib happens to be installed.
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "src"))
+sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))
 # Gallery examples and autodoc import matplotlib: never open a window.
 os.environ.setdefault("MPLBACKEND", "Agg")
 
