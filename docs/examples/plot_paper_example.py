@@ -68,3 +68,10 @@ fitted = response_psd(bridge, crowd, frequency, msd=estimate.msd, welch_window_l
 ax = plot_psd_comparison({"measured (synthetic)": measured, "fitted HSI": fitted,
                           "no HSI": no_hsi}, band=(0.0, 10.0),
                          title="Midspan acceleration PSD, 0.5 persons/m²")
+
+# %%
+# Around the peak, on a linear scale, the shift from 2.00 to 1.93 Hz and the lower, wider peak
+# with HSI are plain.
+ax = plot_psd_comparison({"measured (synthetic)": measured, "fitted HSI": fitted,
+                          "no HSI": no_hsi}, band=(1.5, 2.5), logscale=False,
+                         title="Enlargement of the dominant range")
