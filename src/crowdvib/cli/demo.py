@@ -8,6 +8,7 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
+from ..reporting.text import interval_of
 from .common import check_output, progress_printer, say, staged_output
 
 
@@ -79,10 +80,15 @@ def run(args):
     found = estimate.msd
     say(f"\n  estimate over {case.band[0]:g}–{case.band[1]:g} Hz, {len(estimate.starts)} starts, "
          f"{estimate.n_evaluations} model evaluations, {elapsed:.2f} s")
-    say(f"  {'':14s}{'truth':>10s}{'estimate':>11s}{'error':>9s}")
-    for label, t, e in (("f_h1 [Hz]", truth.frequency, found.frequency),
-                        ("ξ_h1 [-]", truth.damping_ratio, found.damping_ratio)):
-        say(f"  {label:14s}{t:10.3f}{e:11.3f}{(e - t) / t:+9.1%}")
+    summary = estimate.to_dict()["estimate"]
+    level = f"{100 * estimate.interval_level:g} % interval"
+    say(f"  {'':14s}{'truth':>10s}{'estimate':>11s}{'error':>9s}   {level}")
+    for label, key in (("f_h1 [Hz]", "frequency"), ("ξ_h1 [-]", "damping_ratio")):
+        t, e, ends = getattr(truth, key), getattr(found, key), interval_of(summary, key)
+        inside = ("" if ends is None else
+                  "   truth inside" if ends[0] <= t <= ends[1] else "   truth outside")
+        say(f"  {label:14s}{t:10.3f}{e:11.3f}{(e - t) / t:+9.1%}   "
+            + ("—" if ends is None else f"{ends[0]:.3f}–{ends[1]:.3f}") + inside)
     say(f"  J = {estimate.cost:.3g}; relative to no HSI J/J0 = {estimate.relative_cost:.3g}")
     occupied = effective_modal_properties(structure, crowd, found)
     say(f"  occupied structure: {occupied.frequencies[0]:.3f} Hz, "

@@ -6,6 +6,7 @@ from pathlib import Path
 from .. import __version__
 from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
+from ..reporting.text import interval_of, with_interval
 from .common import case_inputs, say, staged_output, versions, warning_texts
 
 
@@ -124,8 +125,11 @@ def _estimate_case(case, out):
                             bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
                             free_mass_ratio=free_mass, match_welch=est.match_welch)
     found = estimate.msd
-    say(f"  estimate f_h1 = {found.frequency:.3f} Hz, ξ_h1 = {found.damping_ratio:.3f}, "
-         f"μ_h1 = {found.mass_ratio:.3f}; J/J_noHSI = {estimate.relative_cost:.3g}")
+    summary = estimate.to_dict()["estimate"]
+    say(f"  estimate f_h1 = {with_interval(found.frequency, interval_of(summary, 'frequency'), 'Hz')}"
+        f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
+        f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
+        f"J/J_noHSI = {estimate.relative_cost:.3g}")
     if case.expected:
         for key, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1")):
             if key in case.expected:

@@ -14,6 +14,7 @@ from .. import __version__
 from .._files import sha256_file
 from .html import Markup, html, join, label, number, span, table, value
 from .reading import case_name, estimate, get, hsi, sensitivity, summary
+from .text import interval_of, with_interval
 
 __all__ = ["Notes", "SECTIONS", "header", "nav", "summary_section", "estimate_section",
            "diagnostics_section", "figures_section", "inputs_section", "provenance_section"]
@@ -66,11 +67,12 @@ def summary_section(results, notes):
     found, bounds = estimate(results), summary(results) or {}
     items = []
     for key, symbol, unit in _PARAMETERS[:2] if found else ():
-        if key in found:
-            text = html("{} = {}", symbol, number(found[key]))
+        if key in found and _real(found[key]) is not None:
+            text = html("{} = {}", symbol, with_interval(found[key], interval_of(found, key),
+                                                          unit))
             if key in bounds and bounds[key].get("bound") is not None:
-                text += html(" ± {}", number(bounds[key]["bound"], 2))
-            items.append(text + ("" if unit == "-" else html(" {}", unit)))
+                text += html("; modelling errors ± {}", number(bounds[key]["bound"], 2))
+            items.append(text)
     relative = hsi(results, "relative_cost")
     if relative is not None:
         items.append(html("{} = {}", _RELATIVE, number(relative, 3)))
@@ -122,10 +124,20 @@ def estimate_section(results):
         fixed = isinstance(free, list) and key not in free
         name = html("{} [{}]{}", symbol, unit,
                     Markup(' <span class="muted">(fixed)</span>') if fixed else "")
-        rows.append([name, html('<span class="num">{}</span>', number(estimate_value)), band,
-                     number(truth), error, limits_text])
-    parts = [table(["parameter", "estimate", "nominal ± bound", reference_name, "error",
-                    "search bounds"], rows, "data")]
+        ends = interval_of(found, key)
+        statistical = (html("{}–{}", number(ends[0], 3), number(ends[1], 3)) if ends else "—")
+        rows.append([name, html('<span class="num">{}</span>', number(estimate_value)),
+                     statistical, band, number(truth), error, limits_text])
+    level = next((interval_of(found, k)[2] for k, _, _ in _PARAMETERS
+                  if interval_of(found, k)), 0.95)
+    parts = [table(["parameter", "estimate", f"{100 * level:g} % interval", "nominal ± bound",
+                    reference_name, "error", "search bounds"], rows, "data")]
+    if any(interval_of(found, k) for k, _, _ in _PARAMETERS):
+        parts.append(Markup('<p class="muted">Interval: the statistical uncertainty of this one '
+                            "record (profile interval calibrated for the Welch scatter and the "
+                            "correlation of neighbouring bins; docs: theory, uncertainty). It "
+                            "does not hold the modelling errors, which the nominal ± bound "
+                            "column shows.</p>"))
     if bounds_summary:
         parts.append(Markup('<p class="muted">Bounds: the largest estimation error of the joint '
                             "modelling-error cases at the highest error level (the paper's "
