@@ -1,0 +1,55 @@
+"""Statistics of Welch ordinates that the intervals rest on (docs: theory, Welch statistics).
+
+References: the DFT of a Hann window is −¼, ½, −¼ at bins −1, 0, 1, so the squared coherence of
+neighbouring periodogram bins of white noise is (Σw² e^{2πit/N}/Σw²)² = (2/3)² = 4/9, and 1/36 two
+bins apart; Parseval for the spectral synthesis: variance = Σ G Δf.
+"""
+
+import numpy as np
+import pytest
+
+from crowdvib import welch_psd
+from crowdvib.signals.synthesis import gaussian_record, record_frequencies
+from crowdvib.signals.welch import welch_bin_correlation, welch_degrees_of_freedom
+
+
+def test_single_hann_segment_bin_correlation_is_closed_form():
+    rho = welch_bin_correlation(1, max_lag=3)
+    assert rho[0] == 1.0
+    assert rho[1] == pytest.approx(4 / 9, rel=1e-9)
+    assert rho[2] == pytest.approx(1 / 36, rel=1e-9)
+    assert rho[3] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_white_noise_synthesis_has_the_requested_variance():
+    # Flat one-sided PSD G0 up to Nyquist: σ² = G0 · f_s / 2 (Parseval).
+    sample_rate, g0 = 20.0, 0.3
+    frequency = record_frequencies(600.0, sample_rate)
+    records = gaussian_record(np.full((8, frequency.size), g0), sample_rate, rng=5)
+    assert records.shape == (8, 12000)
+    assert records.var() == pytest.approx(g0 * sample_rate / 2, rel=0.02)
+
+
+def test_welch_of_synthetic_white_noise_has_the_predicted_scatter_and_correlation():
+    # Welch ordinates of Gaussian records scatter as G·χ²_ν/ν with neighbours correlated as
+    # welch_bin_correlation predicts (the assumptions of the sandwich covariance).
+    sample_rate, g0, duration, window = 20.0, 1.0, 1200.0, 20.0
+    frequency = record_frequencies(duration, sample_rate)
+    records = gaussian_record(np.full((40, frequency.size), g0), sample_rate, rng=11)
+    psd = welch_psd(records, sample_rate, window_length=window)
+    inner = psd.psd[:, 5:-5]                       # away from 0 Hz and Nyquist
+    relative = inner / g0 - 1.0
+    dof = welch_degrees_of_freedom(psd.n_windows)
+    assert inner.mean() == pytest.approx(g0, rel=0.01)
+    assert relative.var() == pytest.approx(2 / dof, rel=0.05)
+    rho = welch_bin_correlation(psd.n_windows)
+    for lag in (1, 2):
+        measured = np.mean(relative[:, :-lag] * relative[:, lag:]) / relative.var()
+        assert measured == pytest.approx(rho[lag], abs=0.03)
+
+
+def test_record_frequencies_refuses_odd_sample_counts():
+    from crowdvib import ParameterError
+
+    with pytest.raises(ParameterError, match="even number of samples"):
+        record_frequencies(1.05, 20.0)
