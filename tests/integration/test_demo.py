@@ -21,7 +21,15 @@ def test_demo_simulates_and_recovers_the_msd(tmp_path, capsys):
     assert results["measured"]["n_windows"] == 119
     assert results["relative_cost"] < 0.01
     assert (out / "psd_fit.png").stat().st_size > 10_000
-    assert "f_h1 [Hz]" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "f_h1 [Hz]" in printed and "95 % interval" in printed
+    # Issue 12: the demo prints the statistical interval, and the truth lies inside it.
+    interval = results["estimate"]["interval"]
+    assert interval["level"] == 0.95
+    for name in ("frequency", "damping_ratio"):
+        low, high = interval[name]
+        assert low <= results["truth"][name] <= high
+    assert printed.count("truth inside") == 2
 
 
 def test_demo_spectral_variant(tmp_path):
