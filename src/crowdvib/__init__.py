@@ -5,34 +5,61 @@ Models (ModalModel, Crowd, MSDModel, walking forces), forward models (spectral
 inverse problem of Van Nimmen & Van den Broeck (2023): ``estimate_hsi``.
 """
 
+import importlib
 from importlib.metadata import PackageNotFoundError, version
+from typing import TYPE_CHECKING
 
 from .errors import (BoundWarning, ConvergenceWarning, CrowdvibError, CrowdvibWarning, DataError,
                      DataWarning, EstimationError, ParameterError, PlausibilityWarning,
                      ResolutionWarning)
-from .identification import (HSIEstimate, StepFrequencyEstimate, estimate_hsi,
-                             estimate_step_frequencies)
-from .io import Case, Record, check_record, load_case, read_modal_model, read_record, write_record
-from .models import Crowd, ModalModel, MSDModel, YoungForce, ZivanovicForce
-from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
-                       effective_modal_properties, frf, response_psd, simulate)
-from .signals import (LowPassFilter, PSDConvergence, ResponsePSD, detrend, psd_convergence,
-                      resample, welch_psd)
 
 try:
     __version__ = version("crowdvib")
 except PackageNotFoundError:  # running from a source tree that was not installed
     __version__ = "0+unknown"
 
+#: Public name → the subpackage that defines it. The subpackages (and scipy and numba behind them)
+#: are imported on first use, so that ``crowdvib --help`` and an error message come at once.
+_LAZY = {
+    **dict.fromkeys(("ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce"), "models"),
+    **dict.fromkeys(("ResponsePSD", "welch_psd", "LowPassFilter", "psd_convergence",
+                     "PSDConvergence", "detrend", "resample"), "signals"),
+    **dict.fromkeys(("response_psd", "frf", "effective_modal_properties", "SpectralModel",
+                     "simulate", "Pedestrian", "FRF", "EffectiveModalProperties", "Simulation"),
+                    "response"),
+    **dict.fromkeys(("estimate_hsi", "HSIEstimate", "estimate_step_frequencies",
+                     "StepFrequencyEstimate"), "identification"),
+    **dict.fromkeys(("Record", "read_record", "write_record", "check_record", "Case", "load_case",
+                     "read_modal_model"), "io"),
+}
+
 __all__ = [
-    "ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce",
-    "response_psd", "frf", "effective_modal_properties", "SpectralModel",
-    "estimate_hsi", "welch_psd", "LowPassFilter", "simulate", "Pedestrian",
-    "ResponsePSD", "FRF", "EffectiveModalProperties", "HSIEstimate", "Simulation",
+    *_LAZY,
     "CrowdvibError", "ParameterError", "DataError", "EstimationError",
     "CrowdvibWarning", "BoundWarning", "ConvergenceWarning", "ResolutionWarning",
-    "DataWarning", "PlausibilityWarning", "Record", "read_record", "write_record", "check_record", "Case",
-    "load_case", "read_modal_model", "estimate_step_frequencies", "StepFrequencyEstimate",
-    "psd_convergence", "PSDConvergence", "detrend", "resample",
-    "__version__",
+    "DataWarning", "PlausibilityWarning", "__version__",
 ]
+
+
+def __getattr__(name):
+    if name not in _LAZY:
+        raise AttributeError(f"module 'crowdvib' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    globals()[name] = value              # later look-ups skip this function
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
+    from .identification import (HSIEstimate, StepFrequencyEstimate, estimate_hsi,
+                                 estimate_step_frequencies)
+    from .io import (Case, Record, check_record, load_case, read_modal_model, read_record,
+                     write_record)
+    from .models import Crowd, ModalModel, MSDModel, YoungForce, ZivanovicForce
+    from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
+                           effective_modal_properties, frf, response_psd, simulate)
+    from .signals import (LowPassFilter, PSDConvergence, ResponsePSD, detrend, psd_convergence,
+                          resample, welch_psd)
