@@ -119,3 +119,15 @@ def test_body_mass_spread_must_be_below_the_mass():
     from crowdvib import ParameterError
     with pytest.raises(ParameterError, match=r"body_mass_std must be < body_mass \(70 kg\), got 80"):
         Crowd(0.5, 1.3, 1.89, body_mass=70.0, body_mass_std=80.0)
+
+
+def test_short_reprs_name_what_matters(paper_bridge, paper_crowd, paper_msd, welch_grid):
+    # Issue 10: results print as one line, not hundreds of lines of arrays.
+    from crowdvib import response_psd
+
+    assert repr(paper_bridge) == ("ModalModel('simply supported beam', 2 Hz, walkway 50 m × 3 m, "
+                                  "outputs ['midspan'])")
+    psd = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
+                       welch_window_length=60.0)
+    assert repr(psd) == ("ResponsePSD(['midspan'], 601 frequencies 0–10 Hz, T = 60 s, "
+                         "source='model')")

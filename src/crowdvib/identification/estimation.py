@@ -155,6 +155,18 @@ class HSIEstimate:
         low, high = self.bounds[parameter]
         return (max(value - half, low), min(value + half, high))
 
+    def __repr__(self):
+        parts = []
+        for name in self.free_parameters:
+            value = getattr(self.msd, name)
+            text = f"{name}={value:.4g}"
+            if name in self.intervals:
+                low, high = self.intervals[name]
+                text += f" [{low:.4g}, {high:.4g}]"
+            parts.append(text)
+        return (f"HSIEstimate({', '.join(parts)}, method={self.method!r}, "
+                f"J/J_noHSI={self.relative_cost:.3g})")
+
     def to_dict(self):
         """JSON-ready dict; the estimate sits under ``"estimate"`` with its interval."""
         estimate = self.msd.to_dict()

@@ -142,6 +142,13 @@ class ModalModel:
         object.__setattr__(self, "width", width)
         object.__setattr__(self, "output_names", names)
 
+    def __repr__(self):
+        f = self.frequencies
+        modes = (f"{f[0]:g} Hz" if f.size == 1 else f"{f.size} modes {f[0]:g}–{f[-1]:g} Hz")
+        lanes = "" if self.mode_shapes.shape[0] == 1 else f", {self.mode_shapes.shape[0]} lanes"
+        return (f"ModalModel({self.name!r}, {modes}, walkway {self.length:g} m × "
+                f"{self.width:g} m{lanes}, outputs {list(self.output_names)})")
+
     # ------------------------------------------------------------------ geometry
     @property
     def n_modes(self):

@@ -173,6 +173,11 @@ class Simulation:
 
         return plot_time_history(self, output=output, window=window, axes=axes, title=title)
 
+    def __repr__(self):
+        return (f"Simulation({list(self.output_names)}, {self.duration:g} s at "
+                f"{self.sample_rate:g} Hz, {self.n_pedestrians} pedestrians, "
+                f"{'MSD' if self.hsi else 'forces only'}, seed={self.seed})")
+
     def to_dict(self):
         """JSON-ready metadata (no time series; write those with the I/O functions)."""
         return {"output_names": list(self.output_names), "sample_rate": self.sample_rate,

@@ -110,6 +110,13 @@ class ResponsePSD:
         return plot_psd_comparison({label or self.source: self}, output=output, band=band,
                                    ax=ax, title=title)
 
+    def __repr__(self):
+        f = self.frequency
+        welch = ("" if not self.window_length else f", T = {self.window_length:g} s"
+                 + (f", {self.n_windows} windows" if self.n_windows else ""))
+        return (f"ResponsePSD({list(self.output_names)}, {f.size} frequencies "
+                f"{f[0]:g}–{f[-1]:g} Hz{welch}, source={self.source!r})")
+
     def to_dict(self):
         """JSON-ready dict of the PSD and its metadata."""
         return {"frequency": self.frequency.tolist(), "psd": self.psd.tolist(),
