@@ -54,6 +54,7 @@ def __dir__():
 
 
 if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
+    # ruff: noqa: F401
     from .identification import (HSIEstimate, StepFrequencyEstimate, estimate_hsi,
                                  estimate_step_frequencies)
     from .io import (Case, Record, check_record, load_case, read_modal_model, read_record,

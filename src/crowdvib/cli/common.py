@@ -2,10 +2,10 @@
 
 import contextlib
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
+from tqdm import tqdm
 
 from .. import __version__
 
@@ -225,27 +225,40 @@ def warning_texts(caught):
     return [f"{w.category.__name__}: {w.message}" for w in caught]
 
 
-def progress_printer(label, unit="s"):
-    """A ``progress(done, total)`` callback drawing a progress bar on stderr.
+def progress_printer(label, unit="s", offset=0.0):
+    """A ``progress(done, total)`` callback drawing a tqdm bar on stderr.
 
-    On a terminal the bar is redrawn in place with the elapsed and remaining time; in a log
-    (not a terminal) a line is written every 10 %.
+    The bar shows the rate so far and the time left at that rate. ``offset`` is a leading part
+    of ``done`` and ``total`` that is not the user's work (a simulation's warm-up): the bar counts
+    from it, and the label says what it was.
     """
-    shown = [-1]
-    started = time.perf_counter()
-    terminal = sys.stderr.isatty()
+    bar = None
 
     def progress(done, total):
-        fraction = min(done / total, 1.0) if total > 0 else 1.0
-        elapsed = time.perf_counter() - started
-        left = f"~{elapsed * (1 - fraction) / fraction:.0f} s left" if fraction > 0 else ""
-        text = (f"  {label} {done:.0f}/{total:.0f} {unit} "
-                f"[{'#' * int(30 * fraction):30s}] {fraction:4.0%}  {elapsed:.0f} s elapsed {left}")
-        if terminal:
-            end = "\n" if fraction >= 1 else ""
-            print("\r" + text, end=end, file=sys.stderr, flush=True)
-        elif int(10 * fraction) > shown[0]:
-            shown[0] = int(10 * fraction)
-            print(text, file=sys.stderr, flush=True)
+        nonlocal bar
+        if bar is None:
+            terminal = sys.stderr.isatty()
+            bar = tqdm(total=max(total - offset, 0.0), desc=f"  {label}", unit=f" {unit}",
+                       file=sys.stderr, leave=True, dynamic_ncols=True,
+                       mininterval=0.5 if terminal else 15.0,
+                       bar_format="{desc} {n:.0f}/{total:.0f}{unit} |{bar}| {percentage:3.0f}%"
+                                  "  {elapsed} elapsed, {remaining} left")
+        bar.update(max(min(done, total) - offset, 0.0) - bar.n)
+        if done >= total:
+            bar.close()
 
     return progress
+
+
+def say_if_compiling():
+    """Tell the user when the simulation kernel is about to be compiled (first run only).
+
+    numba caches the compiled kernel beside its source (``cache=True``); with no cache index there
+    and nothing compiled in this process, the first call compiles for ~10 s, which must not look
+    like a hang.
+    """
+    from ..response import _kernels
+
+    cache = Path(_kernels.__file__).parent / "__pycache__"
+    if not _kernels.advance.signatures and not list(cache.glob("_kernels.advance-*.nbi")):
+        say("  compiling the simulation kernel (first run only, about 10 s) …")

@@ -9,7 +9,7 @@ from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
 from ..reporting.text import interval_of
-from .common import check_output, progress_printer, say, staged_output
+from .common import check_output, progress_printer, say, say_if_compiling, staged_output
 
 
 # --------------------------------------------------------------------------------------- demo
@@ -62,9 +62,12 @@ def run(args):
         started = time.perf_counter()
         # The deck is populated at t = 0; the warm-up lets the 0.5 %-damped mode forget its
         # initial rest (5/(ξω) ≈ 80 s), as physics.md §8.4 discards its first 100 s.
+        warm_up = 100.0
+        say_if_compiling()
         record = simulate(structure, crowd, args.duration_s, msd=truth,
-                          sample_rate=sample_rate, rng=args.seed, warm_up=100.0,
-                          progress=progress_printer("simulated"))
+                          sample_rate=sample_rate, rng=args.seed, warm_up=warm_up,
+                          progress=progress_printer(f"simulated (after {warm_up:g} s warm-up)",
+                                                    offset=warm_up))
         lowpass = LowPassFilter(cutoff=10.0, order=4, sample_rate=sample_rate)
         measured = welch_psd(record.acceleration, sample_rate, window_length=window,
                              output_names=record.output_names, lowpass=lowpass).band(0.0, 10.0)

@@ -8,7 +8,8 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import case_inputs, progress_printer, say, staged_output, versions
+from .common import (case_inputs, progress_printer, say, say_if_compiling, staged_output,
+                     versions)
 
 
 def add_arguments(parser):
@@ -50,14 +51,19 @@ def run(args):
     sample_rate = spec.sample_rate if args.sample_rate is None else args.sample_rate
     seed = case.seed if args.seed is None else args.seed
     msd = None if (args.no_hsi or not spec.hsi) else _simulation_msd(case)
-    say(f"crowdvib simulate: {case.name}, {duration:g} s at {sample_rate:g} Hz, "
-         f"{'MSD ' + str(msd.to_dict()) if msd else 'no HSI'}")
+    pedestrians = ("moving forces only (no HSI)" if msd is None else
+                   f"MSD pedestrians f_h1 = {msd.frequency:g} Hz, ξ_h1 = {msd.damping_ratio:g}, "
+                   f"μ_h1 = {msd.mass_ratio:g}")
+    say(f"crowdvib simulate: {case.name}, {duration:g} s at {sample_rate:g} Hz, {pedestrians}")
     with staged_output(args.out, args.force, command="simulate",
                        inputs=case_inputs(case)) as staging:
         started = time.perf_counter()
+        say_if_compiling()
         simulation = simulate(case.structure, case.crowd, duration, msd=msd,
                               sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up,
-                              progress=progress_printer("simulated"))
+                              progress=progress_printer(
+                                  f"simulated (after {spec.warm_up:g} s warm-up)",
+                                  offset=spec.warm_up))
         data, rate = simulation.acceleration, sample_rate
         if spec.record_sample_rate is not None:
             data, rate = resample(data, rate, spec.record_sample_rate)
