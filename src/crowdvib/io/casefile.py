@@ -27,145 +27,23 @@ Paths are relative to the case file. Every value is checked once here; a bad one
 ``eeklo_like.toml: crowd.density must be > 0, got -0.5``.
 """
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import DataError, ParameterError
 from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
+from ._common import reading
+from ._toml import Table, read_toml, wrap
 from .modalfiles import read_modal_model, write_modal_model
+from .records import RECORD_FORMATS, _unit_key, check_record, merge_records, read_record
 
 __all__ = ["Case", "MeasurementSpec", "EstimationSpec", "StepFrequencySpec", "SimulationSpec",
            "load_case", "load_measurement", "read_modal_model", "write_modal_model",
            "paper_example_case"]
-
-_REQUIRED = object()
-
-
-class _Table:
-    """One TOML table with its dotted prefix and file, for messages that point at the key."""
-
-    def __init__(self, data, prefix, path):
-        if not isinstance(data, dict):
-            raise ParameterError(f"{path.name}: {prefix} must be a table, got {data!r}")
-        self.data, self.prefix, self.path, self.used = data, prefix, path, set()
-
-    def key(self, name):
-        return f"{self.prefix}.{name}" if self.prefix else name
-
-    def error(self, name, rule, value):
-        return ParameterError(f"{self.path.name}: {self.key(name)} {rule}, got {value!r}")
-
-    def has(self, name):
-        return name in self.data
-
-    def raw(self, name, default=_REQUIRED):
-        self.used.add(name)
-        if name not in self.data:
-            if default is _REQUIRED:
-                raise ParameterError(f"{self.path.name}: {self.key(name)} is required")
-            return default
-        return self.data[name]
-
-    def number(self, name, default=_REQUIRED, *, rule=None):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.error(name, "must be a number", value)
-        value = float(value)
-        if not np.isfinite(value):
-            raise self.error(name, "must be finite", value)
-        if rule == "positive" and not value > 0:
-            raise ParameterError(f"{self.path.name}: {self.key(name)} must be > 0, got {value:g}")
-        if rule == "non_negative" and not value >= 0:
-            raise ParameterError(f"{self.path.name}: {self.key(name)} must be >= 0, got {value:g}")
-        if rule == "fraction" and not 0 < value < 1:
-            raise ParameterError(f"{self.path.name}: {self.key(name)} must lie in (0, 1) "
-                                 f"(fractions, not percent), got {value:g}")
-        return value
-
-    def string(self, name, default=_REQUIRED, *, choices=None):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        if not isinstance(value, str):
-            raise self.error(name, "must be a string", value)
-        if choices is not None and value not in choices:
-            raise self.error(name, f"must be one of {list(choices)}", value)
-        return value
-
-    def boolean(self, name, default):
-        value = self.raw(name, default)
-        if not isinstance(value, bool):
-            raise self.error(name, "must be true or false", value)
-        return value
-
-    def pair(self, name, default=_REQUIRED, *, increasing=True):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        try:
-            low, high = (float(v) for v in value)
-        except (TypeError, ValueError):
-            raise self.error(name, "must be a pair [lower, upper] of numbers", value) from None
-        if increasing and not low < high:
-            raise self.error(name, "must have lower < upper", value)
-        return low, high
-
-    def strings(self, name, default=_REQUIRED):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        value = [value] if isinstance(value, str) else value
-        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-            raise self.error(name, "must be a string or a list of strings", value)
-        return tuple(value)
-
-    def numbers(self, name, default=_REQUIRED, *, rule=None):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        try:
-            array = np.array(value, dtype=float)
-        except (TypeError, ValueError):
-            raise self.error(name, "must be a list of numbers", value) from None
-        if not np.all(np.isfinite(array)):
-            raise self.error(name, "must be finite", value)
-        if rule == "positive" and np.any(array <= 0):
-            raise self.error(name, "must be > 0", value)
-        return array
-
-    def table(self, name, *, required=False):
-        value = self.raw(name, _REQUIRED if required else {})
-        return _Table(value, self.key(name), self.path)
-
-    def file(self, name, default=_REQUIRED):
-        value = self.string(name, default)
-        if value is None or value is default:
-            return value
-        path = (self.path.parent / value).resolve()
-        if not path.is_file():
-            raise ParameterError(f"{self.path.name}: {self.key(name)} names a file that does not "
-                                 f"exist: {value!r} (looked for {path})")
-        return path
-
-    def finish(self):
-        unknown = sorted(set(self.data) - self.used)
-        if unknown:
-            raise ParameterError(
-                f"{self.path.name}: unknown key(s) {[self.key(k) for k in unknown]}; known keys "
-                f"are {[self.key(k) for k in sorted(self.used)]}")
-
-
-def _wrap(path, section, exc):
-    """Re-raise a model's own ParameterError with the file and the section prefixed."""
-    return ParameterError(f"{path.name}: {section}.{exc}")
-
 
 # ------------------------------------------------------------------------------------- case
 @dataclass(frozen=True)
@@ -323,7 +201,7 @@ def _structure(table, path):
     except ParameterError as exc:
         if str(exc).startswith(path.name):
             raise
-        raise _wrap(path, "structure", exc) from None
+        raise wrap(path, "structure", exc) from None
     table.finish()
     return structure
 
@@ -344,7 +222,7 @@ def _crowd(table, path):
                      step_frequency_std=std, body_mass=mass, forward_fraction=fraction,
                      body_mass_std=mass_std)
     except ParameterError as exc:
-        raise _wrap(path, "crowd", exc) from None
+        raise wrap(path, "crowd", exc) from None
 
 
 def _msd(table, path):
@@ -355,7 +233,7 @@ def _msd(table, path):
     try:
         return MSDModel(frequency, damping, mass_ratio)
     except ParameterError as exc:
-        raise _wrap(path, "hsi", exc) from None
+        raise wrap(path, "hsi", exc) from None
 
 
 def _measurement(table, path):
@@ -370,7 +248,6 @@ def _measurement(table, path):
                           channels)
     units = table.string("units", None)
     if units is not None:
-        from .records import _unit_key
         _unit_key(units, f"{path.name}: measurement.")
     frame = table.raw("time_frame", None)
     if frame is not None and frame != "stationary" and frame != "all":
@@ -469,7 +346,6 @@ def _estimation(table, path):
 
 def _simulation(table, path):
     formats = table.strings("formats", ("npz",))
-    from .records import RECORD_FORMATS
     for fmt in formats:
         if fmt not in RECORD_FORMATS:
             raise table.error("formats", f"must list formats among {list(RECORD_FORMATS)}",
@@ -504,18 +380,21 @@ def load_case(path):
 
     Raises
     ------
-    ParameterError
-        A missing, unknown or bad key; the message names the file and the dotted key.
+    DataError
+        A missing, unknown (misspelt) or bad key, and a missing, binary or malformed file; the
+        message names the file and the dotted key. (A DataError is also a ParameterError.)
     """
     path = Path(path).resolve()
-    if not path.is_file():
-        raise ParameterError(f"case file not found: {path}")
-    try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"{path.name}: not valid TOML: {exc}") from None
-    root = _Table(data, "", path)
+    data = read_toml(path)
+    # One guard: whatever slips past the checks of each key still ends as a DataError naming
+    # the case file, never as a foreign traceback.
+    with reading(path, "TOML case"):
+        return _case(path, data)
+
+
+def _case(path, data):
+    """The checks of :func:`load_case`, table by table."""
+    root = Table(data, "", path)
     name = root.string("name", path.stem)
     description = root.string("description", "")
     seed = root.raw("seed", None)
@@ -582,7 +461,6 @@ def load_measurement(case, *, band=None):
     -------
     Record
     """
-    from .records import check_record, merge_records, read_record
     from ..signals import detrend, resample, stationary_time_frame
 
     spec = case.measurement
@@ -591,9 +469,12 @@ def load_measurement(case, *, band=None):
                              "is empty: the case has no record to read")
     records = []
     for number, file in enumerate(spec.files):
+        if file.is_dir():
+            raise DataError(f"{case.path.name}: measurement.files[{number}] names a directory, "
+                            f"expected a file: {file}")
         if not file.is_file():
-            raise ParameterError(f"{case.path.name}: measurement.files[{number}] names a file "
-                                 f"that does not exist: {file}")
+            raise DataError(f"{case.path.name}: measurement.files[{number}] names a file "
+                            f"that does not exist: {file}")
         record = read_record(file, format=spec.format, units=spec.units,
                              sample_rate=spec.sample_rate, time_column=spec.time_column)
         if spec.channels is not None:
