@@ -37,8 +37,9 @@ from ._common import quote, sample_rate_from_time, where
 __all__ = ["READERS", "WRITERS"]
 
 _MAT73_HEADER = b"MATLAB 7.3 MAT-file, Platform: crowdvib, Created by: crowdvib HDF5 schema 1.00 ."
-# A UFF data set starts and ends with a line "    -1" (pyuff drops an unpaired last one).
-_UFF_TAG = re.compile(rb"^    -1 *\r?$", re.MULTILINE)
+# A UFF data set starts and ends with the tag "    -1" closing a line (binary data run up to the
+# end tag); pyuff pairs the tags as it finds them and drops an unpaired last one.
+_UFF_TAG = re.compile(rb"    -1(?=[\r\n]|\Z| {74})")
 
 
 # ------------------------------------------------------------------------- values of variables
