@@ -47,6 +47,8 @@ def require_file(path, what):
 def reading(path, what):
     """Guard one reader: any failure inside becomes a :class:`DataError` naming ``path``.
 
+    ``what`` names the format with its article, as in "cannot be read as an NPZ file".
+
     crowdvib's own :class:`DataError` passes unchanged; a :class:`ParameterError` raised while
     reading (a bad value in the file, e.g. a negative sample rate) gets the file name in front;
     a third-party exception (``BadZipFile``, ``MatReadError``, ``UnicodeDecodeError``, h5py's
@@ -64,10 +66,10 @@ def reading(path, what):
     except (CrowdvibError, ImportError):
         raise
     except UnicodeDecodeError as exc:
-        raise DataError(f"{name}: cannot be read as a {what} file: not UTF-8 text (byte "
+        raise DataError(f"{name}: cannot be read as {what} file: not UTF-8 text (byte "
                         f"{exc.start})") from exc
     except Exception as exc:  # noqa: BLE001 — the one place third-party errors become ours
-        raise DataError(f"{name}: cannot be read as a {what} file ({type(exc).__name__}: "
+        raise DataError(f"{name}: cannot be read as {what} file ({type(exc).__name__}: "
                         f"{quote(str(exc))})") from exc
 
 

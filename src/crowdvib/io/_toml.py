@@ -38,7 +38,9 @@ class Table:
         self.used.add(name)
         if name not in self.data:
             if default is REQUIRED:
-                raise ParameterError(f"{self.path.name}: {self.key(name)} is required")
+                near = difflib.get_close_matches(name, [k for k in self.data if k != name], n=1)
+                hint = f" (found {quote(self.key(near[0]))}: misspelt?)" if near else ""
+                raise ParameterError(f"{self.path.name}: {self.key(name)} is required{hint}")
             return default
         return self.data[name]
 

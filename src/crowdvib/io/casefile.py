@@ -36,7 +36,7 @@ from ..errors import DataError, ParameterError
 from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
-from ._common import reading
+from ._common import quote, reading
 from ._toml import Table, read_toml, wrap
 from .modalfiles import read_modal_model, write_modal_model
 from .records import RECORD_FORMATS, _unit_key, check_record, merge_records, read_record
@@ -176,6 +176,27 @@ class Case:
                 "simulation": plain(self.simulation), "expected": dict(self.expected)}
 
 
+def _outputs(table, path, *, pairs):
+    """``structure.outputs``: a table name = position x [m] (or [x, y] when ``pairs``), checked
+    here so that a text position is named as such (not a ValueError deep in the model)."""
+    outputs = table.raw("outputs", None)
+    if outputs is None:
+        return None
+    rule = "a position x [m]" + (" or [x, y]" if pairs else "")
+    if not isinstance(outputs, dict):
+        raise table.error("outputs", f"must be a table name = {rule}", outputs)
+
+    def number(value):
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+    for label, where in outputs.items():
+        if not (number(where) or (pairs and isinstance(where, list) and len(where) == 2
+                                  and all(map(number, where)))):
+            raise ParameterError(f"{path.name}: {table.key('outputs')}[{label!r}] must be "
+                                 f"{rule}, got {quote(where)}")
+    return outputs
+
+
 def _structure(table, path):
     kind = table.string("type", "modal_files", choices=("modal_files", "simply_supported_beam"))
     name = table.string("name", path.stem)
@@ -187,14 +208,12 @@ def _structure(table, path):
             damping = table.numbers("damping_ratio")
             mass = table.numbers("modal_mass", rule="positive")
             n_modes = int(table.number("n_modes", 1.0, rule="positive"))
-            outputs = table.raw("outputs", None)
+            outputs = _outputs(table, path, pairs=False)
             structure = ModalModel.simply_supported_beam(span, width, frequency, damping, mass,
                                                          n_modes, outputs=outputs, name=name)
         else:
-            outputs = table.raw("outputs", None)
+            outputs = _outputs(table, path, pairs=True)
             points = table.file("output_points", None)
-            if outputs is not None and not isinstance(outputs, dict):
-                raise table.error("outputs", "must be a table name = position", outputs)
             structure = read_modal_model(table.file("modal_table"), table.file("mode_shapes"),
                                          width=width, outputs=outputs, output_points=points,
                                          name=name)
@@ -388,7 +407,7 @@ def load_case(path):
     data = read_toml(path)
     # One guard: whatever slips past the checks of each key still ends as a DataError naming
     # the case file, never as a foreign traceback.
-    with reading(path, "TOML case"):
+    with reading(path, "a TOML case"):
         return _case(path, data)
 
 

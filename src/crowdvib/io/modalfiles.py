@@ -27,7 +27,7 @@ def _read_csv_table(path):
     naming it. Messages never repeat the file's lines (issue 9: a case could name any file).
     """
     path = require_file(path, "modal CSV")
-    with reading(path, "CSV"):
+    with reading(path, "a CSV"):
         with open(path, encoding="utf-8", newline="") as handle:
             lines = [line for line in handle
                      if line.strip() and not line.lstrip().startswith("#")]

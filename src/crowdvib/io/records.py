@@ -33,8 +33,8 @@ __all__ = ["Record", "read_record", "write_record", "check_record", "merge_recor
 #: File formats by name → file suffixes.
 RECORD_FORMATS = {"csv": (".csv", ".txt"), "npz": (".npz",), "mat": (".mat",),
                   "mat73": (), "uff": (".uff", ".unv")}
-_FORMAT_NAMES = {"csv": "CSV", "npz": "NPZ", "mat": "MATLAB", "mat73": "MATLAB v7.3",
-                 "uff": "UFF 58"}
+_FORMAT_NAMES = {"csv": "a CSV", "npz": "an NPZ", "mat": "a MATLAB", "mat73": "a MATLAB v7.3",
+                 "uff": "a UFF 58"}
 _UNIT_ALIASES = {"m/s2": "m/s2", "m/s^2": "m/s2", "m/s²": "m/s2", "m s-2": "m/s2", "mps2": "m/s2",
                  "g": "g", "g0": "g"}
 
