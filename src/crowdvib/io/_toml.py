@@ -136,9 +136,9 @@ class Table:
             guesses = {k: difflib.get_close_matches(k, self.used, n=1) for k in unknown}
             hints = "".join(f" ({quote(self.key(k))}: did you mean {self.key(g[0])!r}?)"
                             for k, g in guesses.items() if g)
+            names = ", ".join(quote(self.key(k)) for k in unknown)
             raise ParameterError(
-                f"{self.path.name}: unknown key(s) [{', '.join(quote(self.key(k)) for k in unknown)}]"
-                f"{hints}; "
+                f"{self.path.name}: unknown key(s) [{names}]{hints}; "
                 f"known keys are {[self.key(k) for k in sorted(self.used)]}")
 
 

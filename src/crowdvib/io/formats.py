@@ -14,8 +14,8 @@ CSV
     column names, one row per sample. A ``time`` column [s] gives the time stamps; without it the
     sample rate must be given (case file ``measurement.sample_rate``).
 NPZ
-    ``data`` (n_channels, n_samples) with ``channel_names``, or one array per channel; ``sample_rate``
-    [Hz] or ``time`` [s]; optional ``unit`` and ``start_time`` [s].
+    ``data`` (n_channels, n_samples) with ``channel_names``, or one array per channel;
+    ``sample_rate`` [Hz] or ``time`` [s]; optional ``unit`` and ``start_time`` [s].
 MAT (v5 and v7.3)
     The same variables; ``data`` is n_samples × n_channels in MATLAB (one column per channel);
     ``channel_names`` is a comma-separated char row (v7.3) or a cell array / char matrix (v5).

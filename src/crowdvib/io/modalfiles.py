@@ -122,7 +122,8 @@ def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_po
         lanes, positions, shapes = None, position, values
     base = ModalModel(frequencies=table[:, 0], damping_ratios=table[:, 1],
                       modal_masses=table[:, 2], positions=positions, mode_shapes=shapes,
-                      width=width, lanes=lanes, output_names=(), output_shapes=np.zeros((0, n_modes)),
+                      width=width, lanes=lanes, output_names=(),
+                      output_shapes=np.zeros((0, n_modes)),
                       name=name)
     if (outputs is None) == (output_points is None):
         raise ParameterError("give exactly one of outputs (name → position) and output_points "

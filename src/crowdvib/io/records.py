@@ -48,7 +48,8 @@ def _unit_key(units, prefix):
 
 def convert_units(data, units):
     """Accelerations in ``units`` ("g" or "m/s2") → m/s² (g = 9.81 m/s², physics.md §0)."""
-    return np.asarray(data, dtype=float) * (STANDARD_GRAVITY if _unit_key(units, "") == "g" else 1.0)
+    scale = STANDARD_GRAVITY if _unit_key(units, "") == "g" else 1.0
+    return np.asarray(data, dtype=float) * scale
 
 
 @dataclass(frozen=True, eq=False)
@@ -147,7 +148,8 @@ class Record:
                                                               * self.sample_rate - 1e-9))
         first, last = max(first, 0), min(last, self.n_samples)
         if last - first < 2:
-            raise DataError(f"{self._where()}time frame [{start}, {end}] s holds {max(last - first, 0)}"
+            raise DataError(f"{self._where()}time frame [{start}, {end}] s holds "
+                            f"{max(last - first, 0)}"
                             f" sample(s) of a record spanning [{self.start_time:g}, "
                             f"{self.start_time + self.duration:g}] s")
         return self.replace(data=self.data[:, first:last],
@@ -223,7 +225,8 @@ def check_record(record, *, band=None, flat_duration=1.0, clip_samples=5):
         value = record.data[channel, index]
         kind = "NaN" if np.isnan(value) else "infinite"
         raise DataError(f"{where(source, record.channel_names[channel])}{kind} sample at sample "
-                        f"index {index} (t = {record.start_time + index / record.sample_rate:.6g} s)")
+                        f"index {index} "
+                        f"(t = {record.start_time + index / record.sample_rate:.6g} s)")
     if band is not None:
         upper = float(band[1])
         nyquist = record.sample_rate / 2
