@@ -33,6 +33,7 @@ import numpy as np
 from .._files import atomic_path
 from ..errors import DataError
 from ._common import quote, sample_rate_from_time, where
+from ._matv5 import check_mat_v5
 
 __all__ = ["READERS", "WRITERS"]
 
@@ -219,6 +220,7 @@ def _read_mat(path, *, sample_rate, time_column):
         return _read_mat73(path, sample_rate=sample_rate, time_column=time_column)
     from scipy.io import loadmat
 
+    check_mat_v5(path)      # scipy may crash the interpreter on a damaged file: walk it first
     content = loadmat(path, squeeze_me=True, chars_as_strings=True)
     content = {k: v for k, v in content.items() if not k.startswith("__")}
     return _from_variables(path, content, sample_rate=sample_rate, time_column=time_column,
