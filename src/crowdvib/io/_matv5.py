@@ -7,8 +7,10 @@ catch that, so the file's element structure is walked here first: every tag, siz
 and element type must be consistent with the MAT-File Format (MathWorks, "MAT-File Format",
 version 5 layout), and only a file that passes reaches ``scipy.io.loadmat``.
 
-Supported variable classes: numeric (double, single, integers; logical is uint8), char, cell
-and struct — what a record file holds. Anything else is refused, not guessed.
+Variables of the classes a record file uses — numeric (double, single, integers; logical is
+uint8), char, cell and struct — are checked element by element; other variables (objects,
+function handles, sparse matrices) are skipped unread, so their headers must be sound but their
+contents never reach scipy.
 """
 
 import math
@@ -63,6 +65,10 @@ def _take(parts, prefix, what, kinds):
     return part
 
 
+class _Unsupported(Exception):
+    """A variable of a class crowdvib does not read (skipped, not an error)."""
+
+
 def _check_matrix(payload, order, prefix, depth):
     """Check one miMATRIX element (recursing into cells and structs); returns its name."""
     if depth > _MAX_DEPTH:
@@ -107,28 +113,36 @@ def _check_matrix(payload, order, prefix, depth):
             _check_matrix(_take(parts, inner, "struct field", {_MATRIX})[1], order, inner,
                           depth + 1)
     else:
-        raise DataError(f"{inner}MATLAB array class {kind} is not supported in a record file "
-                        "(numeric, char, cell and struct are)")
+        raise _Unsupported(kind)
     return label
 
 
 def check_mat_v5(path):
-    """Raise a :class:`DataError` naming ``path`` unless its MAT v5 structure is consistent."""
+    """Names of the variables of ``path`` that scipy may read.
+
+    Raises
+    ------
+    DataError
+        Naming the file (and the variable): the MAT v5 element structure is inconsistent.
+    """
     content = Path(path).read_bytes()
     prefix = where(path)
     if len(content) < 128 or content[126:128] not in (b"IM", b"MI"):
         raise DataError(f"{prefix}is not a MATLAB v5 file (no MAT-file header)")
     order = "<" if content[126:128] == b"IM" else ">"
+    names = []
     for kind, payload in _elements(content[128:], order, prefix):
         if kind == _COMPRESSED:
-            payload = zlib.decompress(payload)
-            inner = list(_elements(payload, order, prefix))
+            inner = list(_elements(zlib.decompress(payload), order, prefix))
             if len(inner) != 1 or inner[0][0] != _MATRIX:
                 raise DataError(f"{prefix}a compressed element does not hold one array "
                                 "(damaged file?)")
-            _check_matrix(inner[0][1], order, prefix, 0)
-        elif kind == _MATRIX:
-            _check_matrix(payload, order, prefix, 0)
-        else:
+            payload = inner[0][1]
+        elif kind != _MATRIX:
             raise DataError(f"{prefix}top-level element of type {kind} is not an array "
                             "(damaged file?)")
+        try:
+            names.append(_check_matrix(payload, order, prefix, 0))
+        except _Unsupported:
+            continue
+    return names

@@ -220,8 +220,9 @@ def _read_mat(path, *, sample_rate, time_column):
         return _read_mat73(path, sample_rate=sample_rate, time_column=time_column)
     from scipy.io import loadmat
 
-    check_mat_v5(path)      # scipy may crash the interpreter on a damaged file: walk it first
-    content = loadmat(path, squeeze_me=True, chars_as_strings=True)
+    # scipy may crash the interpreter on a damaged file: walk it first, read what passed.
+    names = check_mat_v5(path)
+    content = loadmat(path, squeeze_me=True, chars_as_strings=True, variable_names=names)
     content = {k: v for k, v in content.items() if not k.startswith("__")}
     return _from_variables(path, content, sample_rate=sample_rate, time_column=time_column,
                            channels_last=True)
