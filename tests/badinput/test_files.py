@@ -449,7 +449,7 @@ def test_fault_mat_v5_that_crashed_scipy_is_refused_first(tmp_path):
 SECRET = "root:x:0:0:SECRET-PASSWORD-HASH:/root:/bin/bash"
 
 
-@pytest.mark.parametrize("reader", ["record", "modal_table", "case_record"])
+@pytest.mark.parametrize("reader", ["record", "modal_table", "case_record", "case_channels"])
 def test_fault_messages_never_print_a_files_lines(tmp_path, reader):
     # Issue 9, fault 3: "an error message prints the first lines of any file a case names".
     # Old code: the CSV reader echoed the header line ({header}) and numpy's message with the
@@ -462,6 +462,14 @@ def test_fault_messages_never_print_a_files_lines(tmp_path, reader):
         elif reader == "modal_table":
             (tmp_path / "s.csv").write_text(SHAPES, encoding="utf-8")
             read_modal_model(secret, tmp_path / "s.csv", width=3.0, outputs={"mid": 25.0})
+        elif reader == "case_channels":
+            # A file that parses (a header line, numbers below): the channel map names a
+            # channel it lacks, and the message lists the file's channel names, shortened.
+            secret.write_text(SECRET + "\n1\n2\n3\n", encoding="utf-8")
+            path = tmp_path / "c.toml"
+            path.write_text(BEAM + "[measurement]\nfiles = [\"passwd.csv\"]\nsample_rate = 100\n"
+                            "channels = { midspan = \"acc\" }\n", encoding="utf-8")
+            load_measurement(load_case(path))
         else:
             path = tmp_path / "c.toml"
             path.write_text(BEAM + "[measurement]\nfiles = [\"passwd.csv\"]\nsample_rate = 100\n",

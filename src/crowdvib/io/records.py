@@ -135,8 +135,8 @@ class Record:
         rows = []
         for new, old in mapping.items():
             if old not in self.channel_names:
-                raise DataError(f"{self._where()}channel {old!r} (for {new!r}) is not in the "
-                                f"record; its channels are {list(self.channel_names)}")
+                raise DataError(f"{self._where()}channel {quote(old)} (for {quote(new)}) is "
+                                f"not in the record; its channels are {self._names()}")
             rows.append(self.channel_names.index(old))
         return self.replace(data=self.data[rows], channel_names=tuple(mapping))
 
@@ -162,6 +162,13 @@ class Record:
                       source=self.source)
         fields.update(changes)
         return Record(**fields)
+
+    def _names(self, limit=8):
+        """The channel names for a message: each shortened, at most ``limit`` of them (names
+        come from a file's header line, which must not be echoed whole)."""
+        names = ", ".join(quote(n) for n in self.channel_names[:limit])
+        more = self.n_channels - limit
+        return f"[{names}{f', … ({more} more)' if more > 0 else ''}]"
 
     def _where(self):
         return f"{Path(self.source).name}: " if self.source else ""
