@@ -285,9 +285,9 @@ def _check_uff_complete(path):
 
 
 def _read_uff(path, *, sample_rate, time_column):
+    _check_uff_complete(path)       # before pyuff, which may fail less clearly on it
     sets = _pyuff().UFF(str(path)).read_sets()
     sets = [sets] if isinstance(sets, dict) else list(sets)
-    _check_uff_complete(path)
     sets = [s for s in sets if s.get("type") == 58]
     if not sets:
         raise DataError(f"{where(path)}holds no UFF type-58 data set")
