@@ -256,3 +256,20 @@ def test_csv_comment_lines_carry_unit_and_sample_rate(tmp_path):
     record = read_record(path)
     assert record.sample_rate == 50.0
     np.testing.assert_allclose(record.data[0], [0.981, 1.962, 2.943])
+
+
+def test_mat_v5_skips_variables_of_classes_it_does_not_read(tmp_path):
+    # A sparse matrix beside the record is skipped unread (crowdvib.io._matv5 walks only the
+    # classes a record uses); the record is the one saved (reference: the arrays written here).
+    from scipy.io import savemat
+    from scipy.sparse import identity
+
+    path = tmp_path / "mixed.mat"
+    samples = np.array([[0.1], [-0.2], [0.3], [0.0]])
+    savemat(path, {"data": samples, "sample_rate": 20.0, "stiffness": identity(3, format="csc")})
+    record = read_record(path)
+    np.testing.assert_array_equal(record.data, samples.T)
+    assert record.channel_names == ("ch0",) and record.sample_rate == 20.0
+    savemat(path, {"stiffness": identity(3, format="csc")})
+    with pytest.raises(DataError, match=r"mixed.mat: holds no channels"):
+        read_record(path)

@@ -1,6 +1,7 @@
 """Files in and out: measured records, TOML case files and modal-model tables."""
 
-from .casefile import Case, load_case, load_measurement, paper_example_case
+from .casefile import Case, load_case, paper_example_case
+from .measurement import load_measurement
 from .modalfiles import read_modal_model, write_modal_model
 from .records import (RECORD_FORMATS, Record, check_record, convert_units, merge_records,
                       read_record, write_record)

@@ -1,4 +1,4 @@
-"""Case files (TOML) and modal models from CSV files (architecture §1, §6).
+"""Case files (TOML): the bridge, the crowd and how records are read and processed (arch. §1, §6).
 
 A case file describes one bridge and one crowd, and how its records are read and processed::
 
@@ -24,10 +24,12 @@ A case file describes one bridge and one crowd, and how its records are read and
 
 Paths are relative to the case file. Every value is checked once here; a bad one raises a
 :class:`ParameterError` that names the file and the key, e.g.
-``eeklo_like.toml: crowd.density must be > 0, got -0.5``.
+``eeklo_like.toml: crowd.density must be > 0, got -0.5``. A case file that cannot be read at all
+(missing, a directory, binary, not TOML) is a :class:`DataError` naming it. The key-by-key
+reading lives in :mod:`crowdvib.io._toml`; the records a case names are read by
+:func:`crowdvib.io.measurement.load_measurement`.
 """
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -37,135 +39,15 @@ from ..errors import ParameterError
 from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
+from ._common import quote, reading
+from ._toml import Table, read_toml, wrap
 from .modalfiles import read_modal_model, write_modal_model
+from .measurement import load_measurement
+from .records import RECORD_FORMATS, _unit_key
 
 __all__ = ["Case", "MeasurementSpec", "EstimationSpec", "StepFrequencySpec", "SimulationSpec",
            "load_case", "load_measurement", "read_modal_model", "write_modal_model",
            "paper_example_case"]
-
-_REQUIRED = object()
-
-
-class _Table:
-    """One TOML table with its dotted prefix and file, for messages that point at the key."""
-
-    def __init__(self, data, prefix, path):
-        if not isinstance(data, dict):
-            raise ParameterError(f"{path.name}: {prefix} must be a table, got {data!r}")
-        self.data, self.prefix, self.path, self.used = data, prefix, path, set()
-
-    def key(self, name):
-        return f"{self.prefix}.{name}" if self.prefix else name
-
-    def error(self, name, rule, value):
-        return ParameterError(f"{self.path.name}: {self.key(name)} {rule}, got {value!r}")
-
-    def has(self, name):
-        return name in self.data
-
-    def raw(self, name, default=_REQUIRED):
-        self.used.add(name)
-        if name not in self.data:
-            if default is _REQUIRED:
-                raise ParameterError(f"{self.path.name}: {self.key(name)} is required")
-            return default
-        return self.data[name]
-
-    def number(self, name, default=_REQUIRED, *, rule=None):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.error(name, "must be a number", value)
-        value = float(value)
-        if not np.isfinite(value):
-            raise self.error(name, "must be finite", value)
-        if rule == "positive" and not value > 0:
-            raise ParameterError(f"{self.path.name}: {self.key(name)} must be > 0, got {value:g}")
-        if rule == "non_negative" and not value >= 0:
-            raise ParameterError(f"{self.path.name}: {self.key(name)} must be >= 0, got {value:g}")
-        if rule == "fraction" and not 0 < value < 1:
-            raise ParameterError(f"{self.path.name}: {self.key(name)} must lie in (0, 1) "
-                                 f"(fractions, not percent), got {value:g}")
-        return value
-
-    def string(self, name, default=_REQUIRED, *, choices=None):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        if not isinstance(value, str):
-            raise self.error(name, "must be a string", value)
-        if choices is not None and value not in choices:
-            raise self.error(name, f"must be one of {list(choices)}", value)
-        return value
-
-    def boolean(self, name, default):
-        value = self.raw(name, default)
-        if not isinstance(value, bool):
-            raise self.error(name, "must be true or false", value)
-        return value
-
-    def pair(self, name, default=_REQUIRED, *, increasing=True):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        try:
-            low, high = (float(v) for v in value)
-        except (TypeError, ValueError):
-            raise self.error(name, "must be a pair [lower, upper] of numbers", value) from None
-        if increasing and not low < high:
-            raise self.error(name, "must have lower < upper", value)
-        return low, high
-
-    def strings(self, name, default=_REQUIRED):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        value = [value] if isinstance(value, str) else value
-        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-            raise self.error(name, "must be a string or a list of strings", value)
-        return tuple(value)
-
-    def numbers(self, name, default=_REQUIRED, *, rule=None):
-        value = self.raw(name, default)
-        if value is None or value is default:
-            return value
-        try:
-            array = np.array(value, dtype=float)
-        except (TypeError, ValueError):
-            raise self.error(name, "must be a list of numbers", value) from None
-        if not np.all(np.isfinite(array)):
-            raise self.error(name, "must be finite", value)
-        if rule == "positive" and np.any(array <= 0):
-            raise self.error(name, "must be > 0", value)
-        return array
-
-    def table(self, name, *, required=False):
-        value = self.raw(name, _REQUIRED if required else {})
-        return _Table(value, self.key(name), self.path)
-
-    def file(self, name, default=_REQUIRED):
-        value = self.string(name, default)
-        if value is None or value is default:
-            return value
-        path = (self.path.parent / value).resolve()
-        if not path.is_file():
-            raise ParameterError(f"{self.path.name}: {self.key(name)} names a file that does not "
-                                 f"exist: {value!r} (looked for {path})")
-        return path
-
-    def finish(self):
-        unknown = sorted(set(self.data) - self.used)
-        if unknown:
-            raise ParameterError(
-                f"{self.path.name}: unknown key(s) {[self.key(k) for k in unknown]}; known keys "
-                f"are {[self.key(k) for k in sorted(self.used)]}")
-
-
-def _wrap(path, section, exc):
-    """Re-raise a model's own ParameterError with the file and the section prefixed."""
-    return ParameterError(f"{path.name}: {section}.{exc}")
-
 
 # ------------------------------------------------------------------------------------- case
 @dataclass(frozen=True)
@@ -298,6 +180,27 @@ class Case:
                 "simulation": plain(self.simulation), "expected": dict(self.expected)}
 
 
+def _outputs(table, path, *, pairs):
+    """``structure.outputs``: a table name = position x [m] (or [x, y] when ``pairs``), checked
+    here so that a text position is named as such (not a ValueError deep in the model)."""
+    outputs = table.raw("outputs", None)
+    if outputs is None:
+        return None
+    rule = "a position x [m]" + (" or [x, y]" if pairs else "")
+    if not isinstance(outputs, dict):
+        raise table.error("outputs", f"must be a table name = {rule}", outputs)
+
+    def number(value):
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+    for label, where in outputs.items():
+        if not (number(where) or (pairs and isinstance(where, list) and len(where) == 2
+                                  and all(map(number, where)))):
+            raise ParameterError(f"{path.name}: {table.key('outputs')}[{label!r}] must be "
+                                 f"{rule}, got {quote(where)}")
+    return outputs
+
+
 def _structure(table, path):
     kind = table.string("type", "modal_files", choices=("modal_files", "simply_supported_beam"))
     name = table.string("name", path.stem)
@@ -309,21 +212,19 @@ def _structure(table, path):
             damping = table.numbers("damping_ratio")
             mass = table.numbers("modal_mass", rule="positive")
             n_modes = int(table.number("n_modes", 1.0, rule="positive"))
-            outputs = table.raw("outputs", None)
+            outputs = _outputs(table, path, pairs=False)
             structure = ModalModel.simply_supported_beam(span, width, frequency, damping, mass,
                                                          n_modes, outputs=outputs, name=name)
         else:
-            outputs = table.raw("outputs", None)
+            outputs = _outputs(table, path, pairs=True)
             points = table.file("output_points", None)
-            if outputs is not None and not isinstance(outputs, dict):
-                raise table.error("outputs", "must be a table name = position", outputs)
             structure = read_modal_model(table.file("modal_table"), table.file("mode_shapes"),
                                          width=width, outputs=outputs, output_points=points,
                                          name=name)
     except ParameterError as exc:
         if str(exc).startswith(path.name):
             raise
-        raise _wrap(path, "structure", exc) from None
+        raise wrap(path, "structure", exc) from None
     table.finish()
     return structure
 
@@ -344,7 +245,7 @@ def _crowd(table, path):
                      step_frequency_std=std, body_mass=mass, forward_fraction=fraction,
                      body_mass_std=mass_std)
     except ParameterError as exc:
-        raise _wrap(path, "crowd", exc) from None
+        raise wrap(path, "crowd", exc) from None
 
 
 def _msd(table, path):
@@ -355,7 +256,7 @@ def _msd(table, path):
     try:
         return MSDModel(frequency, damping, mass_ratio)
     except ParameterError as exc:
-        raise _wrap(path, "hsi", exc) from None
+        raise wrap(path, "hsi", exc) from None
 
 
 def _measurement(table, path):
@@ -370,7 +271,6 @@ def _measurement(table, path):
                           channels)
     units = table.string("units", None)
     if units is not None:
-        from .records import _unit_key
         _unit_key(units, f"{path.name}: measurement.")
     frame = table.raw("time_frame", None)
     if frame is not None and frame != "stationary" and frame != "all":
@@ -469,7 +369,6 @@ def _estimation(table, path):
 
 def _simulation(table, path):
     formats = table.strings("formats", ("npz",))
-    from .records import RECORD_FORMATS
     for fmt in formats:
         if fmt not in RECORD_FORMATS:
             raise table.error("formats", f"must list formats among {list(RECORD_FORMATS)}",
@@ -504,18 +403,21 @@ def load_case(path):
 
     Raises
     ------
-    ParameterError
-        A missing, unknown or bad key; the message names the file and the dotted key.
+    DataError
+        A missing, unknown (misspelt) or bad key, and a missing, binary or malformed file; the
+        message names the file and the dotted key. (A DataError is also a ParameterError.)
     """
     path = Path(path).resolve()
-    if not path.is_file():
-        raise ParameterError(f"case file not found: {path}")
-    try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"{path.name}: not valid TOML: {exc}") from None
-    root = _Table(data, "", path)
+    data = read_toml(path)
+    # One guard: whatever slips past the checks of each key still ends as a DataError naming
+    # the case file, never as a foreign traceback.
+    with reading(path, "a TOML case"):
+        return _case(path, data)
+
+
+def _case(path, data):
+    """The checks of :func:`load_case`, table by table."""
+    root = Table(data, "", path)
     name = root.string("name", path.stem)
     description = root.string("description", "")
     seed = root.raw("seed", None)
@@ -559,66 +461,3 @@ def paper_example_case():
                 simulation=SimulationSpec(duration=3600.0, sample_rate=100.0, warm_up=200.0),
                 expected=example.msd.to_dict(), seed=20230101,
                 description="Van Nimmen & Van den Broeck (2023), numerical example")
-
-
-
-def load_measurement(case, *, band=None):
-    """Read, merge, check and pre-process the records of a case (``[measurement]``).
-
-    Steps (physics.md §6): read every file (channels mapped to output names, units converted to
-    m/s²), merge the files' channels, check the samples (:func:`crowdvib.io.records.check_record`,
-    Nyquist above ``band``'s upper edge and the filter cut-off), cut the time frame (explicit, or
-    the longest stationary stretch), remove the trend and resample if asked. The low-pass filter
-    is *not* applied here: :func:`crowdvib.welch_psd` applies it and records it in the PSD, so the
-    model can apply the same filter.
-
-    Parameters
-    ----------
-    case : Case
-    band : (float, float), optional
-        Analysis band [Hz] (default the case's estimation band).
-
-    Returns
-    -------
-    Record
-    """
-    from .records import check_record, merge_records, read_record
-    from ..signals import detrend, resample, stationary_time_frame
-
-    spec = case.measurement
-    if not spec.files:
-        raise ParameterError(f"{case.path.name if case.path else case.name}: measurement.files "
-                             "is empty: the case has no record to read")
-    records = []
-    for number, file in enumerate(spec.files):
-        if not file.is_file():
-            raise ParameterError(f"{case.path.name}: measurement.files[{number}] names a file "
-                                 f"that does not exist: {file}")
-        record = read_record(file, format=spec.format, units=spec.units,
-                             sample_rate=spec.sample_rate, time_column=spec.time_column)
-        if spec.channels is not None:
-            wanted = {out: name for out, name in spec.channels.items()
-                      if name in record.channel_names}
-            if len(spec.files) == 1 and len(wanted) != len(spec.channels):
-                record.select(spec.channels)     # raises, naming the missing channel
-            record = record.select(wanted) if wanted else None
-        if record is not None:
-            records.append(record)
-    record = merge_records(records)
-    band = case.estimation.band if band is None else band
-    upper = max(band[1], spec.lowpass_cutoff or 0.0)
-    check_record(record, band=(band[0], upper))
-    if spec.time_frame == "stationary":
-        start, end = stationary_time_frame(record.data, record.sample_rate,
-                                           block_length=spec.window_length)
-        record = record.frame(record.start_time + start, record.start_time + end)
-    elif spec.time_frame is not None:
-        record = record.frame(*spec.time_frame)
-    data = detrend(record.data, spec.detrend)
-    rate = record.sample_rate
-    if spec.resample is not None:
-        data, rate = resample(data, rate, spec.resample)
-        if rate / 2 <= upper:
-            raise ParameterError(f"{case.path.name}: measurement.resample {spec.resample:g} Hz "
-                                 f"puts the Nyquist frequency below {upper:g} Hz")
-    return record.replace(data=data, sample_rate=rate)

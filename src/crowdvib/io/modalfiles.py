@@ -8,38 +8,64 @@ physics.
 """
 
 import csv
+import difflib
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import DataError, ParameterError
 from ..models.structure import ModalModel
+from ._common import quote, reading, require_file
 
 __all__ = ["read_modal_model", "write_modal_model"]
 
 
 def _read_csv_table(path):
-    """Header and rows (as strings) of a small CSV file; ``#`` lines are comments."""
-    path = Path(path)
-    with open(path, encoding="utf-8", newline="") as handle:
-        lines = [line for line in handle if line.strip() and not line.lstrip().startswith("#")]
-    rows = [[cell.strip() for cell in row] for row in csv.reader(lines)]
-    if len(rows) < 2:
-        raise ParameterError(f"{path.name}: must hold a header line and at least one row")
-    header, body = rows[0], rows[1:]
-    for number, row in enumerate(body, start=1):
-        if len(row) != len(header):
-            raise ParameterError(f"{path.name}: row {number} has {len(row)} fields, the header "
-                                 f"has {len(header)} ({header})")
+    """Header and rows (as strings) of a small CSV file; ``#`` lines are comments.
+
+    The one guard of this reader: a missing, binary or malformed file is a :class:`DataError`
+    naming it. Messages never repeat the file's lines (issue 9: a case could name any file).
+    """
+    path = require_file(path, "modal CSV")
+    with reading(path, "a CSV"):
+        with open(path, encoding="utf-8", newline="") as handle:
+            lines = [line for line in handle
+                     if line.strip() and not line.lstrip().startswith("#")]
+        rows = [[cell.strip() for cell in row] for row in csv.reader(lines)]
+        if len(rows) < 2:
+            raise DataError(f"{path.name}: must hold a header line and at least one row")
+        header, body = rows[0], rows[1:]
+        for number, row in enumerate(body, start=1):
+            if len(row) != len(header):
+                raise DataError(f"{path.name}: row {number} has {len(row)} field(s), the header "
+                                f"has {len(header)}")
     return header, body
 
 
+def _missing(path, header, columns):
+    """DataError for required columns absent from ``header``; a near miss is named as such."""
+    missing = [c for c in columns if c not in header]
+    if missing:
+        hints = "".join(f" ({quote(guess[0])}: did you mean {c!r}?)" for c in missing
+                        for guess in [difflib.get_close_matches(c, header, n=1)] if guess)
+        raise DataError(f"{Path(path).name}: missing column(s) {missing}{hints}; the header has "
+                        f"{len(header)} column(s)")
+
+
 def _numbers(path, header, rows, columns):
-    try:
-        return np.array([[float(row[header.index(c)]) for c in columns] for row in rows])
-    except ValueError as exc:
-        raise ParameterError(f"{Path(path).name}: columns {columns} must hold numbers: {exc}") \
-            from None
+    """The named columns as finite floats; the first bad cell is named by row and column."""
+    values = np.empty((len(rows), len(columns)))
+    for i, row in enumerate(rows):
+        for j, column in enumerate(columns):
+            cell = row[header.index(column)]
+            try:
+                values[i, j] = float(cell)
+            except ValueError:
+                values[i, j] = np.nan
+            if not np.isfinite(values[i, j]):
+                raise DataError(f"{Path(path).name}: row {i + 1}, column {quote(column)} must "
+                                f"hold a finite number, got {quote(cell)}")
+    return values
 
 
 def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_points=None,
@@ -70,21 +96,16 @@ def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_po
     ModalModel
     """
     header, rows = _read_csv_table(modal_table)
-    missing = [c for c in ("frequency", "damping_ratio", "modal_mass") if c not in header]
-    if missing:
-        raise ParameterError(f"{Path(modal_table).name}: missing column(s) {missing}; found "
-                             f"{header}")
+    _missing(modal_table, header, ("frequency", "damping_ratio", "modal_mass"))
     table = _numbers(modal_table, header, rows, ["frequency", "damping_ratio", "modal_mass"])
     n_modes = table.shape[0]
     shape_header, shape_rows = _read_csv_table(mode_shapes)
-    if "position" not in shape_header:
-        raise ParameterError(f"{Path(mode_shapes).name}: needs a 'position' column, found "
-                             f"{shape_header}")
+    _missing(mode_shapes, shape_header, ("position",))
     mode_columns = [c for c in shape_header if c not in ("position", "lane")]
     if len(mode_columns) != n_modes:
-        raise ParameterError(f"{Path(mode_shapes).name}: must have one column per mode of "
-                             f"{Path(modal_table).name} ({n_modes}), got {len(mode_columns)}: "
-                             f"{mode_columns}")
+        raise DataError(f"{Path(mode_shapes).name}: must have one column per mode of "
+                        f"{Path(modal_table).name} ({n_modes}) besides 'position' and 'lane', "
+                        f"got {len(mode_columns)}")
     values = _numbers(mode_shapes, shape_header, shape_rows, mode_columns)
     position = _numbers(mode_shapes, shape_header, shape_rows, ["position"])[:, 0]
     if "lane" in shape_header:
@@ -94,34 +115,37 @@ def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_po
         positions = position[blocks[0]]
         for y, block in zip(lanes, blocks):
             if block.size != positions.size or not np.allclose(position[block], positions):
-                raise ParameterError(f"{Path(mode_shapes).name}: lane {y:g} m must list the same "
-                                     "positions as the first lane")
+                raise DataError(f"{Path(mode_shapes).name}: lane {y:g} m must list the same "
+                                "positions as the first lane")
         shapes = np.stack([values[block] for block in blocks])
     else:
         lanes, positions, shapes = None, position, values
     base = ModalModel(frequencies=table[:, 0], damping_ratios=table[:, 1],
                       modal_masses=table[:, 2], positions=positions, mode_shapes=shapes,
-                      width=width, lanes=lanes, output_names=(), output_shapes=np.zeros((0, n_modes)),
+                      width=width, lanes=lanes, output_names=(),
+                      output_shapes=np.zeros((0, n_modes)),
                       name=name)
     if (outputs is None) == (output_points is None):
         raise ParameterError("give exactly one of outputs (name → position) and output_points "
                              "(a CSV of mode-shape rows)")
     if output_points is not None:
         point_header, point_rows = _read_csv_table(output_points)
-        if "name" not in point_header:
-            raise ParameterError(f"{Path(output_points).name}: needs a 'name' column, found "
-                                 f"{point_header}")
+        _missing(output_points, point_header, ("name",))
         columns = [c for c in point_header if c != "name"]
         if len(columns) != n_modes:
-            raise ParameterError(f"{Path(output_points).name}: must have one column per mode "
-                                 f"({n_modes}), got {len(columns)}: {columns}")
+            raise DataError(f"{Path(output_points).name}: must have one column per mode "
+                            f"({n_modes}) besides 'name', got {len(columns)}")
         names = [row[point_header.index("name")] for row in point_rows]
         rows_ = _numbers(output_points, point_header, point_rows, columns)
     else:
         names, rows_ = [], []
         for label, where in outputs.items():
-            x, y = (float(where), None) if np.ndim(where) == 0 else (float(where[0]),
-                                                                   float(where[1]))
+            try:
+                x, y = (float(where), None) if np.ndim(where) == 0 else (float(where[0]),
+                                                                       float(where[1]))
+            except (TypeError, ValueError, IndexError):
+                raise ParameterError(f"outputs[{label!r}] must be a position x [m] or [x, y], "
+                                     f"got {quote(where)}") from None
             if not positions[0] <= x <= positions[-1]:
                 raise ParameterError(f"outputs[{label!r}] must lie on the walkway "
                                      f"[{positions[0]:g}, {positions[-1]:g}] m, got {x:g}")

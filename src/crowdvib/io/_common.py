@@ -1,0 +1,108 @@
+"""What every reader shares: message prefixes, safe quoting, the read guard, time stamps → rate.
+
+Every file problem reaches the user as a :class:`DataError` that names the file (and the channel,
+sample or key where known) and quotes at most the offending value, shortened: never the file's
+contents, never a foreign traceback (issue 9).
+"""
+
+import contextlib
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import CrowdvibError, DataError, ParameterError
+
+# Time stamps whose step differs from the median step by more than this fraction are non-uniform;
+# a step of more than _GAP_FACTOR median steps is a gap (missing samples).
+_JITTER_TOLERANCE = 1e-3
+_GAP_FACTOR = 1.5
+#: Longest quoted value in a message: enough for a misspelt name, too short to leak a file.
+QUOTE_LIMIT = 40
+
+
+def quote(value, limit=QUOTE_LIMIT):
+    """``repr`` of a value from a file, shortened to ``limit`` characters (with an ellipsis)."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def where(source, channel=None):
+    """Message prefix ``"file.csv: channel 'a': "`` (``"record: "`` without a file)."""
+    name = Path(source).name if source else "record"
+    return f"{name}: " + ("" if channel is None else f"channel {quote(channel)}: ")
+
+
+def require_file(path, what):
+    """A :class:`DataError` unless ``path`` is an existing regular file (naming a directory as
+    such: the usual mix-up of a folder given for a file)."""
+    path = Path(path)
+    if path.is_dir():
+        raise DataError(f"{path}: is a directory, expected a {what} file")
+    if not path.is_file():
+        raise DataError(f"{path}: {what} file not found")
+    return path
+
+
+@contextlib.contextmanager
+def reading(path, what):
+    """Guard one reader: any failure inside becomes a :class:`DataError` naming ``path``.
+
+    ``what`` names the format with its article, as in "cannot be read as an NPZ file".
+
+    crowdvib's own :class:`DataError` passes unchanged; a :class:`ParameterError` raised while
+    reading (a bad value in the file, e.g. a negative sample rate) gets the file name in front;
+    a third-party exception (``BadZipFile``, ``MatReadError``, ``UnicodeDecodeError``, h5py's
+    ``OSError``, ``IndexError`` …) is chained as the cause, its type and a shortened message
+    quoted. ``ImportError`` of an optional reader passes: it is an installation problem.
+    """
+    name = Path(path).name
+    try:
+        yield
+    except DataError:
+        raise
+    except ParameterError as exc:
+        text = str(exc)
+        raise DataError(text if text.startswith(f"{name}: ") else f"{name}: {text}") from exc
+    except (CrowdvibError, ImportError):
+        raise
+    except UnicodeDecodeError as exc:
+        raise DataError(f"{name}: cannot be read as {what} file: not UTF-8 text (byte "
+                        f"{exc.start})") from exc
+    except Exception as exc:  # noqa: BLE001 — the one place third-party errors become ours
+        raise DataError(f"{name}: cannot be read as {what} file ({type(exc).__name__}: "
+                        f"{quote(str(exc))})") from exc
+
+
+def sample_rate_from_time(time, source, channel=None):
+    """Sample rate [Hz] of uniform, increasing time stamps; DataError naming the first bad step."""
+    time = np.asarray(time, dtype=float)
+    prefix = where(source, channel)
+    if time.ndim != 1 or time.size < 2:
+        raise DataError(f"{prefix}time must hold at least 2 stamps, got shape {time.shape}")
+    bad = np.flatnonzero(~np.isfinite(time))
+    if bad.size:
+        raise DataError(f"{prefix}time stamp at sample index {bad[0]} is {time[bad[0]]}")
+    step = np.diff(time)
+    bad = np.flatnonzero(step <= 0)
+    if bad.size:
+        i = bad[0] + 1
+        raise DataError(f"{prefix}time stamps must increase: sample index {i} has t = "
+                        f"{time[i]:.9g} s after t = {time[i - 1]:.9g} s")
+    median = float(np.median(step))
+    bad = np.flatnonzero(step > _GAP_FACTOR * median)
+    if bad.size:
+        i = bad[0] + 1
+        raise DataError(f"{prefix}gap in the time stamps before sample index {i}: "
+                        f"{step[bad[0]]:.6g} s between samples, the median step is {median:.6g} s "
+                        f"(about {int(round(step[bad[0]] / median)) - 1} sample(s) missing)")
+    bad = np.flatnonzero(np.abs(step - median) > _JITTER_TOLERANCE * median)
+    if bad.size:
+        i = bad[0] + 1
+        raise DataError(f"{prefix}time stamps must be uniform: the step before sample index {i} "
+                        f"is {step[bad[0]]:.9g} s, the median step is {median:.9g} s")
+    # The mean step over the record is more accurate than any single difference.
+    rate = (time.size - 1) / (time[-1] - time[0])
+    if not np.isfinite(rate):
+        raise DataError(f"{prefix}time stamps {time[0]:.9g} … {time[-1]:.9g} s give no finite "
+                        "sample rate")
+    return rate

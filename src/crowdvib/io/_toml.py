@@ -1,0 +1,164 @@
+"""TOML case files, table by table: every key read through :class:`Table`, which checks its type
+and rule and names the file and dotted key in every message (``c.toml: crowd.density must be > 0,
+got -0.5``), and reports unknown (misspelt) keys.
+"""
+
+import difflib
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import DataError, ParameterError
+from ._common import quote, require_file
+
+__all__ = ["Table", "REQUIRED", "read_toml", "wrap"]
+
+REQUIRED = object()
+
+
+class Table:
+    """One TOML table with its dotted prefix and file, for messages that point at the key."""
+
+    def __init__(self, data, prefix, path):
+        if not isinstance(data, dict):
+            raise ParameterError(f"{path.name}: {prefix} must be a table, got {quote(data)}")
+        self.data, self.prefix, self.path, self.used = data, prefix, path, set()
+
+    def key(self, name):
+        return f"{self.prefix}.{name}" if self.prefix else name
+
+    def error(self, name, rule, value):
+        return ParameterError(f"{self.path.name}: {self.key(name)} {rule}, got {quote(value)}")
+
+    def has(self, name):
+        return name in self.data
+
+    def raw(self, name, default=REQUIRED):
+        self.used.add(name)
+        if name not in self.data:
+            if default is REQUIRED:
+                near = difflib.get_close_matches(name, [k for k in self.data if k != name], n=1)
+                hint = f" (found {quote(self.key(near[0]))}: misspelt?)" if near else ""
+                raise ParameterError(f"{self.path.name}: {self.key(name)} is required{hint}")
+            return default
+        return self.data[name]
+
+    def number(self, name, default=REQUIRED, *, rule=None):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(name, "must be a number", value)
+        value = float(value)
+        if not np.isfinite(value):
+            raise self.error(name, "must be finite", value)
+        if rule == "positive" and not value > 0:
+            raise ParameterError(f"{self.path.name}: {self.key(name)} must be > 0, got {value:g}")
+        if rule == "non_negative" and not value >= 0:
+            raise ParameterError(f"{self.path.name}: {self.key(name)} must be >= 0, got {value:g}")
+        if rule == "fraction" and not 0 < value < 1:
+            raise ParameterError(f"{self.path.name}: {self.key(name)} must lie in (0, 1) "
+                                 f"(fractions, not percent), got {value:g}")
+        return value
+
+    def string(self, name, default=REQUIRED, *, choices=None):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        if not isinstance(value, str):
+            raise self.error(name, "must be a string", value)
+        if choices is not None and value not in choices:
+            raise self.error(name, f"must be one of {list(choices)}", value)
+        return value
+
+    def boolean(self, name, default):
+        value = self.raw(name, default)
+        if not isinstance(value, bool):
+            raise self.error(name, "must be true or false", value)
+        return value
+
+    def pair(self, name, default=REQUIRED, *, increasing=True):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        try:
+            low, high = (float(v) for v in value)
+        except (TypeError, ValueError):
+            raise self.error(name, "must be a pair [lower, upper] of numbers", value) from None
+        if increasing and not low < high:
+            raise self.error(name, "must have lower < upper", value)
+        return low, high
+
+    def strings(self, name, default=REQUIRED):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        value = [value] if isinstance(value, str) else value
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            raise self.error(name, "must be a string or a list of strings", value)
+        return tuple(value)
+
+    def numbers(self, name, default=REQUIRED, *, rule=None):
+        value = self.raw(name, default)
+        if value is None or value is default:
+            return value
+        try:
+            array = np.array(value, dtype=float)
+        except (TypeError, ValueError):
+            raise self.error(name, "must be a list of numbers", value) from None
+        if not np.all(np.isfinite(array)):
+            raise self.error(name, "must be finite", value)
+        if rule == "positive" and np.any(array <= 0):
+            raise self.error(name, "must be > 0", value)
+        return array
+
+    def table(self, name, *, required=False):
+        value = self.raw(name, REQUIRED if required else {})
+        return Table(value, self.key(name), self.path)
+
+    def file(self, name, default=REQUIRED):
+        value = self.string(name, default)
+        if value is None or value is default:
+            return value
+        path = (self.path.parent / value).resolve()
+        if path.is_dir():
+            raise ParameterError(f"{self.path.name}: {self.key(name)} names a directory, expected "
+                                 f"a file: {quote(value)} (looked at {path})")
+        if not path.is_file():
+            raise ParameterError(f"{self.path.name}: {self.key(name)} names a file that does not "
+                                 f"exist: {quote(value)} (looked for {path})")
+        return path
+
+    def finish(self):
+        unknown = sorted(set(self.data) - self.used)
+        if unknown:
+            guesses = {k: difflib.get_close_matches(k, self.used, n=1) for k in unknown}
+            hints = "".join(f" ({quote(self.key(k))}: did you mean {self.key(g[0])!r}?)"
+                            for k, g in guesses.items() if g)
+            names = ", ".join(quote(self.key(k)) for k in unknown)
+            raise ParameterError(
+                f"{self.path.name}: unknown key(s) [{names}]{hints}; "
+                f"known keys are {[self.key(k) for k in sorted(self.used)]}")
+
+
+def wrap(path, section, exc):
+    """Re-raise a model's own ParameterError with the file and the section prefixed."""
+    return ParameterError(f"{path.name}: {section}.{exc}")
+
+
+
+
+def read_toml(path):
+    """The top-level table of a TOML file; a missing, binary or malformed file is a
+    :class:`DataError` naming it (the parser's message quotes only a line and column)."""
+    require_file(path, "case")
+    try:
+        text = Path(path).read_bytes().decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise DataError(f"{Path(path).name}: is not a TOML case file: not UTF-8 text (byte "
+                        f"{exc.start})") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise DataError(f"{Path(path).name}: not valid TOML: {exc}") from None

@@ -1,0 +1,70 @@
+"""A case's measured records, read, merged, checked and pre-processed (physics.md §6)."""
+
+from ..errors import DataError, ParameterError
+from ..signals import detrend, resample, stationary_time_frame
+from .records import check_record, merge_records, read_record
+
+__all__ = ["load_measurement"]
+
+
+def load_measurement(case, *, band=None):
+    """Read, merge, check and pre-process the records of a case (``[measurement]``).
+
+    Steps (physics.md §6): read every file (channels mapped to output names, units converted to
+    m/s²), merge the files' channels, check the samples (:func:`crowdvib.io.records.check_record`,
+    Nyquist above ``band``'s upper edge and the filter cut-off), cut the time frame (explicit, or
+    the longest stationary stretch), remove the trend and resample if asked. The low-pass filter
+    is *not* applied here: :func:`crowdvib.welch_psd` applies it and records it in the PSD, so the
+    model can apply the same filter.
+
+    Parameters
+    ----------
+    case : Case
+    band : (float, float), optional
+        Analysis band [Hz] (default the case's estimation band).
+
+    Returns
+    -------
+    Record
+    """
+
+    spec = case.measurement
+    if not spec.files:
+        raise ParameterError(f"{case.path.name if case.path else case.name}: measurement.files "
+                             "is empty: the case has no record to read")
+    records = []
+    for number, file in enumerate(spec.files):
+        if file.is_dir():
+            raise DataError(f"{case.path.name}: measurement.files[{number}] names a directory, "
+                            f"expected a file: {file}")
+        if not file.is_file():
+            raise DataError(f"{case.path.name}: measurement.files[{number}] names a file "
+                            f"that does not exist: {file}")
+        record = read_record(file, format=spec.format, units=spec.units,
+                             sample_rate=spec.sample_rate, time_column=spec.time_column)
+        if spec.channels is not None:
+            wanted = {out: name for out, name in spec.channels.items()
+                      if name in record.channel_names}
+            if len(spec.files) == 1 and len(wanted) != len(spec.channels):
+                record.select(spec.channels)     # raises, naming the missing channel
+            record = record.select(wanted) if wanted else None
+        if record is not None:
+            records.append(record)
+    record = merge_records(records)
+    band = case.estimation.band if band is None else band
+    upper = max(band[1], spec.lowpass_cutoff or 0.0)
+    check_record(record, band=(band[0], upper))
+    if spec.time_frame == "stationary":
+        start, end = stationary_time_frame(record.data, record.sample_rate,
+                                           block_length=spec.window_length)
+        record = record.frame(record.start_time + start, record.start_time + end)
+    elif spec.time_frame is not None:
+        record = record.frame(*spec.time_frame)
+    data = detrend(record.data, spec.detrend)
+    rate = record.sample_rate
+    if spec.resample is not None:
+        data, rate = resample(data, rate, spec.resample)
+        if rate / 2 <= upper:
+            raise ParameterError(f"{case.path.name}: measurement.resample {spec.resample:g} Hz "
+                                 f"puts the Nyquist frequency below {upper:g} Hz")
+    return record.replace(data=data, sample_rate=rate)
