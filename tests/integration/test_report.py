@@ -251,7 +251,7 @@ def test_every_diagnostic_becomes_a_warning_and_figures_are_drawn_from_the_data(
                      "1 record-length re-estimation(s) failed"):
         assert expected in summary, expected
     # Headline and table: nominal ± bound from the sensitivity summary.
-    assert "f<sub>h1</sub> = 3 ± 0.06 Hz" in summary
+    assert "f<sub>h1</sub> = 3 Hz; modelling errors ± 0.06 Hz" in summary
     assert "3 ± 0.06 (2 %)" in text and "0.3 ± 0.03 (10 %)" in text
     assert '<span class="badge warn">on upper bound</span>' in text
     assert "+20.0 %" in text                     # ξ estimate 0.3 against expected 0.25

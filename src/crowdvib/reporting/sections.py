@@ -71,7 +71,8 @@ def summary_section(results, notes):
             text = html("{} = {}", symbol, with_interval(found[key], interval_of(found, key),
                                                           unit))
             if key in bounds and bounds[key].get("bound") is not None:
-                text += html("; modelling errors ± {}", number(bounds[key]["bound"], 2))
+                text += html("; modelling errors ± {}{}", number(bounds[key]["bound"], 2),
+                             "" if unit == "-" else f" {unit}")
             items.append(text)
     relative = hsi(results, "relative_cost")
     if relative is not None:
