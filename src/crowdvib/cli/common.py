@@ -9,7 +9,7 @@ from tqdm import tqdm
 
 from .. import __version__
 
-__all__ = ["say", "case_inputs", "check_clash", "check_output", "prepare_output", "finish_output",
+__all__ = ["say", "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output", "finish_output",
            "staged_output", "versions", "warning_texts", "progress_printer"]
 
 def say(message=""):
@@ -262,3 +262,16 @@ def say_if_compiling():
     cache = Path(_kernels.__file__).parent / "__pycache__"
     if not _kernels.advance.signatures and not list(cache.glob("_kernels.advance-*.nbi")):
         say("  compiling the simulation kernel (first run only, about 10 s) …")
+
+
+def say_verdict(directory):
+    """Print the report's verdict (its warnings, or that there are none) for ``directory``."""
+    from ..reporting.report import verdict
+
+    warnings = verdict(directory)
+    if not warnings:
+        say("  verdict: no warnings (details in report.html)")
+        return
+    say(f"  verdict: check before use ({len(warnings)} warning(s); details in report.html):")
+    for text in warnings:
+        say(f"    - {text}")

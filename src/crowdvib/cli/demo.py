@@ -9,7 +9,8 @@ from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
 from ..reporting.text import interval_of
-from .common import check_output, progress_printer, say, say_if_compiling, staged_output
+from .common import (check_output, progress_printer, say, say_if_compiling, say_verdict,
+                     staged_output)
 
 
 # --------------------------------------------------------------------------------------- demo
@@ -103,6 +104,7 @@ def run(args):
                                       n_windows)
     say(f"\n  wrote {args.out / path.name} and {args.out / figure.name}")
     say(f"  report: {args.out / 'report.html'}")
+    say_verdict(args.out)
     return 0
 
 

@@ -7,7 +7,7 @@ from .. import __version__
 from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
 from ..reporting.text import interval_of, with_interval
-from .common import case_inputs, say, staged_output, versions, warning_texts
+from .common import case_inputs, say, say_verdict, staged_output, versions, warning_texts
 
 
 def add_arguments(parser):
@@ -36,6 +36,7 @@ def run(args):
         write_json(staging / "results.json", results)
         write_report(staging)
     say(f"  wrote {args.out / 'results.json'}, figures and report.html")
+    say_verdict(args.out)
     return 0
 
 

@@ -9,7 +9,7 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import case_inputs, say, staged_output, versions, warning_texts
+from .common import case_inputs, say, say_verdict, staged_output, versions, warning_texts
 from .estimate import case_crowd, case_measurement, estimate_options
 
 
@@ -80,4 +80,5 @@ def run(args):
             "warnings": warning_texts(caught), "figures": [figure], **stamp})
         write_report(staging)
     say(f"  wrote {args.out / 'results.json'}, {figure} and report.html")
+    say_verdict(args.out)
     return 0

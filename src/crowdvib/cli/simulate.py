@@ -8,8 +8,8 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import (case_inputs, progress_printer, say, say_if_compiling, staged_output,
-                     versions)
+from .common import (case_inputs, progress_printer, say, say_if_compiling, say_verdict,
+                     staged_output, versions)
 
 
 def add_arguments(parser):
@@ -98,6 +98,7 @@ def run(args):
         write_json(staging / "results.json", results)
         write_report(staging)
     say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
+    say_verdict(args.out)
     return 0
 
 

@@ -37,7 +37,7 @@ from .reading import case_name, read_results
 from .sections import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, SECTIONS
 
 __all__ = ["write_report", "render_report", "provenance", "REPORT_NAME", "SECTIONS",
-           "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL"]
+           "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "verdict"]
 
 #: File name of the report inside a results directory.
 REPORT_NAME = "report.html"
@@ -102,9 +102,7 @@ def render_report(results, directory=None):
     if not isinstance(results, dict):
         raise DataError(f"results must be a JSON object, got {type(results).__name__}")
     directory = None if directory is None else Path(directory)
-    notes = sections.Notes()
-    figures = collect_figures(results, directory, notes, CONVERGENCE_LEVEL)
-    diagnostics = sections.diagnostics_section(results, notes)   # fills notes before the summary
+    notes, figures, diagnostics = _assess(results, directory)
     body = [
         sections.header(results),
         sections.nav(),
@@ -117,6 +115,24 @@ def render_report(results, directory=None):
     ]
     title = html("crowdvib {} — {}", results.get("command", "results"), case_name(results))
     return str(page(title, f"crowdvib {__version__}", body))
+
+
+def _assess(results, directory):
+    """The notes (warnings, confirmations), figures and diagnostics section of a results dict."""
+    notes = sections.Notes()
+    figures = collect_figures(results, directory, notes, CONVERGENCE_LEVEL)
+    diagnostics = sections.diagnostics_section(results, notes)   # fills notes before the summary
+    return notes, figures, diagnostics
+
+
+def verdict(directory):
+    """The report's verdict on a results directory as plain text: its warnings (empty: none).
+
+    The command line prints it, so that a warning never hides in the HTML alone.
+    """
+    directory = Path(directory)
+    notes, _, _ = _assess(read_results(directory / "results.json"), directory)
+    return [warning.striptags() for warning in notes.warnings]
 
 
 def provenance(case=None):
