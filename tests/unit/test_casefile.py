@@ -69,6 +69,9 @@ def test_error_names_file_key_rule_and_value(tmp_path):
     ("[estimation]\nband = [2, 6]\n[estimation.bounds]\nfrequency = [0, 10]",
      r"estimation.bounds.frequency must have a lower bound > 0"),
     ("[crowd2]\ndensity = 1", r"unknown key\(s\) \['crowd2'\]"),
+    ("[estimation]\nband = [0, 10]\nmethod = \"whittle\"", r"estimation.method must be one of"),
+    ("[estimation]\nband = [0, 10]\nlevel = 95",
+     r"estimation.level must lie in \(0, 1\) \(a fraction, not percent\), got 95"),
 ])
 def test_bad_values_point_at_the_key(tmp_path, extra, message):
     with pytest.raises(ParameterError, match=r"eeklo_like.toml: .*" + message):
@@ -197,3 +200,14 @@ def test_load_measurement_needs_the_records(tmp_path):
     with pytest.raises(ParameterError, match=r"measurement.files\[0\] names a file that does "
                                              r"not exist"):
         load_measurement(case)
+
+
+def test_estimation_method_and_interval_keys(tmp_path):
+    # The estimator and its uncertainty are chosen in [estimation] (docs: case files).
+    extra = '[estimation]\nband = [0, 10]\nmethod = "likelihood"\ninterval = "wald"\nlevel = 0.9'
+    case = load_case(write_case(tmp_path, extra=extra))
+    assert (case.estimation.method, case.estimation.interval) == ("likelihood", "wald")
+    assert case.estimation.level == 0.9
+    defaults = load_case(write_case(tmp_path, name="plain.toml")).estimation
+    assert (defaults.method, defaults.interval, defaults.level) == ("least_squares", "profile",
+                                                                    0.95)

@@ -121,10 +121,9 @@ def _estimate_case(case, out):
                                          else "no record length (record too short)"))
     crowd, step_result = case_crowd(case, record)
     free_mass = "mass_ratio" in est.free_parameters
-    estimate = estimate_hsi(measured, case.structure, crowd, band=est.band, outputs=outputs,
-                            output_weights=est.output_weights, starts=est.starts,
-                            bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
-                            free_mass_ratio=free_mass, match_welch=est.match_welch)
+    options = dict(estimate_options(case), outputs=outputs)
+    estimate = estimate_hsi(measured, case.structure, crowd, free_mass_ratio=free_mass,
+                            **options)
     found = estimate.msd
     summary = estimate.to_dict()["estimate"]
     say(f"  estimate f_h1 = {with_interval(found.frequency, interval_of(summary, 'frequency'), 'Hz')}"
@@ -178,4 +177,5 @@ def estimate_options(case):
     est = case.estimation
     return dict(band=est.band, outputs=est.outputs, output_weights=est.output_weights,
                 starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
-                match_welch=est.match_welch)
+                match_welch=est.match_welch, method=est.method,
+                interval=None if est.interval == "none" else est.interval, level=est.level)

@@ -54,8 +54,8 @@ def run(args):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             estimate = estimate_hsi(measured, case.structure, crowd, **options)
-        options.pop("starts")
-        options.pop("bounds")
+        for key in ("starts", "bounds", "method", "interval", "level"):
+            options.pop(key)
         started = time.perf_counter()
         landscape = objective_map(measured, case.structure, crowd,
                                   frequencies=args.frequencies,

@@ -71,6 +71,8 @@ def run(args):
     record, measured, lowpass = case_measurement(case)
     crowd, _ = case_crowd(case, record)
     options = estimate_options(case)
+    for key in ("method", "interval", "level"):
+        options.pop(key)
     store = TaskStore(out / "tasks")
     done = len(store.keys())
     if done:

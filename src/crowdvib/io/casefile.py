@@ -121,6 +121,9 @@ class EstimationSpec:
     match_welch: bool = True
     convergence_norm: str = "2"
     step_frequencies: StepFrequencySpec = None
+    method: str = "least_squares"
+    interval: str = "profile"
+    level: float = 0.95
 
 
 @dataclass(frozen=True)
@@ -362,7 +365,14 @@ def _estimation(table, path):
                           match_welch=table.boolean("match_welch", True),
                           convergence_norm=table.string("convergence_norm", "2",
                                                         choices=("2", "inf")),
-                          step_frequencies=step)
+                          step_frequencies=step,
+                          method=table.string("method", "least_squares",
+                                              choices=("least_squares", "likelihood")),
+                          interval=table.string("interval", "profile",
+                                                choices=("profile", "wald", "none")),
+                          level=table.number("level", 0.95, rule="positive"))
+    if not spec.level < 1:
+        raise table.error("level", "must lie in (0, 1) (a fraction, not percent)", spec.level)
     table.finish()
     return spec
 
