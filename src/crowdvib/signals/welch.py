@@ -154,12 +154,12 @@ def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=
                        lowpass=lowpass, source="welch")
 
 
-def welch_degrees_of_freedom(n_windows, overlap=0.5):
-    """Equivalent degrees of freedom ν of a Hann-window Welch estimate of ``n_windows`` segments.
+def _segment_pair_sums(n_windows, overlap, max_lag):
+    """Σ over the segment pairs (i, j) of a Welch average of |Σ_t w(t) w(t + Δ_ij) e^{−2πi d t/N}|²
+    / (Σ_t w²)², for bin offsets d = 0 … ``max_lag`` (Hann window w, segment offsets Δ_ij).
 
-    ν = 2K / (1 + 2 Σ_j (1 − j/K) ρ_j), ρ_j the squared normalised overlap correlation of
-    the window at a lag of j segment steps (Welch 1967; for Hann at 50 % overlap ρ₁ = 1/36).
-    Each PSD ordinate is then distributed as G·χ²_ν/ν.
+    For Gaussian data this is the covariance of the averaged periodograms d bins apart, in units
+    of G²/K² (white-noise limit; theory: Welch statistics).
     """
     k = int(n_windows)
     if k < 1:
@@ -167,14 +167,27 @@ def welch_degrees_of_freedom(n_windows, overlap=0.5):
     samples = 1024
     window = _signal.get_window("hann", samples)
     step = samples - int(samples * overlap)
-    total = 0.0
-    for j in range(1, k):
+    phases = np.exp(-2j * np.pi * np.outer(np.arange(max_lag + 1), np.arange(samples)) / samples)
+    total = np.zeros(max_lag + 1)
+    for j in range(k):
         lag = j * step
         if lag >= samples:
             break
-        rho = (np.dot(window[:-lag], window[lag:]) / np.dot(window, window)) ** 2
-        total += (1.0 - j / k) * rho
-    return 2.0 * k / (1.0 + 2.0 * total)
+        product = np.zeros(samples)
+        product[:samples - lag] = window[:samples - lag] * window[lag:]
+        pairs = k if j == 0 else 2 * (k - j)
+        total += pairs * np.abs(phases @ product) ** 2
+    return total / np.dot(window, window) ** 2
+
+
+def welch_degrees_of_freedom(n_windows, overlap=0.5):
+    """Equivalent degrees of freedom ν of a Hann-window Welch estimate of ``n_windows`` segments.
+
+    ν = 2K / (1 + 2 Σ_j (1 − j/K) ρ_j), ρ_j the squared normalised overlap correlation of
+    the window at a lag of j segment steps (Welch 1967; for Hann at 50 % overlap ρ₁ = 1/36).
+    Each PSD ordinate is then distributed as G·χ²_ν/ν.
+    """
+    return 2.0 * int(n_windows) ** 2 / _segment_pair_sums(n_windows, overlap, 0)[0]
 
 
 def welch_bin_correlation(n_windows, overlap=0.5, max_lag=3):
@@ -190,23 +203,8 @@ def welch_bin_correlation(n_windows, overlap=0.5, max_lag=3):
     ndarray, shape (max_lag + 1,)
         ρ(0) = 1, ρ(1), …
     """
-    k = int(n_windows)
-    if k < 1:
-        raise ParameterError(f"n_windows must be >= 1, got {n_windows!r}")
-    samples = 256
-    window = _signal.get_window("hann", samples)
-    step = samples - int(samples * overlap)
-    phases = np.exp(-2j * np.pi * np.outer(np.arange(max_lag + 1), np.arange(samples)) / samples)
-    total = np.zeros(max_lag + 1)
-    for j in range(0, k):
-        lag = j * step
-        if lag >= samples:
-            break
-        overlap_product = np.zeros(samples)
-        overlap_product[:samples - lag] = window[:samples - lag] * window[lag:]
-        pairs = k if j == 0 else 2 * (k - j)
-        total += pairs * np.abs(phases @ overlap_product) ** 2
-    return total / total[0]
+    sums = _segment_pair_sums(n_windows, overlap, max_lag)
+    return sums / sums[0]
 
 
 def synthetic_welch_psd(expected, n_windows, rng=None):
