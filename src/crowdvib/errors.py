@@ -16,6 +16,7 @@ __all__ = [
     "ResolutionWarning",
     "DataWarning",
     "PlausibilityWarning",
+    "IdentifiabilityWarning",
 ]
 
 
@@ -59,3 +60,8 @@ class PlausibilityWarning(CrowdvibWarning):
     """A value is legal but implausible for a footbridge or for the model: likely a unit, a
     percentage given for a fraction, a gain or a channel mix-up. The message names the likely
     cause."""
+
+
+class IdentifiabilityWarning(CrowdvibWarning):
+    """The data do not determine the estimated parameters separately (near-perfect correlation
+    of their estimates, as for μ_h1 with ξ_h1 from one record)."""

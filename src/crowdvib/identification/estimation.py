@@ -15,8 +15,8 @@ from scipy import stats
 from scipy.optimize import least_squares
 
 from .._validation import as_float_array
-from ..errors import (BoundWarning, ConvergenceWarning, EstimationError, ParameterError,
-                      PlausibilityWarning)
+from ..errors import (BoundWarning, ConvergenceWarning, EstimationError,
+                      IdentifiabilityWarning, ParameterError, PlausibilityWarning)
 from ..models.loading import STANDARD_GRAVITY
 from ..models.pedestrian import MSDModel
 from ..signals.welch import welch_bin_correlation
@@ -302,6 +302,7 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         q, hessian = objective.score_terms(modelled, gradient)
         covariance = sandwich_covariance(q, hessian, modelled, objective.degrees_of_freedom,
                                          welch_bin_correlation(objective.n_windows))
+        _check_identifiability(names, covariance)
         if interval == "profile":
             ends = []
             for i, name in enumerate(names):
@@ -325,6 +326,25 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         interval_level=level, interval_on_bound=on_bound)
 
 
+#: |correlation| of two estimated parameters above which the data do not tell them apart.
+IDENTIFIABILITY_CORRELATION = 0.99
+
+
+def _check_identifiability(names, covariance):
+    """Warn when two parameters are so correlated that the record cannot separate them."""
+    scale = np.sqrt(np.maximum(np.diag(covariance), 1e-300))
+    correlation = covariance / np.outer(scale, scale)
+    pairs = [f"{names[i]}–{names[j]} {correlation[i, j]:+.3f}"
+             for i in range(len(names)) for j in range(i + 1, len(names))
+             if abs(correlation[i, j]) > IDENTIFIABILITY_CORRELATION]
+    if pairs:
+        hint = ("hold mass_ratio fixed (the paper uses 0.95) or fit several records with "
+                "different crowds together" if "mass_ratio" in names else "add data")
+        warnings.warn(f"the data do not determine {', '.join(names)} separately (correlation "
+                      f"{'; '.join(pairs)}, beyond ±{IDENTIFIABILITY_CORRELATION:g}): {hint}",
+                      IdentifiabilityWarning, stacklevel=3)
+
+
 def _model_gradient(objective, theta, to_msd, lower, upper):
     """∂G/∂θ at θ by central differences (one-sided at a bound), shape (L, K, n_parameters)."""
     columns = []
@@ -342,8 +362,8 @@ def _check_level(objective, ratio, cost, fit, to_msd):
     """Warn when the measured level disagrees with the fitted model's, naming the likely cause.
 
     Each unit mix-up of ``_UNIT_MIXUPS`` is tried by fitting the rescaled data again; one that
-    makes the level consistent and fits ten times better is named in the warning (the estimate itself is
-    left as it is: the user must correct the input).
+    makes the level consistent and fits ten times better is named in the warning (the estimate
+    itself is left as it is: the user must correct the input).
     """
     off = (ratio > LEVEL_RATIO_LIMIT) | (ratio < 1 / LEVEL_RATIO_LIMIT)
     if not off.any():

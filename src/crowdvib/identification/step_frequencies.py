@@ -1,4 +1,7 @@
-"""The crowd's step-frequency distribution from the low band of a measured PSD (paper, Waalse Krook; physics.md §7)."""
+"""The crowd's step-frequency distribution from the low band of a measured PSD.
+
+The paper's Waalse Krook procedure (physics.md §7).
+"""
 
 from dataclasses import dataclass, field, replace
 

@@ -1,4 +1,4 @@
-"""Statistical uncertainty of an estimate from one Welch PSD: sandwich covariance, profile intervals.
+"""Statistical uncertainty of one Welch PSD's estimate: sandwich covariance, profile intervals.
 
 Both misfits of :mod:`crowdvib.identification.objective` are sums over frequency bins,
 S(θ) = Σ_{l,k} ρ_{l,k}(θ), minimised at θ̂. Linearised about the model G = G(θ̂), the score is
