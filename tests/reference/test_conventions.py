@@ -130,3 +130,33 @@ def test_modal_scaling_does_not_change_physics(paper_crowd, paper_msd, welch_gri
     a = response_psd(bridge, paper_crowd, welch_grid, msd=paper_msd)
     b = response_psd(bridge.mass_normalised(), paper_crowd, welch_grid, msd=paper_msd)
     np.testing.assert_allclose(b.psd, a.psd, rtol=1e-9, atol=1e-14 * a.psd.max())
+
+
+@pytest.mark.parametrize("mean, std", [(0.07, 0.03), (0.03, 0.015), (0.3644, 0.0583),
+                                       (-0.01, 0.02)])
+def test_positive_normal_moments_match_scipy_truncnorm(mean, std):
+    # Reference: scipy.stats.truncnorm (X > 0) for a positive mean; for a mean ≤ 0 the sampler
+    # clips at 0, E[max(X, 0)^k] by numerical quadrature.
+    from crowdvib.models.loading import positive_normal_moments
+
+    first, second = positive_normal_moments(mean, std)
+    if mean > 0:
+        law = stats.truncnorm(-mean / std, np.inf, loc=mean, scale=std)
+        assert first == pytest.approx(law.mean(), rel=1e-10)
+        assert second == pytest.approx(law.moment(2), rel=1e-10)
+    else:
+        law = stats.norm(mean, std)
+        assert first == pytest.approx(integrate.quad(lambda x: x * law.pdf(x), 0, 1)[0],
+                                      rel=1e-6)
+        assert second == pytest.approx(integrate.quad(lambda x: x * x * law.pdf(x), 0, 1)[0],
+                                       rel=1e-6)
+
+
+def test_spectral_dlf_moments_are_those_the_simulator_draws():
+    # Issue 12: the sampler redraws non-positive DLFs; the spectral load now uses the moments of
+    # exactly those draws (it used untruncated ones, 0.6–2.2 % off for harmonics 2–5). Reference:
+    # a Monte Carlo of 400 000 pedestrians at f_s = 1.89 Hz (relative error ≈ 0.3 % at 3σ).
+    force = ZivanovicForce()
+    amplitudes, _ = force.sample(np.full(400_000, 1.89), np.random.default_rng(2))
+    spectral = force.mean_square_dlf(np.full((10, 1), 1.89))[:, 0]
+    assert (amplitudes**2).mean(axis=0) == pytest.approx(spectral, rel=6e-3)

@@ -14,6 +14,7 @@ Every constant sits in a table below with its provenance.
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import special
 
 from .._validation import check_non_negative, check_positive
 from ..errors import ParameterError
@@ -156,11 +157,18 @@ class ZivanovicForce(_WalkingForce):
         stds = np.asarray(ZIVANOVIC_HARMONIC_STD[1:])[column]
         slope = np.asarray(ZIVANOVIC_SUBHARMONIC_SLOPE)[column]
         offset = np.asarray(ZIVANOVIC_SUBHARMONIC_OFFSET)[column]
-        sampled = float(self.subharmonics_follow_sampled_dlf)
-        first = mu1[:1] ** 2 * (1.0 + ZIVANOVIC_DLF1_COV**2)
-        harmonics = np.broadcast_to(means**2 + stds**2, mu1[1:5].shape)
-        sub = (slope * mu1[5:] + offset) ** 2 + sampled * (slope * ZIVANOVIC_DLF1_COV * mu1[5:]) ** 2
-        return np.concatenate([first, harmonics, sub])
+        # The moments of the DLFs the sampler draws: normal, redrawn while not positive
+        # (positive_normal), so the spectral load and the simulator see the same crowd.
+        first_mean, first_square = positive_normal_moments(mu1[:1],
+                                                           ZIVANOVIC_DLF1_COV * np.abs(mu1[:1]))
+        harmonics = np.broadcast_to(positive_normal_moments(means, stds)[1], mu1[1:5].shape)
+        if self.subharmonics_follow_sampled_dlf:     # α_s = a α₁ + b with the sampled α₁
+            sub_mean, sub_square = positive_normal_moments(mu1[5:],
+                                                           ZIVANOVIC_DLF1_COV * np.abs(mu1[5:]))
+            sub = slope**2 * sub_square + 2 * slope * offset * sub_mean + offset**2
+        else:
+            sub = (slope * mu1[5:] + offset) ** 2
+        return np.concatenate([first_square, harmonics, sub])
 
     def sample(self, step_frequency, rng):
         step_frequency = np.asarray(step_frequency, dtype=float)
@@ -176,6 +184,28 @@ class ZivanovicForce(_WalkingForce):
         amplitudes = self.scale * np.concatenate([main, np.maximum(sub, 0.0)], axis=1)
         phases = rng.uniform(0.0, 2 * np.pi, size=amplitudes.shape)
         return amplitudes, phases
+
+
+def positive_normal_moments(means, stds):
+    """E[X] and E[X²] of the draws of :func:`positive_normal` (theory: walking force).
+
+    For a positive mean the draws are N(μ, σ²) truncated to X > 0: with a = μ/σ and
+    λ = φ(a)/Φ(a), E[X] = μ + σλ and E[X²] = μ² + σ² + μσλ (Johnson, Kotz & Balakrishnan 1994,
+    §13.10). For a mean ≤ 0 they are max(X, 0): E[X] = μΦ(a) + σφ(a),
+    E[X²] = (μ² + σ²)Φ(a) + μσφ(a).
+    """
+    means = np.asarray(means, dtype=float)
+    stds = np.asarray(stds, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = np.where(stds > 0, means / np.where(stds > 0, stds, 1.0), np.inf)
+    pdf = np.exp(-0.5 * np.minimum(np.abs(a), 40.0) ** 2) / np.sqrt(2 * np.pi)   # φ(a)
+    cdf = special.ndtr(a)                                                          # Φ(a)
+    truncated = means > 0
+    ratio = np.where(truncated, pdf / np.where(cdf > 0, cdf, 1.0), 0.0)
+    first = np.where(truncated, means + stds * ratio, means * cdf + stds * pdf)
+    second = np.where(truncated, means**2 + stds**2 + means * stds * ratio,
+                      (means**2 + stds**2) * cdf + means * stds * pdf)
+    return first, second
 
 
 def positive_normal(means, stds, rng):
