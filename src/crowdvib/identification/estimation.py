@@ -301,7 +301,8 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         gradient = _model_gradient(objective, best.x, to_msd, lower, upper)
         q, hessian = objective.score_terms(modelled, gradient)
         covariance = sandwich_covariance(q, hessian, modelled, objective.degrees_of_freedom,
-                                         welch_bin_correlation(objective.n_windows))
+                                         welch_bin_correlation(objective.n_windows),
+                                         occupancy=_occupancy(objective, msd, measured))
         _check_identifiability(names, covariance)
         if interval == "profile":
             ends = []
@@ -343,6 +344,28 @@ def _check_identifiability(names, covariance):
         warnings.warn(f"the data do not determine {', '.join(names)} separately (correlation "
                       f"{'; '.join(pairs)}, beyond ±{IDENTIFIABILITY_CORRELATION:g}): {hint}",
                       IdentifiabilityWarning, stacklevel=3)
+
+
+def _occupancy(objective, msd, measured):
+    """∂G/∂ln n and the relative variance 1/N of the crowd size a record averages over.
+
+    Poisson arrivals: the record's time-average of the crowd influence Σ φ²(x_k(t)) counts the N
+    pedestrians who crossed during it, so its relative variance is 1/N (Campbell's theorem for
+    a record much longer than a crossing), N = d·v·B·T for a flow of density d at speed v over a
+    walkway of width B (docs: theory, uncertainty). The record length T follows from the Welch
+    segments at 50 % overlap.
+    """
+    crowd = objective.model.crowd
+    duration = measured.window_length * (1 + 0.5 * (objective.n_windows - 1))
+    crossings = crowd.arrival_rate(objective.model.structure.width) * duration
+    if not crossings > 0:
+        return None
+    step = 1e-3
+    up = objective.spectral_model(crowd.with_density(crowd.density * (1 + step)))
+    down = objective.spectral_model(crowd.with_density(crowd.density * (1 - step)))
+    gradient = ((up.psd_array(msd) - down.psd_array(msd)) / (2 * step)
+                / objective.level[:, np.newaxis])
+    return gradient, 1.0 / crossings
 
 
 def _model_gradient(objective, theta, to_msd, lower, upper):

@@ -27,7 +27,8 @@ from scipy import optimize, stats
 __all__ = ["sandwich_covariance", "profile_interval"]
 
 
-def sandwich_covariance(q, hessian, modelled, degrees_of_freedom, correlation):
+def sandwich_covariance(q, hessian, modelled, degrees_of_freedom, correlation, *,
+                        occupancy=None):
     """Sandwich covariance H⁻¹ Var(g) H⁻¹ of the parameters (module docstring).
 
     Parameters
@@ -42,6 +43,9 @@ def sandwich_covariance(q, hessian, modelled, degrees_of_freedom, correlation):
         ν of the Welch ordinates.
     correlation : array_like
         ρ(0) = 1, ρ(1), … of ordinates 0, 1, … bins apart.
+    occupancy : (ndarray, float), optional
+        ∂G/∂ln n (shape of ``modelled``) and the relative variance of the record's crowd size n:
+        a crowd that happened to be larger than its mean shifts every ordinate together.
 
     Returns
     -------
@@ -53,8 +57,13 @@ def sandwich_covariance(q, hessian, modelled, degrees_of_freedom, correlation):
         if lag < v.shape[0]:
             cross = v[:-lag].T @ v[lag:]
             variance = variance + rho * (cross + cross.T)
+    variance = 2.0 / degrees_of_freedom * variance
+    if occupancy is not None:
+        gradient, relative_variance = occupancy
+        shift = np.einsum("lkp,lk->p", q, gradient)
+        variance = variance + relative_variance * np.outer(shift, shift)
     inverse = np.linalg.pinv(hessian)
-    return inverse @ (2.0 / degrees_of_freedom * variance) @ inverse
+    return inverse @ variance @ inverse
 
 
 def profile_interval(residuals, estimate, index, lower, upper, covariance, hessian, level):
