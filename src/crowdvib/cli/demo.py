@@ -93,7 +93,9 @@ def run(args):
                   "   truth inside" if ends[0] <= t <= ends[1] else "   truth outside")
         say(f"  {label:14s}{t:10.3f}{e:11.3f}{(e - t) / t:+9.1%}   "
             + ("—" if ends is None else f"{ends[0]:.3f}–{ends[1]:.3f}") + inside)
-    say(f"  J = {estimate.cost:.3g}; relative to no HSI J/J0 = {estimate.relative_cost:.3g}")
+    misfit = "deviance D" if estimate.method == "likelihood" else "J (paper Eq. 6)"
+    say(f"  estimator: {estimate.method.replace('_', ' ')}; misfit {misfit} = {estimate.cost:.3g}, "
+        f"relative to no HSI {estimate.relative_cost:.3g}")
     occupied = effective_modal_properties(structure, crowd, found)
     say(f"  occupied structure: {occupied.frequencies[0]:.3f} Hz, "
          f"{occupied.damping_ratios[0]:.2%} damping (empty: {structure.frequencies[0]:g} Hz, "

@@ -56,7 +56,8 @@ class HSIEstimate:
     msd : MSDModel
         The estimated mass-spring-damper model (f_h1 [Hz], ξ_h1 [-], μ_h1 [-]).
     cost : float
-        Objective J(θ̂) = Σ_l γ_l ‖G̃_l − G_l(θ̂)‖² / ‖G̃_l‖² [-] (paper Eq. 6).
+        The misfit at the estimate [-]: the Whittle deviance D(θ̂) for the likelihood, or
+        J(θ̂) = Σ_l γ_l ‖G̃_l − G_l(θ̂)‖² / ‖G̃_l‖² (paper Eq. 6) for least squares.
     cost_no_hsi : float
         The same objective for the structure without HSI (crowd as moving forces only) [-].
     n_evaluations : int
@@ -108,7 +109,7 @@ class HSIEstimate:
     starts: tuple = field(default=())
     message: str = ""
     level_ratio: np.ndarray = None
-    method: str = "least_squares"
+    method: str = "likelihood"
     covariance: np.ndarray = None
     intervals: dict = field(default_factory=dict)
     interval_level: float = 0.95
@@ -194,7 +195,7 @@ class HSIEstimate:
 
 def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weights=None,
                  frequency_weights=None, starts=None, bounds=None, mass_ratio=0.95,
-                 free_mass_ratio=False, force=None, match_welch=True, method="least_squares",
+                 free_mass_ratio=False, force=None, match_welch=True, method="likelihood",
                  interval="profile", level=0.95):
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Eq. 5, 6).
 
@@ -229,9 +230,11 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         Walking force model (default Živanović 2007).
     match_welch : bool
         Compare with what a Welch estimate of the measured window length would see (default).
-    method : {"least_squares", "likelihood"}
-        The paper's normalised least squares (Eq. 6), or the Whittle likelihood of the Welch
-        ordinates (theory: estimator).
+    method : {"likelihood", "least_squares"}
+        The Whittle likelihood of the Welch ordinates (default), or the paper's normalised least
+        squares (Eq. 6). The default is chosen on evidence (docs: theory, calibration): over
+        one-hour simulated records with Poisson arrivals the likelihood is unbiased where least
+        squares reads the fluctuating crowd as +8 % damping, and it scatters less.
     interval : {"profile", "wald", None}
         Statistical uncertainty from this record's Welch scatter: sandwich covariance with
         profile intervals (default), the covariance only (Wald intervals), or nothing (fastest,
@@ -408,8 +411,8 @@ def _check_level(objective, ratio, cost, fit, to_msd):
         # Named only when it explains the data: a consistent level AND a fit ten times better
         # (a mere gain error can come within the level limit after a wrong rescaling).
         if rescaled_cost < 0.1 * cost:
-            hint = (f"{cause}? Rescaled so, the data fit with J = {rescaled_cost:.3g} instead of "
-                    f"{cost:.3g} and give f_h1 = {msd.frequency:.3g} Hz, "
+            hint = (f"{cause}? Rescaled so, the data fit with a misfit of {rescaled_cost:.3g} "
+                    f"instead of {cost:.3g} and give f_h1 = {msd.frequency:.3g} Hz, "
                     f"ξ_h1 = {msd.damping_ratio:.3g}")
     warnings.warn(
         f"the measured PSD level over the band is not the fitted model's (measured/model "

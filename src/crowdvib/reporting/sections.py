@@ -168,7 +168,11 @@ def diagnostics_section(results, notes):
             notes.ok(html("the fit removes {} % of the misfit without HSI ({} = {}).",
                           f"{100 * (1 - relative):.2f}", _RELATIVE, number(relative, 3)))
     if cost is not None:
-        rows.append(["cost J (paper Eq. 6)", number(cost, 3)])
+        likelihood = hsi(results, "method") == "likelihood"
+        rows.append(["estimator", "Whittle likelihood of the Welch ordinates" if likelihood
+                     else "normalised least squares (paper Eq. 6)"])
+        rows.append(["misfit at the estimate (deviance D)" if likelihood
+                     else "cost J (paper Eq. 6)", number(cost, 3)])
     if no_hsi is not None:
         rows.append([html("cost without HSI J<sub>noHSI</sub>"), number(no_hsi, 3)])
     success = hsi(results, "success")
