@@ -303,7 +303,8 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         modelled = objective.modelled(msd)
         gradient = _model_gradient(objective, best.x, to_msd, lower, upper)
         q, hessian = objective.score_terms(modelled, gradient)
-        covariance = sandwich_covariance(q, hessian, modelled, objective.degrees_of_freedom,
+        covariance = sandwich_covariance(q, hessian, modelled * np.sqrt(objective.dispersion),
+                                         objective.degrees_of_freedom,
                                          welch_bin_correlation(objective.n_windows),
                                          occupancy=_occupancy(objective, msd, measured))
         _check_identifiability(names, covariance)

@@ -104,7 +104,11 @@ class PSDObjective:
         structure.output_index(outputs)
         self.band, keep = _check_band(band, measured.frequency)
         self.frequency = measured.frequency[keep]
-        self.target = measured.select(outputs).psd[:, keep]
+        selected = measured.select(outputs)
+        self.target = selected.psd[:, keep]
+        # Measured scatter of the ordinates over their χ² value (1: a stationary Gaussian record).
+        self.dispersion = (np.ones_like(self.target) if selected.dispersion is None
+                           else selected.dispersion[:, keep])
         # Work on PSDs divided by each output's peak in the band: J is unchanged, and no square
         # over- or underflows whatever the level (a record in the wrong units reaches the
         # plausibility check below instead of a cost of 0 or inf).
@@ -162,6 +166,7 @@ class PSDObjective:
                 "is within the likelihood's dynamic range; widen the band")
         self.frequency = self.frequency[use]
         self.target, self._target = self.target[:, use], self._target[:, use]
+        self.dispersion = self.dispersion[:, use]
         self._scale = self._scale[:, use]
         self.model = self.spectral_model(self.model.crowd)
         positive = self._target > 0

@@ -8,7 +8,9 @@ Hessian H. The estimate's covariance is the sandwich
     Cov(θ̂) = H⁻¹ Var(g) H⁻¹,
 
 with Var(g) from the statistics of Welch ordinates (theory: Welch statistics):
-Var(Ĝ_k) = (2/ν) G_k², and ordinates d bins apart correlated by ρ(d)
+Var(Ĝ_k) = φ_k (2/ν) G_k² — φ_k the dispersion the record's own segments show (1 for a
+stationary Gaussian record; :class:`~crowdvib.ResponsePSD`) — and ordinates d bins apart
+correlated by ρ(d)
 (:func:`crowdvib.signals.welch.welch_bin_correlation`: 0.46 and 0.04 for 50 %-overlapped Hann
 segments). The outputs are taken as fully coherent — exact for one output or one mode, and on
 the safe (wider) side otherwise. For the likelihood with independent bins this reduces to the
@@ -27,7 +29,7 @@ from scipy import optimize, stats
 __all__ = ["sandwich_covariance", "profile_interval"]
 
 
-def sandwich_covariance(q, hessian, modelled, degrees_of_freedom, correlation, *,
+def sandwich_covariance(q, hessian, spread, degrees_of_freedom, correlation, *,
                         occupancy=None):
     """Sandwich covariance H⁻¹ Var(g) H⁻¹ of the parameters (module docstring).
 
@@ -37,8 +39,9 @@ def sandwich_covariance(q, hessian, modelled, degrees_of_freedom, correlation, *
         Score coefficients (:meth:`PSDObjective.score_terms`).
     hessian : ndarray, shape (n_parameters, n_parameters)
         Expected Hessian H of S.
-    modelled : ndarray, shape (n_outputs, n_bins)
-        G(θ̂), in the units of ``q``.
+    spread : ndarray, shape (n_outputs, n_bins)
+        G(θ̂)·sqrt(φ), in the units of ``q``: the standard deviation of each ordinate over
+        sqrt(2/ν), φ its measured dispersion (1 for the χ²_ν of a stationary Gaussian record).
     degrees_of_freedom : float
         ν of the Welch ordinates.
     correlation : array_like
@@ -51,7 +54,7 @@ def sandwich_covariance(q, hessian, modelled, degrees_of_freedom, correlation, *
     -------
     ndarray, shape (n_parameters, n_parameters)
     """
-    v = np.einsum("lkp,lk->kp", q, modelled)      # coherent outputs: one ε per bin
+    v = np.einsum("lkp,lk->kp", q, spread)        # coherent outputs: one ε per bin
     variance = v.T @ v
     for lag, rho in enumerate(np.asarray(correlation)[1:], start=1):
         if lag < v.shape[0]:

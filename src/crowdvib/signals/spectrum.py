@@ -37,6 +37,11 @@ class ResponsePSD:
         Where it comes from: ``"model"``, ``"welch"`` or ``"synthetic"``.
     unit : str
         Unit of ``psd``.
+    dispersion : ndarray, shape (n_outputs, n_frequencies), or None
+        Variance of each ordinate, estimated from the scatter of the Welch segments, over the
+        χ²_ν variance (2/ν)·G² of a stationary Gaussian record [-]: about 1 where the record
+        behaves so, above where the crowd's occupancy changes or the response is not Gaussian
+        (docs: theory, Statistical uncertainty of an estimate). None when unknown.
     """
 
     frequency: np.ndarray
@@ -47,6 +52,7 @@ class ResponsePSD:
     lowpass: object = None
     source: str = "model"
     unit: str = "(m/s²)²/Hz"
+    dispersion: np.ndarray = None
 
     def __post_init__(self):
         frequency = as_float_array("frequency", self.frequency, ndim=1)
@@ -61,6 +67,12 @@ class ResponsePSD:
         object.__setattr__(self, "frequency", frozen_array(frequency))
         object.__setattr__(self, "psd", frozen_array(psd))
         object.__setattr__(self, "output_names", names)
+        if self.dispersion is not None:
+            dispersion = np.array(self.dispersion, dtype=float)
+            if dispersion.shape != psd.shape:
+                raise ParameterError(f"dispersion must have the shape of psd {psd.shape}, got "
+                                     f"{dispersion.shape}")
+            object.__setattr__(self, "dispersion", frozen_array(dispersion))
 
     def check_measured(self):
         """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values."""
@@ -76,12 +88,15 @@ class ResponsePSD:
         """The PSDs of the named outputs, in that order."""
         rows = name_indices(names, self.output_names)
         return self._with(psd=self.psd[rows],
-                          output_names=tuple(self.output_names[i] for i in rows))
+                          output_names=tuple(self.output_names[i] for i in rows),
+                          dispersion=None if self.dispersion is None else self.dispersion[rows])
 
     def band(self, lower, upper):
         """The PSDs restricted to lower <= f <= upper [Hz]."""
         keep = (self.frequency >= lower) & (self.frequency <= upper)
-        return self._with(frequency=self.frequency[keep], psd=self.psd[:, keep])
+        return self._with(frequency=self.frequency[keep], psd=self.psd[:, keep],
+                          dispersion=None if self.dispersion is None
+                          else self.dispersion[:, keep])
 
     def variance(self, lower=0.0, upper=np.inf):
         """Band variance ∫ G df over [lower, upper] per output [(m/s²)²], trapezoid rule."""
@@ -99,7 +114,8 @@ class ResponsePSD:
     def _with(self, **changes):
         fields = dict(frequency=self.frequency, psd=self.psd, output_names=self.output_names,
                       window_length=self.window_length, n_windows=self.n_windows,
-                      lowpass=self.lowpass, source=self.source, unit=self.unit)
+                      lowpass=self.lowpass, source=self.source, unit=self.unit,
+                      dispersion=self.dispersion)
         fields.update(changes)
         return ResponsePSD(**fields)
 

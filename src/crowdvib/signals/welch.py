@@ -145,13 +145,54 @@ def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=
                 f"lowpass.sample_rate must equal sample_rate {sample_rate:g} Hz, "
                 f"got {lowpass.sample_rate:g} Hz")
         data = lowpass.apply(data)
-    frequency, psd = _signal.welch(data, fs=sample_rate, window="hann", nperseg=segment,
-                                   noverlap=int(segment * overlap), detrend="constant",
-                                   return_onesided=True, scaling="density", axis=-1)
+    # The segments' periodograms (what scipy.signal.welch averages), kept to measure their
+    # scatter as well as their mean.
+    frequency, _, periodograms = _signal.spectrogram(
+        data, fs=sample_rate, window="hann", nperseg=segment, noverlap=int(segment * overlap),
+        detrend="constant", return_onesided=True, scaling="density", mode="psd", axis=-1)
+    psd = periodograms.mean(axis=-1)
+    n_windows = periodograms.shape[-1]
     return ResponsePSD(frequency=frequency, psd=psd, output_names=names,
-                       window_length=segment / sample_rate,
-                       n_windows=welch_segment_count(data.shape[1], segment, overlap),
-                       lowpass=lowpass, source="welch")
+                       window_length=segment / sample_rate, n_windows=n_windows,
+                       lowpass=lowpass, source="welch",
+                       dispersion=_dispersion(periodograms, psd, overlap))
+
+
+#: Segment lags over which the periodograms of a record are taken as correlated (the Hann
+#: overlap at lag 1, a crowd crossing the deck in tens of seconds over the next few).
+DISPERSION_LAGS = 3
+#: Bins on each side over which the measured dispersion is averaged (its noise falls ~3×).
+DISPERSION_SMOOTHING = 4
+
+
+def _dispersion(periodograms, psd, overlap):
+    """Measured variance of each Welch ordinate over its χ²_ν value, per bin (ResponsePSD).
+
+    Var(Ĝ) = (γ₀ + 2 Σ_j (1 − j/K) γ_j)/K from the autocovariances γ_j of the segments'
+    periodograms over segment lags j ≤ ``DISPERSION_LAGS`` (a batch estimate: whatever makes
+    the segments scatter — the χ² of a Gaussian record, a changing crowd — is in it; the bias of
+    centring on the sample mean, a factor 1 − (2L + 1)/K, is undone), divided
+    by (2/ν) Ĝ² and averaged over ±``DISPERSION_SMOOTHING`` bins. None with fewer than 8
+    segments, too few to tell.
+    """
+    k = periodograms.shape[-1]
+    if k < 8:
+        return None
+    deviation = periodograms - psd[..., np.newaxis]
+    variance = np.mean(deviation**2, axis=-1)
+    lags = min(DISPERSION_LAGS, k - 1)
+    for lag in range(1, lags + 1):
+        covariance = np.sum(deviation[..., lag:] * deviation[..., :-lag], axis=-1) / k
+        variance = variance + 2 * (1 - lag / k) * covariance
+    # Centring on the sample mean biases each of the 2L + 1 terms by −γ₀/K: undo it.
+    variance = variance / (1 - (2 * lags + 1) / k)
+    reference = 2.0 / welch_degrees_of_freedom(k, overlap) * psd**2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(reference > 0, np.maximum(variance / k, 0.0) / reference, 1.0)
+    width = 2 * DISPERSION_SMOOTHING + 1
+    padded = np.pad(ratio, [(0, 0), (DISPERSION_SMOOTHING, DISPERSION_SMOOTHING)], mode="edge")
+    kernel = np.ones(width) / width
+    return np.array([np.convolve(row, kernel, mode="valid") for row in padded])
 
 
 def _segment_pair_sums(n_windows, overlap, max_lag):
