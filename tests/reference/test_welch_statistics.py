@@ -53,3 +53,22 @@ def test_record_frequencies_refuses_odd_sample_counts():
 
     with pytest.raises(ParameterError, match="even number of samples"):
         record_frequencies(1.05, 20.0)
+
+
+def test_measured_dispersion_is_one_for_a_gaussian_record_and_more_for_a_changing_one():
+    # A stationary Gaussian record scatters as χ²_ν: dispersion 1 (mean over four records).
+    sample_rate = 20.0
+    frequency = record_frequencies(3600.0, sample_rate)
+    records = gaussian_record(np.ones((4, frequency.size)), sample_rate, rng=3)
+    steady = welch_psd(records, sample_rate, window_length=60.0)
+    assert steady.dispersion[:, 5:-5].mean() == pytest.approx(1.0, abs=0.04)
+    # The amplitude switched between a² = 1 and 4 every 5 minutes (a crowd that comes and goes):
+    # the segments scatter about their mean by E[a⁴] + Var(a²) = 10.75 against the χ² value
+    # E[a²]² = 6.25 (in units of G²), a ratio of 1.72 before the persistence of each level,
+    # which only adds.
+    envelope = np.where((np.arange(records.shape[1]) // 6000) % 2, 2.0, 1.0)
+    changing = welch_psd(records * envelope, sample_rate, window_length=60.0)
+    assert changing.dispersion[:, 5:-5].mean() > 10.75 / 6.25
+    # The band and output selections carry it along.
+    part = changing.band(1.0, 2.0).select(["ch1"])
+    assert part.dispersion.shape == part.psd.shape == (1, 61)
