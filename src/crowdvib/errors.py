@@ -15,6 +15,7 @@ __all__ = [
     "ConvergenceWarning",
     "ResolutionWarning",
     "DataWarning",
+    "StudyWarning",
 ]
 
 
@@ -52,3 +53,7 @@ class ResolutionWarning(CrowdvibWarning):
 
 class DataWarning(CrowdvibWarning):
     """A measured record is usable but doubtful (flat or clipped stretches)."""
+
+
+class StudyWarning(CrowdvibWarning):
+    """Stored tasks of a study cannot be reused (damaged file, changed inputs): they are redone."""

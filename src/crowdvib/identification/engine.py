@@ -1,0 +1,125 @@
+"""Where a study's tasks run: in this process, on a local dask cluster, or on a remote one.
+
+:func:`study_executor` gives :func:`crowdvib.identification.tasks.run_tasks` an executor, and the
+local and the remote case are one code path: a ``dask.distributed`` client, local workers being a
+:class:`distributed.LocalCluster` on loopback (worker processes, one thread each, no dashboard).
+
+Why dask.distributed rather than loky (or ``concurrent.futures``' process pool):
+
+* a worker that dies (killed, out of memory) has its tasks run again on another worker by the
+  scheduler, and the nanny starts a fresh worker; loky and the standard pool instead break the
+  whole pool (``TerminatedWorkerError``/``BrokenProcessPool``) and leave the retry to us;
+* ``--scheduler ADDRESS`` needs dask anyway, so local and remote runs share every line;
+* a worker process exits at once when its parent dies, even by SIGKILL: the nanny holds one end of
+  a pipe whose other end a thread of the worker reads, and the kernel closes it with the parent
+  (``distributed.process.AsyncProcess``); the fault tests check this.
+
+Its cost is about a second to start two workers, which is why one worker (the default) runs in
+this process without any cluster.
+"""
+
+import contextlib
+import logging
+import signal
+import threading
+
+from ..errors import ParameterError
+
+__all__ = ["study_executor"]
+
+
+@contextlib.contextmanager
+def study_executor(workers=1, scheduler=None):
+    """The executor a study runs on, for a ``with`` block.
+
+    Parameters
+    ----------
+    workers : int
+        Local worker processes; 1 runs the tasks in this process (yields None).
+    scheduler : str, optional
+        Address of a running dask.distributed scheduler, e.g. ``"tcp://10.0.0.5:8786"``;
+        ``workers`` is then ignored.
+
+    Yields
+    ------
+    concurrent.futures.Executor or None
+
+    Notes
+    -----
+    Leaving the block closes the client and the local cluster. Left by an exception (Ctrl-C),
+    unfinished tasks have already been cancelled by ``run_tasks``; the local workers are then
+    stopped without waiting for the task they run, so the interruption takes well under 2 s.
+    """
+    if scheduler is None:
+        if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+            raise ParameterError(f"--workers must be >= 1, got {workers}")
+        if workers == 1:
+            yield None
+            return
+    try:
+        import dask
+        import distributed
+    except ImportError:
+        raise ParameterError("--workers > 1 and --scheduler need dask.distributed: "
+                             "pip install 'crowdvib[dask]'") from None
+    with contextlib.ExitStack() as stack:
+        if scheduler is None:
+            # dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's
+            # adaptive mmap threshold: every large numpy temporary is then mapped and unmapped
+            # afresh, and the page faults made a study on 2 workers slower than on 1 (measured:
+            # 6 s of system time per worker for the 85 estimations of the paper example).
+            with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_":
+                                  None}):
+                # Loopback only; no dashboard, and the scheduler's health route on a free port
+                # (by default it takes 8787, or warns when that is taken).
+                cluster = distributed.LocalCluster(
+                    n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                    dashboard_address=None, silence_logs=logging.ERROR,
+                    scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"})
+            stack.callback(_stop, cluster)
+            client = distributed.Client(cluster)
+            stack.callback(_close, client)
+            # Ctrl-C reaches the whole process group; the parent alone handles it.
+            from ._dask_worker import IgnoreInterrupts
+
+            client.register_plugin(IgnoreInterrupts(), name="crowdvib-ignore-sigint")
+        else:
+            try:
+                client = distributed.Client(scheduler, timeout=10)
+            except (OSError, TimeoutError, ValueError) as error:
+                raise ParameterError(f"--scheduler {scheduler}: cannot connect ({error})") \
+                    from None
+            stack.callback(_close, client)
+        # pure=False: tasks are told apart by run_tasks, hashing them again for dask is waste.
+        yield client.get_executor(pure=False)
+
+
+def _close(resource):
+    """Close a client or cluster quickly; a second Ctrl-C meanwhile is ignored, not a traceback."""
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        resource.close(timeout=2)
+    except Exception:          # already closed or lost: nothing left to release
+        pass
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, previous)
+
+
+def _stop(cluster):
+    """Close a local cluster; a worker still alive after the close's time-out is killed (a
+    worker busy in a long task can take that long to notice), so none outlives the study."""
+    import os
+
+    import psutil                              # a dependency of distributed
+
+    pids = [nanny.pid for nanny in cluster.workers.values() if nanny.pid]
+    _close(cluster)
+    for pid in pids:
+        try:
+            worker = psutil.Process(pid)
+            if worker.ppid() == os.getpid():
+                worker.kill()
+        except psutil.Error:                   # gone already, as it should be
+            pass
