@@ -64,25 +64,8 @@ def study_executor(workers=1, scheduler=None):
                              "pip install 'crowdvib[dask]'") from None
     with contextlib.ExitStack() as stack:
         if scheduler is None:
-            # dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's
-            # adaptive mmap threshold: every large numpy temporary is then mapped and unmapped
-            # afresh, and the page faults made a study on 2 workers slower than on 1 (measured:
-            # 6 s of system time per worker for the 85 estimations of the paper example).
-            with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_":
-                                  None}):
-                # Loopback only; no dashboard, and the scheduler's health route on a free port
-                # (by default it takes 8787, or warns when that is taken).
-                cluster = distributed.LocalCluster(
-                    n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                    dashboard_address=None, silence_logs=logging.ERROR,
-                    scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"})
-            stack.callback(_stop, cluster)
-            client = distributed.Client(cluster)
-            stack.callback(_close, client)
-            # Ctrl-C reaches the whole process group; the parent alone handles it.
-            from ._dask_worker import IgnoreInterrupts
-
-            client.register_plugin(IgnoreInterrupts(), name="crowdvib-ignore-sigint")
+            with _interrupts_held():
+                client = _local_client(distributed, dask, workers, stack)
         else:
             try:
                 client = distributed.Client(scheduler, timeout=10)
@@ -92,6 +75,56 @@ def study_executor(workers=1, scheduler=None):
             stack.callback(_close, client)
         # pure=False: tasks are told apart by run_tasks, hashing them again for dask is waste.
         yield client.get_executor(pure=False)
+
+
+def _local_client(distributed, dask, workers, stack):
+    """A client of a new local cluster, both closed by ``stack``."""
+    # dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's adaptive
+    # mmap threshold: every large numpy temporary is then mapped and unmapped afresh, and the
+    # page faults made a study on 2 workers slower than on 1 (measured: 6 s of system time per
+    # worker for the 85 estimations of the paper example).
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+        # Loopback only; no dashboard, and the scheduler's health route on a free port (by
+        # default it takes 8787, or warns when that is taken). dask's own log lines are
+        # silenced: what matters reaches run_tasks through the futures, and on Ctrl-C a worker
+        # would log the scheduler's closing with a traceback.
+        cluster = distributed.LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+            dashboard_address=None, silence_logs=logging.CRITICAL,
+            scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"})
+    stack.callback(_stop, cluster)
+    client = distributed.Client(cluster)
+    stack.callback(_close, client)
+    # Workers started later (a nanny replacing a dead one) may not inherit the held SIGINT.
+    from ._dask_worker import IgnoreInterrupts
+
+    client.register_plugin(IgnoreInterrupts(), name="crowdvib-ignore-sigint")
+    return client
+
+
+@contextlib.contextmanager
+def _interrupts_held():
+    """Hold Ctrl-C (SIGINT) while a local cluster starts; it is raised when the block ends.
+
+    A KeyboardInterrupt inside dask's start-up leaves a half-built cluster whose clean-up took
+    12 s (measured). Held, the signal waits until the cluster is up and registered for closing.
+    The block is inherited by the threads and processes started meanwhile (dask's event loop and,
+    through it, the workers), so a terminal's Ctrl-C reaches the parent alone.
+    """
+    if (not hasattr(signal, "pthread_sigmask")
+            or threading.current_thread() is not threading.main_thread()):
+        yield
+        return
+    # multiprocessing starts its resource tracker with SIGINT blocked and then *unblocks* it,
+    # which would end the hold early: start the tracker first.
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 
 
 def _close(resource):
