@@ -70,7 +70,8 @@ def test_dask_local_cluster_equals_serial(measured, paper_bridge, paper_crowd):
     serial = modelling_error_study(measured, paper_bridge, paper_crowd, band=(0.0, 10.0),
                                    levels=levels, joint=True)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  host="127.0.0.1", dashboard_address=None) as cluster, \
+                                  host="127.0.0.1", dashboard_address=None,
+                                  scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster, \
             distributed.Client(cluster) as client:
         assert len(client.scheduler_info()["workers"]) == 2
         on_cluster = modelling_error_study(measured, paper_bridge, paper_crowd,

@@ -15,13 +15,15 @@ def add_arguments(parser):
     parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
     parser.add_argument("--workers", type=int, default=1,
-                        help="local worker processes (default 1: in this process)")
+                        help="worker processes of a local dask cluster (default 1: no cluster, "
+                             "in this process; needs crowdvib[dask] above 1)")
     parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
                         help="run on a dask.distributed scheduler, e.g. tcp://127.0.0.1:8786 "
                              "(needs crowdvib[dask])")
     parser.add_argument("--resume", action="store_true",
                         help="continue an interrupted study in --out without recomputing "
-                             "finished tasks")
+                             "finished tasks; tasks whose inputs (case values, record, options) "
+                             "changed since are recomputed, and the command says how many")
     parser.add_argument("--force", action="store_true",
                         help="start afresh, replacing an existing output directory")
     parser.add_argument("--no-joint", action="store_true",

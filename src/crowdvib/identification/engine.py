@@ -46,9 +46,10 @@ def study_executor(workers=1, scheduler=None):
 
     Notes
     -----
-    Leaving the block closes the client and the local cluster. Left by an exception (Ctrl-C),
-    unfinished tasks have already been cancelled by ``run_tasks``; the local workers are then
-    stopped without waiting for the task they run, so the interruption takes well under 2 s.
+    Leaving the block closes the client and the local cluster (about a second; a worker still
+    alive after 2 s is killed). Left by Ctrl-C, ``run_tasks`` has already cancelled the
+    unfinished tasks. Ctrl-C while the local cluster starts is held until it is up, so that it
+    is closed like any other.
     """
     if scheduler is None:
         if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
