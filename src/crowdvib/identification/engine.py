@@ -83,7 +83,8 @@ def _local_client(distributed, dask, workers, stack):
     # dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's adaptive
     # mmap threshold: every large numpy temporary is then mapped and unmapped afresh, and the
     # page faults made a study on 2 workers slower than on 1 (measured: 6 s of system time per
-    # worker for the 85 estimations of the paper example).
+    # worker for the 85 estimations of the paper example). Its OMP/OPENBLAS_NUM_THREADS=1 stays:
+    # run_tasks gives every task one BLAS thread anyway, wherever it runs.
     with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
         # Loopback only; no dashboard, and the scheduler's health route on a free port (by
         # default it takes 8787, or warns when that is taken). dask's own log lines are
