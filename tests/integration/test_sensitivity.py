@@ -203,3 +203,21 @@ def test_parametric_study_findings():
                 "step_frequency_std")}
     assert sorted(effects, key=effects.get)[-2:] in (["step_frequency_mean", "frequencies"],
                                                      ["frequencies", "step_frequency_mean"])
+
+
+def _blas_threads_in_task(payload):
+    from threadpoolctl import threadpool_info
+
+    return {"threads": [lib["num_threads"] for lib in threadpool_info()
+                        if lib["user_api"] == "blas"]}
+
+
+def test_every_task_runs_with_one_blas_thread():
+    # The number of BLAS threads sets the order of BLAS sums; with one everywhere a task gives
+    # the same bits in this process and on any worker (eeklo_like differed in the 7th digit
+    # between this process's BLAS threads and a dask worker's one).
+    from threadpoolctl import threadpool_info
+
+    assert any(lib["user_api"] == "blas" for lib in threadpool_info())   # numpy's OpenBLAS
+    result = run_tasks(_blas_threads_in_task, [("only", None)])["only"]
+    assert result["threads"] and set(result["threads"]) == {1}
