@@ -11,8 +11,13 @@ import numpy as np
 
 
 @contextlib.contextmanager
-def atomic_path(path):
-    """Yield a temporary path beside ``path``; on success it replaces ``path`` in one rename."""
+def atomic_path(path, *, fsync=False):
+    """Yield a temporary path beside ``path``; on success it replaces ``path`` in one rename.
+
+    With ``fsync``, the file's bytes reach the disk before the rename and the rename reaches it
+    after: a power cut then leaves the old file or the new one, never an empty one (a rename
+    alone orders nothing on ext4/xfs with delayed allocation).
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
@@ -23,10 +28,22 @@ def atomic_path(path):
     os.chmod(temporary, 0o666 & ~umask)
     try:
         yield Path(temporary)
+        if fsync:
+            _fsync(temporary, os.O_RDONLY)
         os.replace(temporary, path)
+        if fsync:
+            _fsync(path.parent, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
     finally:
         if os.path.exists(temporary):
             os.unlink(temporary)
+
+
+def _fsync(path, flags):
+    descriptor = os.open(path, flags)
+    try:
+        os.fsync(descriptor)
+    finally:
+        os.close(descriptor)
 
 
 def _json_default(value):
@@ -37,10 +54,10 @@ def _json_default(value):
     raise TypeError(f"cannot write {type(value).__name__} to JSON")
 
 
-def write_json(path, data):
-    """Write ``data`` as indented JSON, atomically (NaN written as null)."""
+def write_json(path, data, *, fsync=False):
+    """Write ``data`` as indented JSON, atomically (NaN written as null); see :func:`atomic_path`."""
     text = json.dumps(_replace_nan(data), indent=2, default=_json_default, allow_nan=False)
-    with atomic_path(path) as temporary:
+    with atomic_path(path, fsync=fsync) as temporary:
         temporary.write_text(text + "\n", encoding="utf-8")
     return Path(path)
 

@@ -17,6 +17,7 @@ __all__ = [
     "DataWarning",
     "PlausibilityWarning",
     "IdentifiabilityWarning",
+    "StudyWarning",
 ]
 
 
@@ -65,3 +66,7 @@ class PlausibilityWarning(CrowdvibWarning):
 class IdentifiabilityWarning(CrowdvibWarning):
     """The data do not determine the estimated parameters separately (near-perfect correlation
     of their estimates, as for μ_h1 with ξ_h1 from one record)."""
+
+
+class StudyWarning(CrowdvibWarning):
+    """Stored tasks of a study cannot be reused (damaged file, changed inputs): they are redone."""

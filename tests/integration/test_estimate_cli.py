@@ -9,7 +9,6 @@ import pytest
 
 from crowdvib.cli import main
 from crowdvib.io.records import read_record
-from crowdvib.reporting.report import RELATIVE_COST_LEVEL
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -31,10 +30,8 @@ def test_estimate_eeklo_like_recovers_the_simulated_msd(tmp_path, capsys):
     assert diagnostics["output_names"] == ["main_span", "side_span"]
     assert diagnostics["output_weights"] == [0.5, 0.5]
     assert diagnostics["band"] == [2.5, 8.0]
-    # The default estimator is the likelihood; its deviance left by the MSD, relative to none,
-    # must stay under the report's 10 % alarm level (the paper's "well below 1 %" is its J).
-    assert diagnostics["method"] == "likelihood"
-    assert diagnostics["relative_cost"] < RELATIVE_COST_LEVEL
+    assert diagnostics["method"] == "least_squares"
+    assert diagnostics["relative_cost"] < 0.01      # paper: "well below 1 %" for Eeklo
     assert diagnostics["active_bounds"] == []
     assert diagnostics["measured_psd"]["window_length"] == 25.0
     assert len(diagnostics["convergence"]["error"]) == 2

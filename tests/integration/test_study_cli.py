@@ -61,7 +61,8 @@ def test_sensitivity_on_a_dask_scheduler_equals_local_run(tmp_path):
     common = ["--no-joint", "--no-record-length"]
     assert main(["sensitivity", case, "--out", str(tmp_path / "local"), *common]) == 0
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  host="127.0.0.1", dashboard_address=None) as cluster:
+                                  host="127.0.0.1", dashboard_address=None,
+                                  scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster:
         assert main(["sensitivity", case, "--out", str(tmp_path / "dask"), "--scheduler",
                      cluster.scheduler_address, *common]) == 0
     local = json.loads((tmp_path / "local" / "results.json").read_text())

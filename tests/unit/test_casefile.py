@@ -209,4 +209,5 @@ def test_estimation_method_and_interval_keys(tmp_path):
     assert (case.estimation.method, case.estimation.interval) == ("likelihood", "wald")
     assert case.estimation.level == 0.9
     defaults = load_case(write_case(tmp_path, name="plain.toml")).estimation
-    assert (defaults.method, defaults.interval, defaults.level) == ("likelihood", "profile", 0.95)
+    assert (defaults.method, defaults.interval, defaults.level) == ("least_squares", "profile",
+                                                                    0.95)

@@ -12,7 +12,7 @@ import pytest  # noqa: E402
 
 from crowdvib import ParameterError, ResponsePSD, Simulation, frf, response_psd  # noqa: E402
 from crowdvib.reporting import plotting  # noqa: E402
-from crowdvib.identification.sensitivity import ObjectiveMap, ParametricResult, SensitivityResult  # noqa: E402
+from crowdvib.identification import ObjectiveMap, ParametricResult, SensitivityResult  # noqa: E402
 from crowdvib.signals import PSDConvergence  # noqa: E402
 
 

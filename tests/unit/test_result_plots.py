@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from crowdvib import frf, response_psd, simulate  # noqa: E402
-from crowdvib.identification.sensitivity import objective_map  # noqa: E402
+from crowdvib.identification import objective_map  # noqa: E402
 
 
 def test_result_plot_methods(paper_bridge, paper_crowd, paper_msd, welch_grid):

@@ -41,7 +41,7 @@ def run(args):
     from ..io.casefile import load_case
     from ..identification.estimation import estimate_hsi
     from ..reporting.plotting import plot_objective_map, save_figure
-    from ..identification.sensitivity import objective_map
+    from ..identification.landscape import objective_map
 
     case = load_case(args.case)
     stamp = provenance(case.path)
@@ -54,7 +54,7 @@ def run(args):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             estimate = estimate_hsi(measured, case.structure, crowd, **options)
-        for key in ("starts", "bounds", "method", "interval", "level"):
+        for key in ("starts", "bounds", "interval", "level"):
             options.pop(key)
         started = time.perf_counter()
         landscape = objective_map(measured, case.structure, crowd,

@@ -1,8 +1,8 @@
 """``crowdvib sensitivity``: modelling errors and record length → nominal ± bound (paper Figs. 11, 19)."""
 
 import contextlib
+import sys
 from pathlib import Path
-
 
 from .. import __version__
 from .._files import write_json
@@ -19,13 +19,15 @@ def add_arguments(parser):
     parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
     parser.add_argument("--workers", type=int, default=1,
-                        help="local worker processes (default 1: in this process)")
+                        help="worker processes of a local dask cluster (default 1: no cluster, "
+                             "in this process; needs crowdvib[dask] above 1)")
     parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
                         help="run on a dask.distributed scheduler, e.g. tcp://127.0.0.1:8786 "
                              "(needs crowdvib[dask])")
     parser.add_argument("--resume", action="store_true",
                         help="continue an interrupted study in --out without recomputing "
-                             "finished tasks")
+                             "finished tasks; tasks whose inputs (case values, record, options) "
+                             "changed since are recomputed, and the command says how many")
     parser.add_argument("--force", action="store_true",
                         help="start afresh, replacing an existing output directory")
     parser.add_argument("--no-joint", action="store_true",
@@ -34,34 +36,46 @@ def add_arguments(parser):
                         help="skip re-estimating on shorter parts of the record")
 
 
+def _resume_command(args):
+    """The command line that resumes this study, as the user would type it."""
+    import shlex
+
+    words = ["crowdvib", "sensitivity", str(args.case), "--out", str(args.out)]
+    if args.scheduler is not None:
+        words += ["--scheduler", args.scheduler]
+    elif args.workers != 1:
+        words += ["--workers", str(args.workers)]
+    words += [flag for flag, given in (("--no-joint", args.no_joint),
+                                       ("--no-record-length", args.no_record_length)) if given]
+    return shlex.join(words + ["--resume"])
+
+
 @contextlib.contextmanager
-def _executor(workers, scheduler):
-    """The executor a study runs on: none (serial), a process pool, or a dask cluster."""
-    from ..errors import ParameterError
+def _warnings_as_lines():
+    """Print each crowdvib warning as one line on stderr when it happens (a damaged task file,
+    inputs changed since the study began), not as a Python warning with a source line."""
+    import warnings
 
-    if scheduler is not None:
-        try:
-            from distributed import Client
-        except ImportError:
-            raise ParameterError("--scheduler needs dask.distributed: pip install "
-                                 "'crowdvib[dask]'") from None
-        with Client(scheduler) as client:
-            yield client.get_executor()
-    elif workers > 1:
-        import concurrent.futures
+    from ..errors import CrowdvibWarning
 
-        with concurrent.futures.ProcessPoolExecutor(workers) as pool:
-            yield pool
-    elif workers == 1:
-        yield None
-    else:
-        raise ParameterError(f"--workers must be >= 1, got {workers}")
+    with warnings.catch_warnings():
+        others = warnings.showwarning
+
+        def show(message, category, *rest):
+            if not issubclass(category, CrowdvibWarning):
+                return others(message, category, *rest)
+            print(f"crowdvib sensitivity: warning: {message}", file=sys.stderr, flush=True)
+
+        warnings.simplefilter("always", CrowdvibWarning)
+        warnings.showwarning = show
+        yield
 
 
 def run(args):
     from ..io.casefile import load_case
     from ..reporting.plotting import plot_estimation_errors, save_figure
-    from ..identification.sensitivity import TaskStore, modelling_error_study, record_length_study
+    from ..identification import (TaskStore, estimate_hsi, modelling_error_study,
+                                  record_length_study, study_executor)
 
     case = load_case(args.case)
     stamp = provenance(case.path)
@@ -71,25 +85,33 @@ def run(args):
     record, measured, lowpass = case_measurement(case)
     crowd, _ = case_crowd(case, record)
     options = estimate_options(case)
-    for key in ("method", "interval", "level"):
+    for key in ("interval", "level"):    # the study compares point estimates
         options.pop(key)
     store = TaskStore(out / "tasks")
     done = len(store.keys())
     if done:
         say(f"  resuming: {done} finished task(s) found in {store.directory}")
-    with _executor(args.workers, args.scheduler) as executor:
-        study = modelling_error_study(measured, case.structure, crowd, joint=not args.no_joint,
-                                      executor=executor, store=store,
-                                      progress=progress_printer("estimations", unit="tasks"),
-                                      **options)
-        lengths = None
-        if not args.no_record_length:
-            options.pop("band")
-            lengths = record_length_study(
-                record.data, record.sample_rate, case.structure, crowd,
-                window_length=case.measurement.window_length, band=case.estimation.band,
-                output_names=record.channel_names, lowpass=lowpass, executor=executor,
-                store=TaskStore(out / "record_length"), **options)
+    try:
+        with _warnings_as_lines(), study_executor(args.workers, args.scheduler) as executor:
+            study = modelling_error_study(
+                measured, case.structure, crowd, joint=not args.no_joint, executor=executor,
+                store=store, progress=progress_printer("estimations", unit="tasks"), **options)
+            lengths = None
+            if not args.no_record_length:
+                options.pop("band")
+                lengths = record_length_study(
+                    record.data, record.sample_rate, case.structure, crowd,
+                    window_length=case.measurement.window_length, band=case.estimation.band,
+                    output_names=record.channel_names, lowpass=lowpass, executor=executor,
+                    store=TaskStore(out / "record_length"),
+                    progress=progress_printer("record lengths", unit="tasks"), **options)
+    except KeyboardInterrupt:
+        # Every finished task is already on disk; the cluster is closed by now.
+        kept = sum(len(TaskStore(out / name).keys()) for name in ("tasks", "record_length")
+                   if (out / name).is_dir())
+        print(f"\ncrowdvib sensitivity: interrupted, {kept} finished task(s) kept in {out}; "
+              f"resume with: {_resume_command(args)}", file=sys.stderr, flush=True)
+        return 130
     say(f"\n  {'case':34s}{'Δ f_h1 [%]':>12s}{'Δ ξ_h1 [%]':>12s}")
     for row in study.cases:
         if row["kind"] == "individual":
@@ -104,6 +126,17 @@ def run(args):
     f, xi = summary["frequency"], summary["damping_ratio"]
     say(f"\n  result: f_h1 = {f['nominal']:.2f} ± {f['bound']:.2f} Hz, "
          f"ξ_h1 = {xi['nominal']:.2f} ± {xi['bound']:.2f}  (nominal ± joint bound)")
+    # The record's statistical interval beside the modelling bound, and both together.
+    with _warnings_as_lines():
+        nominal = estimate_hsi(measured, case.structure, crowd, **estimate_options(case))
+    combined = study.combined(nominal) if nominal.covariance is not None else None
+    for name, label, unit in (("frequency", "f_h1", " Hz"), ("damping_ratio", "ξ_h1", "")):
+        if combined:
+            row = combined[name]
+            say(f"  {label}: {100 * row['level']:g} % interval {row['interval'][0]:.3g}–"
+                f"{row['interval'][1]:.3g}{unit}, modelling ± {row['bound']:.2g}{unit}, "
+                f"together {row['combined'][0]:.3g}–{row['combined'][1]:.3g}{unit} "
+                "(interval widened by the bound)")
     if lengths:
         say("  record length: " + ", ".join(
             f"{r['duration']:g} s → {r['frequency']:.3f} Hz" for r in lengths if "error" not in r))
@@ -114,7 +147,10 @@ def run(args):
         "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
         "estimate": {"frequency": study.nominal["frequency"],
                      "damping_ratio": study.nominal["damping_ratio"],
-                     "mass_ratio": study.nominal["mass_ratio"]},
+                     "mass_ratio": study.nominal["mass_ratio"],
+                     **{key: value for key, value in nominal.to_dict()["estimate"].items()
+                        if key in ("interval", "standard_error")}},
+        "combined": combined,
         "expected": dict(case.expected), "sensitivity": study.to_dict(),
         "record_length": lengths, "figures": [figure], **stamp})
     report = write_report(out)

@@ -121,7 +121,7 @@ class EstimationSpec:
     match_welch: bool = True
     convergence_norm: str = "2"
     step_frequencies: StepFrequencySpec = None
-    method: str = "likelihood"
+    method: str = "least_squares"
     interval: str = "profile"
     level: float = 0.95
 
@@ -366,7 +366,7 @@ def _estimation(table, path):
                           convergence_norm=table.string("convergence_norm", "2",
                                                         choices=("2", "inf")),
                           step_frequencies=step,
-                          method=table.string("method", "likelihood",
+                          method=table.string("method", "least_squares",
                                               choices=("least_squares", "likelihood")),
                           interval=table.string("interval", "profile",
                                                 choices=("profile", "wald", "none")),

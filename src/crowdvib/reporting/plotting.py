@@ -290,7 +290,7 @@ def plot_objective_map(objective_map, *, uncertainty=None, search_bounds=None, r
     Parameters
     ----------
     objective_map : ObjectiveMap
-        From :func:`crowdvib.identification.sensitivity.objective_map`.
+        From :func:`crowdvib.identification.objective_map`.
     uncertainty : SensitivityResult or dict, optional
         A modelling-error study (or its ``summary()``): its nominal ± bound are drawn as dashed
         lines around the optimum (paper Fig. 10).
@@ -377,7 +377,7 @@ def plot_estimation_errors(sensitivity, *, axes=None, title=None):
     Parameters
     ----------
     sensitivity : SensitivityResult or dict
-        From :func:`crowdvib.identification.sensitivity.modelling_error_study` (or its ``to_dict()``).
+        From :func:`crowdvib.identification.modelling_error_study` (or its ``to_dict()``).
     axes : sequence of two matplotlib.axes.Axes, optional
     title : str, optional
 
@@ -445,7 +445,7 @@ def plot_parametric_ratios(parametric, *, parameters=None, axes=None, title=None
     Parameters
     ----------
     parametric : ParametricResult or dict
-        From :func:`crowdvib.identification.sensitivity.parametric_study` (or its ``to_dict()``).
+        From :func:`crowdvib.identification.parametric_study` (or its ``to_dict()``).
     parameters : sequence of str, optional
         Perturbed inputs to show (default all in the result; the paper's Fig. 5 is
         ``("modal_masses", "damping_ratios", "frequencies")``, Fig. 6
