@@ -65,19 +65,13 @@ class _Attached:
     sprung_mass: float         # [kg]
     frequency: float           # [Hz] of the sprung mass on a fixed base
     damping_ratio: float       # [-]
+    stiffness: float           # [N/m], from the model's own method
+    damping: float             # [N·s/m], likewise
     factor: np.ndarray         # B, shape (n_modes, rank)
 
     @property
     def influence(self):
         return self.factor @ self.factor.T
-
-    @property
-    def stiffness(self):
-        return self.sprung_mass * (2 * np.pi * self.frequency) ** 2
-
-    @property
-    def damping(self):
-        return 2 * self.damping_ratio * self.sprung_mass * 2 * np.pi * self.frequency
 
     def added_stiffness(self, frequency):
         """ω² M_app(ω) [kg/s²]: multiply by Ψ to get the dynamic stiffness it removes."""
@@ -90,14 +84,16 @@ def _crowd_attachment(crowd, msd, psi):
     """The smeared crowd of MSDs as an :class:`_Attached`, or None (no HSI or empty deck)."""
     if msd is None or crowd is None or crowd.density == 0:
         return None
-    sprung = msd.sprung_mass(crowd.body_mass)
-    return _Attached(crowd.body_mass - sprung, sprung, msd.frequency, msd.damping_ratio,
-                     _psd_factor(psi))
+    body = crowd.body_mass
+    sprung = msd.sprung_mass(body)
+    return _Attached(body - sprung, sprung, msd.frequency, msd.damping_ratio,
+                     msd.stiffness(body), msd.damping(body), _psd_factor(psi))
 
 
 def _damper_attachments(structure, dampers):
     """Each tuned mass damper as an :class:`_Attached` on its mode-shape row."""
     return tuple(_Attached(0.0, damper.mass, damper.frequency, damper.damping_ratio,
+                           damper.stiffness(), damper.damping(),
                            damper.shape_row(structure)[:, np.newaxis])
                  for damper in as_dampers(dampers))
 
