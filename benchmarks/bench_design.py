@@ -3,7 +3,6 @@
     python benchmarks/bench_design.py
 """
 
-import time
 
 import numpy as np
 
