@@ -10,7 +10,9 @@ to three models of the structure, side by side:
   ratio and engaged modal mass from :func:`crowdvib.effective_modal_properties`.
 
 The ratio of the governing accelerations tells the engineer what the identified interaction is
-worth.
+worth. With tuned mass dampers a mode no longer has one resonance: each model then includes the
+dampers, and mode j's response is the peak over frequency of its exact steady-state response to
+its code load (:func:`damped_response`).
 """
 
 from dataclasses import dataclass
@@ -20,13 +22,21 @@ import numpy as np
 from .._validation import check_non_negative, frozen_array
 from ..errors import ParameterError
 from ..models.crowd import Crowd
+from ..models.damper import as_dampers
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
-from ..response.spectral import effective_modal_properties
-from .codes import (CODES, HARMONIC_FORCES, class_density, comfort_class, comfort_limit,
-                    equivalent_pedestrians, reduction_factor)
+from ..response.spectral import effective_modal_properties, modal_accelerance
+from .codes import (CODES, HARMONIC_FORCES, REDUCTION_FACTOR_CORNERS, class_density,
+                    comfort_class, comfort_limit, equivalent_pedestrians, reduction_factor)
 
-__all__ = ["DesignCheck", "design_check", "resonant_response"]
+__all__ = ["DesignCheck", "design_check", "resonant_response", "damped_response"]
+
+#: With dampers, mode j is loaded over f_j·(1 ∓ BAND): wide enough for the two peaks a damper of
+#: mass ratio μ <= 0.1 splits a mode into (fixed points near 0.8 f_j and 1.1 f_j, physics.md §5).
+_RESONANCE_BAND = 0.25
+#: Frequency steps per half-power half-width ξ_j f_j of the narrowest mode: the sampled peak is
+#: then within (1/16)²/2 ≈ 0.2 % of the true one.
+_STEPS_PER_HALF_WIDTH = 16
 
 
 @dataclass(frozen=True, eq=False)
@@ -157,11 +167,68 @@ def resonant_response(structure, density, frequencies, damping_ratios, modal_mas
     """
     area = structure.area
     n_eq = equivalent_pedestrians(density, area, damping_ratios)
-    amplitudes = np.stack([HARMONIC_FORCES[h] * reduction_factor(frequencies, h) for h in (1, 2)])
-    harmonics = np.where(amplitudes.max(axis=0) > 0, amplitudes.argmax(axis=0) + 1, 0)
-    forces = amplitudes.max(axis=0) * n_eq / area * structure.shape_integrals(absolute=True)
+    amplitude, harmonics = _walking_load(frequencies)
+    forces = amplitude * n_eq / area * structure.shape_integrals(absolute=True)
     modal = forces / (2 * np.asarray(damping_ratios) * np.asarray(modal_masses))
     return forces, harmonics, np.abs(structure.output_shapes) * modal
+
+
+def _walking_load(frequency):
+    """Force amplitude F_h ψ_h(f) per equivalent pedestrian [N] and the harmonic h (0: none)."""
+    amplitudes = np.stack([HARMONIC_FORCES[h] * reduction_factor(frequency, h) for h in (1, 2)])
+    return amplitudes.max(axis=0), np.where(amplitudes.max(axis=0) > 0,
+                                            amplitudes.argmax(axis=0) + 1, 0)
+
+
+def damped_response(structure, density, frequencies, damping_ratios, *, crowd=None, msd=None,
+                    dampers=()):
+    """Peak steady-state response of every mode to its code load, dampers (and crowd) included.
+
+    Mode j alone is loaded by Q_j(f) = F_h ψ_h(f) n_eq,j / A ∫_A |φ_j| dA (n_eq with the
+    damping ratio of the damped mode) at every frequency f of its band f_j (1 ∓ 0.25); the
+    outputs' accelerations |−ω² Φ_o H(ω) e_j| Q_j(f) come from the exact receptance of structure,
+    dampers and crowd, and the largest over the band is the mode's resonant response. For an
+    undamped-by-devices mode this is the code's |Q_j| / (2 ξ_j m_j) to the grid's resolution.
+
+    Parameters
+    ----------
+    structure : ModalModel
+    density : float
+        d [persons/m²].
+    frequencies, damping_ratios : array_like, shape (n_modes,)
+        Modal frequencies [Hz] and damping ratios [-] of the damped modes (centre the bands,
+        size the grid, and set n_eq).
+    crowd, msd : Crowd, MSDModel, optional
+        The crowd's MSDs (the "hsi" model).
+    dampers : sequence of TunedMassDamper
+
+    Returns
+    -------
+    (ndarray, ndarray, ndarray)
+        As :func:`resonant_response`; force and harmonic at the frequency of the peak.
+    """
+    frequencies = np.asarray(frequencies, dtype=float)
+    corners = np.concatenate([np.array(c)[:, 0] for c in REDUCTION_FACTOR_CORNERS.values()])
+    low = max(corners.min(), (1 - _RESONANCE_BAND) * frequencies.min())
+    high = min(corners.max(), (1 + _RESONANCE_BAND) * frequencies.max())
+    n_modes = structure.n_modes
+    if high <= low:                                # no mode near the walking harmonics
+        return np.zeros(n_modes), np.zeros(n_modes, int), np.zeros((structure.n_outputs,
+                                                                      n_modes))
+    step = (np.asarray(damping_ratios) * frequencies).min() / _STEPS_PER_HALF_WIDTH
+    grid = np.linspace(low, high, int(np.ceil((high - low) / step)) + 1)
+    amplitude, harmonic = _walking_load(grid)
+    n_eq = equivalent_pedestrians(density, structure.area, damping_ratios)
+    loads = (n_eq / structure.area * structure.shape_integrals(absolute=True))[:, np.newaxis] \
+        * amplitude                                                    # (n_modes, n_f)
+    band = np.abs(grid - frequencies[:, np.newaxis]) <= _RESONANCE_BAND * frequencies[:, np.newaxis]
+    loads = np.where(band, loads, 0.0)
+    response = np.abs(modal_accelerance(structure, grid, crowd=crowd, msd=msd,
+                                        dampers=dampers)) * loads      # (n_out, n_modes, n_f)
+    at = response.max(axis=0).argmax(axis=-1)
+    modes = np.arange(n_modes)
+    return loads[modes, at], np.where(loads[modes, at] > 0, harmonic[at], 0), \
+        response.max(axis=-1)
 
 
 def _check_density(code, structure, traffic_class, density, crowd):
@@ -181,7 +248,7 @@ def _check_density(code, structure, traffic_class, density, crowd):
 
 
 def design_check(structure, code, *, traffic_class=None, density=None, crowd=None, msd=None,
-                 comfort_class=None):
+                 dampers=None, comfort_class=None):
     """Comfort check of a footbridge to a design guide, without and with HSI.
 
     Parameters
@@ -200,6 +267,9 @@ def design_check(structure, code, *, traffic_class=None, density=None, crowd=Non
         (default ``Crowd.from_density``: 70 kg). Used for the added mass and with ``msd``.
     msd : MSDModel, optional
         The pedestrians' MSD model (identified or assumed): adds the "hsi" model.
+    dampers : sequence of TunedMassDamper, optional
+        Tuned mass dampers, part of every model; each mode's response is then the peak of its
+        exact steady-state response over its band (:func:`damped_response`).
     comfort_class : {"CL1", "CL2", "CL3"}, optional
         Target comfort class of Sétra/HiVoSS (default "CL2", mean comfort: 1.0 m/s²).
 
@@ -229,23 +299,30 @@ def design_check(structure, code, *, traffic_class=None, density=None, crowd=Non
         raise ParameterError("damping_ratios must be > 0 for a resonant design check, got "
                              f"{structure.damping_ratios.tolist()}")
     crowd = (Crowd.from_density(density) if crowd is None else crowd.with_density(density))
+    dampers = as_dampers(dampers)
 
     m = structure.modal_masses
     loaded = m + crowd.body_mass * np.diag(structure.influence_matrix(density))
-    properties = {"empty": (structure.frequencies, structure.damping_ratios, m),
-                  "added_mass": (structure.frequencies * np.sqrt(m / loaded),
-                                 structure.damping_ratios, loaded)}
+    # Each model: the structure it checks, and the crowd of MSDs on it (HSI only).
+    models = {"empty": (structure, None, None),
+              "added_mass": (structure.replace(frequencies=structure.frequencies
+                                               * np.sqrt(m / loaded), modal_masses=loaded),
+                             None, None)}
     if msd is not None:
-        occupied = effective_modal_properties(structure, crowd, msd)
-        properties["hsi"] = (occupied.frequencies, occupied.damping_ratios,
-                             occupied.modal_masses)
+        models["hsi"] = (structure, crowd, msd)
     columns = {name: [] for name in ("frequencies", "damping_ratios", "modal_masses",
                                      "modal_forces", "harmonics", "peak_accelerations")}
-    for frequencies, ratios, masses in properties.values():
-        forces, harmonics, peaks = resonant_response(structure, density, frequencies, ratios,
-                                                     masses)
-        for name, value in zip(columns, (frequencies, ratios, masses, forces, harmonics, peaks)):
+    for model, model_crowd, model_msd in models.values():
+        modal = effective_modal_properties(model, model_crowd, model_msd, dampers=dampers)
+        if dampers:
+            response = damped_response(model, density, modal.frequencies, modal.damping_ratios,
+                                       crowd=model_crowd, msd=model_msd, dampers=dampers)
+        else:
+            response = resonant_response(model, density, modal.frequencies,
+                                         modal.damping_ratios, modal.modal_masses)
+        values = (modal.frequencies, modal.damping_ratios, modal.modal_masses) + response
+        for name, value in zip(columns, values):
             columns[name].append(value)
     return DesignCheck(code=code, traffic_class=traffic_class, density=density, limit=limit,
-                       output_names=structure.output_names, models=tuple(properties),
+                       output_names=structure.output_names, models=tuple(models),
                        **{name: np.array(value) for name, value in columns.items()})

@@ -28,7 +28,8 @@ from ..signals import ResponsePSD, welch_kernel
 from ._linalg import solve_occupied
 from .results import FRF, EffectiveModalProperties
 
-__all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties"]
+__all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties",
+           "modal_accelerance"]
 
 # Welch kernel support: ±8 bins of 1/T hold all but ~1e-5 of the Hann kernel's area; 16 model
 # points per bin resolve a 0.5 %-damped peak at 2 Hz (half-power width 0.02 Hz) with T = 60 s.
@@ -385,18 +386,53 @@ def frf(structure, frequency, *, crowd=None, msd=None, outputs=None, inputs=None
     inputs = outputs if inputs is None else tuple(inputs)
     out_shapes = structure.output_shapes[structure.output_index(outputs)]
     in_shapes = structure.output_shapes[structure.output_index(inputs)]
+    occupied = msd is not None and crowd.density > 0
+    values = _accelerance(structure, frequency, _attachments(structure, crowd, msd, dampers),
+                          out_shapes, in_shapes.T)
+    return FRF(frequency=frequency, values=values, output_names=outputs,
+               input_names=inputs, occupied=occupied)
+
+
+def _accelerance(structure, frequency, attached, out_shapes, loads):
+    """−ω² Φ_o H(ω) L for modal loads L (n_modes, k) → shape (n_outputs, k, n_f)."""
     omega = 2 * np.pi * frequency
     diagonal = _dynamic_stiffness_diagonal(structure, omega)
-    occupied = msd is not None and crowd.density > 0
-    attached = _attachments(structure, crowd, msd, dampers)
     if attached:
-        response = _occupied_solve(diagonal, attached, frequency,
-                                   in_shapes.T)                    # (n_f, n_modes, n_in)
+        response = _occupied_solve(diagonal, attached, frequency, loads)   # (n_f, n_modes, k)
     else:
-        response = in_shapes.T[np.newaxis] / diagonal[:, :, np.newaxis]
+        response = loads[np.newaxis] / diagonal[:, :, np.newaxis]
     values = -(omega**2)[:, np.newaxis, np.newaxis] * (out_shapes @ response)
-    return FRF(frequency=frequency, values=np.moveaxis(values, 0, -1), output_names=outputs,
-               input_names=inputs, occupied=occupied)
+    return np.moveaxis(values, 0, -1)
+
+
+def modal_accelerance(structure, frequency, *, crowd=None, msd=None, dampers=None, outputs=None):
+    """Accelerations at the outputs per unit modal force, −ω² Φ_o H(ω) (physics.md §3.1).
+
+    Column j is the response to a unit harmonic force in mode j alone (as a design code loads
+    one mode at a time), through the empty or occupied receptance, dampers included.
+
+    Parameters
+    ----------
+    structure : ModalModel
+    frequency : array_like
+        Frequencies [Hz].
+    crowd, msd : Crowd, MSDModel, optional
+        The crowd's MSDs (HSI); None = empty structure.
+    dampers : sequence of TunedMassDamper, optional
+    outputs : sequence of str, optional
+        Output names (default all).
+
+    Returns
+    -------
+    ndarray of complex, shape (n_outputs, n_modes, n_frequencies)
+        [(m/s²) per unit modal force, in the scaling of the mode shapes].
+    """
+    _check_msd_inputs(crowd, msd)
+    frequency = check_frequency_grid(frequency)
+    outputs = structure.output_names if outputs is None else tuple(outputs)
+    return _accelerance(structure, frequency, _attachments(structure, crowd, msd, dampers),
+                        structure.output_shapes[structure.output_index(outputs)],
+                        np.eye(structure.n_modes))
 
 
 def effective_modal_properties(structure, crowd=None, msd=None, *, dampers=None):
