@@ -7,13 +7,11 @@ the output accelerations have G_ü(f) = ω⁴ Φ_o H G_QQ Hᴴ Φ_oᵀ (§3.3).
 
 A tuned mass damper is one more mass-spring-damper, fixed at one point: it enters the same algebra
 as the crowd with its own apparent mass and the influence matrix φ_d φ_dᵀ of its mode-shape row
-(:class:`_Attached`), so every function here takes ``dampers=`` at no extra code path.
+(:mod:`._attached`), so every function here takes ``dampers=`` at no extra code path.
 
 :class:`SpectralModel` precomputes everything that does not depend on the MSD parameters, so the
 estimator can call it many times; :func:`response_psd` is the one-shot front door.
 """
-
-from dataclasses import dataclass
 
 import numpy as np
 from scipy import sparse
@@ -21,10 +19,11 @@ from scipy.optimize import linear_sum_assignment
 
 from .._validation import check_frequency_grid, check_positive
 from ..errors import ParameterError
-from ..models.damper import as_dampers
 from ..models.loading import as_force_model
-from ..models.pedestrian import MSDModel, transmissibility
+from ..models.pedestrian import MSDModel
 from ..signals import ResponsePSD, welch_kernel
+from ._attached import (attachments, crowd_attachment, damper_attachments, psd_factor,
+                        reduced_matrices)
 from ._linalg import solve_occupied
 from .results import FRF, EffectiveModalProperties
 
@@ -52,61 +51,6 @@ def _dynamic_stiffness_diagonal(structure, omega):
         1j * omega[:, np.newaxis] * (2 * structure.damping_ratios * m * wn)
 
 
-@dataclass(frozen=True, eq=False)
-class _Attached:
-    """Identical mass-spring-dampers coupled to the modes through Ψ = B Bᵀ (physics.md §2.7).
-
-    The smeared crowd (per unit of Ψ: unsprung m_h0, sprung m_h1 on k_h1, c_h1; B from Ψ's
-    eigen-decomposition) and a tuned mass damper (no unsprung mass; B = φ_d, its mode-shape row)
-    are the same object, so the frequency-domain solve and the reduced eigen-model below are
-    written once for both.
-    """
-
-    unsprung_mass: float       # [kg] per unit of Ψ
-    sprung_mass: float         # [kg]
-    frequency: float           # [Hz] of the sprung mass on a fixed base
-    damping_ratio: float       # [-]
-    stiffness: float           # [N/m], from the model's own method
-    damping: float             # [N·s/m], likewise
-    factor: np.ndarray         # B, shape (n_modes, rank)
-
-    @property
-    def influence(self):
-        return self.factor @ self.factor.T
-
-    def added_stiffness(self, frequency):
-        """ω² M_app(ω) [kg/s²]: multiply by Ψ to get the dynamic stiffness it removes."""
-        apparent = self.unsprung_mass + self.sprung_mass * transmissibility(
-            np.asarray(frequency) / self.frequency, self.damping_ratio)
-        return (2 * np.pi * frequency) ** 2 * apparent
-
-
-def _crowd_attachment(crowd, msd, psi):
-    """The smeared crowd of MSDs as an :class:`_Attached`, or None (no HSI or empty deck)."""
-    if msd is None or crowd is None or crowd.density == 0:
-        return None
-    body = crowd.body_mass
-    sprung = msd.sprung_mass(body)
-    return _Attached(body - sprung, sprung, msd.frequency, msd.damping_ratio,
-                     msd.stiffness(body), msd.damping(body), _psd_factor(psi))
-
-
-def _damper_attachments(structure, dampers):
-    """Each tuned mass damper as an :class:`_Attached` on its mode-shape row."""
-    return tuple(_Attached(0.0, damper.mass, damper.frequency, damper.damping_ratio,
-                           damper.stiffness(), damper.damping(),
-                           damper.shape_row(structure)[:, np.newaxis])
-                 for damper in as_dampers(dampers))
-
-
-def _attachments(structure, crowd, msd, dampers):
-    """Everything attached to the modes: the crowd's MSDs (if HSI) and the dampers."""
-    psi = None if msd is None or crowd is None else structure.influence_matrix(crowd.density)
-    crowd_part = _crowd_attachment(crowd, msd, psi)
-    return ((crowd_part,) if crowd_part is not None else ()) + \
-        _damper_attachments(structure, dampers)
-
-
 def _occupied_solve(diagonal, attached, frequency, rhs):
     """Solve [diag(D0) − Σ_s ω² M_app,s Ψ_s] X = rhs at every frequency; rhs (n_modes, k)."""
     added = np.stack([part.added_stiffness(frequency) for part in attached], axis=-1)
@@ -120,13 +64,6 @@ def _occupied_solve(diagonal, attached, frequency, rhs):
 def _direct_projection(diagonal, attached, frequency, shapes, factor):
     """Φ_o H B by one solve per frequency; D is complex symmetric, so Φ_o H = solve(D, Φ_oᵀ)ᵀ."""
     return np.swapaxes(_occupied_solve(diagonal, attached, frequency, shapes.T), 1, 2) @ factor
-
-
-def _psd_factor(psi):
-    """B with Ψ = B Bᵀ (B: n_modes × rank), from the eigen-decomposition of the PSD matrix Ψ."""
-    values, vectors = np.linalg.eigh(psi)
-    keep = values > values.max(initial=0.0) * 1e-12
-    return vectors[:, keep] * np.sqrt(values[keep])
 
 
 class SpectralModel:
@@ -176,15 +113,15 @@ class SpectralModel:
         # ω⁴ turns displacement into acceleration PSD; folded into the load spectrum once.
         self._weight = omega**4 * spectrum
         self._psi = structure.influence_matrix(crowd.density)
-        self._load_factor = _psd_factor(self._psi)
+        self._load_factor = psd_factor(self._psi)
         self._diagonal = _dynamic_stiffness_diagonal(structure, omega)
         self._shapes = shapes
-        self._dampers = _damper_attachments(structure, dampers)
+        self._dampers = damper_attachments(structure, dampers)
 
     def psd_array(self, msd=None):
         """PSD [(m/s²)²/Hz] as an array of shape (n_outputs, n_frequencies)."""
         _check_msd_inputs(self.crowd, msd)
-        crowd_part = _crowd_attachment(self.crowd, msd, self._psi)
+        crowd_part = crowd_attachment(self.crowd, msd, self._psi)
         attached = ((crowd_part,) if crowd_part is not None else ()) + self._dampers
         if not attached:
             # Φ_o H with H diagonal: no solve needed.
@@ -215,36 +152,6 @@ class SpectralModel:
                            source="model")
 
 
-def _reduced_matrices(structure, attached):
-    """Mass, damping and stiffness of the structure with its attached MSDs (physics.md §2.7).
-
-    Coordinates: structural modes z (n_modes), then for each attachment its coordinates η
-    (rank of Ψ = B Bᵀ; 1 for a damper): M_r = diag(M_s + Σ m_0 Ψ, m_1 I, …),
-    K_r = [[K_s + Σ k_1 Ψ, −k_1 B, …], [−k_1 Bᵀ, k_1 I, …], …], C_r alike. Eliminating η at
-    frequency ω gives back D(ω) = K_s − ω²(M_s + Σ M_app Ψ) + iωC_s (§3.1).
-    """
-    n_modes = structure.n_modes
-    size = n_modes + sum(part.factor.shape[1] for part in attached)
-    wn = 2 * np.pi * structure.frequencies
-    m = structure.modal_masses
-    mass, damping, stiffness = np.zeros((3, size, size))
-    mass[:n_modes, :n_modes] = np.diag(m)
-    damping[:n_modes, :n_modes] = np.diag(2 * structure.damping_ratios * m * wn)
-    stiffness[:n_modes, :n_modes] = np.diag(m * wn**2)
-    start = n_modes
-    for part in attached:
-        block = slice(start, start + part.factor.shape[1])
-        mass[:n_modes, :n_modes] += part.unsprung_mass * part.influence
-        mass[block, block] = part.sprung_mass * np.eye(part.factor.shape[1])
-        for matrix, value in ((damping, part.damping), (stiffness, part.stiffness)):
-            matrix[:n_modes, :n_modes] += value * part.influence
-            matrix[:n_modes, block] = -value * part.factor
-            matrix[block, :n_modes] = -value * part.factor.T
-            matrix[block, block] = value * np.eye(part.factor.shape[1])
-        start = block.stop
-    return mass, damping, stiffness
-
-
 def _state_matrix(mass, damping, stiffness):
     size = mass.shape[0]
     inverse_mass = np.linalg.inv(mass)
@@ -263,7 +170,7 @@ def _modal_projection(structure, attached, factor, shapes, frequency):
     With A = V Λ V⁻¹ the state matrix of (M_r, C_r, K_r), z(ω) = Σ_p V_zp (V⁻¹ F)_p / (iω − λ_p):
     one small eigen-decomposition per MSD model replaces one LU solve per frequency.
     """
-    mass, damping, stiffness = _reduced_matrices(structure, attached)
+    mass, damping, stiffness = reduced_matrices(structure, attached)
     state, inverse_mass = _state_matrix(mass, damping, stiffness)
     poles, vectors = np.linalg.eig(state)
     size, n_modes = mass.shape[0], structure.n_modes
@@ -387,7 +294,7 @@ def frf(structure, frequency, *, crowd=None, msd=None, outputs=None, inputs=None
     out_shapes = structure.output_shapes[structure.output_index(outputs)]
     in_shapes = structure.output_shapes[structure.output_index(inputs)]
     occupied = msd is not None and crowd.density > 0
-    values = _accelerance(structure, frequency, _attachments(structure, crowd, msd, dampers),
+    values = _accelerance(structure, frequency, attachments(structure, crowd, msd, dampers),
                           out_shapes, in_shapes.T)
     return FRF(frequency=frequency, values=values, output_names=outputs,
                input_names=inputs, occupied=occupied)
@@ -430,7 +337,7 @@ def modal_accelerance(structure, frequency, *, crowd=None, msd=None, dampers=Non
     _check_msd_inputs(crowd, msd)
     frequency = check_frequency_grid(frequency)
     outputs = structure.output_names if outputs is None else tuple(outputs)
-    return _accelerance(structure, frequency, _attachments(structure, crowd, msd, dampers),
+    return _accelerance(structure, frequency, attachments(structure, crowd, msd, dampers),
                         structure.output_shapes[structure.output_index(outputs)],
                         np.eye(structure.n_modes))
 
@@ -469,7 +376,7 @@ def effective_modal_properties(structure, crowd=None, msd=None, *, dampers=None)
     """
     _check_msd_inputs(crowd, msd)
     n_modes = structure.n_modes
-    attached = _attachments(structure, crowd, msd, dampers)
+    attached = attachments(structure, crowd, msd, dampers)
     if not attached:
         empty = np.array([])
         return EffectiveModalProperties(
@@ -477,7 +384,7 @@ def effective_modal_properties(structure, crowd=None, msd=None, *, dampers=None)
             damping_ratios=structure.damping_ratios.copy(),
             participation=np.ones(n_modes), interaction_frequencies=empty,
             interaction_damping_ratios=empty, modal_masses=structure.modal_masses.copy())
-    mass, damping, stiffness = _reduced_matrices(structure, attached)
+    mass, damping, stiffness = reduced_matrices(structure, attached)
     size = mass.shape[0]
     state, inverse_mass = _state_matrix(mass, damping, stiffness)
     poles, vectors = np.linalg.eig(state)
