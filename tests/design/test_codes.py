@@ -178,3 +178,28 @@ def test_damper_tuned_to_the_occupied_bridge_wins_the_hsi_check(paper_bridge):
     hsi = [design_check(paper_bridge, "hivoss", traffic_class="TC3", crowd=crowd, msd=msd,
                         dampers=[damper]).governing_of("hsi")[0] for damper in (empty, occupied)]
     assert hsi[1] < hsi[0]
+
+
+def test_checks_and_tuning_do_not_depend_on_the_mode_scaling():
+    # physics.md §0: every result is invariant to the mode-shape scaling when the modal masses
+    # follow it (here: mass-normalised shapes, and a flipped, doubled mode).
+    bridge = ModalModel.simply_supported_beam(40.0, 2.5, [1.9, 3.7], [0.006, 0.008],
+                                              [30e3, 28e3], n_modes=2,
+                                              outputs={"mid": 20.0, "quarter": 10.0})
+    msd = MSDModel(3.0, 0.3, 0.95)
+    reference = design_check(bridge, "setra", traffic_class="II", msd=msd)
+    damper = tune_damper(bridge, 0, 0.03, crowd=Crowd.from_density(0.8), msd=msd)
+    for scaled in (bridge.mass_normalised(), bridge.rescaled([-2.0, 0.5])):
+        check = design_check(scaled, "setra", traffic_class="II", msd=msd)
+        # atol: mode 2 has a node at midspan (values ~1e-16 m/s² of round-off there).
+        np.testing.assert_allclose(check.peak_accelerations, reference.peak_accelerations,
+                                   rtol=1e-9, atol=1e-12)
+        other = tune_damper(scaled, 0, 0.03, crowd=Crowd.from_density(0.8), msd=msd)
+        assert other.mass == pytest.approx(damper.mass, rel=1e-9)
+        assert other.frequency == pytest.approx(damper.frequency, rel=1e-9)
+        assert other.damping_ratio == pytest.approx(damper.damping_ratio, rel=1e-9)
+        damped = design_check(scaled, "setra", traffic_class="II", msd=msd, dampers=[damper])
+        np.testing.assert_allclose(
+            damped.peak_accelerations,
+            design_check(bridge, "setra", traffic_class="II", msd=msd,
+                         dampers=[damper]).peak_accelerations, rtol=1e-9, atol=1e-12)
