@@ -21,7 +21,7 @@ def direct_matrices(structure, dampers):
     damping[:n, :n] = np.diag(2 * structure.damping_ratios * m * wn)
     stiffness[:n, :n] = np.diag(m * wn**2)
     for k, t in enumerate(dampers):
-        phi = structure.shapes_at([t.position])[0]
+        phi = structure.shapes_at([t.position], None if t.lane is None else [t.lane])[0]
         for matrix, value in ((damping, t.damping()), (stiffness, t.stiffness())):
             matrix[:n, :n] += value * np.outer(phi, phi)
             matrix[:n, n + k] -= value * phi
@@ -206,3 +206,23 @@ def test_bad_dampers_are_refused(paper_bridge):
         tune_damper(paper_bridge, 0, 0.02, criterion="velocity")
     with pytest.raises(ParameterError, match="mass_ratio must be > 0"):
         tune_damper(paper_bridge, 0, 0.0)
+
+
+def test_damper_on_a_lane_of_a_twisting_deck():
+    # Two lanes at the deck edges; mode 2 twists the deck (opposite signs across the width), so
+    # a damper at mid-width does not touch it and one on a lane does. Reference: direct eigen-
+    # solve with the coupling row φ(x, y) read from the lane's shapes.
+    x = np.linspace(0.0, 30.0, 121)
+    bending = np.sin(np.pi * x / 30.0)
+    shapes = np.stack([np.column_stack([bending, bending]), np.column_stack([bending, -bending])])
+    bridge = ModalModel(frequencies=[2.0, 2.6], damping_ratios=[0.005, 0.005],
+                        modal_masses=[20e3, 15e3], positions=x, mode_shapes=shapes, width=4.0,
+                        lanes=[0.0, 4.0], output_names=["edge"], output_shapes=[[1.0, 1.0]])
+    tuned = tune_damper(bridge, 1, 0.03)
+    assert tuned.position == 15.0 and tuned.lane in (0.0, 4.0)
+    assert np.allclose(np.abs(bridge.shapes_at([15.0], [tuned.lane])[0]), [1.0, 1.0])
+    ours = poles_from(effective_modal_properties(bridge, dampers=[tuned]))
+    np.testing.assert_allclose(ours, direct_poles(bridge, [tuned]), rtol=1e-9)
+    middle = TunedMassDamper(tuned.mass, tuned.frequency, tuned.damping_ratio, 15.0)
+    untouched = effective_modal_properties(bridge, dampers=[middle])
+    assert untouched.frequencies[1] == pytest.approx(2.6, rel=1e-12)   # torsion not coupled
