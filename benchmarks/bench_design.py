@@ -3,7 +3,6 @@
     python benchmarks/bench_design.py
 """
 
-
 import numpy as np
 
 from crowdvib import Crowd, MSDModel, frf
@@ -26,6 +25,12 @@ def main():
                          "< 1 s", best_of(run, repeat=3), check))
     crowd = Crowd.from_density(0.5)
     damper = tune_damper(bridge, 0, 0.02)
+    for code, traffic_class in (("hivoss", "TC3"), ("setra", "I")):
+        def run(code=code, traffic_class=traffic_class):
+            return design_check(bridge, code, traffic_class=traffic_class, msd=msd,
+                                dampers=[damper])
+        rows.append((f"design_check {code} {traffic_class}, 2 % damper on mode 1", "< 1 s",
+                     best_of(run, repeat=3), run()))
     grid = np.linspace(0.0, 20.0, 6000)
     timed = [("tune_damper mode 1, empty", best_of(lambda: tune_damper(bridge, 0, 0.02), 3)),
              ("tune_damper mode 1, occupied (HSI)",

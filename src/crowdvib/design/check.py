@@ -15,12 +15,13 @@ dampers, and mode j's response is the peak over frequency of its exact steady-st
 its code load (:func:`damped_response`).
 """
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._validation import check_non_negative, frozen_array
-from ..errors import ParameterError
+from ..errors import ParameterError, ResolutionWarning
 from ..models.crowd import Crowd
 from ..models.damper import as_dampers
 from ..models.pedestrian import MSDModel
@@ -37,6 +38,9 @@ _RESONANCE_BAND = 0.25
 #: Frequency steps per half-power half-width ξ_j f_j of the narrowest mode: the sampled peak is
 #: then within (1/16)²/2 ≈ 0.2 % of the true one.
 _STEPS_PER_HALF_WIDTH = 16
+#: Most frequencies of that grid (a 14-mode model solves 2e5 of them in about half a second);
+#: modes damped so little that the cap coarsens the grid get a ResolutionWarning.
+_MAX_GRID = 200_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -216,7 +220,14 @@ def damped_response(structure, density, frequencies, damping_ratios, *, crowd=No
         return np.zeros(n_modes), np.zeros(n_modes, int), np.zeros((structure.n_outputs,
                                                                       n_modes))
     step = (np.asarray(damping_ratios) * frequencies).min() / _STEPS_PER_HALF_WIDTH
-    grid = np.linspace(low, high, int(np.ceil((high - low) / step)) + 1)
+    size = int(np.ceil((high - low) / step)) + 1
+    if size > _MAX_GRID:
+        warnings.warn(ResolutionWarning(
+            f"damping_ratios down to {np.min(damping_ratios):.2g} need {size} frequencies to "
+            f"resolve the resonances; {_MAX_GRID} are used, so peaks of the least damped "
+            "modes may be underestimated"), stacklevel=3)
+        size = _MAX_GRID
+    grid = np.linspace(low, high, size)
     amplitude, harmonic = _walking_load(grid)
     n_eq = equivalent_pedestrians(density, structure.area, damping_ratios)
     loads = (n_eq / structure.area * structure.shape_integrals(absolute=True))[:, np.newaxis] \
