@@ -194,6 +194,11 @@ def damped_response(structure, density, frequencies, damping_ratios, *, crowd=No
     dampers and crowd, and the largest over the band is the mode's resonant response. For an
     undamped-by-devices mode this is the code's |Q_j| / (2 ξ_j m_j) to the grid's resolution.
 
+    A damper splits its mode in two poles; n_eq takes the damping ratio of the one paired with
+    the mode (most of its kinetic energy, :func:`crowdvib.effective_modal_properties`). The two
+    may be damped differently (3.3 % and 5.0 % for a 2 % damper on the paper example), which
+    changes n_eq by the square root of their ratio: a choice the guides do not settle.
+
     Parameters
     ----------
     structure : ModalModel
