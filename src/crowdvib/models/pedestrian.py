@@ -10,7 +10,18 @@ import numpy as np
 
 from .._validation import check_damping_ratio, check_open_unit, check_positive
 
-__all__ = ["MSDModel"]
+__all__ = ["MSDModel", "transmissibility"]
+
+
+def transmissibility(frequency_ratio, damping_ratio):
+    """Displacement transmissibility T = (1 + 2iξr)/(1 − r² + 2iξr) of a base-excited SDOF [-].
+
+    The motion of a sprung mass over that of its (moving) base, with r = f/f_n: the factor by
+    which a sprung mass m₁ on the deck acts as the apparent mass m₁·T (physics.md §3.1). Shared by
+    the walkers' MSD model and the tuned mass damper, which is the same oscillator.
+    """
+    two_xi_r = 2j * damping_ratio * np.asarray(frequency_ratio, dtype=float)
+    return (1.0 + two_xi_r) / (1.0 - np.asarray(frequency_ratio, dtype=float) ** 2 + two_xi_r)
 
 
 @dataclass(frozen=True)
@@ -71,12 +82,11 @@ class MSDModel:
         -------
         ndarray of complex, shape of ``frequency``
         """
+        # In the frequency ratio r = f/f_h1, T is the transmissibility of physics.md §3.1 with k
+        # and c divided by m_h1 ω_h1².
         ratio = np.asarray(frequency, dtype=float) / self.frequency
-        # Written in the frequency ratio r = f/f_h1: (1 + 2iξr)/(1 − r² + 2iξr) is the
-        # transmissibility T(ω) of physics.md §3.1 with k and c divided by m_h1 ω_h1².
-        two_xi_r = 2j * self.damping_ratio * ratio
-        transmissibility = (1.0 + two_xi_r) / (1.0 - ratio**2 + two_xi_r)
-        return body_mass * ((1.0 - self.mass_ratio) + self.mass_ratio * transmissibility)
+        return body_mass * ((1.0 - self.mass_ratio)
+                            + self.mass_ratio * transmissibility(ratio, self.damping_ratio))
 
     def to_dict(self):
         """The parameters as a JSON-ready dict (keys as in ``results.json``)."""

@@ -222,6 +222,20 @@ class ModalModel:
         shapes = self.mode_shapes
         return density * np.einsum("lp,lpi,lpj->ij", self._area_weights, shapes, shapes)
 
+    def shape_integrals(self, absolute=False):
+        """∫_A φ_j dA, or ∫_A |φ_j| dA with ``absolute`` [m² × scaling of the shapes].
+
+        The modal force of a unit pressure over the walkway; with ``absolute``, of a unit
+        pressure applied with the sign of each mode shape (the design codes' resonant load). Same
+        quadrature as :meth:`influence_matrix`.
+
+        Returns
+        -------
+        ndarray, shape (n_modes,)
+        """
+        shapes = np.abs(self.mode_shapes) if absolute else self.mode_shapes
+        return np.einsum("lp,lpj->j", self._area_weights, shapes)
+
     def modal_mass_ratios(self, density, body_mass):
         """Crowd-to-structure modal mass ratios μ_m,j = m_h Ψ_jj / m_j [-] (physics.md §2.7)."""
         body_mass = check_positive("body_mass", body_mass, unit="kg")

@@ -7,7 +7,9 @@ and ``simulation`` (time-domain Monte Carlo with moving pedestrians; its compile
 
 from .results import FRF, EffectiveModalProperties, Simulation
 from .simulation import Pedestrian, generate_traffic, simulate
-from .spectral import SpectralModel, effective_modal_properties, frf, response_psd
+from .spectral import (SpectralModel, effective_modal_properties, frf, modal_accelerance,
+                       response_psd)
 
-__all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties", "simulate",
+__all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties",
+           "modal_accelerance", "simulate",
            "Pedestrian", "generate_traffic", "FRF", "EffectiveModalProperties", "Simulation"]

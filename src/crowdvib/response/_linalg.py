@@ -1,6 +1,7 @@
 """Compiled small dense solves for the spectral model (numba).
 
-The occupied dynamic stiffness D(ω) = diag(k − ω²m + iωc) − ω² M_app(ω) Ψ changes with every
+The occupied dynamic stiffness D(ω) = diag(k − ω²m + iωc) − Σ_s ω² M_app,s(ω) Ψ_s (a smeared
+crowd of MSDs and any tuned mass dampers, each with its own influence matrix) changes with every
 frequency, so a PSD on 6000 frequencies needs 6000 small complex solves. numpy's batched
 ``linalg.solve`` spends most of its time per call on overhead for 10–20-mode models; a plain
 Gaussian elimination compiled with numba does the same work several times faster.
@@ -12,13 +13,13 @@ from numba import njit
 
 @njit(cache=True)
 def solve_occupied(diagonal, added, psi, rhs):
-    """Solve [diag(diagonal[f]) − added[f]·Ψ] X[f] = rhs for every frequency f.
+    """Solve [diag(diagonal[f]) − Σ_s added[f, s]·Ψ_s] X[f] = rhs for every frequency f.
 
     Parameters
     ----------
     diagonal : complex ndarray, shape (n_f, n)
-    added : complex ndarray, shape (n_f,)
-    psi : float ndarray, shape (n, n)
+    added : complex ndarray, shape (n_f, n_s)
+    psi : float ndarray, shape (n_s, n, n)
     rhs : float ndarray, shape (n, k)
 
     Returns
@@ -26,6 +27,7 @@ def solve_occupied(diagonal, added, psi, rhs):
     complex ndarray, shape (n_f, n, k)
     """
     n_f, n = diagonal.shape
+    n_s = psi.shape[0]
     k = rhs.shape[1]
     out = np.empty((n_f, n, k), dtype=np.complex128)
     a = np.empty((n, n), dtype=np.complex128)
@@ -33,7 +35,10 @@ def solve_occupied(diagonal, added, psi, rhs):
     for f in range(n_f):
         for i in range(n):
             for j in range(n):
-                a[i, j] = -added[f] * psi[i, j]
+                total = 0j
+                for s in range(n_s):
+                    total -= added[f, s] * psi[s, i, j]
+                a[i, j] = total
             a[i, i] += diagonal[f, i]
             for c in range(k):
                 b[i, c] = rhs[i, c]

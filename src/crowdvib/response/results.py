@@ -71,7 +71,11 @@ class EffectiveModalProperties:
         Share of the pole's modal kinetic energy in that structural mode [-]; near 1 for a
         structure-like pole.
     interaction_frequencies, interaction_damping_ratios : ndarray
-        The remaining, MSD-like poles (the crowd's own resonance), kept apart [Hz], [-].
+        The remaining, MSD-like poles (the crowd's own resonance, tuned mass dampers), kept
+        apart [Hz], [-].
+    modal_masses : ndarray, shape (n_modes,), or None
+        Engaged modal masses [kg]: the SDOF mass with the same pole and residue of the modal
+        receptance, in the scaling of the structure's mode shapes.
     """
 
     frequencies: np.ndarray
@@ -79,12 +83,14 @@ class EffectiveModalProperties:
     participation: np.ndarray
     interaction_frequencies: np.ndarray
     interaction_damping_ratios: np.ndarray
+    modal_masses: np.ndarray = None
 
     def to_dict(self):
         """JSON-ready dict."""
-        return {name: np.asarray(getattr(self, name)).tolist() for name in
+        return {name: (None if getattr(self, name) is None
+                       else np.asarray(getattr(self, name)).tolist()) for name in
                 ("frequencies", "damping_ratios", "participation", "interaction_frequencies",
-                 "interaction_damping_ratios")}
+                 "interaction_damping_ratios", "modal_masses")}
 
 
 @dataclass(frozen=True, eq=False)

@@ -5,6 +5,10 @@ cross-PSD G_QQ(f) = Ψ s(f) (§3.2) and its bodies, as MSDs, add the apparent ma
 the structure (§3.1). The occupied receptance is H(ω) = [K_s − ω²(M_s + M_app(ω) Ψ) + iωC_s]⁻¹ and
 the output accelerations have G_ü(f) = ω⁴ Φ_o H G_QQ Hᴴ Φ_oᵀ (§3.3).
 
+A tuned mass damper is one more mass-spring-damper, fixed at one point: it enters the same algebra
+as the crowd with its own apparent mass and the influence matrix φ_d φ_dᵀ of its mode-shape row
+(:mod:`._attached`), so every function here takes ``dampers=`` at no extra code path.
+
 :class:`SpectralModel` precomputes everything that does not depend on the MSD parameters, so the
 estimator can call it many times; :func:`response_psd` is the one-shot front door.
 """
@@ -18,10 +22,13 @@ from ..errors import ParameterError
 from ..models.loading import as_force_model
 from ..models.pedestrian import MSDModel
 from ..signals import ResponsePSD, welch_kernel
+from ._attached import (attachments, crowd_attachment, damper_attachments, psd_factor,
+                        reduced_matrices)
 from ._linalg import solve_occupied
 from .results import FRF, EffectiveModalProperties
 
-__all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties"]
+__all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties",
+           "modal_accelerance"]
 
 # Welch kernel support: ±8 bins of 1/T hold all but ~1e-5 of the Hann kernel's area; 16 model
 # points per bin resolve a 0.5 %-damped peak at 2 Hz (half-power width 0.02 Hz) with T = 60 s.
@@ -44,30 +51,19 @@ def _dynamic_stiffness_diagonal(structure, omega):
         1j * omega[:, np.newaxis] * (2 * structure.damping_ratios * m * wn)
 
 
-def _added_mass_factor(frequency, crowd, msd):
-    """ω² M_app(ω) [kg/s²]: multiply by Ψ to get the crowd's dynamic stiffness loss."""
-    omega = 2 * np.pi * frequency
-    return omega**2 * msd.apparent_mass(frequency, crowd.body_mass)
-
-
-def _occupied_solve(diagonal, added, psi, rhs):
-    """Solve [diag(D0) − a(ω) Ψ] X = rhs for every frequency; rhs shape (n_modes, k)."""
+def _occupied_solve(diagonal, attached, frequency, rhs):
+    """Solve [diag(D0) − Σ_s ω² M_app,s Ψ_s] X = rhs at every frequency; rhs (n_modes, k)."""
+    added = np.stack([part.added_stiffness(frequency) for part in attached], axis=-1)
+    psi = np.stack([part.influence for part in attached])
     if diagonal.shape[1] == 1:
-        return rhs[np.newaxis] / (diagonal[:, 0] - added * psi[0, 0])[:, np.newaxis, np.newaxis]
+        return rhs[np.newaxis] / (diagonal[:, 0] - added @ psi[:, 0, 0])[:, np.newaxis, np.newaxis]
     return solve_occupied(np.ascontiguousarray(diagonal), np.ascontiguousarray(added),
                           np.ascontiguousarray(psi), np.ascontiguousarray(rhs, dtype=float))
 
 
-def _direct_projection(diagonal, added, psi, shapes, factor):
+def _direct_projection(diagonal, attached, frequency, shapes, factor):
     """Φ_o H B by one solve per frequency; D is complex symmetric, so Φ_o H = solve(D, Φ_oᵀ)ᵀ."""
-    return np.swapaxes(_occupied_solve(diagonal, added, psi, shapes.T), 1, 2) @ factor
-
-
-def _psd_factor(psi):
-    """B with Ψ = B Bᵀ (B: n_modes × rank), from the eigen-decomposition of the PSD matrix Ψ."""
-    values, vectors = np.linalg.eigh(psi)
-    keep = values > values.max(initial=0.0) * 1e-12
-    return vectors[:, keep] * np.sqrt(values[keep])
+    return np.swapaxes(_occupied_solve(diagonal, attached, frequency, shapes.T), 1, 2) @ factor
 
 
 class SpectralModel:
@@ -89,10 +85,12 @@ class SpectralModel:
     lowpass : LowPassFilter, optional
         Zero-phase low-pass filter applied to the modelled signal: the PSD is multiplied by
         |H_LP|⁴ before the Welch smoothing (physics.md §3.4).
+    dampers : sequence of TunedMassDamper, optional
+        Tuned mass dampers fixed to the deck (part of the structure for every ``msd``).
     """
 
     def __init__(self, structure, crowd, frequency, *, force=None, outputs=None,
-                 welch_window_length=None, lowpass=None):
+                 welch_window_length=None, lowpass=None, dampers=None):
         self.structure = structure
         self.crowd = crowd
         self.frequency = check_frequency_grid(frequency)
@@ -115,32 +113,35 @@ class SpectralModel:
         # ω⁴ turns displacement into acceleration PSD; folded into the load spectrum once.
         self._weight = omega**4 * spectrum
         self._psi = structure.influence_matrix(crowd.density)
-        self._load_factor = _psd_factor(self._psi)
+        self._load_factor = psd_factor(self._psi)
         self._diagonal = _dynamic_stiffness_diagonal(structure, omega)
         self._shapes = shapes
+        self._dampers = damper_attachments(structure, dampers)
 
     def psd_array(self, msd=None):
         """PSD [(m/s²)²/Hz] as an array of shape (n_outputs, n_frequencies)."""
-        if msd is None or self.crowd.density == 0:
+        _check_msd_inputs(self.crowd, msd)
+        crowd_part = crowd_attachment(self.crowd, msd, self._psi)
+        attached = ((crowd_part,) if crowd_part is not None else ()) + self._dampers
+        if not attached:
             # Φ_o H with H diagonal: no solve needed.
             transfer = self._shapes[np.newaxis] / self._diagonal[:, np.newaxis, :]
             projected = transfer @ self._load_factor            # (n_f, n_out, rank)
         else:
-            projected = self._occupied_projection(msd)
+            projected = self._occupied_projection(attached)
         psd = (np.abs(projected) ** 2).sum(axis=-1).T * self._weight
         if self._smoothing is not None:
             psd = (self._smoothing @ psd.T).T
         return psd
 
-    def _occupied_projection(self, msd):
+    def _occupied_projection(self, attached):
         """Φ_o H(ω) B for every model frequency, shape (n_f, n_outputs, rank)."""
         if self.structure.n_modes > 1:
-            projected = _modal_projection(self.structure, self.crowd, msd, self._psi,
-                                          self._load_factor, self._shapes, self._model_frequency)
+            projected = _modal_projection(self.structure, attached, self._load_factor,
+                                          self._shapes, self._model_frequency)
             if projected is not None:
                 return projected
-        added = _added_mass_factor(self._model_frequency, self.crowd, msd)
-        return _direct_projection(self._diagonal, added, self._psi, self._shapes,
+        return _direct_projection(self._diagonal, attached, self._model_frequency, self._shapes,
                                   self._load_factor)
 
     def psd(self, msd=None):
@@ -149,29 +150,6 @@ class SpectralModel:
                            output_names=self.output_names,
                            window_length=self.welch_window_length, lowpass=self.lowpass,
                            source="model")
-
-
-def _reduced_matrices(structure, crowd, msd, psi, factor):
-    """Mass, damping and stiffness of the smeared crowd–structure model (physics.md §2.7).
-
-    Coordinates: structural modes z (n_modes) and MSD coordinates η (rank of Ψ = B Bᵀ):
-    M_r = diag(M_s + m_h0 Ψ, m_h1 I), K_r = [[K_s + k_h1 Ψ, −k_h1 B], [−k_h1 Bᵀ, k_h1 I]], C_r alike.
-    Eliminating η at frequency ω gives back D(ω) = K_s − ω²(M_s + M_app Ψ) + iωC_s (§3.1).
-    """
-    n_modes, rank = structure.n_modes, factor.shape[1]
-    m_h1 = msd.sprung_mass(crowd.body_mass)
-    m_h0 = crowd.body_mass - m_h1
-    k_h1, c_h1 = msd.stiffness(crowd.body_mass), msd.damping(crowd.body_mass)
-    wn = 2 * np.pi * structure.frequencies
-    m = structure.modal_masses
-
-    def coupled(structural, human):
-        return np.block([[np.diag(structural) + human * psi, -human * factor],
-                         [-human * factor.T, human * np.eye(rank)]])
-
-    mass = np.block([[np.diag(m) + m_h0 * psi, np.zeros((n_modes, rank))],
-                     [np.zeros((rank, n_modes)), m_h1 * np.eye(rank)]])
-    return mass, coupled(2 * structure.damping_ratios * m * wn, c_h1), coupled(m * wn**2, k_h1)
 
 
 def _state_matrix(mass, damping, stiffness):
@@ -186,13 +164,13 @@ def _state_matrix(mass, damping, stiffness):
 _MODAL_CHECK_TOLERANCE = 1e-7
 
 
-def _modal_projection(structure, crowd, msd, psi, factor, shapes, frequency):
+def _modal_projection(structure, attached, factor, shapes, frequency):
     """Φ_o H(ω) B by complex modal superposition of the reduced model, or None if unreliable.
 
     With A = V Λ V⁻¹ the state matrix of (M_r, C_r, K_r), z(ω) = Σ_p V_zp (V⁻¹ F)_p / (iω − λ_p):
     one small eigen-decomposition per MSD model replaces one LU solve per frequency.
     """
-    mass, damping, stiffness = _reduced_matrices(structure, crowd, msd, psi, factor)
+    mass, damping, stiffness = reduced_matrices(structure, attached)
     state, inverse_mass = _state_matrix(mass, damping, stiffness)
     poles, vectors = np.linalg.eig(state)
     size, n_modes = mass.shape[0], structure.n_modes
@@ -206,9 +184,8 @@ def _modal_projection(structure, crowd, msd, psi, factor, shapes, frequency):
     resolvent = 1.0 / (1j * omega[:, np.newaxis] - poles)             # (n_f, 2N)
     projected = np.stack([(resolvent * row) @ right for row in left], axis=1)
     probe = np.unique(np.linspace(0, frequency.size - 1, 5).astype(int))
-    direct = _direct_projection(_dynamic_stiffness_diagonal(structure, omega[probe]),
-                                _added_mass_factor(frequency[probe], crowd, msd), psi, shapes,
-                                factor)
+    direct = _direct_projection(_dynamic_stiffness_diagonal(structure, omega[probe]), attached,
+                                frequency[probe], shapes, factor)
     scale = np.abs(direct).max()
     if scale > 0 and np.abs(projected[probe] - direct).max() > _MODAL_CHECK_TOLERANCE * scale:
         return None
@@ -234,7 +211,7 @@ def _welch_smoothing(frequency, window_length):
 
 
 def response_psd(structure, crowd, frequency, *, msd=None, force=None, outputs=None,
-                 welch_window_length=None, lowpass=None):
+                 welch_window_length=None, lowpass=None, dampers=None):
     """One-sided acceleration PSD at the outputs of a crowd-loaded footbridge (physics.md §3.3).
 
     G_ü(f) = ω⁴ Φ_o H(ω) G_QQ(f) H(ω)ᴴ Φ_oᵀ with the occupied receptance H (HSI, when ``msd`` is
@@ -259,6 +236,8 @@ def response_psd(structure, crowd, frequency, *, msd=None, force=None, outputs=N
         the exact PSD (physics.md §3.4).
     lowpass : LowPassFilter, optional
         Zero-phase low-pass filter applied to the signal (PSD × |H_LP|⁴).
+    dampers : sequence of TunedMassDamper, optional
+        Tuned mass dampers fixed to the deck.
 
     Returns
     -------
@@ -276,15 +255,17 @@ def response_psd(structure, crowd, frequency, *, msd=None, force=None, outputs=N
     """
     _check_msd_inputs(crowd, msd)
     model = SpectralModel(structure, crowd, frequency, force=force, outputs=outputs,
-                          welch_window_length=welch_window_length, lowpass=lowpass)
+                          welch_window_length=welch_window_length, lowpass=lowpass,
+                          dampers=dampers)
     return model.psd(msd)
 
 
-def frf(structure, frequency, *, crowd=None, msd=None, outputs=None, inputs=None):
+def frf(structure, frequency, *, crowd=None, msd=None, outputs=None, inputs=None, dampers=None):
     """Accelerance FRFs between deck points, empty or occupied (physics.md §3.1).
 
     H_oi(ω) = −ω² φ_oᵀ H(ω) φ_i with H the empty receptance, or the occupied one when ``crowd``
-    and ``msd`` are given (the crowd's apparent mass smeared over the walkway).
+    and ``msd`` are given (the crowd's apparent mass smeared over the walkway). Tuned mass
+    dampers add their apparent masses at their points in the same way.
 
     Parameters
     ----------
@@ -297,11 +278,14 @@ def frf(structure, frequency, *, crowd=None, msd=None, outputs=None, inputs=None
         Pedestrian MSD model; None = empty structure.
     outputs, inputs : sequence of str, optional
         Output and input points by name (default all outputs, and inputs = outputs).
+    dampers : sequence of TunedMassDamper, optional
+        Tuned mass dampers fixed to the deck.
 
     Returns
     -------
     FRF
-        ``values`` of shape (n_outputs, n_inputs, n_frequencies) [(m/s²)/N].
+        ``values`` of shape (n_outputs, n_inputs, n_frequencies) [(m/s²)/N]; ``occupied`` is
+        True when the crowd's MSDs are included.
     """
     _check_msd_inputs(crowd, msd)
     frequency = check_frequency_grid(frequency)
@@ -309,36 +293,82 @@ def frf(structure, frequency, *, crowd=None, msd=None, outputs=None, inputs=None
     inputs = outputs if inputs is None else tuple(inputs)
     out_shapes = structure.output_shapes[structure.output_index(outputs)]
     in_shapes = structure.output_shapes[structure.output_index(inputs)]
-    omega = 2 * np.pi * frequency
-    diagonal = _dynamic_stiffness_diagonal(structure, omega)
     occupied = msd is not None and crowd.density > 0
-    if occupied:
-        added = _added_mass_factor(frequency, crowd, msd)
-        response = _occupied_solve(diagonal, added, structure.influence_matrix(crowd.density),
-                                   in_shapes.T)                    # (n_f, n_modes, n_in)
-    else:
-        response = in_shapes.T[np.newaxis] / diagonal[:, :, np.newaxis]
-    values = -(omega**2)[:, np.newaxis, np.newaxis] * (out_shapes @ response)
-    return FRF(frequency=frequency, values=np.moveaxis(values, 0, -1), output_names=outputs,
+    values = _accelerance(structure, frequency, attachments(structure, crowd, msd, dampers),
+                          out_shapes, in_shapes.T)
+    return FRF(frequency=frequency, values=values, output_names=outputs,
                input_names=inputs, occupied=occupied)
 
 
-def effective_modal_properties(structure, crowd, msd):
-    """Natural frequencies and damping ratios of the occupied structure (physics.md §2.7).
+def _accelerance(structure, frequency, attached, out_shapes, loads):
+    """−ω² Φ_o H(ω) L for modal loads L (n_modes, k) → shape (n_outputs, k, n_f)."""
+    omega = 2 * np.pi * frequency
+    diagonal = _dynamic_stiffness_diagonal(structure, omega)
+    if attached:
+        response = _occupied_solve(diagonal, attached, frequency, loads)   # (n_f, n_modes, k)
+    else:
+        response = loads[np.newaxis] / diagonal[:, :, np.newaxis]
+    values = -(omega**2)[:, np.newaxis, np.newaxis] * (out_shapes @ response)
+    return np.moveaxis(values, 0, -1)
 
-    The smeared crowd of identical MSDs reduces exactly to a model with the structural modes z and
-    MSD coordinates η ∈ R^r (r = rank Ψ, Ψ = B Bᵀ):
-    M_r = diag(M_s + m_h0 Ψ, m_h1 I), K_r = [[K_s + k_h1 Ψ, −k_h1 B], [−k_h1 Bᵀ, k_h1 I]] and C_r
-    alike. Its complex poles λ give f = |λ|/2π and ξ = −Re λ/|λ|. Each structural mode is paired
-    with the pole whose eigenvector carries most of its kinetic energy; the other poles are the
-    MSD-like ones, returned apart.
+
+def modal_accelerance(structure, frequency, *, crowd=None, msd=None, dampers=None, outputs=None):
+    """Accelerations at the outputs per unit modal force, −ω² Φ_o H(ω) (physics.md §3.1).
+
+    Column j is the response to a unit harmonic force in mode j alone (as a design code loads
+    one mode at a time), through the empty or occupied receptance, dampers included.
 
     Parameters
     ----------
     structure : ModalModel
-    crowd : Crowd
+    frequency : array_like
+        Frequencies [Hz].
+    crowd, msd : Crowd, MSDModel, optional
+        The crowd's MSDs (HSI); None = empty structure.
+    dampers : sequence of TunedMassDamper, optional
+    outputs : sequence of str, optional
+        Output names (default all).
+
+    Returns
+    -------
+    ndarray of complex, shape (n_outputs, n_modes, n_frequencies)
+        [(m/s²) per unit modal force, in the scaling of the mode shapes].
+    """
+    _check_msd_inputs(crowd, msd)
+    frequency = check_frequency_grid(frequency)
+    outputs = structure.output_names if outputs is None else tuple(outputs)
+    return _accelerance(structure, frequency, attachments(structure, crowd, msd, dampers),
+                        structure.output_shapes[structure.output_index(outputs)],
+                        np.eye(structure.n_modes))
+
+
+def effective_modal_properties(structure, crowd=None, msd=None, *, dampers=None):
+    """Natural frequencies, damping ratios and engaged modal masses of the occupied structure
+    (physics.md §2.7).
+
+    The smeared crowd of identical MSDs reduces exactly to a model with the structural modes z and
+    MSD coordinates η ∈ R^r (r = rank Ψ, Ψ = B Bᵀ):
+    M_r = diag(M_s + m_h0 Ψ, m_h1 I), K_r = [[K_s + k_h1 Ψ, −k_h1 B], [−k_h1 Bᵀ, k_h1 I]] and C_r
+    alike; each tuned mass damper adds one coordinate coupled through its mode-shape row. The
+    complex poles λ give f = |λ|/2π and ξ = −Re λ/|λ|. Each structural mode is paired with the
+    pole whose eigenvector carries most of its kinetic energy; the other poles (the crowd's, the
+    dampers') are returned apart.
+
+    The engaged modal mass of mode j is the mass of the single-degree-of-freedom oscillator with
+    the same pole and the same residue R of the modal receptance H_jj there:
+    m_j,eff = 1/(2 Im λ |R|) (= m_j for the empty structure, whose residue is 1/(2i m_j ω_d)).
+    With it, a resonant modal force Q gives the modal acceleration ≈ |Q|/(2 ξ m_j,eff).
+
+    Parameters
+    ----------
+    structure : ModalModel
+    crowd : Crowd, optional
+        Needed with ``msd``.
     msd : MSDModel or None
-        None (or a density of 0) gives the empty structure's own properties.
+        None (or a density of 0) leaves the crowd out (the empty structure's own properties
+        when there are no dampers either).
+    dampers : sequence of TunedMassDamper, optional
+        Tuned mass dampers fixed to the deck.
 
     Returns
     -------
@@ -346,21 +376,25 @@ def effective_modal_properties(structure, crowd, msd):
     """
     _check_msd_inputs(crowd, msd)
     n_modes = structure.n_modes
-    if msd is None or crowd.density == 0:
+    attached = attachments(structure, crowd, msd, dampers)
+    if not attached:
         empty = np.array([])
         return EffectiveModalProperties(
             frequencies=structure.frequencies.copy(),
             damping_ratios=structure.damping_ratios.copy(),
             participation=np.ones(n_modes), interaction_frequencies=empty,
-            interaction_damping_ratios=empty)
-    psi = structure.influence_matrix(crowd.density)
-    mass, damping, stiffness = _reduced_matrices(structure, crowd, msd, psi, _psd_factor(psi))
+            interaction_damping_ratios=empty, modal_masses=structure.modal_masses.copy())
+    mass, damping, stiffness = reduced_matrices(structure, attached)
     size = mass.shape[0]
-    state, _ = _state_matrix(mass, damping, stiffness)
+    state, inverse_mass = _state_matrix(mass, damping, stiffness)
     poles, vectors = np.linalg.eig(state)
+    # Residue of H_jj at pole p: V[j, p] · (V⁻¹[:, velocities] M⁻¹)[p, j] (modal expansion as in
+    # _modal_projection).
+    gain = np.linalg.solve(vectors, np.vstack([np.zeros((size, n_modes)),
+                                               inverse_mass[:, :n_modes]]))   # (2N, n_modes)
     # One pole of each conjugate pair (over-damped real poles are kept once each).
     keep = (poles.imag > 0) | ((poles.imag == 0) & (np.abs(poles.real) > 0))
-    poles, displacement = poles[keep], vectors[:size, keep]
+    poles, displacement, gain = poles[keep], vectors[:size, keep], gain[keep]
     energy = np.abs(displacement) ** 2 * np.diag(mass)[:, np.newaxis]
     share = energy / energy.sum(axis=0)
     rows, cols = linear_sum_assignment(-share[:n_modes])
@@ -369,9 +403,13 @@ def effective_modal_properties(structure, crowd, msd):
     magnitude = np.abs(poles)
     frequencies = magnitude / (2 * np.pi)
     ratios = -poles.real / magnitude
+    residues = displacement[np.arange(n_modes), order] * gain[order, np.arange(n_modes)]
+    with np.errstate(divide="ignore"):   # an over-damped structural pole engages no mass
+        engaged = 1.0 / (2 * np.abs(poles[order].imag) * np.abs(residues))
     others = np.setdiff1d(np.arange(poles.size), order)
     others = others[np.argsort(frequencies[others])]
     return EffectiveModalProperties(
         frequencies=frequencies[order], damping_ratios=ratios[order],
         participation=share[np.arange(n_modes), order],
-        interaction_frequencies=frequencies[others], interaction_damping_ratios=ratios[others])
+        interaction_frequencies=frequencies[others], interaction_damping_ratios=ratios[others],
+        modal_masses=engaged)

@@ -1,0 +1,113 @@
+"""Tuning a tuned mass damper to a mode, of the empty or of the occupied footbridge.
+
+Den Hartog (1956) minimises the peak displacement of an undamped primary system under force,
+Asami, Nishihara & Baz (2002) its peak acceleration (physics.md §5). Both are fixed-point
+optima for an undamped primary; with a crowd on the deck the primary is the *occupied* mode,
+whose frequency and engaged modal mass come from :func:`crowdvib.effective_modal_properties`:
+a damper tuned to the empty bridge is detuned by the crowd's human–structure interaction.
+"""
+
+import numpy as np
+
+from .._validation import check_positive
+from ..errors import ParameterError
+from ..models.damper import TunedMassDamper
+from ..response.spectral import effective_modal_properties
+
+__all__ = ["optimal_tuning", "tune_damper", "TUNING_CRITERIA"]
+
+#: Criteria of :func:`optimal_tuning`: the output whose peak the damper minimises.
+TUNING_CRITERIA = ("acceleration", "displacement")
+
+
+def optimal_tuning(mass_ratio, criterion="acceleration"):
+    """Optimal frequency ratio γ = f_d/f_j and damping ratio ζ of a damper (physics.md §5).
+
+    * ``"displacement"`` (Den Hartog 1956): γ = 1/(1+μ), ζ = sqrt(3μ / (8 (1+μ)³)).
+    * ``"acceleration"`` (Asami et al. 2002, fixed-point form DERIVED in physics.md §5):
+      γ = 1/sqrt(1+μ), ζ = sqrt(3μ / (8 (1 + μ/2))).
+
+    Parameters
+    ----------
+    mass_ratio : float
+        μ = damper mass × φ² at the damper / modal mass [-], > 0.
+    criterion : {"acceleration", "displacement"}
+
+    Returns
+    -------
+    (float, float)
+        γ [-] and ζ [-].
+
+    Examples
+    --------
+    >>> [round(v, 4) for v in optimal_tuning(0.05)]          # physics.md §8.5
+    [0.9759, 0.1353]
+    """
+    mu = check_positive("mass_ratio", mass_ratio)
+    if criterion == "displacement":
+        return 1.0 / (1.0 + mu), float(np.sqrt(3 * mu / (8 * (1 + mu) ** 3)))
+    if criterion == "acceleration":
+        return float(1.0 / np.sqrt(1.0 + mu)), float(np.sqrt(3 * mu / (8 * (1 + mu / 2))))
+    raise ParameterError(f"criterion must be one of {list(TUNING_CRITERIA)}, got {criterion!r}")
+
+
+def _antinode(structure, mode):
+    """Position [m], lane [m] and shape value where |φ_mode| is largest on the walkway."""
+    shapes = np.abs(structure.mode_shapes[:, :, mode])            # (lanes, positions)
+    lane, station = np.unravel_index(np.argmax(shapes), shapes.shape)
+    lanes = structure.lanes
+    return (float(structure.positions[station]),
+            None if lanes.size == 1 else float(lanes[lane]),
+            float(structure.mode_shapes[lane, station, mode]))
+
+
+def tune_damper(structure, mode, mass_ratio, *, crowd=None, msd=None, criterion="acceleration"):
+    """A tuned mass damper at the antinode of a mode, tuned to the empty or occupied structure.
+
+    The damper's mass is m_d = μ m_j / φ_j(x_d)² with m_j the *empty* modal mass, so one
+    ``mass_ratio`` buys the same damper with and without crowd. Its frequency and damping follow
+    :func:`optimal_tuning` for the targeted mode: the empty mode, or with ``crowd`` and ``msd``
+    the occupied mode (effective frequency f_j,eff and engaged modal mass m_j,eff of
+    :func:`crowdvib.effective_modal_properties`, so the tuning uses μ_eff = m_d φ² / m_j,eff).
+
+    Parameters
+    ----------
+    structure : ModalModel
+        The empty footbridge.
+    mode : int
+        Index of the mode to control (0-based).
+    mass_ratio : float
+        μ = m_d φ_j(x_d)² / m_j [-], > 0 (typically 0.01–0.05).
+    crowd : Crowd, optional
+        The design crowd; needed with ``msd``.
+    msd : MSDModel, optional
+        The pedestrians' MSD model; with it the damper is tuned to the occupied mode.
+    criterion : {"acceleration", "displacement"}
+        Asami et al. (2002) or Den Hartog (1956).
+
+    Returns
+    -------
+    TunedMassDamper
+        At the antinode of the mode (largest |φ_j| over the sampled walkway).
+
+    Examples
+    --------
+    >>> from crowdvib import ModalModel
+    >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+    >>> damper = tune_damper(bridge, 0, 0.02)
+    >>> round(damper.mass), round(damper.frequency, 4), damper.position
+    (1000, 1.9803, 25.0)
+    """
+    if isinstance(mode, bool) or not isinstance(mode, (int, np.integer)) \
+            or not 0 <= mode < structure.n_modes:
+        raise ParameterError(
+            f"mode must be an integer index in [0, {structure.n_modes - 1}], got {mode!r}")
+    mu = check_positive("mass_ratio", mass_ratio)
+    optimal_tuning(mu, criterion)                          # checks the criterion early
+    position, lane, shape = _antinode(structure, mode)
+    damper_mass = mu * structure.modal_masses[mode] / shape**2
+    target = effective_modal_properties(structure, crowd, msd)
+    effective_ratio = damper_mass * shape**2 / target.modal_masses[mode]
+    gamma, zeta = optimal_tuning(effective_ratio, criterion)
+    return TunedMassDamper(mass=damper_mass, frequency=gamma * target.frequencies[mode],
+                           damping_ratio=zeta, position=position, lane=lane)

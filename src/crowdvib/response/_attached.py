@@ -1,0 +1,107 @@
+"""Mass-spring-dampers attached to the modes: the crowd's MSDs and tuned mass dampers.
+
+Both are sprung masses coupled to the structural modes through an influence matrix Ψ = B Bᵀ
+(physics.md §2.7): the smeared crowd through the crowd-influence matrix, a damper through its
+mode-shape row (Ψ = φ_d φ_dᵀ). One representation, :class:`Attached`, serves the
+frequency-domain solve (apparent masses, §3.1) and the reduced eigen-model (§2.7) of
+:mod:`.spectral`, so the algebra is written once for both.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..models.damper import as_dampers
+from ..models.pedestrian import transmissibility
+
+
+@dataclass(frozen=True, eq=False)
+class Attached:
+    """Identical mass-spring-dampers coupled to the modes through Ψ = B Bᵀ (physics.md §2.7).
+
+    The smeared crowd (per unit of Ψ: unsprung m_h0, sprung m_h1 on k_h1, c_h1; B from Ψ's
+    eigen-decomposition) and a tuned mass damper (no unsprung mass; B = φ_d, its mode-shape row)
+    are the same object, so the frequency-domain solve and the reduced eigen-model below are
+    written once for both.
+    """
+
+    unsprung_mass: float       # [kg] per unit of Ψ
+    sprung_mass: float         # [kg]
+    frequency: float           # [Hz] of the sprung mass on a fixed base
+    damping_ratio: float       # [-]
+    stiffness: float           # [N/m], from the model's own method
+    damping: float             # [N·s/m], likewise
+    factor: np.ndarray         # B, shape (n_modes, rank)
+
+    @property
+    def influence(self):
+        return self.factor @ self.factor.T
+
+    def added_stiffness(self, frequency):
+        """ω² M_app(ω) [kg/s²]: multiply by Ψ to get the dynamic stiffness it removes."""
+        apparent = self.unsprung_mass + self.sprung_mass * transmissibility(
+            np.asarray(frequency) / self.frequency, self.damping_ratio)
+        return (2 * np.pi * frequency) ** 2 * apparent
+
+
+def crowd_attachment(crowd, msd, psi):
+    """The smeared crowd of MSDs as an :class:`Attached`, or None (no HSI or empty deck)."""
+    if msd is None or crowd is None or crowd.density == 0:
+        return None
+    body = crowd.body_mass
+    sprung = msd.sprung_mass(body)
+    return Attached(body - sprung, sprung, msd.frequency, msd.damping_ratio,
+                     msd.stiffness(body), msd.damping(body), psd_factor(psi))
+
+
+def damper_attachments(structure, dampers):
+    """Each tuned mass damper as an :class:`Attached` on its mode-shape row."""
+    return tuple(Attached(0.0, damper.mass, damper.frequency, damper.damping_ratio,
+                           damper.stiffness(), damper.damping(),
+                           damper.shape_row(structure)[:, np.newaxis])
+                 for damper in as_dampers(dampers))
+
+
+def attachments(structure, crowd, msd, dampers):
+    """Everything attached to the modes: the crowd's MSDs (if HSI) and the dampers."""
+    psi = None if msd is None or crowd is None else structure.influence_matrix(crowd.density)
+    crowd_part = crowd_attachment(crowd, msd, psi)
+    return ((crowd_part,) if crowd_part is not None else ()) + \
+        damper_attachments(structure, dampers)
+
+
+def psd_factor(psi):
+    """B with Ψ = B Bᵀ (B: n_modes × rank), from the eigen-decomposition of the PSD matrix Ψ."""
+    values, vectors = np.linalg.eigh(psi)
+    keep = values > values.max(initial=0.0) * 1e-12
+    return vectors[:, keep] * np.sqrt(values[keep])
+
+
+def reduced_matrices(structure, attached):
+    """Mass, damping and stiffness of the structure with its attached MSDs (physics.md §2.7).
+
+    Coordinates: structural modes z (n_modes), then for each attachment its coordinates η
+    (rank of Ψ = B Bᵀ; 1 for a damper): M_r = diag(M_s + Σ m_0 Ψ, m_1 I, …),
+    K_r = [[K_s + Σ k_1 Ψ, −k_1 B, …], [−k_1 Bᵀ, k_1 I, …], …], C_r alike. Eliminating η at
+    frequency ω gives back D(ω) = K_s − ω²(M_s + Σ M_app Ψ) + iωC_s (§3.1).
+    """
+    n_modes = structure.n_modes
+    size = n_modes + sum(part.factor.shape[1] for part in attached)
+    wn = 2 * np.pi * structure.frequencies
+    m = structure.modal_masses
+    mass, damping, stiffness = np.zeros((3, size, size))
+    mass[:n_modes, :n_modes] = np.diag(m)
+    damping[:n_modes, :n_modes] = np.diag(2 * structure.damping_ratios * m * wn)
+    stiffness[:n_modes, :n_modes] = np.diag(m * wn**2)
+    start = n_modes
+    for part in attached:
+        block = slice(start, start + part.factor.shape[1])
+        mass[:n_modes, :n_modes] += part.unsprung_mass * part.influence
+        mass[block, block] = part.sprung_mass * np.eye(part.factor.shape[1])
+        for matrix, value in ((damping, part.damping), (stiffness, part.stiffness)):
+            matrix[:n_modes, :n_modes] += value * part.influence
+            matrix[:n_modes, block] = -value * part.factor
+            matrix[block, :n_modes] = -value * part.factor.T
+            matrix[block, block] = value * np.eye(part.factor.shape[1])
+        start = block.stop
+    return mass, damping, stiffness
