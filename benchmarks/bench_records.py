@@ -4,7 +4,7 @@
 
 For every record format: the time to read the file (with the time-stamp checks), to check the
 samples, and to compute the 10 Hz low-passed Welch PSD (T = 60 s) plus the convergence curve
-(physics.md §6). Writing the files is not timed. Prints a table (and optionally JSON); asserts
+(docs: theory, Welch PSDs, filters and convergence). Writing the files is not timed. Prints a table (and optionally JSON); asserts
 nothing.
 """
 

@@ -31,7 +31,7 @@ extensions = [
     "sphinxarg.ext",
 ]
 
-exclude_patterns = ["_build", "**.ipynb_checkpoints", "theory/physics-map.txt"]
+exclude_patterns = ["_build", "**.ipynb_checkpoints"]
 templates_path = ["_templates"]
 
 # -- equations ---------------------------------------------------------------------------------

@@ -7,7 +7,7 @@ case's ``seed``, resampled to the case's ``simulation.record_sample_rate`` and s
 NPZ to keep the files small. The case files themselves (``*.toml``) are written by hand; this
 script reads them, so the records always match what the case files say.
 
-The bridges are look-alikes of the paper's case studies (physics.md §8.6): the real measurements
+The bridges are look-alikes of the paper's case studies (docs: theory, The paper's case studies): the real measurements
 are not public. Values not printed in the paper are assumed and marked so in the case files.
 """
 
@@ -35,7 +35,7 @@ EEKLO_FREQUENCIES = (1.69, 2.97, 3.85, 4.60, 5.68, 5.95, 6.15, 6.42, 7.30, 8.20,
 # Damping 0.2–0.6 % per the paper; the individual values are ASSUMED.
 EEKLO_DAMPING = (0.004, 0.003, 0.005, 0.006, 0.0025, 0.004, 0.005, 0.003, 0.004, 0.005, 0.0035,
                  0.0045, 0.005, 0.006)
-# Modal-mass ratios μ_m,j at 0.50 persons/m² [%] ([SEED] Table 1; physics.md §8.6).
+# Modal-mass ratios μ_m,j at 0.50 persons/m² [%] ([SEED] Table 1; docs: theory, The paper's case studies).
 EEKLO_MASS_RATIOS = (0.7, 10.5, 2.7, 0.4, 11.2, 3.3, 2.4, 11.4, 2.4, 1.7, 13.0, 1.1, 2.2, 0.6)
 EEKLO_BODY_MASS, EEKLO_DENSITY = 73.2, 0.5  # [SEED]
 

@@ -233,7 +233,7 @@ SAMPLE_CASES = [
 @pytest.mark.parametrize("make, match", [c[1:] for c in SAMPLE_CASES],
                          ids=[c[0] for c in SAMPLE_CASES])
 def test_non_finite_samples_name_file_channel_and_index(tmp_path, make, match):
-    # read_record reads the samples as they are; check_record refuses them (physics.md §6).
+    # read_record reads the samples as they are; check_record refuses them (docs: theory, Welch PSDs, filters and convergence).
     with pytest.raises(DataError, match=match):
         check_record(read_record(make(tmp_path)))
 

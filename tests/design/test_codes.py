@@ -60,7 +60,7 @@ def test_density_overrides_class_and_limits():
 
 @pytest.mark.parametrize("frequency, harmonic, expected", [
     # Corners and mid-slopes of the ψ curves tabled in codes.py (RECALLED from Sétra 2006 /
-    # HiVoSS 2008, physics.md §1.4): 0 → 1 on 1.25–1.7, 1 to 2.1, → 0 at 2.3 Hz; second
+    # HiVoSS 2008, docs: theory, Design-guide load models): 0 → 1 on 1.25–1.7, 1 to 2.1, → 0 at 2.3 Hz; second
     # harmonic 0 → 1 on 2.5–3.4, 1 to 4.2, → 0 at 4.6 Hz.
     (1.0, 1, 0.0), (1.25, 1, 0.0), (1.475, 1, 0.5), (1.7, 1, 1.0), (2.1, 1, 1.0), (2.2, 1, 0.5),
     (2.3, 1, 0.0), (2.4, 1, 0.0), (2.5, 2, 0.0), (2.95, 2, 0.5), (3.4, 2, 1.0), (4.2, 2, 1.0),
@@ -84,7 +84,7 @@ def test_modes_outside_the_walking_range_are_not_loaded():
 
 
 def test_hsi_check_on_the_paper_example(paper_bridge):
-    # Paper example (physics.md §8.1) at its 0.5 P/m² (HiVoSS TC3), MSD (3.0, 0.30, 0.95).
+    # Paper example (docs: theory, The paper's numerical example) at its 0.5 P/m² (HiVoSS TC3), MSD (3.0, 0.30, 0.95).
     # Added mass: m = 50 t + 70 kg × Ψ₁₁ (37.5) = 52.625 t, f = 2 sqrt(50/52.625) = 1.9495 Hz;
     # ψ stays 1, so the response falls by exactly 50/52.625. HSI: the occupied mode of
     # effective_modal_properties (1.926 Hz, ξ 1.2 %, engaged 55.3 t).
@@ -181,7 +181,7 @@ def test_damper_tuned_to_the_occupied_bridge_wins_the_hsi_check(paper_bridge):
 
 
 def test_checks_and_tuning_do_not_depend_on_the_mode_scaling():
-    # physics.md §0: every result is invariant to the mode-shape scaling when the modal masses
+    # docs: theory, Conventions: every result is invariant to the mode-shape scaling when the modal masses
     # follow it (here: mass-normalised shapes, and a flipped, doubled mode).
     bridge = ModalModel.simply_supported_beam(40.0, 2.5, [1.9, 3.7], [0.006, 0.008],
                                               [30e3, 28e3], n_modes=2,

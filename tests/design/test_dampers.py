@@ -80,7 +80,7 @@ def test_frf_with_dampers_matches_direct_solve(two_mode_bridge):
 
 
 def test_psd_with_crowd_and_dampers_matches_literal_formula(two_mode_bridge):
-    # Reference: physics.md §3.3 written literally, the damper's apparent mass m_d T(ω) φ_d φ_dᵀ
+    # Reference: docs: theory, Response PSD with HSI written literally, the damper's apparent mass m_d T(ω) φ_d φ_dᵀ
     # added beside the crowd's M_app Ψ (one inverse per frequency).
     crowd = Crowd.from_density(0.6)
     msd = MSDModel(2.8, 0.3, 0.95)
@@ -107,7 +107,7 @@ def test_psd_with_crowd_and_dampers_matches_literal_formula(two_mode_bridge):
 
 def test_engaged_modal_mass():
     # Empty structure: the modal mass itself. A crowd of MSDs tuned far above the mode moves
-    # with the deck, so it engages its whole mass m_h Ψ_jj (added-mass limit, physics.md §3.1:
+    # with the deck, so it engages its whole mass m_h Ψ_jj (added-mass limit, docs: theory, Occupied receptance and FRFs:
     # M_app → m_h as f/f_h1 → 0); the residual is O((f/f_h1)²) ≈ 0.3 %.
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
     crowd = Crowd.from_density(0.5)
@@ -118,7 +118,7 @@ def test_engaged_modal_mass():
 
 
 def test_tuning_check_values():
-    # physics.md §5 / §8.5 check values (Asami et al. 2002 acceleration optimum).
+    # docs: theory, Why modes just above f_h1 feel the crowd most / §8.5 check values (Asami et al. 2002 acceleration optimum).
     assert optimal_tuning(0.05) == pytest.approx((0.9759, 0.1353), abs=5e-5)
     assert optimal_tuning(0.1) == pytest.approx((0.9535, 0.1890), abs=5e-5)
     # Den Hartog (1956): γ = 1/(1+μ), ζ = sqrt(3μ/(8(1+μ)³)); μ = 0.1 → 0.90909, 0.16785.
@@ -157,7 +157,7 @@ def test_den_hartog_fixed_points(mu):
 
 
 def test_asami_fixed_points_have_equal_accelerance_heights():
-    # physics.md §5: with γ = 1/sqrt(1+μ) the accelerance fixed points (heights
+    # docs: theory, Why modes just above f_h1 feel the crowd most: with γ = 1/sqrt(1+μ) the accelerance fixed points (heights
     # g²/|1 − (1+μ) g²| relative to 1/m) are equal.
     mu = 0.05
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.0, 50e3)
@@ -175,7 +175,7 @@ def occupied_peak(case, damper, grid):
 
 
 def test_crowd_detunes_a_damper_tuned_to_the_empty_bridge():
-    # The paper example (physics.md §8.1) with a 2 % damper (1 t at midspan): HSI lowers the
+    # The paper example (docs: theory, The paper's numerical example) with a 2 % damper (1 t at midspan): HSI lowers the
     # mode from 2.00 to 1.93 Hz and engages 55 t instead of 50 t. The damper tuned to the
     # occupied mode gives a lower occupied FRF peak than the one tuned to the empty bridge.
     from crowdvib.models.examples import paper_example

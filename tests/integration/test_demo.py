@@ -12,7 +12,7 @@ def test_demo_simulates_and_recovers_the_msd(tmp_path, capsys):
     out = tmp_path / "demo"
     assert main(["demo", "--out", str(out)]) == 0
     results = json.loads((out / "results.json").read_text())
-    # The truth is the paper's MSD (physics.md §8.1); recovery from a simulated 1-hour record:
+    # The truth is the paper's MSD (docs: theory, The paper's numerical example); recovery from a simulated 1-hour record:
     # f_h1 within 3 %, ξ_h1 within 20 % (the paper's verification, issue 3).
     assert results["truth"] == {"frequency": 3.0, "damping_ratio": 0.3, "mass_ratio": 0.95}
     assert results["estimate"]["frequency"] == pytest.approx(3.0, rel=0.03)

@@ -16,7 +16,7 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 @pytest.mark.slow
 def test_estimate_eeklo_like_recovers_the_simulated_msd(tmp_path, capsys):
     # The record was simulated (time domain) with the MSD of the case's [expected] table:
-    # f_h1 = 3.08 Hz, ξ_h1 = 0.34 (the paper's Eeklo estimate at 0.5 p/m², physics.md §8.6).
+    # f_h1 = 3.08 Hz, ξ_h1 = 0.34 (the paper's Eeklo estimate at 0.5 p/m², docs: theory, The paper's case studies).
     # Issue 4: f_h1 within 5 %, ξ_h1 within 25 %, both outputs with weights.
     out = tmp_path / "eeklo"
     assert main(["estimate", str(EXAMPLES / "eeklo_like.toml"), "--out", str(out)]) == 0

@@ -30,7 +30,7 @@ def test_example_records_match_their_cases():
 
 
 def test_waalse_krook_like_record_is_eight_minutes(waalse_krook):
-    # physics.md §8.6 / §6: 8-minute record, T = 60 s, 50 % overlap → 15 Welch windows.
+    # docs: theory, The paper's case studies / §6: 8-minute record, T = 60 s, 50 % overlap → 15 Welch windows.
     case, record = waalse_krook
     assert record.duration == pytest.approx(480.0)
     psd = welch_psd(record.data, record.sample_rate, window_length=60.0)
@@ -39,7 +39,7 @@ def test_waalse_krook_like_record_is_eight_minutes(waalse_krook):
 
 def test_waalse_krook_like_step_frequency_fit_recovers_the_crowd(waalse_krook):
     # The record was simulated with N(1.68, 0.13) Hz ([expected]; the paper's WK crowd,
-    # physics.md §8.6). Issue 4: μ within 2 %, σ within 20 %, from the 2.3 Hz low-passed PSD
+    # docs: theory, The paper's case studies). Issue 4: μ within 2 %, σ within 20 %, from the 2.3 Hz low-passed PSD
     # without HSI, started away from the truth.
     case, record = waalse_krook
     low = LowPassFilter(2.3, 4, record.sample_rate)

@@ -1,4 +1,4 @@
-"""Recovery of the MSD parameters from spectral "measurements" (paper verification; physics.md §8.5)."""
+"""Recovery of the MSD parameters from spectral "measurements" (paper verification; docs: theory, Inverse problem)."""
 
 import numpy as np
 import pytest
@@ -9,7 +9,7 @@ from crowdvib.signals import synthetic_welch_psd
 
 
 def test_noise_free_recovery_from_every_start(paper_bridge, paper_crowd, paper_msd, welch_grid):
-    # physics.md §8.5: the four starts all converge to (3.000, 0.300) on noise-free data.
+    # docs: theory, Inverse problem: the four starts all converge to (3.000, 0.300) on noise-free data.
     measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd)
     estimate = estimate_hsi(measured, paper_bridge, paper_crowd, band=(0.0, 10.0))
     assert len(estimate.starts) == len(DEFAULT_STARTS) == 4

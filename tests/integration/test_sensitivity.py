@@ -36,9 +36,9 @@ def test_objective_map_minimum_is_the_estimate_and_steeper_along_frequency(
     assert abs(best.frequency - estimate.msd.frequency) <= grid_f[1] - grid_f[0]
     assert abs(best.damping_ratio - estimate.msd.damping_ratio) <= grid_xi[1] - grid_xi[0]
     assert landscape.cost.min() == pytest.approx(0.0, abs=1e-3)
-    # Paper Fig. 4 / physics.md §8.5: "much more sensitive to f_h1 than to ξ_h1".
+    # Paper Fig. 4 / docs: theory, Inverse problem: "much more sensitive to f_h1 than to ξ_h1".
     assert landscape.curvature_ratio() > 10
-    # physics.md §8.5 samples of g(f_h1, ξ_h1), exact model: at (3.5, 0.3) 0.65, (2.5, 0.3) 0.37.
+    # docs: theory, Inverse problem samples of g(f_h1, ξ_h1), exact model: at (3.5, 0.3) 0.65, (2.5, 0.3) 0.37.
     exact = response_psd(paper_bridge, paper_crowd, measured.frequency,
                          msd=estimate.msd.__class__(3.0, 0.3))
     samples = objective_map(exact, paper_bridge, paper_crowd, frequencies=[2.5, 3.5],

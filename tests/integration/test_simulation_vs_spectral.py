@@ -1,11 +1,11 @@
-"""Monte Carlo (time domain) against the spectral model, and parameter recovery (physics.md §8.4).
+"""Monte Carlo (time domain) against the spectral model, and parameter recovery (docs: theory, Time domain against spectral model).
 
-The paper's numerical example (physics.md §8.1). Each check runs one seeded realisation; the
-tolerances are those of physics.md §8.4 and issue 3. Scatter between seeds seen while writing
+The paper's numerical example (docs: theory, The paper's numerical example). Each check runs one seeded realisation; the
+tolerances are those of docs: theory, Time domain against spectral model and issue 3. Scatter between seeds seen while writing
 these tests (3600 s with HSI, seeds 1, 2, 3): modal-load band ratios within 0.95–1.07, recovered
 f_h1 = 2.999, 2.814, 3.041 Hz and ξ_h1 = 0.307, 0.328, 0.328 — a single hour is not always
 within 3 % in f_h1 (seed 2 is not), so the recovery check runs five seeds (the paper's own
-verification used one: physics.md §8.4, 2.981 Hz and 0.271).
+verification used one: docs: theory, Time domain against spectral model, 2.981 Hz and 0.271).
 """
 
 import numpy as np
@@ -16,9 +16,9 @@ from crowdvib import ZivanovicForce, estimate_hsi, response_psd, simulate, welch
 pytestmark = pytest.mark.slow
 
 BANDS = [(1.5, 2.5), (2.5, 3.5), (3.5, 4.5), (4.5, 10.0)]
-WINDOW = 60.0                       # Welch T [s], 50 % overlap (physics.md §6, §8.4)
+WINDOW = 60.0                       # Welch T [s], 50 % overlap (docs: theory, Welch PSDs, filters and convergence, §8.4)
 GRID = np.arange(0, 601) / WINDOW   # the Welch grid up to 10 Hz
-# Warm-up: the structure starts at rest; 5/(ξ ω) = 5/(0.005·4π) ≈ 80 s (physics.md §2.4).
+# Warm-up: the structure starts at rest; 5/(ξ ω) = 5/(0.005·4π) ≈ 80 s (docs: theory, Poisson arrivals).
 WARM_UP = 100.0
 
 
@@ -28,7 +28,7 @@ def _band_ratios(measured, model):
 
 @pytest.mark.parametrize("hsi", [False, True], ids=["no-HSI", "HSI"])
 def test_monte_carlo_matches_spectral_model(paper_bridge, paper_crowd, paper_msd, hsi):
-    # physics.md §8.4: 1500 s after warm-up, band variance ratios MC/spectral within ±15 %
+    # docs: theory, Time domain against spectral model: 1500 s after warm-up, band variance ratios MC/spectral within ±15 %
     # (the reference run saw 1.13/1.04/1.00/1.01 without and 1.05/1.04/1.00/1.01 with HSI) and
     # the PSD peak in the same Welch bin as the Welch-smoothed spectral model (2.000 / 1.933 Hz).
     msd = paper_msd if hsi else None
@@ -38,7 +38,7 @@ def test_monte_carlo_matches_spectral_model(paper_bridge, paper_crowd, paper_msd
     ratios = _band_ratios(measured, model)
     assert np.all(np.abs(ratios - 1) <= 0.15), ratios
     assert abs(measured.peak_frequency()[0] - model.peak_frequency()[0]) <= 1 / WINDOW + 1e-9
-    # physics.md §8.3: spectral RMS 0.578 (no HSI) and 0.330 m/s² (HSI).
+    # docs: theory, Spectral-model numbers: spectral RMS 0.578 (no HSI) and 0.330 m/s² (HSI).
     assert record.acceleration.std() == pytest.approx(0.330 if hsi else 0.578, rel=0.10)
 
 
@@ -55,7 +55,7 @@ def hour_with_hsi():
 
 
 def test_modal_load_matches_load_spectrum(hour_with_hsi):
-    # physics.md §3.2: G_Q(f) = Ψ₁₁ s(f) with Ψ₁₁ = n/2 = 37.5 (§8.2). The modal walking load
+    # docs: theory, Modal load PSD of a Poisson crowd: G_Q(f) = Ψ₁₁ s(f) with Ψ₁₁ = n/2 = 37.5 (§8.2). The modal walking load
     # does not depend on the structure: ±5 % per band and in the standard deviation (issue 3).
     bridge, crowd, record = hour_with_hsi
     load = welch_psd(record.modal_load, record.sample_rate, window_length=WINDOW)
@@ -71,7 +71,7 @@ def test_modal_load_matches_load_spectrum(hour_with_hsi):
 
 
 def test_recovers_msd_parameters_from_simulated_hours(hour_with_hsi):
-    # physics.md §8.4 / the paper's verification: (3.0 Hz, 0.30) back from a simulated hour with
+    # docs: theory, Time domain against spectral model / the paper's verification: (3.0 Hz, 0.30) back from a simulated hour with
     # the Welch-smoothed spectral model: f_h1 within 3 %, ξ_h1 within 20 %. One hour is one
     # random realisation (seeds 1–7 gave f_h1 = 2.999, 2.814, 3.041, 3.017, 2.934, 2.943, 2.917 Hz
     # and ξ_h1 = 0.307–0.344), so the claim is checked over the first five seeds: at least four

@@ -1,4 +1,4 @@
-"""PSD conventions against Parseval, closed forms and scipy (physics.md §0, §3, §3.4)."""
+"""PSD conventions against Parseval, closed forms and scipy (docs: theory, Conventions, §3, §3.4)."""
 
 import numpy as np
 import pytest
@@ -10,7 +10,7 @@ from crowdvib.signals import LowPassFilter, welch_kernel
 
 
 def test_crowd_load_variance_matches_campbell_closed_form(paper_bridge, paper_crowd):
-    # physics.md §3.2 check: σ_Q² = Ψ11 W² Σ_c E[α_c²]/2, the expectation over f_s ~ N(μ, σ)
+    # docs: theory, Modal load PSD of a Poisson crowd check: σ_Q² = Ψ11 W² Σ_c E[α_c²]/2, the expectation over f_s ~ N(μ, σ)
     # computed here independently by quadrature in the step frequency (not in f).
     force = ZivanovicForce()
     f = np.linspace(1e-3, 25.0, 250_001)
@@ -40,7 +40,7 @@ def test_sdof_frf_matches_closed_form():
 
 
 def test_coupled_poles_match_characteristic_polynomial(paper_bridge, paper_crowd, paper_msd):
-    # 1 mode + smeared MSD is a 2-DOF system (physics.md §2.7); its poles are the roots of
+    # 1 mode + smeared MSD is a 2-DOF system (docs: theory, The smeared crowd and the occupied bridge); its poles are the roots of
     # det(λ²M + λC + K) = 0, a quartic written out here by hand.
     from crowdvib import effective_modal_properties
     psi, mh = 37.5, 70.0
@@ -64,7 +64,7 @@ def test_coupled_poles_match_characteristic_polynomial(paper_bridge, paper_crowd
 
 
 def test_welch_of_white_noise_is_flat_at_variance_over_nyquist(rng):
-    # One-sided density convention: white noise of variance σ² has G = σ²/(fs/2) (physics.md §0).
+    # One-sided density convention: white noise of variance σ² has G = σ²/(fs/2) (docs: theory, Conventions).
     fs, sigma = 100.0, 0.7
     x = rng.normal(0, sigma, size=400_000)
     psd = welch_psd(x, fs, window_length=20.0)
@@ -86,7 +86,7 @@ def test_welch_psd_equals_scipy_welch(rng):
 
 
 def test_welch_kernel_has_unit_area_and_predicts_a_sinusoid():
-    # physics.md §3.4: E[Ĝ](f) = ∫ G(ν) K(f−ν) dν with ∫K = 1. A sinusoid of amplitude A at f0
+    # docs: theory, What a Welch estimate sees: the expectation kernel: E[Ĝ](f) = ∫ G(ν) K(f−ν) dν with ∫K = 1. A sinusoid of amplitude A at f0
     # has G = A²/2 δ(f − f0), so its Welch PSD is (A²/2) K(f − f0), here checked against scipy.
     T = 20.0
     nu = np.linspace(-40, 40, 400_001) / T
@@ -115,14 +115,14 @@ def test_lowpass_power_gain_matches_filtered_noise(rng):
 
 
 def test_apparent_mass_limits():
-    # physics.md §3.1: M_app(0) = m_h, M_app(∞) = m_h0 = (1 − μ_h1) m_h.
+    # docs: theory, Occupied receptance and FRFs: M_app(0) = m_h, M_app(∞) = m_h0 = (1 − μ_h1) m_h.
     msd = MSDModel(3.0, 0.3, 0.95)
     assert msd.apparent_mass(0.0, 70.0) == pytest.approx(70.0)
     assert msd.apparent_mass(1e9, 70.0) == pytest.approx(3.5, rel=1e-6)
 
 
 def test_modal_scaling_does_not_change_physics(paper_crowd, paper_msd, welch_grid):
-    # physics.md §0: every formula is invariant to mode scaling with m_j = φᵀMφ.
+    # docs: theory, Conventions: every formula is invariant to mode scaling with m_j = φᵀMφ.
     from crowdvib import response_psd
     bridge = ModalModel.simply_supported_beam(60.0, 4.0, [1.8, 3.1], [0.006, 0.004],
                                               [60e3, 45e3], n_modes=2,

@@ -1,4 +1,4 @@
-"""The simulator against closed-form single-degree-of-freedom results (physics.md §2)."""
+"""The simulator against closed-form single-degree-of-freedom results (docs: theory, The coupled time-domain model)."""
 
 import numpy as np
 import pytest
@@ -22,7 +22,7 @@ def test_resonant_harmonic_force_at_midspan():
 
 
 def test_standing_msd_shifts_the_resonance():
-    # A standing MSD adds its apparent mass M_app(f) (physics.md §3.1); with m_h = 70 kg on a
+    # A standing MSD adds its apparent mass M_app(f) (docs: theory, Occupied receptance and FRFs); with m_h = 70 kg on a
     # 500 kg modal mass the occupied peak moves. Compare the steady-state accelerance at 1.9 Hz
     # from the simulator with the closed-form FRF H = 1/(k − ω²(m + M_app(ω)) + iωc).
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.02, 500.0)

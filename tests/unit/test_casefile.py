@@ -39,7 +39,7 @@ def write_case(tmp_path, density=0.5, extra="", name="eeklo_like.toml"):
 def test_beam_case_loads_with_defaults(tmp_path):
     case = load_case(write_case(tmp_path))
     assert case.structure.output_names == ("midspan",)
-    assert case.crowd.step_frequency_std == 0.175     # AFGC default (physics.md §1.4)
+    assert case.crowd.step_frequency_std == 0.175     # AFGC default (docs: theory, Design-guide load models)
     assert case.msd == MSDModel(3.0, 0.30, 0.95)
     assert case.estimation.band == (0.0, 10.0)
     assert case.measurement.lowpass_cutoff == 10.0   # the paper's 10 Hz filter
@@ -103,7 +103,7 @@ def _two_lane_bridge():
 
 
 def test_mass_normalised_export_and_unity_table_give_the_same_physics(tmp_path):
-    # physics.md §0: every formula is invariant to the mode scaling if m_j matches it.
+    # docs: theory, Conventions: every formula is invariant to the mode scaling if m_j matches it.
     bridge = _two_lane_bridge()
     write_modal_model(bridge, tmp_path / "unity_modes.csv", tmp_path / "unity_shapes.csv",
                       tmp_path / "unity_points.csv")
@@ -157,7 +157,7 @@ def test_example_cases_load(name):
 
 
 def test_eeklo_like_mass_ratios_follow_the_paper():
-    # physics.md §8.6 ([SEED] Table 1, 0.50 persons/m², %) with the paper's 73.2 kg.
+    # docs: theory, The paper's case studies ([SEED] Table 1, 0.50 persons/m², %) with the paper's 73.2 kg.
     case = load_case(EXAMPLES / "eeklo_like.toml")
     table = [0.7, 10.5, 2.7, 0.4, 11.2, 3.3, 2.4, 11.4, 2.4, 1.7, 13.0, 1.1, 2.2, 0.6]
     np.testing.assert_allclose(100 * case.structure.modal_mass_ratios(0.5, 73.2), table,
@@ -167,7 +167,7 @@ def test_eeklo_like_mass_ratios_follow_the_paper():
 
 
 def test_waalse_krook_like_follows_the_paper():
-    # physics.md §8.6: 25 m × 6.9 m, 3.30 Hz 0.86 %, 4.14 Hz 0.25 %, μ_m 5.8 % / 5.7 % at 1 p/m².
+    # docs: theory, The paper's case studies: 25 m × 6.9 m, 3.30 Hz 0.86 %, 4.14 Hz 0.25 %, μ_m 5.8 % / 5.7 % at 1 p/m².
     case = load_case(EXAMPLES / "waalse_krook_like.toml")
     s = case.structure
     assert (s.length, s.width) == (25.0, 6.9)

@@ -1,4 +1,4 @@
-"""Crowd relations, walking-force constants and walkway quadrature against physics.md check values."""
+"""Crowd relations, walking-force constants and walkway quadrature against docs: theory check values."""
 
 import numpy as np
 import pytest
@@ -8,7 +8,7 @@ from crowdvib.models.crowd import bruno_venuti_step_frequency, weidmann_speed
 
 
 @pytest.mark.parametrize("density, speed, step", [
-    # physics.md §4 table (Weidmann speed, Bruno & Venuti step frequency)
+    # docs: theory, The crowd table (Weidmann speed, Bruno & Venuti step frequency)
     (0.25, 1.339, 1.913), (0.50, 1.298, 1.890), (0.80, 1.165, 1.809), (1.00, 1.058, 1.735),
     (1.50, 0.807, 1.513)])
 def test_crowd_relations(density, speed, step):
@@ -20,31 +20,31 @@ def test_crowd_relations(density, speed, step):
 
 
 def test_bruno_venuti_reproduces_paper():
-    # physics.md §4: f_s(1.30) = 1.891 Hz, the paper's 1.89 Hz.
+    # docs: theory, The crowd: f_s(1.30) = 1.891 Hz, the paper's 1.89 Hz.
     assert bruno_venuti_step_frequency(1.30) == pytest.approx(1.891, abs=5e-4)
 
 
 def test_arrival_rate():
-    # physics.md §2.4: λ = d·B·v.
+    # docs: theory, Poisson arrivals: λ = d·B·v.
     assert Crowd(0.5, 1.3, 1.89).arrival_rate(3.0) == pytest.approx(1.95)
 
 
 @pytest.mark.parametrize("fs, mu1", [(1.68, 0.2762), (1.77, 0.3150), (1.87, 0.3564),
                                      (1.89, 0.3644), (2.00, 0.4051)])
 def test_zivanovic_first_harmonic(fs, mu1):
-    # physics.md §1.1 check values of μ₁(f_s).
+    # docs: theory, Živanović, Pavić & Reynolds (2007) check values of μ₁(f_s).
     assert ZivanovicForce.first_harmonic_dlf(fs) == pytest.approx(mu1, abs=1e-4)
 
 
 def test_zivanovic_subharmonic_means():
-    # physics.md §1.1 table, subharmonic DLFs at α₁ = μ₁(1.89) = 0.3644 (mean-α₁ option).
+    # docs: theory, Živanović, Pavić & Reynolds (2007) table, subharmonic DLFs at α₁ = μ₁(1.89) = 0.3644 (mean-α₁ option).
     force = ZivanovicForce(subharmonics_follow_sampled_dlf=False)
     rms = np.sqrt(force.mean_square_dlf(np.full(10, 1.89))[5:])
     np.testing.assert_allclose(rms, [0.0126, 0.0370, 0.0204, 0.0140, 0.0127], atol=1e-4)
 
 
 def test_zivanovic_sampling_statistics(rng):
-    # Sampled DLFs follow the table: α₂ ~ N(0.07, 0.03), α₁ ~ N(μ₁, 0.16 μ₁) (physics.md §1.1).
+    # Sampled DLFs follow the table: α₂ ~ N(0.07, 0.03), α₁ ~ N(μ₁, 0.16 μ₁) (docs: theory, Živanović, Pavić & Reynolds (2007)).
     amplitudes, phases = ZivanovicForce().sample(np.full(200_000, 1.89), rng)
     assert amplitudes.shape == phases.shape == (200_000, 10)
     assert amplitudes[:, 0].mean() == pytest.approx(0.3644, rel=0.005)
@@ -55,7 +55,7 @@ def test_zivanovic_sampling_statistics(rng):
 
 
 def test_young_dlfs():
-    # physics.md §1.3 at f_s = 2 Hz: α₁ = 0.41·1.05, α₂ = 0.069 + 0.0056·4, α₃ = 0.033 + 0.0064·6,
+    # docs: theory, Young (2001) at f_s = 2 Hz: α₁ = 0.41·1.05, α₂ = 0.069 + 0.0056·4, α₃ = 0.033 + 0.0064·6,
     # α₄ = 0.013 + 0.0065·8; α₁ capped at 0.56 (f_s = 3 Hz).
     dlf = YoungForce().dlf(np.full(4, 2.0))
     np.testing.assert_allclose(dlf, [0.4305, 0.0914, 0.0714, 0.065], rtol=1e-12)
@@ -69,7 +69,7 @@ def test_time_history_is_seeded_and_has_the_right_power():
     np.testing.assert_array_equal(a, force.time_history(t, 1.89, 70.0, rng=5))
     assert not np.array_equal(a, force.time_history(t, 1.89, 70.0, rng=6))
     # The ten components sit at distinct frequencies, so over a long record the mean square of
-    # W Σ α_c sin(2π r_c f_s t + θ_c) is W² Σ α_c²/2 (physics.md §3.2 check, one pedestrian).
+    # W Σ α_c sin(2π r_c f_s t + θ_c) is W² Σ α_c²/2 (docs: theory, Modal load PSD of a Poisson crowd check, one pedestrian).
     amplitudes, _ = force.sample(np.array([1.89]), np.random.default_rng(5))
     expected = (70 * 9.81) ** 2 * np.sum(amplitudes**2) / 2
     assert np.mean(a**2) == pytest.approx(expected, rel=0.01)
@@ -95,7 +95,7 @@ def test_influence_matrix_of_a_torsional_mode():
 
 
 def test_body_mass_spread_enters_the_load_as_mean_square_weight():
-    # physics.md §3.2: G_QQ ∝ E[W²] = g²(m² + σ_m²); σ_m = 0 is the paper's single mass.
+    # docs: theory, Modal load PSD of a Poisson crowd: G_QQ ∝ E[W²] = g²(m² + σ_m²); σ_m = 0 is the paper's single mass.
     f = np.linspace(0.5, 10, 50)
     plain = ZivanovicForce().load_spectrum(f, Crowd(0.5, 1.3, 1.89, body_mass=70.0))
     spread = ZivanovicForce().load_spectrum(

@@ -33,7 +33,7 @@ def _scaled(psd, factor):
 
 
 def test_consistent_record_passes_silently(measured, paper_bridge, paper_crowd):
-    # At a sound optimum the measured and modelled band variances agree (theory: estimator).
+    # At a sound optimum the measured and modelled band variances agree (docs: theory, The estimator).
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         estimate = estimate_hsi(measured, paper_bridge, paper_crowd, band=(0.0, 10.0))
@@ -101,7 +101,7 @@ def test_damping_in_percent_warns(measured, paper_crowd):
 
 
 def test_modal_mass_plausibility_is_scale_invariant(paper_bridge):
-    # A sine mode unity-scaled over L × B has ∫φ² dA = L·B/2 (theory: crowd influence), so the
+    # A sine mode unity-scaled over L × B has ∫φ² dA = L·B/2 (docs: theory, Crowd-influence matrix), so the
     # paper example stands for 50 t / 75 m² = 667 kg/m²; the mass-normalised model is the same
     # bridge and must pass too; tonnes typed for kilograms (50) must not.
     assert paper_bridge.implausibilities() == []

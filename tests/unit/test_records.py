@@ -56,7 +56,7 @@ def test_units_g_are_converted_with_standard_gravity(tmp_path):
     path = tmp_path / "g.csv"
     path.write_text("time,a\n0,0.1\n0.01,-0.2\n0.02,0.0\n")
     record = read_record(path, units="g")
-    # g = 9.81 m/s² (physics.md §0)
+    # g = 9.81 m/s² (docs: theory, Conventions)
     np.testing.assert_allclose(record.data[0], [0.981, -1.962, 0.0])
     np.testing.assert_allclose(convert_units([1.0], "m/s2"), [1.0])
     with pytest.raises(ParameterError, match="units must be 'm/s2' or 'g'"):

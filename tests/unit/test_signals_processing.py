@@ -1,4 +1,4 @@
-"""Detrend, resampling, time frames and the PSD convergence error (physics.md §6)."""
+"""Detrend, resampling, time frames and the PSD convergence error (docs: theory, Welch PSDs, filters and convergence)."""
 
 import numpy as np
 import pytest
@@ -48,7 +48,7 @@ def test_stationary_time_frame_skips_a_burst(rng):
 
 
 def test_psd_convergence_matches_explicit_welch(rng):
-    # physics.md §6: G_kT is the Welch PSD of the first k·T seconds, ΔG the relative 2-norm.
+    # docs: theory, Welch PSDs, filters and convergence: G_kT is the Welch PSD of the first k·T seconds, ΔG the relative 2-norm.
     rate, window = 50.0, 20.0
     x = rng.normal(size=(2, int(200 * rate)))
     conv = psd_convergence(x, rate, window_length=window, band=(2.0, 6.0))

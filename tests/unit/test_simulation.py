@@ -1,4 +1,4 @@
-"""Unit tests of the time-domain simulator (crowdvib.response.simulation, physics.md §2)."""
+"""Unit tests of the time-domain simulator (crowdvib.response.simulation, docs: theory, The coupled time-domain model)."""
 
 import numpy as np
 import pytest
@@ -24,7 +24,7 @@ def test_record_layout(paper_bridge, paper_crowd, paper_msd):
     assert record.output_names == ("midspan",)
     assert record.modal_load.shape == (1, 2000)
     assert record.seed == 3 and record.duration == pytest.approx(20.0)
-    # physics.md §2.4: n = d·L·B = 75 on the deck on average, pre-populated from t = 0.
+    # docs: theory, Poisson arrivals: n = d·L·B = 75 on the deck on average, pre-populated from t = 0.
     assert 40 < record.n_on_deck[0] < 110
     assert 50 < record.n_on_deck.mean() < 100
     # internal step: 20 per period of the fastest walker's 5th harmonic, a divisor of 0.01 s
@@ -97,14 +97,14 @@ def test_static_weight_gives_quasi_static_deflection(paper_bridge):
     walker = Pedestrian(0.0, 0.0, 2.0, 70.0, harmonics=(), position=25.0)
     record = simulate(paper_bridge, duration=5.0, pedestrians=[walker], rng=0,
                       include_static_weight=True)
-    # the first sample: z̈ = W/m (the load switched on at rest; physics.md §2.2 with z = ż = 0)
+    # the first sample: z̈ = W/m (the load switched on at rest; docs: theory, Equations of motion with z = ż = 0)
     assert record.acceleration[0, 0] == pytest.approx(70 * 9.81 / 50e3, rel=1e-9)
     quiet = simulate(paper_bridge, duration=5.0, pedestrians=[walker], rng=0)
     assert np.all(quiet.acceleration == 0.0)
 
 
 def test_single_walker_crossing_leaves_deck(paper_bridge):
-    # 50 m at 1.25 m/s: on the deck for 40 s (physics.md §2.1), then gone.
+    # 50 m at 1.25 m/s: on the deck for 40 s (docs: theory, Kinematics), then gone.
     walker = Pedestrian(1.0, 1.25, 2.0, 70.0)
     record = simulate(paper_bridge, duration=50.0, pedestrians=[walker], rng=0)
     on = record.n_on_deck
@@ -137,7 +137,7 @@ def test_torsion_lane_matters():
 
 
 def _energy(integrator):
-    """Total mechanical energy [J] of structure + MSDs (physics.md §2.2, no external force)."""
+    """Total mechanical energy [J] of structure + MSDs (docs: theory, Equations of motion, no external force)."""
     s = integrator.structure
     w = 2 * np.pi * s.frequencies
     energy = 0.5 * np.sum(s.modal_masses * integrator.zd**2) \

@@ -1,4 +1,4 @@
-"""The vectorised spectral model against the per-frequency reference sketch of physics.md §3.3."""
+"""The vectorised spectral model against the per-frequency reference sketch of docs: theory, Response PSD with HSI."""
 
 import numpy as np
 import pytest
@@ -7,7 +7,7 @@ from crowdvib import Crowd, ModalModel, MSDModel, ZivanovicForce, estimate_hsi, 
 
 
 def reference_psd(structure, crowd, msd, frequency):
-    """physics.md §3.3 written literally: one matrix inverse per frequency."""
+    """docs: theory, Response PSD with HSI written literally: one matrix inverse per frequency."""
     psi = structure.influence_matrix(crowd.density)
     load = ZivanovicForce().load_spectrum(frequency, crowd)
     m = structure.modal_masses

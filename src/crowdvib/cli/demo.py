@@ -62,7 +62,7 @@ def run(args):
     else:
         started = time.perf_counter()
         # The deck is populated at t = 0; the warm-up lets the 0.5 %-damped mode forget its
-        # initial rest (5/(ξω) ≈ 80 s), as physics.md §8.4 discards its first 100 s.
+        # initial rest (5/(ξω) ≈ 80 s), as docs: theory, Time domain against spectral model discards its first 100 s.
         warm_up = 100.0
         say_if_compiling()
         record = simulate(structure, crowd, args.duration_s, msd=truth,

@@ -33,7 +33,7 @@ from .codes import (CODES, HARMONIC_FORCES, REDUCTION_FACTOR_CORNERS, class_dens
 __all__ = ["DesignCheck", "design_check", "resonant_response", "damped_response"]
 
 #: With dampers, mode j is loaded over f_j·(1 ∓ BAND): wide enough for the two peaks a damper of
-#: mass ratio μ <= 0.1 splits a mode into (fixed points near 0.8 f_j and 1.1 f_j, physics.md §5).
+#: mass ratio μ <= 0.1 splits a mode into (fixed points near 0.8 f_j and 1.1 f_j, docs: theory, Why modes just above f_h1 feel the crowd most).
 _RESONANCE_BAND = 0.25
 #: Frequency steps per half-power half-width ξ_j f_j of the narrowest mode: the sampled peak is
 #: then within (1/16)²/2 ≈ 0.2 % of the true one.

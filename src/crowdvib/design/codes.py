@@ -7,7 +7,7 @@ frequency, F = 280 N for the first and 70 N for the second walking harmonic per 
 pedestrian, n_eq = 10.8·sqrt(ξ_j n) below 1 person/m² and 1.85·sqrt(n) at or above it. EN 1990
 Annex A2 gives the limit 0.7 m/s² but no load model; crowdvib checks it with the same load.
 
-Provenance (physics.md §1.4, §1.5, §10): each constant says whether it was read in a public
+Provenance (docs: theory, Design-guide load models, §1.5, §10): each constant says whether it was read in a public
 source (SOURCED, with where) or is RECALLED from the guides, which were not reachable here; a
 RECALLED constant is a default to verify against the guide before a design relies on it.
 """
@@ -25,7 +25,7 @@ __all__ = ["CODES", "TRAFFIC_CLASSES", "COMFORT_CLASSES", "EN1990_VERTICAL_LIMIT
 CODES = ("setra", "hivoss", "en1990")
 
 #: Vertical force amplitude per equivalent pedestrian [N] of walking harmonic 1 and 2.
-#: 280 N: SOURCED (public Sétra/HiVoSS implementations, physics.md §1.4–1.5: the CSA S7 code
+#: 280 N: SOURCED (public Sétra/HiVoSS implementations, docs: theory, Design-guide load models–1.5: the CSA S7 code
 #: "equivalent_number_of_pedestrians", NEY-DPI/Footbridge-Vibrations func.py). 70 N for the
 #: second harmonic: RECALLED (Sétra 2006 load case 3). HiVoSS folds the second harmonic into ψ
 #: with a plateau of 0.25 on 280 N (RECALLED), the same 70 N.
@@ -33,7 +33,7 @@ HARMONIC_FORCES = {1: 280.0, 2: 70.0}
 
 #: Frequency reduction factor ψ(f) [-] for the vertical direction: (frequency [Hz], ψ) corners
 #: of the piecewise-linear curve, 0 outside. RECALLED (the ψ figures of Sétra 2006 and HiVoSS
-#: 2008 for vertical vibrations; physics.md §1.4): first harmonic 0 → 1 on 1.25–1.7 Hz, 1 to
+#: 2008 for vertical vibrations; docs: theory, Design-guide load models): first harmonic 0 → 1 on 1.25–1.7 Hz, 1 to
 #: 2.1 Hz, → 0 at 2.3 Hz; second harmonic 0 → 1 on 2.5–3.4 Hz, 1 to 4.2 Hz, → 0 at 4.6 Hz
 #: (HiVoSS: × 0.25 with 280 N).
 REDUCTION_FACTOR_CORNERS = {
@@ -43,13 +43,13 @@ REDUCTION_FACTOR_CORNERS = {
 
 #: Equivalent synchronised pedestrians n_eq = SPARSE·sqrt(ξ n) (d < 1 P/m²) or DENSE·sqrt(n)
 #: (d >= 1 P/m²). SOURCED (CSA S7 implementation and NEY-DPI/Footbridge-Vibrations get_N_eq,
-#: physics.md §1.5).
+#: docs: theory, The walking force).
 SPARSE_FACTOR, DENSE_FACTOR, DENSE_FROM = 10.8, 1.85, 1.0
 
 #: Traffic classes: density [persons/m²], or ("persons", n) for a fixed number on the deck.
 #: HiVoSS TC1 = 15 persons, TC2 0.2, TC3 0.5, TC4 1.0: SOURCED (NEY-DPI/Footbridge-Vibrations
 #: func.py get_d); TC5 = 1.5: RECALLED for HiVoSS (the CSA S7 implementation has 1.5).
-#: Sétra classes I = 1.0, II = 0.8, III = 0.5 P/m²: RECALLED (physics.md §1.4); class IV needs
+#: Sétra classes I = 1.0, II = 0.8, III = 0.5 P/m²: RECALLED (docs: theory, Design-guide load models); class IV needs
 #: no check. EN 1990 has no classes of its own: it takes HiVoSS's.
 _HIVOSS_CLASSES = {"TC1": ("persons", 15.0), "TC2": 0.2, "TC3": 0.5, "TC4": 1.0, "TC5": 1.5}
 TRAFFIC_CLASSES = {
@@ -61,7 +61,7 @@ TRAFFIC_CLASSES = {
 #: Vertical comfort classes: (name, upper bound of the peak acceleration [m/s²]). HiVoSS CL1
 #: maximum < 0.5, CL2 mean 0.5–1.0, CL3 minimum 1.0–2.5, CL4 unacceptable > 2.5; Sétra's
 #: maximum/mean/minimum comfort have the same ranges. SOURCED (CSA S7 implementation
-#: COMFORT_LEVELS_VERTICAL, the same ranges; physics.md §1.4 recalls the Sétra ones).
+#: COMFORT_LEVELS_VERTICAL, the same ranges; docs: theory, Design-guide load models recalls the Sétra ones).
 COMFORT_CLASSES = (("CL1", 0.5), ("CL2", 1.0), ("CL3", 2.5), ("CL4", np.inf))
 
 #: EN 1990 Annex A2 (A2.4.3.2) recommended maximum vertical deck acceleration [m/s²] for

@@ -1,7 +1,7 @@
 """Tuning a tuned mass damper to a mode, of the empty or of the occupied footbridge.
 
 Den Hartog (1956) minimises the peak displacement of an undamped primary system under force,
-Asami, Nishihara & Baz (2002) its peak acceleration (physics.md §5). Both are fixed-point
+Asami, Nishihara & Baz (2002) its peak acceleration (docs: theory, Why modes just above f_h1 feel the crowd most). Both are fixed-point
 optima for an undamped primary; with a crowd on the deck the primary is the *occupied* mode,
 whose frequency and engaged modal mass come from :func:`crowdvib.effective_modal_properties`:
 a damper tuned to the empty bridge is detuned by the crowd's human–structure interaction.
@@ -21,10 +21,10 @@ TUNING_CRITERIA = ("acceleration", "displacement")
 
 
 def optimal_tuning(mass_ratio, criterion="acceleration"):
-    """Optimal frequency ratio γ = f_d/f_j and damping ratio ζ of a damper (physics.md §5).
+    """Optimal frequency ratio γ = f_d/f_j and damping ratio ζ of a damper (docs: theory, Why modes just above f_h1 feel the crowd most).
 
     * ``"displacement"`` (Den Hartog 1956): γ = 1/(1+μ), ζ = sqrt(3μ / (8 (1+μ)³)).
-    * ``"acceleration"`` (Asami et al. 2002, fixed-point form DERIVED in physics.md §5):
+    * ``"acceleration"`` (Asami et al. 2002, fixed-point form DERIVED in docs: theory, Why modes just above f_h1 feel the crowd most):
       γ = 1/sqrt(1+μ), ζ = sqrt(3μ / (8 (1 + μ/2))).
 
     Parameters
@@ -40,7 +40,7 @@ def optimal_tuning(mass_ratio, criterion="acceleration"):
 
     Examples
     --------
-    >>> [round(v, 4) for v in optimal_tuning(0.05)]          # physics.md §8.5
+    >>> [round(v, 4) for v in optimal_tuning(0.05)]          # docs: theory, Inverse problem
     [0.9759, 0.1353]
     """
     mu = check_positive("mass_ratio", mass_ratio)

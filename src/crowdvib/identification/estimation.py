@@ -1,4 +1,4 @@
-"""The inverse problem: MSD parameters from measured response PSDs (paper Eq. 5 and 6; physics.md §7).
+"""The inverse problem: MSD parameters from measured response PSDs (paper Eq. 5 and 6; docs: theory, The estimator).
 
 J(θ) = Σ_l γ_l ‖G̃_l − G_l(θ)‖₂² / ‖G̃_l‖₂² over the analysis band, minimised by bounded
 ``scipy.optimize.least_squares(method="trf")`` from several starting points. The residual vector
@@ -27,7 +27,7 @@ __all__ = ["estimate_hsi", "HSIEstimate", "PSDObjective", "DEFAULT_STARTS", "DEF
 
 logger = logging.getLogger(__name__)
 
-#: Starting points (f_h1 [Hz], ξ_h1 [-]) spread over the feasible region (physics.md §8.5).
+#: Starting points (f_h1 [Hz], ξ_h1 [-]) spread over the feasible region (docs: theory, Inverse problem).
 DEFAULT_STARTS = ((1.5, 0.6), (5.0, 0.15), (2.2, 0.2), (4.0, 0.7))
 #: Search bounds: f_h1 ≤ 10 Hz and ξ_h1 ≤ 100 % as in the paper; small positive lower bounds
 #: stand for the strict inequalities f_h1 > 0, ξ_h1 > 0, 0 < μ_h1 < 1 (paper Eq. 5).
@@ -86,7 +86,7 @@ class HSIEstimate:
         The misfit: ``"least_squares"`` (paper Eq. 6) or ``"likelihood"`` (Whittle deviance).
     covariance : ndarray, shape (n_free, n_free), or None
         Sandwich covariance of the free parameters (order of ``free_parameters``), from the
-        Welch scatter of this one record (theory: uncertainty).
+        Welch scatter of this one record (docs: theory, Statistical uncertainty of an estimate).
     intervals : dict
         Parameter → (low, high) profile interval at ``interval_level`` (empty if not computed).
     interval_level : float
@@ -218,7 +218,7 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         Frequency weight w(f) > 0 (the paper's γ_ω).
     starts : sequence of tuple, optional
         Starting points (f_h1, ξ_h1) or (f_h1, ξ_h1, μ_h1); default four spread points
-        (physics.md §8.5). Points outside the bounds are moved just inside.
+        (docs: theory, Inverse problem). Points outside the bounds are moved just inside.
     bounds : dict, optional
         Parameter → (lower, upper); defaults f_h1 ∈ [0.001, 10] Hz, ξ_h1 ∈ [0.001, 1],
         μ_h1 ∈ [0.001, 0.999] (paper: upper bounds of 10 Hz and 100 %).

@@ -1,4 +1,4 @@
-"""The misfit between a measured and a modelled PSD, as a residual vector (theory: estimator).
+"""The misfit between a measured and a modelled PSD, as a residual vector (docs: theory, The estimator).
 
 Two misfits share one interface, a residual vector r(θ) with Σ r² the objective:
 
@@ -78,7 +78,7 @@ class PSDObjective:
         w(f) > 0 on the band frequencies (a function of f [Hz] or an array).
     match_welch : bool
         Model what a Welch estimate with the measured window length (and low-pass filter) sees
-        (physics.md §3.4); only when ``measured.window_length`` is known.
+        (docs: theory, What a Welch estimate sees: the expectation kernel); only when ``measured.window_length`` is known.
     method : {"least_squares", "likelihood"}
         The misfit (module docstring). The likelihood leaves out the 0 Hz bin, whose ordinate
         is not a χ²_ν variable (and is removed by detrending).
@@ -202,7 +202,7 @@ class PSDObjective:
         return self.model.psd_array(msd) / self.level[:, np.newaxis]
 
     def score_terms(self, modelled, gradient):
-        """Linearised score and curvature of S = Σ r² about a model PSD (theory: uncertainty).
+        """Linearised score and curvature of S = Σ r² about a model PSD (docs: theory, Statistical uncertainty of an estimate).
 
         The score is ∂S/∂θ = Σ_{l,k} q_{l,k} (Ĝ_{l,k} − G_{l,k}) and the expected Hessian H
         (E[Ĝ] = G), both in the normalised units of :meth:`modelled`.

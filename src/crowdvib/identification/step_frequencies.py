@@ -1,6 +1,6 @@
 """The crowd's step-frequency distribution from the low band of a measured PSD.
 
-The paper's Waalse Krook procedure (physics.md §7).
+The paper's Waalse Krook procedure (docs: theory, The estimator).
 """
 
 from dataclasses import dataclass, field, replace
@@ -79,11 +79,11 @@ def estimate_step_frequencies(measured, structure, crowd, *, cutoff=2.3, band=No
                               match_welch=True):
     """Fit the crowd's step-frequency distribution N(μ_fs, σ_fs) to low-passed PSDs.
 
-    The paper's procedure for the Waalse Krook bridge (physics.md §7): below the cut-off the
+    The paper's procedure for the Waalse Krook bridge (docs: theory, The estimator): below the cut-off the
     response is the non-resonant first-harmonic content of the walking forces, which HSI barely
     changes, so the model runs without HSI and only (μ_fs, σ_fs) are free. The misfit is the
     normalised J of paper Eq. (6), minimised by bounded ``least_squares(method="trf")``. The model
-    sees the same zero-phase filter as the measurement (PSD × |H_LP|⁴, physics.md §3.4).
+    sees the same zero-phase filter as the measurement (PSD × |H_LP|⁴, docs: theory, What a Welch estimate sees: the expectation kernel).
 
     Parameters
     ----------

@@ -27,7 +27,7 @@ __all__ = ["ErrorCase", "SensitivityResult", "modelling_error_study", "record_le
            "error_cases", "PAPER_ERROR_LEVELS"]
 
 
-#: Modelling-error levels of the Eeklo and Waalse Krook studies (paper; physics.md §8.6):
+#: Modelling-error levels of the Eeklo and Waalse Krook studies (paper; docs: theory, The paper's case studies):
 #: parameter → (lower level, higher level), as fractions.
 PAPER_ERROR_LEVELS = {"frequencies": (0.01, 0.05), "damping_ratios": (0.10, 0.30),
                       "modal_masses": (0.02, 0.05), "step_frequency_mean": (0.02, 0.05),

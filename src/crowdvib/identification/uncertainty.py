@@ -7,7 +7,7 @@ Hessian H. The estimate's covariance is the sandwich
 
     Cov(θ̂) = H⁻¹ Var(g) H⁻¹,
 
-with Var(g) from the statistics of Welch ordinates (theory: Welch statistics):
+with Var(g) from the statistics of Welch ordinates (docs: theory, Correlation of neighbouring Welch ordinates):
 Var(Ĝ_k) = φ_k (2/ν) G_k² — φ_k the dispersion the record's own segments show (1 for a
 stationary Gaussian record; :class:`~crowdvib.ResponsePSD`) — and ordinates d bins apart
 correlated by ρ(d)

@@ -460,7 +460,7 @@ def _case(path, data):
 
 
 def paper_example_case():
-    """The embedded paper example (physics.md §8.1) as a :class:`Case` without records."""
+    """The embedded paper example (docs: theory, The paper's numerical example) as a :class:`Case` without records."""
     from ..models.examples import paper_example
 
     example = paper_example()

@@ -1,4 +1,4 @@
-"""A case's measured records, read, merged, checked and pre-processed (physics.md §6)."""
+"""A case's measured records, read, merged, checked and pre-processed (docs: theory, Welch PSDs, filters and convergence)."""
 
 from ..errors import DataError, ParameterError
 from ..signals import detrend, resample, stationary_time_frame
@@ -10,7 +10,7 @@ __all__ = ["load_measurement"]
 def load_measurement(case, *, band=None):
     """Read, merge, check and pre-process the records of a case (``[measurement]``).
 
-    Steps (physics.md §6): read every file (channels mapped to output names, units converted to
+    Steps (docs: theory, Welch PSDs, filters and convergence): read every file (channels mapped to output names, units converted to
     m/s²), merge the files' channels, check the samples (:func:`crowdvib.io.records.check_record`,
     Nyquist above ``band``'s upper edge and the filter cut-off), cut the time frame (explicit, or
     the longest stationary stretch), remove the trend and resample if asked. The low-pass filter

@@ -3,7 +3,7 @@
 The files an FE program or an operational modal analysis exports: one row per mode (frequency,
 damping ratio, modal mass), the shapes at stations along the walkway (optionally per lane across
 the width), and the output points by name. Any mode-shape scaling works as long as the modal
-masses match it (physics.md §0): a mass-normalised export and a unity-scaled table are the same
+masses match it (docs: theory, Conventions): a mass-normalised export and a unity-scaled table are the same
 physics.
 """
 

@@ -1,4 +1,4 @@
-"""Measured acceleration records: the Record, its checks, reading and writing (physics.md §6).
+"""Measured acceleration records: the Record, its checks, reading and writing (docs: theory, Welch PSDs, filters and convergence).
 
 A :class:`Record` holds uniformly sampled accelerations [m/s²] of named channels, time on the last
 axis. Records come from, and go to, CSV, NPZ, MATLAB v5 (``scipy.io``), MATLAB v7.3 (HDF5, needs
@@ -47,7 +47,7 @@ def _unit_key(units, prefix):
 
 
 def convert_units(data, units):
-    """Accelerations in ``units`` ("g" or "m/s2") → m/s² (g = 9.81 m/s², physics.md §0)."""
+    """Accelerations in ``units`` ("g" or "m/s2") → m/s² (g = 9.81 m/s², docs: theory, Conventions)."""
     scale = STANDARD_GRAVITY if _unit_key(units, "") == "g" else 1.0
     return np.asarray(data, dtype=float) * scale
 

@@ -1,4 +1,4 @@
-"""The crowd on the deck: density, body mass, walking speed and step frequencies (physics.md §4).
+"""The crowd on the deck: density, body mass, walking speed and step frequencies (docs: theory, The crowd).
 
 A :class:`Crowd` is the statistical description the paper assumes known: a uniform density d,
 Poisson arrivals at rate λ = d·B·v, one walking speed, step frequencies f_s ~ N(μ_fs, σ_fs) and
@@ -15,18 +15,18 @@ from .loading import STANDARD_GRAVITY
 
 __all__ = ["Crowd", "weidmann_speed", "bruno_venuti_step_frequency", "JAM_DENSITY"]
 
-#: Free walking speed v_0 [m/s] of Weidmann's speed–density relation (physics.md §4, SOURCED).
+#: Free walking speed v_0 [m/s] of Weidmann's speed–density relation (docs: theory, The crowd, SOURCED).
 FREE_SPEED = 1.34
-#: Shape constant γ [persons/m²] of Weidmann's relation (physics.md §4, SOURCED).
+#: Shape constant γ [persons/m²] of Weidmann's relation (docs: theory, The crowd, SOURCED).
 WEIDMANN_GAMMA = 1.913
-#: Jam density d_max [persons/m²] at which Weidmann's speed falls to zero (physics.md §4, SOURCED).
+#: Jam density d_max [persons/m²] at which Weidmann's speed falls to zero (docs: theory, The crowd, SOURCED).
 JAM_DENSITY = 5.4
 #: Standard deviation of step frequencies in unrestricted traffic [Hz] (AFGC 2006 via the paper).
 UNRESTRICTED_STEP_FREQUENCY_STD = 0.175
 
 
 def weidmann_speed(density):
-    """Walking speed v(d) = v_0 [1 − exp(−γ (1/d − 1/d_max))] [m/s] (Weidmann 1993; physics.md §4).
+    """Walking speed v(d) = v_0 [1 − exp(−γ (1/d − 1/d_max))] [m/s] (Weidmann 1993; docs: theory, The crowd).
 
     Check value: v(0.5) = 1.298 m/s, the paper's 1.30 m/s.
     """
@@ -41,7 +41,7 @@ def weidmann_speed(density):
 def bruno_venuti_step_frequency(speed):
     """Mean step frequency f_s(v) = 0.35 v³ − 1.59 v² + 2.93 v [Hz] (Bruno & Venuti 2009).
 
-    RECALLED in physics.md §4 and validated there: f_s(1.30) = 1.891 Hz, the paper's 1.89 Hz.
+    RECALLED in docs: theory, The crowd and validated there: f_s(1.30) = 1.891 Hz, the paper's 1.89 Hz.
     """
     v = check_positive("speed", speed, unit="m/s")
     return 0.35 * v**3 - 1.59 * v**2 + 2.93 * v
@@ -69,7 +69,7 @@ class Crowd:
     body_mass_std : float
         Standard deviation σ_m of the body masses [kg] (0: everybody weighs ``body_mass``, as
         in the paper). The simulator draws N(m_h, σ_m); the spectral load uses
-        E[W²] = g² (m_h² + σ_m²) (physics.md §3.2), the apparent mass the mean m_h.
+        E[W²] = g² (m_h² + σ_m²) (docs: theory, Modal load PSD of a Poisson crowd), the apparent mass the mean m_h.
     """
 
     density: float
@@ -122,11 +122,11 @@ class Crowd:
         return replace(self, density=density)
 
     def mean_square_weight(self):
-        """E[W²] = g² (m_h² + σ_m²) [N²]: the weight factor of the crowd-load PSD (physics.md §3.2)."""
+        """E[W²] = g² (m_h² + σ_m²) [N²]: the weight factor of the crowd-load PSD (docs: theory, Modal load PSD of a Poisson crowd)."""
         return STANDARD_GRAVITY**2 * (self.body_mass**2 + self.body_mass_std**2)
 
     def arrival_rate(self, width):
-        """Poisson arrival rate λ = d·B·v [persons/s] onto a walkway of width B (physics.md §2.4)."""
+        """Poisson arrival rate λ = d·B·v [persons/s] onto a walkway of width B (docs: theory, Poisson arrivals)."""
         return self.density * check_positive("width", width, unit="m") * self.walking_speed
 
     def step_frequency_pdf(self, step_frequency):

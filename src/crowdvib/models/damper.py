@@ -2,7 +2,7 @@
 
 A TMD is the walker's mass-spring-damper without the unsprung part: a mass on a spring and a
 dashpot, fixed at one point of the walkway. The response models couple it to the modes exactly as
-they couple the crowd's MSDs (physics.md §2.7, §3.1), through the mode-shape row at its position.
+they couple the crowd's MSDs (docs: theory, The smeared crowd and the occupied bridge, §3.1), through the mode-shape row at its position.
 It lives beside :class:`~crowdvib.models.MSDModel` because the response layer reads it; the
 design layer (:mod:`crowdvib.design`) tunes it.
 """
@@ -63,7 +63,7 @@ class TunedMassDamper:
         return 2.0 * self.damping_ratio * self.mass * 2.0 * np.pi * self.frequency
 
     def apparent_mass(self, frequency):
-        """Apparent mass m_d·T(f/f_d) [kg] the damper adds at its point (physics.md §3.1).
+        """Apparent mass m_d·T(f/f_d) [kg] the damper adds at its point (docs: theory, Occupied receptance and FRFs).
 
         Parameters
         ----------

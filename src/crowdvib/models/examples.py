@@ -1,6 +1,6 @@
 """Embedded example cases.
 
-``paper_example`` is the numerical example of Van Nimmen & Van den Broeck (2023), physics.md §8.1:
+``paper_example`` is the numerical example of Van Nimmen & Van den Broeck (2023), docs: theory, The paper's numerical example:
 a 50 m × 3 m simply supported footbridge (2 Hz, 0.5 %, modal mass 50 t), 0.5 persons/m² walking at
 1.30 m/s with step frequencies N(1.89, 0.175) Hz, body mass 70 kg, MSD (3.0 Hz, 0.30, 0.95).
 """
@@ -27,7 +27,7 @@ class ExampleCase:
 
 
 def paper_example():
-    """The paper's numerical example (physics.md §8.1); band 0–10 Hz, Welch T = 60 s."""
+    """The paper's numerical example (docs: theory, The paper's numerical example); band 0–10 Hz, Welch T = 60 s."""
     structure = ModalModel.simply_supported_beam(
         span=50.0, width=3.0, frequency=2.0, damping_ratio=0.005, modal_mass=50e3,
         name="paper numerical example: 50 m simply supported footbridge")

@@ -1,12 +1,12 @@
 """Walking force models: one person's force on a rigid floor and the spectral load of a crowd.
 
 Each model describes the dynamic part of a pedestrian's vertical force as a sum of sinusoids at
-multiples r_c of the step frequency f_s, p(t) = W Σ_c α_c sin(2π r_c f_s t + θ_c) (physics.md §1),
+multiples r_c of the step frequency f_s, p(t) = W Σ_c α_c sin(2π r_c f_s t + θ_c) (docs: theory, The walking force),
 and gives
 
 * ``sample``: dynamic load factors (DLFs) and phases of individual pedestrians (time domain);
 * ``load_spectrum``: the one-sided PSD per unit crowd influence of a stationary Poisson crowd,
-  G_QQ(f) = Ψ · s(f) (physics.md §3.2), used by the spectral response model.
+  G_QQ(f) = Ψ · s(f) (docs: theory, Modal load PSD of a Poisson crowd), used by the spectral response model.
 
 Every constant sits in a table below with its provenance.
 """
@@ -21,12 +21,12 @@ from ..errors import ParameterError
 
 __all__ = ["ZivanovicForce", "YoungForce", "STANDARD_GRAVITY"]
 
-#: Gravitational acceleration g [m/s²] used to turn body mass into weight (physics.md §0).
+#: Gravitational acceleration g [m/s²] used to turn body mass into weight (docs: theory, Conventions).
 STANDARD_GRAVITY = 9.81
 
-# Živanović, Pavić & Reynolds (2007), harmonic form (physics.md §1.1). Provenance: the DLF means,
+# Živanović, Pavić & Reynolds (2007), harmonic form (docs: theory, Živanović, Pavić & Reynolds (2007)). Provenance: the DLF means,
 # spreads and subharmonic regressions are SOURCED from a public implementation of the paper's
-# table (physics.md §1.1, §10); the first-harmonic polynomial is Kerr's (1998) fit.
+# table (docs: theory, Živanović, Pavić & Reynolds (2007), §10); the first-harmonic polynomial is Kerr's (1998) fit.
 ZIVANOVIC_DLF1_POLYNOMIAL = (-0.2649, 1.3206, -1.7597, 0.7613)  # μ₁(f_s), highest power first
 ZIVANOVIC_DLF1_COV = 0.16                                       # std of α₁ = 0.16 μ₁(f_s)
 ZIVANOVIC_HARMONIC_MEAN = (None, 0.07, 0.05, 0.05, 0.03)         # h = 1..5 (h = 1: polynomial)
@@ -34,7 +34,7 @@ ZIVANOVIC_HARMONIC_STD = (None, 0.030, 0.020, 0.020, 0.015)
 ZIVANOVIC_SUBHARMONIC_SLOPE = (0.026, 0.074, 0.012, 0.013, 0.015)   # α_s,h = a_h α₁ + b_h
 ZIVANOVIC_SUBHARMONIC_OFFSET = (0.0031, 0.0100, 0.0160, 0.0093, 0.0072)
 
-# Young (2001) mean DLFs, α_h = c_h + s_h · (h f_s), α₁ capped at 0.56 (physics.md §1.3; formulas
+# Young (2001) mean DLFs, α_h = c_h + s_h · (h f_s), α₁ capped at 0.56 (docs: theory, Young (2001); formulas
 # SOURCED, argument h·f_s per the public implementation cited there).
 YOUNG_OFFSET = (-0.41 * 0.95, 0.069, 0.033, 0.013)
 YOUNG_SLOPE = (0.41, 0.0056, 0.0064, 0.0065)
@@ -68,10 +68,10 @@ class _WalkingForce:
         raise NotImplementedError
 
     def load_spectrum(self, frequency, crowd):
-        """One-sided crowd-load PSD per unit influence s(f) [N²/Hz] (physics.md §3.2).
+        """One-sided crowd-load PSD per unit influence s(f) [N²/Hz] (docs: theory, Modal load PSD of a Poisson crowd).
 
         s(f) = E[W²] Σ_c E[α_c² | f_s = f/r_c] / 2 · p_fs(f/r_c) / r_c, so that the modal-load
-        cross-PSD is G_QQ(f) = Ψ s(f) with the crowd-influence matrix Ψ of physics.md §2.7.
+        cross-PSD is G_QQ(f) = Ψ s(f) with the crowd-influence matrix Ψ of docs: theory, The smeared crowd and the occupied bridge.
         Narrow-band approximation: the crossing time is long against 1/(r_c σ_fs).
 
         Parameters
@@ -93,7 +93,7 @@ class _WalkingForce:
         return self.load_spectrum(frequency, crowd)[:, np.newaxis, np.newaxis] * psi
 
     def time_history(self, time, step_frequency, body_mass, rng=None):
-        """Force [N] of one pedestrian on a rigid floor, dynamic part only (physics.md §1.1).
+        """Force [N] of one pedestrian on a rigid floor, dynamic part only (docs: theory, Živanović, Pavić & Reynolds (2007)).
 
         Parameters
         ----------
@@ -123,14 +123,14 @@ class ZivanovicForce(_WalkingForce):
     """Živanović, Pavić & Reynolds (2007) probabilistic walking force, harmonic form.
 
     Five harmonics (r = 1…5) and five subharmonics (r = 0.5…4.5) with random DLFs and phases
-    uniform in [0, 2π) (physics.md §1.1).
+    uniform in [0, 2π) (docs: theory, Živanović, Pavić & Reynolds (2007)).
 
     Parameters
     ----------
     subharmonics_follow_sampled_dlf : bool
-        True: the subharmonic DLFs follow each pedestrian's sampled α₁ (physics.md §1.1 default);
+        True: the subharmonic DLFs follow each pedestrian's sampled α₁ (docs: theory, Živanović, Pavić & Reynolds (2007) default);
         False: they follow the mean μ₁(f_s), as the public implementation does (and as the
-        check values of physics.md §8.3 assume).
+        check values of docs: theory, Spectral-model numbers assume).
     scale : float
         Factor on every DLF (1 = the published model); for load-model sensitivity studies.
     """
@@ -147,7 +147,7 @@ class ZivanovicForce(_WalkingForce):
 
     @staticmethod
     def first_harmonic_dlf(step_frequency):
-        """Mean first-harmonic DLF μ₁(f_s) (Kerr 1998 fit; physics.md §1.1). μ₁(1.89) = 0.3644."""
+        """Mean first-harmonic DLF μ₁(f_s) (Kerr 1998 fit; docs: theory, Živanović, Pavić & Reynolds (2007)). μ₁(1.89) = 0.3644."""
         return np.polyval(ZIVANOVIC_DLF1_POLYNOMIAL, step_frequency)
 
     def mean_square_dlf(self, step_frequency):
@@ -187,7 +187,7 @@ class ZivanovicForce(_WalkingForce):
 
 
 def positive_normal_moments(means, stds):
-    """E[X] and E[X²] of the draws of :func:`positive_normal` (theory: walking force).
+    """E[X] and E[X²] of the draws of :func:`positive_normal` (docs: theory, The walking force).
 
     For a positive mean the draws are N(μ, σ²) truncated to X > 0: with a = μ/σ and
     λ = φ(a)/Φ(a), E[X] = μ + σλ and E[X²] = μ² + σ² + μσλ (Johnson, Kotz & Balakrishnan 1994,
@@ -211,7 +211,7 @@ def positive_normal_moments(means, stds):
 def positive_normal(means, stds, rng):
     """Normal draws N(means, stds) with non-positive values drawn again.
 
-    For DLFs (physics.md §1.1: P(α < 0) ≤ 2.3 %), step frequencies and body masses, which are
+    For DLFs (docs: theory, Živanović, Pavić & Reynolds (2007): P(α < 0) ≤ 2.3 %), step frequencies and body masses, which are
     > 0. A mean that is itself not positive (μ₁ far outside the walking range) gives 0 rather
     than an endless redraw.
     """
@@ -228,7 +228,7 @@ def positive_normal(means, stds, rng):
 
 @dataclass(frozen=True)
 class YoungForce(_WalkingForce):
-    """Young (2001) mean DLFs of the first four harmonics (physics.md §1.3).
+    """Young (2001) mean DLFs of the first four harmonics (docs: theory, Young (2001)).
 
     α₁ = 0.41 (f_s − 0.95) ≤ 0.56, α₂ = 0.069 + 0.0056·2f_s, α₃ = 0.033 + 0.0064·3f_s,
     α₄ = 0.013 + 0.0065·4f_s; deterministic DLFs, independent uniform phases.

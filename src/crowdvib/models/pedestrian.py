@@ -1,4 +1,4 @@
-"""A walking person as a mass-spring-damper (MSD) coupled to the deck (physics.md §0, §3.1).
+"""A walking person as a mass-spring-damper (MSD) coupled to the deck (docs: theory, Conventions, §3.1).
 
 The body mass m_h splits into a sprung mass m_h1 = μ_h1·m_h on a spring k_h1 and damper c_h1,
 and an unsprung mass m_h0 = (1 − μ_h1)·m_h that moves with the deck.
@@ -17,7 +17,7 @@ def transmissibility(frequency_ratio, damping_ratio):
     """Displacement transmissibility T = (1 + 2iξr)/(1 − r² + 2iξr) of a base-excited SDOF [-].
 
     The motion of a sprung mass over that of its (moving) base, with r = f/f_n: the factor by
-    which a sprung mass m₁ on the deck acts as the apparent mass m₁·T (physics.md §3.1). Shared by
+    which a sprung mass m₁ on the deck acts as the apparent mass m₁·T (docs: theory, Occupied receptance and FRFs). Shared by
     the walkers' MSD model and the tuned mass damper, which is the same oscillator.
     """
     two_xi_r = 2j * damping_ratio * np.asarray(frequency_ratio, dtype=float)
@@ -40,7 +40,7 @@ class MSDModel:
 
     Notes
     -----
-    Defaults (3.0 Hz, 0.30, 0.95) are the paper's numerical example (physics.md §8.1).
+    Defaults (3.0 Hz, 0.30, 0.95) are the paper's numerical example (docs: theory, The paper's numerical example).
     """
 
     frequency: float = 3.0
@@ -66,7 +66,7 @@ class MSDModel:
         return 2.0 * self.damping_ratio * self.sprung_mass(body_mass) * 2.0 * np.pi * self.frequency
 
     def apparent_mass(self, frequency, body_mass):
-        """Apparent (dynamic) mass M_app(f) [kg] of the person on a moving point (physics.md §3.1).
+        """Apparent (dynamic) mass M_app(f) [kg] of the person on a moving point (docs: theory, Occupied receptance and FRFs).
 
         M_app = m_h0 + m_h1 (k_h1 + iωc_h1)/(k_h1 − ω² m_h1 + iωc_h1); M_app(0) = m_h,
         M_app(∞) = m_h0. The force on the structure is ω² M_app U for a deck motion U.
@@ -82,7 +82,7 @@ class MSDModel:
         -------
         ndarray of complex, shape of ``frequency``
         """
-        # In the frequency ratio r = f/f_h1, T is the transmissibility of physics.md §3.1 with k
+        # In the frequency ratio r = f/f_h1, T is the transmissibility of docs: theory, Occupied receptance and FRFs with k
         # and c divided by m_h1 ω_h1².
         ratio = np.asarray(frequency, dtype=float) / self.frequency
         return body_mass * ((1.0 - self.mass_ratio)

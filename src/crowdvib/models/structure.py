@@ -1,4 +1,4 @@
-"""The empty footbridge as a modal model (physics.md §0, §2.1, §2.7).
+"""The empty footbridge as a modal model (docs: theory, Conventions, §2.1, §2.7).
 
 A :class:`ModalModel` holds natural frequencies, damping ratios and modal masses, the mode shapes
 sampled on the walkway (positions along the deck × lanes across it × modes) and named output
@@ -17,7 +17,7 @@ from ..errors import ParameterError
 __all__ = ["ModalModel"]
 
 
-#: Damping ratio above which a footbridge mode is doubtful (theory: conventions). Measured
+#: Damping ratio above which a footbridge mode is doubtful (docs: theory, Conventions). Measured
 #: footbridge modes lie around 0.002–0.05 (paper's bridges: 0.25–0.86 %).
 MAX_PLAUSIBLE_DAMPING_RATIO = 0.10
 #: Equivalent deck mass m_j / ∫φ_j² dA [kg/m²] of footbridges: light FRP or timber decks from
@@ -73,7 +73,7 @@ class ModalModel:
     Notes
     -----
     Every formula in crowdvib is invariant to the mode-shape scaling as long as ``modal_masses``
-    matches it (physics.md §0), so FE exports (mass-normalised) and unity-scaled tables give the
+    matches it (docs: theory, Conventions), so FE exports (mass-normalised) and unity-scaled tables give the
     same physics.
     """
 
@@ -173,7 +173,7 @@ class ModalModel:
     def implausibilities(self):
         """Values that are legal but unlikely for a footbridge, with their likely cause.
 
-        Two checks (theory: conventions), both independent of the mode-shape scaling:
+        Two checks (docs: theory, Conventions), both independent of the mode-shape scaling:
 
         * a damping ratio ξ_j above ``MAX_PLAUSIBLE_DAMPING_RATIO`` (a percentage given for a
           fraction: 0.5 meant as 0.5 %);
@@ -204,7 +204,7 @@ class ModalModel:
         return notes
 
     def influence_matrix(self, density):
-        """Crowd-influence matrix Ψ = d ∫_A φ φᵀ dA [persons] (physics.md §2.7).
+        """Crowd-influence matrix Ψ = d ∫_A φ φᵀ dA [persons] (docs: theory, The smeared crowd and the occupied bridge).
 
         Trapezoidal quadrature along the walkway and across the lanes (outer lanes held constant
         to the deck edges). For a sine mode scaled to 1 and a full deck, Ψ₁₁ = d·L·B/2 = n/2.
@@ -237,7 +237,7 @@ class ModalModel:
         return np.einsum("lp,lpj->j", self._area_weights, shapes)
 
     def modal_mass_ratios(self, density, body_mass):
-        """Crowd-to-structure modal mass ratios μ_m,j = m_h Ψ_jj / m_j [-] (physics.md §2.7)."""
+        """Crowd-to-structure modal mass ratios μ_m,j = m_h Ψ_jj / m_j [-] (docs: theory, The smeared crowd and the occupied bridge)."""
         body_mass = check_positive("body_mass", body_mass, unit="kg")
         return body_mass * np.diag(self.influence_matrix(density)) / self.modal_masses
 
@@ -333,7 +333,7 @@ class ModalModel:
 
         Examples
         --------
-        The paper's numerical example (physics.md §8.1):
+        The paper's numerical example (docs: theory, The paper's numerical example):
 
         >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
         >>> float(bridge.influence_matrix(0.5)[0, 0])

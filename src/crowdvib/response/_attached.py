@@ -1,7 +1,7 @@
 """Mass-spring-dampers attached to the modes: the crowd's MSDs and tuned mass dampers.
 
 Both are sprung masses coupled to the structural modes through an influence matrix Ψ = B Bᵀ
-(physics.md §2.7): the smeared crowd through the crowd-influence matrix, a damper through its
+(docs: theory, The smeared crowd and the occupied bridge): the smeared crowd through the crowd-influence matrix, a damper through its
 mode-shape row (Ψ = φ_d φ_dᵀ). One representation, :class:`Attached`, serves the
 frequency-domain solve (apparent masses, §3.1) and the reduced eigen-model (§2.7) of
 :mod:`.spectral`, so the algebra is written once for both.
@@ -17,7 +17,7 @@ from ..models.pedestrian import transmissibility
 
 @dataclass(frozen=True, eq=False)
 class Attached:
-    """Identical mass-spring-dampers coupled to the modes through Ψ = B Bᵀ (physics.md §2.7).
+    """Identical mass-spring-dampers coupled to the modes through Ψ = B Bᵀ (docs: theory, The smeared crowd and the occupied bridge).
 
     The smeared crowd (per unit of Ψ: unsprung m_h0, sprung m_h1 on k_h1, c_h1; B from Ψ's
     eigen-decomposition) and a tuned mass damper (no unsprung mass; B = φ_d, its mode-shape row)
@@ -78,7 +78,7 @@ def psd_factor(psi):
 
 
 def reduced_matrices(structure, attached):
-    """Mass, damping and stiffness of the structure with its attached MSDs (physics.md §2.7).
+    """Mass, damping and stiffness of the structure with its attached MSDs (docs: theory, The smeared crowd and the occupied bridge).
 
     Coordinates: structural modes z (n_modes), then for each attachment its coordinates η
     (rank of Ψ = B Bᵀ; 1 for a damper): M_r = diag(M_s + Σ m_0 Ψ, m_1 I, …),

@@ -1,4 +1,4 @@
-"""Numba kernel of the time-domain crowd–structure simulation (physics.md §2.2–2.5).
+"""Numba kernel of the time-domain crowd–structure simulation (docs: theory, Equations of motion–2.5).
 
 Private numerics behind :func:`crowdvib.simulate`: inputs are trusted (validated at the public
 boundary), arrays are contiguous float64/int64, nothing here allocates per step.
@@ -126,7 +126,7 @@ def _solve(factor, rhs, out):
 @njit(cache=True)
 def _accelerations(z, zd, u, ud, phi, force, n_active, active, sprung, stiffness, damping,
                    modal_damping, modal_stiffness, factor, hsi, rhs, zdd, udd):
-    """Structural (z̈) and sprung-mass (ü) accelerations at one RK4 stage (physics.md §2.2)."""
+    """Structural (z̈) and sprung-mass (ü) accelerations at one RK4 stage (docs: theory, Equations of motion)."""
     n_modes = z.size
     for j in range(n_modes):
         rhs[j] = -modal_damping[j] * zd[j] - modal_stiffness[j] * z[j]

@@ -59,7 +59,7 @@ class FRF:
 
 @dataclass(frozen=True, eq=False)
 class EffectiveModalProperties:
-    """Modal properties of the occupied structure (smeared crowd of MSDs, physics.md §2.7).
+    """Modal properties of the occupied structure (smeared crowd of MSDs, docs: theory, The smeared crowd and the occupied bridge).
 
     Attributes
     ----------
@@ -95,7 +95,7 @@ class EffectiveModalProperties:
 
 @dataclass(frozen=True, eq=False)
 class Simulation:
-    """Record of a time-domain simulation (:func:`crowdvib.simulate`, physics.md §2).
+    """Record of a time-domain simulation (:func:`crowdvib.simulate`, docs: theory, The coupled time-domain model).
 
     Attributes
     ----------
@@ -158,7 +158,7 @@ class Simulation:
         return self.time.size
 
     def psd(self, window_length, overlap=0.5, lowpass=None):
-        """Welch PSD of the accelerations → :class:`ResponsePSD` (physics.md §6).
+        """Welch PSD of the accelerations → :class:`ResponsePSD` (docs: theory, Welch PSDs, filters and convergence).
 
         Parameters
         ----------

@@ -1,8 +1,8 @@
-"""Time-domain Monte Carlo simulation of a crowd walking over a footbridge (physics.md §2).
+"""Time-domain Monte Carlo simulation of a crowd walking over a footbridge (docs: theory, The coupled time-domain model).
 
 Each pedestrian is a moving force on a rigid floor plus, with HSI, a moving mass-spring-damper
-(MSD) whose unsprung mass rides on the deck (paper Eq. 1–4; physics.md §2.2–2.3). The crowd is a
-stationary Poisson stream with the deck already populated at the start (physics.md §2.4). The
+(MSD) whose unsprung mass rides on the deck (paper Eq. 1–4; docs: theory, Equations of motion–2.3). The crowd is a
+stationary Poisson stream with the deck already populated at the start (docs: theory, Poisson arrivals). The
 numerics (fixed-step RK4 over the pedestrians on the deck) live in :mod:`crowdvib.response._kernels`.
 
 Public: :func:`simulate`, :class:`Pedestrian` and :func:`generate_traffic`.
@@ -27,7 +27,7 @@ __all__ = ["simulate", "Pedestrian", "generate_traffic"]
 
 #: Internal RK4 steps per period of the highest natural frequency of the states (structural
 #: modes, f_h1). RK4's numerical damping and period error grow with (ω h)⁶ and (ω h)⁴: at 10
-#: steps per period (ω h = 0.63, the accuracy physics.md §2.5 validated) a lightly damped mode
+#: steps per period (ω h = 0.63, the accuracy docs: theory, Time stepping validated) a lightly damped mode
 #: loses far less per cycle than its own damping takes.
 STEPS_PER_PERIOD = 10
 #: Internal steps per period of the fastest force component (a walker's 5th harmonic). A force
@@ -40,7 +40,7 @@ DEFAULT_CHUNK_DURATION = 60.0
 
 @dataclass(frozen=True)
 class Pedestrian:
-    """One walker (or stander) with a fixed line, speed and step frequency (physics.md §2.1).
+    """One walker (or stander) with a fixed line, speed and step frequency (docs: theory, Kinematics).
 
     Parameters
     ----------
@@ -150,7 +150,7 @@ def _seed_from(rng):
 
 
 def _crowd_draws(structure, crowd, start, end, force, rng):
-    """Draw the stream of a crowd over [start, end) in a fixed order (physics.md §2.4).
+    """Draw the stream of a crowd over [start, end) in a fixed order (docs: theory, Poisson arrivals).
 
     Per direction: the people already on the deck at ``start`` (Poisson(n·share) at uniform
     positions, i.e. arrival times start − U[0, L/v]), then Poisson arrivals on [start, end).
@@ -318,7 +318,7 @@ def _internal_substeps(structure, walkers, msd, sample_rate):
 
     h = 1/(sample_rate · substeps) with h <= 1/(STEPS_PER_PERIOD · f_state), f_state the highest
     mode or f_h1, and h <= 1/(FORCE_STEPS_PER_PERIOD · f_force), f_force the highest force
-    component of any walker (physics.md §2.5: h = 0.01 s reproduces the spectral model).
+    component of any walker (docs: theory, Time stepping: h = 0.01 s reproduces the spectral model).
     """
     state = float(np.max(structure.frequencies))
     if msd is not None:
@@ -473,12 +473,12 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
 def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None, force=None,
              sample_rate=100.0, rng=None, progress=None, include_static_weight=False,
              chunk_duration=None, record_modal_load=False, warm_up=0.0):
-    """Accelerations of a footbridge under a crowd of moving forces and MSDs (physics.md §2).
+    """Accelerations of a footbridge under a crowd of moving forces and MSDs (docs: theory, The coupled time-domain model).
 
     The structure's modes carry every pedestrian on the deck: the force on a rigid floor
     p_k(t) = W Σ_c α_c sin(2π r_c f_s (t − t_k) + θ_c) (+ W with the static weight), applied at
     the mode-shape row φ_k(t) under the pedestrian, and with ``msd`` the contact force of a
-    mass-spring-damper whose unsprung mass rides on the deck (paper Eq. 1–4; physics.md §2.2–2.3):
+    mass-spring-damper whose unsprung mass rides on the deck (paper Eq. 1–4; docs: theory, Equations of motion–2.3):
 
         M(t) z̈ + C ż + K z = Σ_k φ_k [p_k − m_h0 φ_kᵀ z̈ + k_h1 (u_k − φ_kᵀ z) + c_h1 (u̇_k − φ_kᵀ ż)]
         m_h1 ü_k + c_h1 (u̇_k − φ_kᵀ ż) + k_h1 (u_k − φ_kᵀ z) = 0
@@ -488,7 +488,7 @@ def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None
     structure : ModalModel
         The empty footbridge; its output points are recorded.
     crowd : Crowd, optional
-        A stationary stream (physics.md §2.4): Poisson arrivals at rate d·B·v split between the
+        A stationary stream (docs: theory, Poisson arrivals): Poisson arrivals at rate d·B·v split between the
         directions by ``crowd.forward_fraction`` (the others start at the far end), the deck
         already populated at t = 0 (Poisson(d·B·L) people at uniform positions), lateral
         positions U[0, B], step frequencies N(μ_fs, σ_fs), body masses N(m_h, σ_m) (``crowd.body_mass``,
@@ -511,7 +511,7 @@ def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None
         Called as ``progress(done_seconds, total_seconds)`` [s of simulated time, warm-up
         included] after each chunk.
     include_static_weight : bool
-        Add the weight W to each force (quasi-static moving load, physics.md §2.6). Off by
+        Add the weight W to each force (quasi-static moving load, docs: theory, Static weight). Off by
         default: it only adds content below ~v/L and Welch's detrending removes it.
     chunk_duration : float, optional
         Simulated seconds per kernel call (default 60 s). The state is carried over, so the
@@ -533,13 +533,13 @@ def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None
     -----
     * Integration: classical RK4 with a fixed internal step h = 1/(sample_rate · m), m the
       smallest integer with h <= 1/(10 f_state) for the modes and f_h1 and h <= 1/(6 f_force)
-      for the walkers' force components (physics.md §2.5). Shapes and forces are evaluated at the stage
+      for the walkers' force components (docs: theory, Time stepping). Shapes and forces are evaluated at the stage
       times; the unsprung masses make the mass matrix position-dependent and it is factored at
       each stage time.
-    * The convective terms of the contact kinematics (v ∂φ/∂x) are neglected (physics.md §2.2):
+    * The convective terms of the contact kinematics (v ∂φ/∂x) are neglected (docs: theory, Equations of motion):
       u̇ of the contact point is taken as φᵀż.
     * A pedestrian enters (at an internal step) with the MSD at rest relative to the deck,
-      u = φᵀz, u̇ = φᵀż, and leaves at the first step after walking off (physics.md §2.5).
+      u = φᵀz, u̇ = φᵀż, and leaves at the first step after walking off (docs: theory, Time stepping).
     * Only pedestrians on the deck cost time; memory is O(outputs × samples + pedestrians).
 
     Examples

@@ -1,4 +1,4 @@
-"""Frequency-domain crowd–structure model with HSI (physics.md §2.7, §3).
+"""Frequency-domain crowd–structure model with HSI (docs: theory, The smeared crowd and the occupied bridge, §3).
 
 The crowd is smeared over the walkway: its autonomous walking forces give the modal-load
 cross-PSD G_QQ(f) = Ψ s(f) (§3.2) and its bodies, as MSDs, add the apparent mass M_app(f) Ψ to
@@ -81,10 +81,10 @@ class SpectralModel:
         Output names (default all outputs of ``structure``).
     welch_window_length : float, optional
         If given, return what a Hann-window Welch estimate with segments of T seconds would see
-        on average: the exact PSD convolved with the Welch kernel (physics.md §3.4).
+        on average: the exact PSD convolved with the Welch kernel (docs: theory, What a Welch estimate sees: the expectation kernel).
     lowpass : LowPassFilter, optional
         Zero-phase low-pass filter applied to the modelled signal: the PSD is multiplied by
-        |H_LP|⁴ before the Welch smoothing (physics.md §3.4).
+        |H_LP|⁴ before the Welch smoothing (docs: theory, What a Welch estimate sees: the expectation kernel).
     dampers : sequence of TunedMassDamper, optional
         Tuned mass dampers fixed to the deck (part of the structure for every ``msd``).
     """
@@ -212,7 +212,7 @@ def _welch_smoothing(frequency, window_length):
 
 def response_psd(structure, crowd, frequency, *, msd=None, force=None, outputs=None,
                  welch_window_length=None, lowpass=None, dampers=None):
-    """One-sided acceleration PSD at the outputs of a crowd-loaded footbridge (physics.md §3.3).
+    """One-sided acceleration PSD at the outputs of a crowd-loaded footbridge (docs: theory, Response PSD with HSI).
 
     G_ü(f) = ω⁴ Φ_o H(ω) G_QQ(f) H(ω)ᴴ Φ_oᵀ with the occupied receptance H (HSI, when ``msd`` is
     given) or the empty one (crowd as moving forces only, ``msd=None``).
@@ -233,7 +233,7 @@ def response_psd(structure, crowd, frequency, *, msd=None, force=None, outputs=N
         Output names (default all).
     welch_window_length : float, optional
         Return the expectation of a Hann-window Welch estimate with segments of T [s] instead of
-        the exact PSD (physics.md §3.4).
+        the exact PSD (docs: theory, What a Welch estimate sees: the expectation kernel).
     lowpass : LowPassFilter, optional
         Zero-phase low-pass filter applied to the signal (PSD × |H_LP|⁴).
     dampers : sequence of TunedMassDamper, optional
@@ -261,7 +261,7 @@ def response_psd(structure, crowd, frequency, *, msd=None, force=None, outputs=N
 
 
 def frf(structure, frequency, *, crowd=None, msd=None, outputs=None, inputs=None, dampers=None):
-    """Accelerance FRFs between deck points, empty or occupied (physics.md §3.1).
+    """Accelerance FRFs between deck points, empty or occupied (docs: theory, Occupied receptance and FRFs).
 
     H_oi(ω) = −ω² φ_oᵀ H(ω) φ_i with H the empty receptance, or the occupied one when ``crowd``
     and ``msd`` are given (the crowd's apparent mass smeared over the walkway). Tuned mass
@@ -313,7 +313,7 @@ def _accelerance(structure, frequency, attached, out_shapes, loads):
 
 
 def modal_accelerance(structure, frequency, *, crowd=None, msd=None, dampers=None, outputs=None):
-    """Accelerations at the outputs per unit modal force, −ω² Φ_o H(ω) (physics.md §3.1).
+    """Accelerations at the outputs per unit modal force, −ω² Φ_o H(ω) (docs: theory, Occupied receptance and FRFs).
 
     Column j is the response to a unit harmonic force in mode j alone (as a design code loads
     one mode at a time), through the empty or occupied receptance, dampers included.
@@ -344,7 +344,7 @@ def modal_accelerance(structure, frequency, *, crowd=None, msd=None, dampers=Non
 
 def effective_modal_properties(structure, crowd=None, msd=None, *, dampers=None):
     """Natural frequencies, damping ratios and engaged modal masses of the occupied structure
-    (physics.md §2.7).
+    (docs: theory, The smeared crowd and the occupied bridge).
 
     The smeared crowd of identical MSDs reduces exactly to a model with the structural modes z and
     MSD coordinates η ∈ R^r (r = rank Ψ, Ψ = B Bᵀ):

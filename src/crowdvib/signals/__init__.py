@@ -1,4 +1,4 @@
-"""Spectra and the processing of acceleration records (theory: Welch PSDs and filters).
+"""Spectra and the processing of acceleration records (docs: theory, Welch PSDs, filters and convergence).
 
 ``spectrum`` (ResponsePSD, the container measured and modelled PSDs share) → ``welch`` (filter,
 Welch PSD and its expectation kernel) → ``conditioning`` (detrend, resample, time frames) →

@@ -1,4 +1,4 @@
-"""Conditioning of measured records before their PSD: detrend, resample, time frames (physics.md §6).
+"""Conditioning of measured records before their PSD: detrend, resample, time frames (docs: theory, Welch PSDs, filters and convergence).
 
 Signals have time on the last axis: (n_channels, n_samples).
 """

@@ -1,4 +1,4 @@
-"""Convergence of a Welch PSD with record length (paper Fig. 15; physics.md §6)."""
+"""Convergence of a Welch PSD with record length (paper Fig. 15; docs: theory, Welch PSDs, filters and convergence)."""
 
 from dataclasses import dataclass
 
@@ -15,7 +15,7 @@ __all__ = ["PSDConvergence", "psd_convergence"]
 
 @dataclass(frozen=True, eq=False)
 class PSDConvergence:
-    """Convergence of a Welch PSD with record length (paper Fig. 15; physics.md §6).
+    """Convergence of a Welch PSD with record length (paper Fig. 15; docs: theory, Welch PSDs, filters and convergence).
 
     Attributes
     ----------
@@ -60,11 +60,11 @@ class PSDConvergence:
 
 def psd_convergence(signals, sample_rate, *, window_length, band=None, norm="2", overlap=0.5,
                     output_names=None, lowpass=None):
-    """Convergence error of the Welch PSD as windows are added (paper Fig. 15; physics.md §6).
+    """Convergence error of the Welch PSD as windows are added (paper Fig. 15; docs: theory, Welch PSDs, filters and convergence).
 
     For k = 1 … n_T = floor(record / T): G_kT is the Welch PSD (Hann, T, ``overlap``) of the first
     k·T seconds and ΔG_kT = ‖G_kT − G_nT‖ / ‖G_nT‖ over the band. The paper does not print the
-    norm; the 2-norm over the band is the default (physics.md §6, DERIVED), ``norm="inf"`` gives
+    norm; the 2-norm over the band is the default (docs: theory, Welch PSDs, filters and convergence, DERIVED), ``norm="inf"`` gives
     the largest relative deviation of any bin instead.
 
     Parameters

@@ -1,7 +1,7 @@
 """Gaussian records with a given PSD: "measurements" whose Welch statistics are exact.
 
 A stationary Gaussian process sampled at f_s over T = N/f_s is synthesised in the frequency
-domain (spectral representation, theory: Welch statistics): each FFT bin k of the one-sided PSD
+domain (spectral representation, docs: theory, Correlation of neighbouring Welch ordinates): each FFT bin k of the one-sided PSD
 G gets an independent complex normal coefficient with E|Z_k|² = G(f_k) Δf N²/2 (Δf = 1/T), so
 that Σ_k G(f_k) Δf is the variance (Parseval). Welch estimates of such records have the χ²_ν
 scatter *and* the bin-to-bin correlation of real measurements, which

@@ -1,7 +1,7 @@
-"""Signal processing of acceleration records: low-pass filtering and Welch PSDs (physics.md §6).
+"""Signal processing of acceleration records: low-pass filtering and Welch PSDs (docs: theory, Welch PSDs, filters and convergence).
 
 Also the two facts the spectral model needs to mimic a measured PSD: the power gain of the
-zero-phase filter and the expectation kernel of a Hann-window Welch estimate (physics.md §3.4).
+zero-phase filter and the expectation kernel of a Hann-window Welch estimate (docs: theory, What a Welch estimate sees: the expectation kernel).
 Signals have time on the last axis: (n_channels, n_samples).
 """
 
@@ -55,7 +55,7 @@ class LowPassFilter:
         return _signal.sosfiltfilt(self._sos(), np.asarray(signals, dtype=float), axis=-1)
 
     def power_gain(self, frequency):
-        """|H(f)|⁴ [-]: the PSD gain of the forward-backward filter (physics.md §3.4)."""
+        """|H(f)|⁴ [-]: the PSD gain of the forward-backward filter (docs: theory, What a Welch estimate sees: the expectation kernel)."""
         _, response = _signal.sosfreqz(self._sos(), worN=np.asarray(frequency, dtype=float),
                                        fs=self.sample_rate)
         return np.abs(response) ** 4
@@ -66,7 +66,7 @@ class LowPassFilter:
 
 
 def welch_kernel(offset, window_length):
-    """Expectation kernel of a Hann-window Welch PSD estimate [1/Hz] (physics.md §3.4).
+    """Expectation kernel of a Hann-window Welch PSD estimate [1/Hz] (docs: theory, What a Welch estimate sees: the expectation kernel).
 
     E[Ĝ](f) = ∫ G(ν) K(f − ν) dν with K(ν) = |W_T(ν)|² / ∫ w², the continuous Hann window
     w(t) = ½(1 − cos 2πt/T) on [0, T]: K(ν) = (8T/3) [½ sinc(νT) + ¼ sinc(νT − 1) + ¼ sinc(νT + 1)]²,
@@ -97,7 +97,7 @@ def welch_segment_count(n_samples, segment_samples, overlap=0.5):
 
 def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=None,
               lowpass=None):
-    """One-sided Welch PSD of acceleration records → :class:`ResponsePSD` (physics.md §6).
+    """One-sided Welch PSD of acceleration records → :class:`ResponsePSD` (docs: theory, Welch PSDs, filters and convergence).
 
     Hann window of length T, constant detrend per segment, ``scaling='density'``: the result
     G(f) integrates to the variance over 0…Nyquist [(m/s²)²/Hz].
@@ -200,7 +200,7 @@ def _segment_pair_sums(n_windows, overlap, max_lag):
     / (Σ_t w²)², for bin offsets d = 0 … ``max_lag`` (Hann window w, segment offsets Δ_ij).
 
     For Gaussian data this is the covariance of the averaged periodograms d bins apart, in units
-    of G²/K² (white-noise limit; theory: Welch statistics).
+    of G²/K² (white-noise limit; docs: theory, Correlation of neighbouring Welch ordinates).
     """
     k = int(n_windows)
     if k < 1:
@@ -236,7 +236,7 @@ def welch_bin_correlation(n_windows, overlap=0.5, max_lag=3):
 
     For Gaussian data the periodogram covariance of segments i, j at bins k, k + d is
     |Σ_t w(t) w(t + Δ_ij) e^{−2πi d t/N}|², Δ_ij the segments' offset; summed over the segment
-    pairs of the average and normalised by d = 0 (theory: Welch statistics). For one Hann
+    pairs of the average and normalised by d = 0 (docs: theory, Correlation of neighbouring Welch ordinates). For one Hann
     segment ρ(1) = (2/3)² = 4/9 and ρ(2) = (1/6)² = 1/36.
 
     Returns
