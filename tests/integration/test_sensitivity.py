@@ -221,3 +221,15 @@ def test_every_task_runs_with_one_blas_thread():
     assert any(lib["user_api"] == "blas" for lib in threadpool_info())   # numpy's OpenBLAS
     result = run_tasks(_blas_threads_in_task, [("only", None)])["only"]
     assert result["threads"] and set(result["threads"]) == {1}
+
+
+def test_error_cases_read_as_words():
+    # Issue 10: a person reads "structural frequency +1 %", not "frequencies+0.01"; levels are
+    # numbered from 1 as in the figure's legend.
+    from crowdvib.identification.studies import error_cases
+
+    labels = {case.name: case.label for case in error_cases()}
+    assert labels["frequencies+0.01"] == "structural frequency +1 %"
+    assert labels["step_frequency_std-0.05"] == "step-frequency spread −5 %"
+    assert labels["joint-----@level1"] == "joint, level 2 (− − − − −)"
+    assert labels["nominal"] == "nominal (no modelling error)"

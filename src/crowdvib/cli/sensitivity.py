@@ -117,10 +117,10 @@ def run(args):
         if row["kind"] == "individual":
             text = (f"{row['delta_frequency']:12.2f}{row['delta_damping_ratio']:12.2f}"
                     if "error" not in row else "  failed: " + row["error"])
-            say(f"  {row['name']:34s}{text}")
+            say(f"  {row.get('label', row['name']):34s}{text}")
     for level in sorted({c["level"] for c in study.cases if c["kind"] == "joint"}):
         bound = study.bound(level)
-        say(f"  {'joint, level ' + str(level):34s}{bound['frequency']:12.2f}"
+        say(f"  {'joint, level ' + str(level + 1):34s}{bound['frequency']:12.2f}"
              f"{bound['damping_ratio']:12.2f}   (largest |Δ|)")
     summary = study.summary()
     f, xi = summary["frequency"], summary["damping_ratio"]

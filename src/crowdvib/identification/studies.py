@@ -37,6 +37,12 @@ _CROWD_PARAMETERS = ("step_frequency_mean", "step_frequency_std")
 
 
 # ------------------------------------------------------------------------------ error cases
+#: The assumed-known inputs a study perturbs, in words (CLI tables, report, figures).
+PARAMETER_WORDS = {"frequencies": "structural frequency", "damping_ratios": "structural damping",
+                   "modal_masses": "modal mass", "step_frequency_mean": "mean step frequency",
+                   "step_frequency_std": "step-frequency spread"}
+
+
 @dataclass(frozen=True)
 class ErrorCase:
     """One perturbation of the assumed-known inputs.
@@ -57,6 +63,17 @@ class ErrorCase:
     perturbations: tuple
     level: int = 0
     kind: str = "individual"
+
+    @property
+    def label(self):
+        """The case in words, e.g. "structural frequency +5 %", "joint, level 2 (+ − + − +)"."""
+        if self.kind == "nominal":
+            return "nominal (no modelling error)"
+        if self.kind == "joint":
+            signs = " ".join("+" if value > 0 else "−" for _, value in self.perturbations)
+            return f"joint, level {self.level + 1} ({signs})"
+        (name, value), = self.perturbations
+        return f"{PARAMETER_WORDS[name]} {'+' if value > 0 else '−'}{100 * abs(value):g} %"
 
     def apply(self, structure, crowd):
         """The structure and crowd with this case's relative errors applied."""
@@ -275,7 +292,7 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
         raise CrowdvibError(f"the nominal estimation failed: {nominal['error']}")
     rows = []
     for case in cases:
-        row = {"name": case.name, "kind": case.kind, "level": case.level,
+        row = {"name": case.name, "label": case.label, "kind": case.kind, "level": case.level,
                "perturbations": [list(p) for p in case.perturbations], **results[case.name]}
         if "error" not in row:
             row["delta_frequency"] = 100.0 * (row["frequency"] / nominal["frequency"] - 1.0)
