@@ -72,11 +72,14 @@ CASES = {
     "demo sample text": (lambda t: ["demo", "--duration-s", "1h"], 2, ["--duration-s"]),
     "sensitivity workers text": (lambda t: ["sensitivity", str(_case(t)), "--out", "o",
                                             "--workers", "two"], 2, ["--workers", "two"]),
-    # ---- crowdvib errors: exit 1
-    "unknown --format": (lambda t: ["simulate", "--out", str(t / "o"), "--format", "xlsx"], 1,
+    # Issue 10: --workers 0 and an unknown format are usage errors too.
+    "sensitivity no workers": (lambda t: ["sensitivity", str(_case(t)), "--out", "o",
+                                          "--workers", "0"], 2, ["--workers", ">= 1, got 0"]),
+    "unknown --format": (lambda t: ["simulate", "--out", str(t / "o"), "--format", "xlsx"], 2,
                          ["--format", "'xlsx'"]),
-    "--format in capitals": (lambda t: ["simulate", "--out", str(t / "o"), "--format", "CSV"], 1,
+    "--format in capitals": (lambda t: ["simulate", "--out", str(t / "o"), "--format", "CSV"], 2,
                              ["--format", "'CSV'"]),
+    # ---- crowdvib errors: exit 1
     "case file missing": (lambda t: ["estimate", str(t / "nope.toml"), "--out", str(t / "o")], 1,
                           ["case file not found", "nope.toml"]),
     "case file binary": (lambda t: ["estimate", str(_case(t, lambda s: "\x00\xff\x01binary")),
@@ -171,3 +174,26 @@ def test_bad_command_line(name, tmp_path, monkeypatch, capsys):
 def _snapshot(root):
     return {p.relative_to(root).as_posix(): p.read_bytes()
             for p in sorted(Path(root).rglob("*")) if p.is_file()}
+
+
+@pytest.mark.parametrize("argv, package, extra", [
+    (["simulate", "--out", "{out}", "--format", "npz,mat73"], "h5py", "mat73"),
+    (["simulate", "--out", "{out}", "--format", "uff"], "pyuff", "uff"),
+    (["sensitivity", "case.toml", "--out", "{out}", "--scheduler", "tcp://127.0.0.1:1"],
+     "distributed", "dask"),
+])
+def test_missing_optional_package_is_a_usage_error_before_any_work(tmp_path, capsys, monkeypatch,
+                                                                    argv, package, extra):
+    # Issue 10: a missing optional dependency is reported before any work starts, with the
+    # command that installs it (exit 2: the options ask for what this installation cannot do).
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == package else real(name, *a))
+    out = tmp_path / "out"
+    assert main([word.replace("{out}", str(out)) for word in argv]) == 2
+    error = capsys.readouterr().err
+    assert f"needs the package {package}" in error
+    assert f"pip install 'crowdvib[{extra}]'" in error
+    assert not out.exists()

@@ -1,5 +1,6 @@
 """What every command shares: printing, progress, versions, warnings and safe output directories."""
 
+import argparse
 import contextlib
 import sys
 from pathlib import Path
@@ -275,3 +276,48 @@ def say_verdict(directory):
     say(f"  verdict: check before use ({len(warnings)} warning(s); details in report.html):")
     for text in warnings:
         say(f"    - {text}")
+
+
+def positive_int(text):
+    """argparse type: an integer >= 1 (a bad value is a usage error, exit 2)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
+    return value
+
+
+def record_formats(text):
+    """argparse type: comma-separated record formats, each known (else a usage error, exit 2)."""
+    from ..io.records import RECORD_FORMATS
+
+    formats = tuple(part.strip() for part in text.split(",") if part.strip())
+    unknown = [f for f in formats if f not in RECORD_FORMATS]
+    if unknown or not formats:
+        raise argparse.ArgumentTypeError(
+            f"must list formats among {list(RECORD_FORMATS)}, got {text!r}")
+    for fmt in formats:
+        _require(_OPTIONAL.get(fmt), f"--format {fmt}")
+    return formats
+
+
+def dask_address(text):
+    """argparse type: a dask scheduler address, once dask.distributed is known to be installed."""
+    _require(_OPTIONAL["dask"], "--scheduler")
+    return text
+
+
+#: What needs an optional package: name → (module, extra that installs it).
+_OPTIONAL = {"mat73": ("h5py", "mat73"), "uff": ("pyuff", "uff"), "dask": ("distributed", "dask")}
+
+
+def _require(need, option):
+    """A usage error before any work starts when ``option`` needs a package that is missing."""
+    import importlib.util
+
+    if need is not None and importlib.util.find_spec(need[0]) is None:
+        raise argparse.ArgumentTypeError(
+            f"{option} needs the package {need[0]}, which is not installed: "
+            f"pip install 'crowdvib[{need[1]}]'")

@@ -7,7 +7,8 @@ from pathlib import Path
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import case_inputs, finish_output, prepare_output, progress_printer, say, versions
+from .common import (case_inputs, dask_address, finish_output, positive_int, prepare_output,
+                     progress_printer, say, versions)
 from .estimate import case_crowd, case_measurement, estimate_options
 
 
@@ -18,10 +19,10 @@ _STORES = ("tasks", "record_length")
 def add_arguments(parser):
     parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
-    parser.add_argument("--workers", type=int, default=1,
+    parser.add_argument("--workers", type=positive_int, default=1,
                         help="worker processes of a local dask cluster (default 1: no cluster, "
                              "in this process; needs crowdvib[dask] above 1)")
-    parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
+    parser.add_argument("--scheduler", type=dask_address, metavar="ADDRESS", default=None,
                         help="run on a dask.distributed scheduler, e.g. tcp://127.0.0.1:8786 "
                              "(needs crowdvib[dask])")
     parser.add_argument("--resume", action="store_true",

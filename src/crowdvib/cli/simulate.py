@@ -8,8 +8,8 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import (case_inputs, progress_printer, say, say_if_compiling, say_verdict,
-                     staged_output, versions)
+from .common import (case_inputs, progress_printer, record_formats, say, say_if_compiling,
+                     say_verdict, staged_output, versions)
 
 
 def add_arguments(parser):
@@ -24,7 +24,7 @@ def add_arguments(parser):
                         help="simulation sample rate [Hz] (default the case's)")
     parser.add_argument("--seed", type=int, default=None,
                         help="seed of every random draw (default the case's seed)")
-    parser.add_argument("--format", default=None,
+    parser.add_argument("--format", type=record_formats, default=None,
                         help="comma-separated record formats among csv, npz, mat, mat73, uff "
                              "(default the case's simulation.formats)")
     parser.add_argument("--no-hsi", action="store_true",
@@ -33,7 +33,6 @@ def add_arguments(parser):
 
 def run(args):
     from ..io.casefile import load_case, paper_example_case
-    from ..errors import ParameterError
     from ..reporting.plotting import plot_psd_comparison, plot_time_history, save_figure
     from ..io.records import RECORD_FORMATS, Record, write_record
     from ..signals import resample, welch_psd
@@ -41,12 +40,7 @@ def run(args):
 
     case = paper_example_case() if args.case is None else load_case(args.case)
     spec = case.simulation
-    formats = spec.formats if args.format is None else tuple(
-        f.strip() for f in args.format.split(",") if f.strip())
-    for fmt in formats:
-        if fmt not in RECORD_FORMATS:
-            raise ParameterError(f"--format must list formats among {list(RECORD_FORMATS)}, "
-                                 f"got {fmt!r}")
+    formats = spec.formats if args.format is None else args.format
     duration = spec.duration if args.duration_s is None else args.duration_s
     sample_rate = spec.sample_rate if args.sample_rate is None else args.sample_rate
     seed = case.seed if args.seed is None else args.seed
