@@ -48,9 +48,11 @@ def test_sensitivity_runs_resumes_and_refuses_to_overwrite(tmp_path, capsys):
 
 
 def test_sensitivity_with_bad_worker_count(tmp_path, capsys):
+    # A usage error (issue 10: exit 2), refused before the output directory is made.
     assert main(["sensitivity", str(EXAMPLES / "paper_example.toml"), "--out",
-                 str(tmp_path / "s"), "--workers", "0", "--no-record-length"]) == 1
-    assert "--workers must be >= 1, got 0" in capsys.readouterr().err
+                 str(tmp_path / "s"), "--workers", "0", "--no-record-length"]) == 2
+    assert "argument --workers: must be >= 1, got 0" in capsys.readouterr().err
+    assert not (tmp_path / "s").exists()
 
 
 def test_sensitivity_on_a_dask_scheduler_equals_local_run(tmp_path):
