@@ -1,4 +1,4 @@
-"""The paper's parametric study (66 structures × 10 error cases) on 1 and 2 local workers (issue 5).
+"""The paper's parametric study (66 structures × 10 error cases, each ±ε) on 1 and 2 local workers.
 
     python benchmarks/bench_sensitivity.py
 

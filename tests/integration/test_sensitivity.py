@@ -186,6 +186,11 @@ def test_parametric_study_findings():
                                  structure_damping_ratios=(0.005,), mass_ratios=(0.025, 0.10),
                                  executor=pool)
     assert len(study.rows) == 4 * 2 * 10 and not any("error" in r for r in study.rows)
+    # Issue 12: each error is applied +ε and −ε and the worse of the two is kept (the paper).
+    for row in study.rows:
+        assert set(row["signs"]) == {"+", "−"}
+        for ratio in ("frequency_ratio", "damping_ratio_ratio"):
+            assert abs(row[ratio] - 1) == max(abs(s[ratio] - 1) for s in row["signs"].values())
 
     def error(rows):
         return np.mean([abs(r["frequency_ratio"] - 1) for r in rows])

@@ -490,7 +490,7 @@ def plot_parametric_ratios(parametric, *, parameters=None, axes=None, title=None
                         marker = markers[damping]
                         ax.plot(x, y, marker=marker, ls="-", lw=0.6, ms=5,
                                 color=colors[level], mfc="none" if marker == "o" else None,
-                                label=f"$\\xi_1$ = {damping:.1%}, ε = {chosen[0]['epsilon']:.1%}")
+                                label=f"$\\xi_1$ = {damping:.1%}, ε = ±{chosen[0]['epsilon']:.1%}")
                         active = [(xx, yy) for xx, yy, r in zip(x, y, chosen)
                                   if r.get("active_bounds")]
                         if active:
