@@ -10,7 +10,8 @@ Two kinds of record of the paper's numerical example (truth f_h1 = 3.0 Hz, ξ_h1
 Both estimators (paper least squares, Whittle likelihood) are run on the same records. Prints a
 table: coverage of the truth by the 95 % profile interval per parameter, mean error with its
 95 % interval, the standard deviation per record and the mean interval width, plus time per
-estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N]``.
+estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]``
+(density in persons/m², default the paper's 0.5; walking speed from Weidmann's relation).
 """
 
 import sys
@@ -27,28 +28,36 @@ TRUTH = {"frequency": 3.0, "damping_ratio": 0.30}
 BRIDGE = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
 CROWD = Crowd(density=0.5, walking_speed=1.30, step_frequency_mean=1.89,
               step_frequency_std=0.175, body_mass=70.0)
+
+
+def paper_crowd(density):
+    """The paper's crowd at another density (speed and step frequency from their relations)."""
+    if density == 0.5:
+        return CROWD
+    return Crowd.from_density(density, body_mass=70.0)
 MSD = MSDModel(TRUTH["frequency"], TRUTH["damping_ratio"], 0.95)
 
 
-def gaussian_records(n):
+def gaussian_records(n, crowd):
     frequency = record_frequencies(3600.0, 20.0)
-    psd = response_psd(BRIDGE, CROWD, frequency, msd=MSD).psd
+    psd = response_psd(BRIDGE, crowd, frequency, msd=MSD).psd
     for seed in range(n):
         record = gaussian_record(psd, 20.0, rng=seed)
         yield welch_psd(record, 20.0, window_length=60.0, output_names=["midspan"]).band(0, 10)
 
 
-def simulated_records(n):
+def simulated_records(n, crowd):
     lowpass = LowPassFilter(10.0, 4, 100.0)
     for seed in range(1, n + 1):
-        record = simulate(BRIDGE, CROWD, 3600.0, msd=MSD, rng=seed, warm_up=100.0,
+        record = simulate(BRIDGE, crowd, 3600.0, msd=MSD, rng=seed, warm_up=100.0,
                           sample_rate=100.0)
         yield welch_psd(record.acceleration, 100.0, window_length=60.0,
                         output_names=record.output_names, lowpass=lowpass).band(0, 10)
 
 
-def main(kind="gaussian", n=40):
-    records = {"gaussian": gaussian_records, "simulated": simulated_records}[kind](n)
+def main(kind="gaussian", n=40, density=0.5):
+    crowd = paper_crowd(density)
+    records = {"gaussian": gaussian_records, "simulated": simulated_records}[kind](n, crowd)
     rows = {method: [] for method in ("least_squares", "likelihood")}
     seconds = {method: 0.0 for method in rows}
     for measured in records:
@@ -56,11 +65,12 @@ def main(kind="gaussian", n=40):
             started = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", BoundWarning)
-                estimate = estimate_hsi(measured, BRIDGE, CROWD, band=(0.0, 10.0), method=method)
+                estimate = estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0), method=method)
             seconds[method] += time.perf_counter() - started
             found.append([(getattr(estimate.msd, name), *estimate.interval(name))
                           for name in TRUTH])
-    print(f"{kind} records of the paper example, n = {n}, 95 % profile intervals")
+    print(f"{kind} records of the paper example at {density:g} P/m², n = {n}, "
+          "95 % profile intervals")
     print(f"{'method':14s}{'parameter':15s}{'coverage':>9s}{'mean error':>24s}"
           f"{'std/record':>12s}{'mean width':>12s}{'s/estimate':>11s}")
     for method, found in rows.items():
@@ -78,4 +88,5 @@ def main(kind="gaussian", n=40):
 
 if __name__ == "__main__":
     main(sys.argv[1] if len(sys.argv) > 1 else "gaussian",
-         int(sys.argv[2]) if len(sys.argv) > 2 else 40)
+         int(sys.argv[2]) if len(sys.argv) > 2 else 40,
+         float(sys.argv[3]) if len(sys.argv) > 3 else 0.5)
