@@ -311,3 +311,19 @@ def test_bad_directories_are_data_errors(tmp_path):
     with pytest.raises(DataError, match="results.json is not valid JSON"):
         write_report(tmp_path)
     assert main(["report", str(tmp_path)]) == 1
+
+
+def test_inputs_carry_units():
+    # Issue 10: every input a reader needs a unit for shows it (kg, m/s, Hz, persons/m² …),
+    # in words rather than raw keys.
+    from crowdvib import load_case
+    from crowdvib.reporting.report import render_report
+
+    case = load_case(Path(__file__).resolve().parents[2] / "examples" / "eeklo_like.toml")
+    page = render_report({"command": "estimate", "inputs": case.to_dict()})
+    inputs = page[page.index('id="inputs"'):]
+    for text in ("crowd density [persons/m²]", "walking speed [m/s]", "body mass [kg]",
+                 "mean step frequency [Hz]", "natural frequencies [Hz]", "modal masses [kg]",
+                 "Welch window T [s]", "analysis band [Hz]", "walkway width [m]"):
+        assert text in inputs
+    assert "walking_speed" not in inputs

@@ -41,9 +41,39 @@ _TITLES = {"hsi": "HSI (MSD model)", "msd": "MSD model", "crowd_used": "crowd us
            "truth": "truth (MSD of the synthetic measurement)"}
 
 
+#: JSON keys of results and case files → (words, unit) for a reader; "-" is dimensionless.
+_QUANTITIES = {
+    "frequency": ("frequency", "Hz"), "frequencies": ("natural frequencies", "Hz"),
+    "damping_ratio": ("damping ratio", "-"), "damping_ratios": ("damping ratios", "-"),
+    "mass_ratio": ("mass ratio", "-"), "modal_masses": ("modal masses", "kg"),
+    "modal_mass": ("modal mass", "kg"), "modal_mass_ratios": ("crowd-to-mode mass ratios", "-"),
+    "length": ("walkway length", "m"), "span": ("span", "m"), "width": ("walkway width", "m"),
+    "n_lanes": ("lanes", "-"), "density": ("crowd density", "persons/m²"),
+    "walking_speed": ("walking speed", "m/s"),
+    "step_frequency_mean": ("mean step frequency", "Hz"),
+    "step_frequency_std": ("step-frequency spread", "Hz"), "body_mass": ("body mass", "kg"),
+    "body_mass_std": ("body-mass spread", "kg"),
+    "forward_fraction": ("walkers in the forward direction", "-"),
+    "sample_rate": ("sample rate", "Hz"), "record_sample_rate": ("stored sample rate", "Hz"),
+    "time_frame": ("time frame", "s"), "lowpass_cutoff": ("low-pass cut-off", "Hz"),
+    "lowpass_order": ("low-pass order", "-"), "window_length": ("Welch window T", "s"),
+    "overlap": ("window overlap", "-"), "band": ("analysis band", "Hz"),
+    "cutoff": ("low-pass cut-off", "Hz"), "duration": ("duration", "s"),
+    "duration_s": ("duration", "s"), "warm_up": ("warm-up", "s"),
+    "rms": ("RMS acceleration", "m/s²"), "elapsed_s": ("run time", "s"),
+    "n_windows": ("Welch windows", "-"), "level": ("confidence level", "-"),
+}
+
+
 def label(key):
-    """A JSON key as a human label (plain text: escaped where it is placed)."""
-    return _TITLES.get(str(key), str(key).replace("_", " "))
+    """A JSON key as a human label with its unit, e.g. "walking speed [m/s]" (plain text)."""
+    key = str(key)
+    if key in _TITLES:
+        return _TITLES[key]
+    if key in _QUANTITIES:
+        words, unit = _QUANTITIES[key]
+        return f"{words} [{unit}]"
+    return key.replace("_", " ")
 
 
 def value(data, depth=0):
