@@ -238,3 +238,15 @@ def test_error_cases_read_as_words():
     assert labels["step_frequency_std-0.05"] == "step-frequency spread −5 %"
     assert labels["joint-----@level1"] == "joint, level 2 (− − − − −)"
     assert labels["nominal"] == "nominal (no modelling error)"
+
+
+def test_objective_map_reports_progress(paper_bridge, paper_crowd, paper_msd, welch_grid):
+    # Issue 10: the map's grid (58 s silent before) reports each row as it is done.
+    from crowdvib import response_psd
+
+    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd)
+    calls = []
+    objective_map(measured, paper_bridge, paper_crowd, frequencies=[2.5, 3.0, 3.5],
+                  damping_ratios=[0.2, 0.3], band=(0.0, 10.0),
+                  progress=lambda done, total: calls.append((done, total)))
+    assert calls == [(3, 6), (6, 6)]

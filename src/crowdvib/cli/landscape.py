@@ -9,7 +9,8 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import case_inputs, say, say_verdict, staged_output, versions, warning_texts
+from .common import (case_inputs, progress_printer, say, say_verdict, staged_output, versions,
+                     warning_texts)
 from .estimate import case_crowd, case_measurement, estimate_options
 
 
@@ -60,7 +61,7 @@ def run(args):
         landscape = objective_map(measured, case.structure, crowd,
                                   frequencies=args.frequencies,
                                   damping_ratios=args.damping_ratios, estimate=estimate,
-                                  **options)
+                                  progress=progress_printer("grid", unit="points"), **options)
         best = landscape.optimum
         say(f"  {landscape.cost.size} grid points in {time.perf_counter() - started:.1f} s; "
              f"grid minimum f_h1 = {best.frequency:.3f} Hz, ξ_h1 = {best.damping_ratio:.3f}; "

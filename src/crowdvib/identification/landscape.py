@@ -82,7 +82,8 @@ class ObjectiveMap:
 
 def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, band,
                   outputs=None, output_weights=None, frequency_weights=None, mass_ratio=0.95,
-                  force=None, match_welch=True, estimate=None, method="least_squares"):
+                  force=None, match_welch=True, estimate=None, method="least_squares",
+                  progress=None):
     """The objective on a (f_h1, ξ_h1) grid → :class:`ObjectiveMap` (paper Figs. 4, 10).
 
     The misfit of ``method``: the paper's J of Eq. (6) (default) or the Whittle deviance.
@@ -103,6 +104,8 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
         μ_h1 held fixed.
     estimate : MSDModel or HSIEstimate, optional
         An optimiser's solution to carry along and mark on plots.
+    progress : callable, optional
+        Called as ``progress(done, total)`` [grid points] after each row of the grid.
     """
     frequencies = check_positive("frequencies", as_float_array("frequencies", frequencies, ndim=1),
                                  unit="Hz")
@@ -112,8 +115,11 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     objective = PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                              output_weights=output_weights, frequency_weights=frequency_weights,
                              match_welch=match_welch, method=method)
-    cost = np.array([[objective.cost(MSDModel(f, xi, mass_ratio)) for f in frequencies]
-                     for xi in damping_ratios])
+    cost = np.empty((damping_ratios.size, frequencies.size))
+    for row, xi in enumerate(damping_ratios):
+        cost[row] = [objective.cost(MSDModel(f, xi, mass_ratio)) for f in frequencies]
+        if progress is not None:
+            progress((row + 1) * frequencies.size, cost.size)
     if estimate is not None and not isinstance(estimate, MSDModel):
         estimate = estimate.msd
     return ObjectiveMap(frequencies=frequencies, damping_ratios=damping_ratios, cost=cost,
