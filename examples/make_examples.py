@@ -26,7 +26,7 @@ from crowdvib.models.structure import ModalModel
 HERE = Path(__file__).resolve().parent
 
 # ------------------------------------------------------------------------------ Eeklo-like
-EEKLO_SPANS = (27.0, 42.0, 27.0)            # [SEED]: three spans 27–42–27 m
+EEKLO_SPANS = (27.0, 42.0, 27.0)            # the paper: three spans 27–42–27 m
 EEKLO_WIDTH = 3.5                            # ASSUMED (not printed in the paper)
 # Modes 1, 2, 5, 8 at 1.69, 2.97, 5.68, 6.42 Hz are printed in the paper; the other ten
 # frequencies (14 modes up to 12 Hz) are ASSUMED, spread between them.
@@ -35,9 +35,9 @@ EEKLO_FREQUENCIES = (1.69, 2.97, 3.85, 4.60, 5.68, 5.95, 6.15, 6.42, 7.30, 8.20,
 # Damping 0.2–0.6 % per the paper; the individual values are ASSUMED.
 EEKLO_DAMPING = (0.004, 0.003, 0.005, 0.006, 0.0025, 0.004, 0.005, 0.003, 0.004, 0.005, 0.0035,
                  0.0045, 0.005, 0.006)
-# Modal-mass ratios μ_m,j at 0.50 persons/m² [%] ([SEED] Table 1; docs: theory, The paper's case studies).
+# Modal-mass ratios μ_m,j at 0.50 persons/m² [%] (paper, Table 1; docs: theory, The paper's case studies).
 EEKLO_MASS_RATIOS = (0.7, 10.5, 2.7, 0.4, 11.2, 3.3, 2.4, 11.4, 2.4, 1.7, 13.0, 1.1, 2.2, 0.6)
-EEKLO_BODY_MASS, EEKLO_DENSITY = 73.2, 0.5  # [SEED]
+EEKLO_BODY_MASS, EEKLO_DENSITY = 73.2, 0.5  # the paper
 
 
 def continuous_beam_modes(spans, n_modes, n_elements=192):
@@ -89,10 +89,10 @@ def eeklo_structure():
 
 
 # ------------------------------------------------------------------------ Waalse-Krook-like
-WK_LENGTH, WK_WIDTH = 25.0, 6.9                        # [SEED]
-WK_FREQUENCIES, WK_DAMPING = (3.30, 4.14), (0.0086, 0.0025)   # [SEED]: bending, torsion
-WK_MASS_RATIOS = (5.8, 5.7)                            # [SEED] μ_m [%] at 1.0 p/m²
-WK_BODY_MASS, WK_DENSITY = 72.0, 1.0                   # [SEED]
+WK_LENGTH, WK_WIDTH = 25.0, 6.9                        # the paper
+WK_FREQUENCIES, WK_DAMPING = (3.30, 4.14), (0.0086, 0.0025)   # the paper: bending, torsion
+WK_MASS_RATIOS = (5.8, 5.7)                            # the paper μ_m [%] at 1.0 p/m²
+WK_BODY_MASS, WK_DENSITY = 72.0, 1.0                   # the paper
 
 
 def waalse_krook_structure():

@@ -14,7 +14,7 @@ def test_readme_python_blocks_run(capsys):
     assert len(blocks) >= 2
     namespace = {}
     exec(compile("\n".join(blocks), str(README), "exec"), namespace)
-    # The tour's comments promise these values (docs: theory, The occupied peak at 1.93 Hz–8.3).
+    # The tour's comments promise these values (docs: theory, Reference values).
     assert abs(namespace["occupied"].frequencies[0] - 1.926) < 0.001
     assert abs(namespace["psd"].peak_frequency()[0] - 1.933) < 0.001
     assert abs(namespace["estimate"].msd.frequency - 3.0) < 1e-6

@@ -1,4 +1,4 @@
-"""The paper's numerical example against the reference numbers of docs: theory, The occupied peak at 1.93 Hz–8.3."""
+"""The paper's numerical example against the reference numbers of docs: theory, Reference values."""
 
 import numpy as np
 import pytest

@@ -157,7 +157,7 @@ def test_example_cases_load(name):
 
 
 def test_eeklo_like_mass_ratios_follow_the_paper():
-    # docs: theory, The paper's case studies ([SEED] Table 1, 0.50 persons/m², %) with the paper's 73.2 kg.
+    # docs: theory, The paper's case studies (paper, Table 1, 0.50 persons/m², %) with the paper's 73.2 kg.
     case = load_case(EXAMPLES / "eeklo_like.toml")
     table = [0.7, 10.5, 2.7, 0.4, 11.2, 3.3, 2.4, 11.4, 2.4, 1.7, 13.0, 1.1, 2.2, 0.6]
     np.testing.assert_allclose(100 * case.structure.modal_mass_ratios(0.5, 73.2), table,

@@ -104,7 +104,7 @@ def test_body_mass_spread_enters_the_load_as_mean_square_weight():
 
 
 def test_simulated_body_masses_follow_the_crowd():
-    from crowdvib.response.simulation import generate_traffic
+    from crowdvib.response import generate_traffic
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
     crowd = Crowd(0.5, 1.3, 1.89, body_mass=72.0, body_mass_std=12.0)
     masses = np.array([p.body_mass for p in generate_traffic(bridge, crowd, 1800.0, rng=4)])

@@ -5,7 +5,8 @@ import pytest
 
 from crowdvib import (Crowd, ModalModel, MSDModel, ParameterError, Pedestrian, Simulation,
                       YoungForce, simulate)
-from crowdvib.response.simulation import _prepare, generate_traffic
+from crowdvib.response import generate_traffic
+from crowdvib.response.simulation import _prepare
 
 
 @pytest.fixture

@@ -25,7 +25,7 @@ __all__ = ["CODES", "TRAFFIC_CLASSES", "COMFORT_CLASSES", "EN1990_VERTICAL_LIMIT
 CODES = ("setra", "hivoss", "en1990")
 
 #: Vertical force amplitude per equivalent pedestrian [N] of walking harmonic 1 and 2.
-#: 280 N: SOURCED (public Sétra/HiVoSS implementations, docs: theory, Design-guide load models–1.5: the CSA S7 code
+#: 280 N: SOURCED (public Sétra/HiVoSS implementations, docs: theory, Design-guide load models: the CSA S7 code
 #: "equivalent_number_of_pedestrians", NEY-DPI/Footbridge-Vibrations func.py). 70 N for the
 #: second harmonic: RECALLED (Sétra 2006 load case 3). HiVoSS folds the second harmonic into ψ
 #: with a plateau of 0.25 on 280 N (RECALLED), the same 70 N.

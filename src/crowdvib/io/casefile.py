@@ -41,8 +41,8 @@ from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ._common import quote, reading
 from ._toml import Table, read_toml, wrap
-from .modalfiles import read_modal_model, write_modal_model
 from .measurement import load_measurement
+from .modalfiles import read_modal_model, write_modal_model
 from .records import RECORD_FORMATS, _unit_key
 
 __all__ = ["Case", "MeasurementSpec", "EstimationSpec", "StepFrequencySpec", "SimulationSpec",

@@ -6,9 +6,10 @@ and ``simulation`` (time-domain Monte Carlo with moving pedestrians; its compile
 """
 
 from .results import FRF, EffectiveModalProperties, Simulation
-from .simulation import Pedestrian, generate_traffic, simulate
+from .simulation import simulate
 from .spectral import (SpectralModel, effective_modal_properties, frf, modal_accelerance,
                        response_psd)
+from .traffic import Pedestrian, generate_traffic
 
 __all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties",
            "modal_accelerance", "simulate",

@@ -1,4 +1,4 @@
-"""Numba kernel of the time-domain crowd–structure simulation (docs: theory, Equations of motion–2.5).
+"""Numba kernel of the time-domain crowd–structure simulation (docs: theory, The coupled time-domain model).
 
 Private numerics behind :func:`crowdvib.simulate`: inputs are trusted (validated at the public
 boundary), arrays are contiguous float64/int64, nothing here allocates per step.
