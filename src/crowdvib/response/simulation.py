@@ -19,7 +19,7 @@ from ..models.crowd import JAM_DENSITY, Crowd
 from ..models.loading import STANDARD_GRAVITY, as_force_model
 from ..models.pedestrian import MSDModel
 from .results import Simulation
-from .traffic import (_check_duration, _check_structure, _seed_from, _walkers)
+from .traffic import _check_duration, _check_structure, _seed_from, _walkers
 
 __all__ = ["simulate"]
 
