@@ -327,3 +327,28 @@ def test_inputs_carry_units():
                  "Welch window T [s]", "analysis band [Hz]", "walkway width [m]"):
         assert text in inputs
     assert "walking_speed" not in inputs
+
+
+def test_statistical_interval_and_modelling_bound_side_by_side_and_together():
+    # Issue 12: the sensitivity study's nominal ± bound beside the statistical interval, and the
+    # two combined by the stated rule (interval widened by the bound).
+    from crowdvib.reporting.report import render_report
+
+    results = {"command": "sensitivity",
+               "estimate": {"frequency": 3.06, "damping_ratio": 0.27, "mass_ratio": 0.95,
+                            "interval": {"frequency": [2.97, 3.16],
+                                         "damping_ratio": [0.216, 0.323], "level": 0.95}},
+               "sensitivity": {"summary": {"frequency": {"nominal": 3.06, "bound": 0.2,
+                                                         "bound_percent": 6.5},
+                                           "damping_ratio": {"nominal": 0.27, "bound": 0.05,
+                                                             "bound_percent": 18.5}}},
+               "combined": {"frequency": {"interval": [2.97, 3.16], "bound": 0.2,
+                                          "combined": [2.77, 3.36], "level": 0.95},
+                            "damping_ratio": {"interval": [0.216, 0.323], "bound": 0.05,
+                                              "combined": [0.166, 0.373], "level": 0.95}}}
+    page = render_report(results)
+    section = page[page.index('id="estimate"'):page.index('id="diagnostics"')]
+    assert "2.97–3.16" in section and "3.06 ± 0.2 (6.5 %)" in section
+    assert "with the interval: 2.77–3.36" in section
+    assert "with the interval: 0.166–0.373" in section
+    assert "widened on each side by the bound" in section

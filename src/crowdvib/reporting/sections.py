@@ -90,6 +90,16 @@ def summary_section(results, notes):
                 verdict, box)
 
 
+def _combined(results, key):
+    """[low, high] of the statistical interval widened by the modelling bound, if recorded."""
+    row = (results.get("combined") or {}).get(key) if isinstance(results.get("combined"),
+                                                                  dict) else None
+    ends = row.get("combined") if isinstance(row, dict) else None
+    if isinstance(ends, list) and len(ends) == 2 and all(_real(v) is not None for v in ends):
+        return ends
+    return None
+
+
 def estimate_section(results):
     found = estimate(results)
     if not found:
@@ -112,6 +122,10 @@ def estimate_section(results):
         band = (html("{} ± {} ({} %)", number(bound.get("nominal")),
                      number(bound["bound"], 3), number(bound.get("bound_percent"), 3))
                 if bound and bound.get("bound") is not None else "—")
+        together = _combined(results, key)
+        if together is not None:
+            band = html("{}; with the interval: {}–{}", band, number(together[0], 3),
+                        number(together[1], 3))
         truth = reference.get(key) if isinstance(reference, dict) else None
         error = (f"{100 * (estimate_value - truth) / truth:+.1f} %"
                  if _real(truth) and _real(estimate_value) is not None else "—")
@@ -136,13 +150,17 @@ def estimate_section(results):
     if any(interval_of(found, k) for k, _, _ in _PARAMETERS):
         parts.append(Markup('<p class="muted">Interval: the statistical uncertainty of this one '
                             "record (profile interval calibrated for the Welch scatter and the "
-                            "correlation of neighbouring bins; docs: theory, uncertainty). It "
+                            "correlation of neighbouring bins; docs: theory, Statistical "
+                            "uncertainty of an estimate). It "
                             "does not hold the modelling errors, which the nominal ± bound "
                             "column shows.</p>"))
     if bounds_summary:
         parts.append(Markup('<p class="muted">Bounds: the largest estimation error of the joint '
                             "modelling-error cases at the highest error level (the paper's "
-                            "“nominal ± bound”).</p>"))
+                            "“nominal ± bound”). With the interval: the statistical interval "
+                            "widened on each side by the bound (the bound is a worst case, not a "
+                            "standard deviation, so the two add), kept within the search "
+                            "bounds.</p>"))
     occupied = results.get("occupied_structure")
     if isinstance(occupied, dict) and isinstance(occupied.get("frequencies"), list):
         rows = [[f"mode {j + 1}", html("{} Hz", number(f)), html("{} %", number(
