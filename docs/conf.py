@@ -29,6 +29,7 @@ extensions = [
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "sphinxarg.ext",
+    "casefile_keys",
 ]
 
 exclude_patterns = ["_build", "**.ipynb_checkpoints"]

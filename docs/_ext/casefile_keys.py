@@ -1,0 +1,150 @@
+"""The case-file key reference, generated from the parser itself (crowdvib/io/casefile.py).
+
+Every key a case file may hold is read in the parser by a call such as
+``table.number("window_length", 60.0, rule="positive")``. This extension reads those calls from
+the parser's source (its syntax tree, so nothing can drift: a key added to the parser appears
+here, one removed disappears) and writes ``generated/casefile_keys.rst``: one table per section
+with each key's type, default, rule and unit. Units come from the report's table of quantities,
+the one place crowdvib names them.
+"""
+
+import ast
+from pathlib import Path
+
+#: Parser function → the case-file section its ``table`` argument is.
+SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd", "_msd": "hsi",
+            "_measurement": "measurement", "_estimation": "estimation",
+            "_simulation": "simulation", "_outputs": "structure"}
+#: Table accessor → the TOML type it accepts.
+KINDS = {"number": "number", "numbers": "number or list of numbers", "string": "string",
+         "strings": "list of strings", "boolean": "boolean", "pair": "[lower, upper]",
+         "file": "file path (relative to the case file)", "raw": "value (see rule)",
+         "table": "table"}
+#: Rules the parser checks in code rather than in the accessor call (they take precedence).
+RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across lanes)",
+         "measurement.channels": "a table output name = \"channel in file\"",
+         "measurement.time_frame": "[start, end] with start >= 0",
+         "measurement.overlap": "in [0, 1)", "measurement.filter.order": "an integer >= 1",
+         "measurement.filter.cutoff": "> 0, or false for no filter",
+         "estimation.level": "in (0, 1): a fraction, not percent",
+         "estimation.band": "lower < upper, lower >= 0",
+         "estimation.outputs": "names of structure outputs (default all record channels)",
+         "estimation.free_parameters": "[\"frequency\", \"damping_ratio\"], optionally "
+                                       "\"mass_ratio\"",
+         "estimation.weights": "one per entry of estimation.outputs, > 0",
+         "crowd.walking_speed": "> 0; default from Weidmann's speed–density relation",
+         "crowd.step_frequency_mean": "> 0; default from Bruno & Venuti's speed relation",
+         "case.seed": "a non-negative integer", "case.name": "default: the file name"}
+
+
+def _literal(node):
+    try:
+        return ast.literal_eval(node)
+    except ValueError:
+        return None
+
+
+def _text(value):
+    if value is None:
+        return "—"
+    return f"``{value!r}``" if not isinstance(value, str) else f"``\"{value}\"``"
+
+
+def parser_keys(source):
+    """``(section.key, kind, default, required, rule)`` for every key the parser reads."""
+    tree = ast.parse(source)
+    keys = {}
+    for function in tree.body:
+        if not isinstance(function, ast.FunctionDef) or function.name not in SECTIONS:
+            continue
+        prefixes = {"table": SECTIONS[function.name], "root": SECTIONS[function.name]}
+        for node in ast.walk(function):
+            # sub = table.table("name"): sub's keys live under section.name
+            if isinstance(node, ast.Assign) and isinstance(node.value, ast.Call):
+                call = node.value
+                if (isinstance(call.func, ast.Attribute) and call.func.attr == "table"
+                        and isinstance(call.func.value, ast.Name)
+                        and call.func.value.id in prefixes and call.args):
+                    prefixes[node.targets[0].id] = (f"{prefixes[call.func.value.id]}."
+                                                    f"{_literal(call.args[0])}")
+        for node in ast.walk(function):
+            if not isinstance(node, ast.Call):
+                continue
+            func = node.func
+            if isinstance(func, ast.Name) and func.id in ("_bounds", "_starts") and node.args:
+                _special(func.id, node, prefixes, keys)
+                continue
+            if not (isinstance(func, ast.Attribute) and func.attr in KINDS
+                    and isinstance(func.value, ast.Name) and func.value.id in prefixes
+                    and node.args and isinstance(node.args[0], ast.Constant)):
+                continue
+            name = f"{prefixes[func.value.id]}.{node.args[0].value}"
+            if func.attr == "table" or name in keys and keys[name][0] != KINDS["raw"]:
+                continue
+            required = len(node.args) < 2 and func.attr not in ("boolean", "table")
+            default = None if required else _literal(node.args[1]) if len(node.args) > 1 else None
+            if name in keys:                  # raw(name, default) first, then a typed read
+                required, default = keys[name][2], keys[name][1]
+            options = {k.arg: _literal(k.value) for k in node.keywords}
+            rule = (f"one of {', '.join(map(repr, options['choices']))}"
+                    if options.get("choices") else options.get("rule") or "")
+            rule = RULES.get(name) or {"positive": "> 0", "non_negative": ">= 0",
+                                       "fraction": "in (0, 1)"}.get(rule, rule)
+            keys[name] = (KINDS[func.attr], default, required, rule)
+    return keys
+
+
+def _special(helper, node, prefixes, keys):
+    """``_bounds(table.table("bounds"), (keys…))`` and ``_starts(table, "starts", sizes)``."""
+    if helper == "_starts":
+        table, name, sizes = node.args[0], _literal(node.args[1]), _literal(node.args[2])
+        if isinstance(table, ast.Name) and table.id in prefixes:
+            keys[f"{prefixes[table.id]}.{name}"] = (
+                "list of points", None, False,
+                f"points of {' or '.join(map(str, sizes))} values (f_h1 [Hz], ξ_h1[, μ_h1])")
+        return
+    inner, names = node.args[0], _literal(node.args[1])
+    if (isinstance(inner, ast.Call) and isinstance(inner.func, ast.Attribute)
+            and isinstance(inner.func.value, ast.Name) and inner.func.value.id in prefixes):
+        prefix = f"{prefixes[inner.func.value.id]}.{_literal(inner.args[0])}"
+        for name in names:
+            keys[f"{prefix}.{name}"] = ("[lower, upper]", None, False, "0 < lower < upper")
+
+
+def write_reference(source_path, units, target):
+    """Write the reST reference of every key to ``target``."""
+    keys = parser_keys(Path(source_path).read_text(encoding="utf-8"))
+    sections = {}
+    for name, row in sorted(keys.items()):
+        section, _, key = name.partition(".")
+        sections.setdefault(section, []).append((key, *row))
+    lines = [".. This file is generated by docs/_ext/casefile_keys.py from the parser; "
+             "do not edit.", ""]
+    for section in ("case", "structure", "crowd", "hsi", "measurement", "estimation",
+                    "simulation"):
+        title = "top level" if section == "case" else f"``[{section}]``"
+        lines += [title, "^" * len(title), "",
+                  ".. list-table::", "   :header-rows: 1", "   :widths: 22 18 12 10 38", "",
+                  "   * - key", "     - type", "     - default", "     - unit", "     - rule"]
+        for key, kind, default, required, rule in sections.get(section, []):
+            unit = units.get(key.rpartition(".")[2], ("", ""))[1]
+            lines += [f"   * - ``{key}``", f"     - {kind}",
+                      f"     - {'*required*' if required else _text(default)}",
+                      f"     - {unit or '—'}", f"     - {rule or '—'}"]
+        lines.append("")
+    Path(target).parent.mkdir(parents=True, exist_ok=True)
+    Path(target).write_text("\n".join(lines), encoding="utf-8")
+    return keys
+
+
+def _generate(app):
+    import crowdvib.io.casefile as casefile
+    from crowdvib.reporting.html import _QUANTITIES
+
+    write_reference(casefile.__file__, _QUANTITIES,
+                    Path(app.srcdir) / "generated" / "casefile_keys.rst")
+
+
+def setup(app):
+    app.connect("builder-inited", _generate)
+    return {"parallel_read_safe": True}
