@@ -27,7 +27,8 @@ _LAZY = {
     **dict.fromkeys(("response_psd", "frf", "effective_modal_properties", "SpectralModel",
                      "simulate", "Pedestrian", "FRF", "EffectiveModalProperties", "Simulation"),
                     "response"),
-    **dict.fromkeys(("estimate_hsi", "HSIEstimate", "estimate_step_frequencies",
+    **dict.fromkeys(("estimate_hsi", "estimate_hsi_joint", "HSIEstimate",
+                     "estimate_step_frequencies",
                      "StepFrequencyEstimate"), "identification"),
     **dict.fromkeys(("Record", "read_record", "write_record", "check_record", "Case", "load_case",
                      "read_modal_model"), "io"),
@@ -59,7 +60,7 @@ def __dir__():
 if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
     # ruff: noqa: F401
     from .identification import (HSIEstimate, StepFrequencyEstimate, estimate_hsi,
-                                 estimate_step_frequencies)
+                                 estimate_hsi_joint, estimate_step_frequencies)
     from .io import (Case, Record, check_record, load_case, read_modal_model, read_record,
                      write_record)
     from .models import Crowd, ModalModel, MSDModel, YoungForce, ZivanovicForce

@@ -7,7 +7,8 @@ run as independent tasks by ``tasks`` on the executor ``engine`` gives (this pro
 """
 
 from .engine import study_executor
-from .estimation import DEFAULT_BOUNDS, DEFAULT_STARTS, HSIEstimate, estimate_hsi
+from .estimation import (DEFAULT_BOUNDS, DEFAULT_STARTS, HSIEstimate, estimate_hsi,
+                         estimate_hsi_joint)
 from .landscape import ObjectiveMap, objective_map
 from .objective import PSDObjective
 from .parametric import ParametricResult, parametric_study
@@ -17,7 +18,8 @@ from .studies import (PAPER_ERROR_LEVELS, ErrorCase, SensitivityResult, modellin
                       record_length_study)
 from .tasks import TaskStore, run_tasks
 
-__all__ = ["estimate_hsi", "HSIEstimate", "PSDObjective", "DEFAULT_STARTS", "DEFAULT_BOUNDS",
+__all__ = ["estimate_hsi", "estimate_hsi_joint", "HSIEstimate", "PSDObjective", "DEFAULT_STARTS",
+           "DEFAULT_BOUNDS",
            "estimate_step_frequencies", "StepFrequencyEstimate", "DEFAULT_STEP_FREQUENCY_BOUNDS",
            "objective_map", "ObjectiveMap", "modelling_error_study", "ErrorCase",
            "SensitivityResult", "record_length_study", "parametric_study", "ParametricResult",

@@ -1,4 +1,6 @@
-"""The inverse problem: MSD parameters from measured response PSDs (paper Eq. 5 and 6; docs: theory, The estimator).
+"""The inverse problem: MSD parameters from measured response PSDs (paper Eq. 5 and 6).
+
+docs: theory, The estimator.
 
 J(θ) = Σ_l γ_l ‖G̃_l − G_l(θ)‖₂² / ‖G̃_l‖₂² over the analysis band, minimised by bounded
 ``scipy.optimize.least_squares(method="trf")`` from several starting points. The residual vector
@@ -21,13 +23,15 @@ from ..models.loading import STANDARD_GRAVITY
 from ..models.pedestrian import MSDModel
 from ..signals.welch import welch_bin_correlation
 from .objective import PSDObjective
-from .uncertainty import profile_interval, sandwich_covariance
+from .uncertainty import profile_interval, sandwich_covariance, score_variance
 
-__all__ = ["estimate_hsi", "HSIEstimate", "PSDObjective", "DEFAULT_STARTS", "DEFAULT_BOUNDS"]
+__all__ = ["estimate_hsi", "estimate_hsi_joint", "HSIEstimate", "PSDObjective", "DEFAULT_STARTS",
+           "DEFAULT_BOUNDS"]
 
 logger = logging.getLogger(__name__)
 
-#: Starting points (f_h1 [Hz], ξ_h1 [-]) spread over the feasible region (docs: theory, Inverse problem).
+#: Starting points (f_h1 [Hz], ξ_h1 [-]) spread over the feasible region
+#: (docs: theory, Inverse problem).
 DEFAULT_STARTS = ((1.5, 0.6), (5.0, 0.15), (2.2, 0.2), (4.0, 0.7))
 #: Search bounds: f_h1 ≤ 10 Hz and ξ_h1 ≤ 100 % as in the paper; small positive lower bounds
 #: stand for the strict inequalities f_h1 > 0, ξ_h1 > 0, 0 < μ_h1 < 1 (paper Eq. 5).
@@ -258,17 +262,83 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
     ConvergenceWarning
         When no start converged.
     """
+    objective = PSDObjective(measured, structure, crowd, band=band, force=force,
+                             outputs=outputs, output_weights=output_weights,
+                             frequency_weights=frequency_weights, match_welch=match_welch,
+                             method=method)
+    return _estimate([(objective, measured)], structure, starts=starts, bounds=bounds,
+                     mass_ratio=mass_ratio, free_mass_ratio=free_mass_ratio, method=method,
+                     interval=interval, level=level)
+
+
+def estimate_hsi_joint(measurements, structure, crowds, *, band, outputs=None,
+                       output_weights=None, frequency_weights=None, starts=None, bounds=None,
+                       mass_ratio=0.95, free_mass_ratio=False, force=None, match_welch=True,
+                       method="least_squares", interval="profile", level=0.95):
+    """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
+
+    The records are independent, so their misfits add (for the likelihood: their likelihoods
+    multiply); the estimate minimises the sum, and its sandwich covariance sums each record's
+    score variance and curvature. Records at different densities separate what one record
+    cannot (μ_h1 from ξ_h1, for instance), and the joint interval is narrower than either.
+
+    Parameters
+    ----------
+    measurements : sequence of ResponsePSD
+        One measured PSD per record (each a Welch estimate for intervals).
+    structure : ModalModel
+    crowds : sequence of Crowd
+        The crowd of each record, in the same order.
+    band, outputs, output_weights, frequency_weights, starts, bounds, mass_ratio,
+    free_mass_ratio, force, match_welch, method, interval, level
+        As in :func:`estimate_hsi`, the same for every record.
+
+    Returns
+    -------
+    HSIEstimate
+        ``output_names`` read ``"record 1: midspan"`` …; ``cost`` is the summed misfit.
+    """
+    measurements, crowds = list(measurements), list(crowds)
+    if not measurements or len(measurements) != len(crowds):
+        raise ParameterError(f"measurements and crowds must pair up one record with one crowd, "
+                             f"got {len(measurements)} measurement(s) and {len(crowds)} crowd(s)")
+    parts = [(PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
+                           output_weights=output_weights, frequency_weights=frequency_weights,
+                           match_welch=match_welch, method=method), measured)
+             for measured, crowd in zip(measurements, crowds)]
+    return _estimate(parts, structure, starts=starts, bounds=bounds, mass_ratio=mass_ratio,
+                     free_mass_ratio=free_mass_ratio, method=method, interval=interval,
+                     level=level)
+
+
+class _Stacked:
+    """Several records' misfits as one: residual vectors stacked, evaluations counted."""
+
+    def __init__(self, objectives):
+        self.objectives = objectives
+
+    @property
+    def evaluations(self):
+        return sum(o.evaluations for o in self.objectives)
+
+    def residuals(self, msd):
+        return np.concatenate([o.residuals(msd) for o in self.objectives])
+
+    def cost(self, msd):
+        r = self.residuals(msd)
+        return float(r @ r)
+
+
+def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, method,
+              interval, level):
+    """The estimate from one or several (objective, measured PSD) records (estimate_hsi)."""
     MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
     if interval not in ("profile", "wald", None):
         raise ParameterError(f"interval must be 'profile', 'wald' or None, got {interval!r}")
     if not 0 < level < 1:
         raise ParameterError(f"level must lie in (0, 1), got {level!r}")
-    objective = PSDObjective(measured, structure, crowd, band=band, force=force,
-                             outputs=outputs, output_weights=output_weights,
-                             frequency_weights=frequency_weights, match_welch=match_welch,
-                             method=method)
     for note in structure.implausibilities():
-        warnings.warn(f"structure: {note}", PlausibilityWarning, stacklevel=2)
+        warnings.warn(f"structure: {note}", PlausibilityWarning, stacklevel=3)
     names = _PARAMETERS if free_mass_ratio else _PARAMETERS[:2]
     limits = _merge_bounds(bounds, DEFAULT_BOUNDS)
     if limits["mass_ratio"][1] >= 1:
@@ -287,51 +357,66 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         return _multistart(lambda theta: objective.residuals(to_msd(theta)), points, lower, upper,
                            objective)
 
-    absurd = objective.level_ratio(None)
-    if np.any(~((absurd > 1e-100) & (absurd < 1e100))):
-        raise ParameterError(
-            "measured PSD level must be within a factor 1e100 of the model's without HSI over the "
-            f"band (no unit or gain mix-up goes further), got measured/model variance "
-            f"{', '.join(f'{v:.3g}' for v in absurd)} for outputs {list(objective.output_names)}")
-    best, runs = fit(objective)
+    for objective, _ in parts:
+        absurd = objective.level_ratio(None)
+        if np.any(~((absurd > 1e-100) & (absurd < 1e100))):
+            raise ParameterError(
+                "measured PSD level must be within a factor 1e100 of the model's without HSI "
+                f"over the band (no unit or gain mix-up goes further), got measured/model "
+                f"variance {', '.join(f'{v:.3g}' for v in absurd)} for outputs "
+                f"{list(objective.output_names)}")
+    stacked = _Stacked([objective for objective, _ in parts])
+    best, runs = fit(stacked)
     msd = to_msd(best.x)
     active, success, table = _diagnose(best, runs, names, lower, upper,
-                                       "the optimum sits on a bound", "check the model inputs")
-    level_ratio = objective.level_ratio(msd)
-    _check_level(objective, level_ratio, 2 * best.cost, fit, to_msd)
+                                       "the optimum sits on a bound", "check the model inputs",
+                                       stacklevel=4)
+    ratios = []
+    for objective, _ in parts:
+        ratios.append(objective.level_ratio(msd))
+        _check_level(objective, ratios[-1], objective.cost(msd), fit, to_msd)
     covariance, intervals, on_bound = None, {}, ()
     # Intervals need the scatter of the ordinates: known for a Welch estimate (its n_windows),
     # not for a PSD of unknown origin (a model curve, a PSD read from a table).
-    if interval is not None and measured.n_windows:
-        modelled = objective.modelled(msd)
-        gradient = _model_gradient(objective, best.x, to_msd, lower, upper)
-        q, hessian = objective.score_terms(modelled, gradient)
-        covariance = sandwich_covariance(q, hessian, modelled * np.sqrt(objective.dispersion),
-                                         objective.degrees_of_freedom,
-                                         welch_bin_correlation(objective.n_windows),
-                                         occupancy=_occupancy(objective, msd, measured))
+    if interval is not None and all(measured.n_windows for _, measured in parts):
+        variance, hessian = 0.0, 0.0
+        for objective, measured in parts:      # independent records: information adds
+            modelled = objective.modelled(msd)
+            gradient = _model_gradient(objective, best.x, to_msd, lower, upper)
+            q, curvature = objective.score_terms(modelled, gradient)
+            variance = variance + score_variance(
+                q, modelled * np.sqrt(objective.dispersion), objective.degrees_of_freedom,
+                welch_bin_correlation(objective.n_windows),
+                occupancy=_occupancy(objective, msd, measured))
+            hessian = hessian + curvature
+        covariance = sandwich_covariance(variance, hessian)
         _check_identifiability(names, covariance)
         if interval == "profile":
             ends = []
             for i, name in enumerate(names):
                 intervals[name], hit = profile_interval(
-                    lambda theta: objective.residuals(to_msd(theta)), best.x, i, lower, upper,
+                    lambda theta: stacked.residuals(to_msd(theta)), best.x, i, lower, upper,
                     covariance, hessian, level)
                 ends += [f"{name}:{side}" for side, h in zip(("lower", "upper"), hit) if h]
             on_bound = tuple(ends)
             if on_bound:
                 warnings.warn(f"the {level:.0%} interval reaches a search bound "
                               f"({', '.join(on_bound)}): the data do not bound the parameter "
-                              "there; widen the bounds or add data", BoundWarning, stacklevel=2)
+                              "there; widen the bounds or add data", BoundWarning, stacklevel=3)
+    single = len(parts) == 1
+    output_names = tuple(name if single else f"record {r + 1}: {name}"
+                         for r, (objective, _) in enumerate(parts)
+                         for name in objective.output_names)
     return HSIEstimate(
-        msd=msd, cost=float(2 * best.cost), cost_no_hsi=objective.cost(None),
+        msd=msd, cost=float(2 * best.cost), cost_no_hsi=stacked.cost(None),
         n_evaluations=sum(n for _, _, n in runs), success=success, active_bounds=active,
         free_parameters=names, bounds={n: (float(lo), float(hi)) for n, lo, hi in
                                        zip(names, lower, upper)},
-        band=objective.band, output_names=objective.output_names,
-        output_weights=objective.output_weights, starts=table, message=str(best.message),
-        level_ratio=level_ratio, method=method, covariance=covariance, intervals=intervals,
-        interval_level=level, interval_on_bound=on_bound)
+        band=parts[0][0].band, output_names=output_names,
+        output_weights=np.concatenate([o.output_weights for o, _ in parts]) / len(parts),
+        starts=table, message=str(best.message), level_ratio=np.concatenate(ratios),
+        method=method, covariance=covariance, intervals=intervals, interval_level=level,
+        interval_on_bound=on_bound)
 
 
 #: |correlation| of two estimated parameters above which the data do not tell them apart.
@@ -350,7 +435,7 @@ def _check_identifiability(names, covariance):
                 "different crowds together" if "mass_ratio" in names else "add data")
         warnings.warn(f"the data do not determine {', '.join(names)} separately (correlation "
                       f"{'; '.join(pairs)}, beyond ±{IDENTIFIABILITY_CORRELATION:g}): {hint}",
-                      IdentifiabilityWarning, stacklevel=3)
+                      IdentifiabilityWarning, stacklevel=4)
 
 
 def _occupancy(objective, msd, measured):
@@ -421,7 +506,7 @@ def _check_level(objective, ratio, cost, fit, to_msd):
     warnings.warn(
         f"the measured PSD level over the band is not the fitted model's (measured/model "
         f"variance {where}; a consistent level lies within a factor {LEVEL_RATIO_LIMIT:g}), so "
-        f"the estimate is not to be trusted: {hint}", PlausibilityWarning, stacklevel=3)
+        f"the estimate is not to be trusted: {hint}", PlausibilityWarning, stacklevel=4)
 
 
 def _merge_bounds(bounds, defaults):
@@ -459,10 +544,11 @@ def _multistart(residuals, points, lower, upper, objective):
     return best, runs
 
 
-def _diagnose(best, runs, names, lower, upper, what, hint):
+def _diagnose(best, runs, names, lower, upper, what, hint, stacklevel=3):
     """Active bounds and convergence of the best run (warned about), and the per-start table.
 
-    The warnings point at the caller of the public estimator (stacklevel 3).
+    The warnings point at the caller of the public estimator: ``stacklevel`` frames up from here
+    (3 when the public function calls this directly).
     """
     span = upper - lower
     active = tuple(
@@ -471,11 +557,11 @@ def _diagnose(best, runs, names, lower, upper, what, hint):
                           ("upper", hi - x <= _BOUND_TOLERANCE * width)) if hit)
     if active:
         warnings.warn(f"{what} ({', '.join(active)}): widen the bounds or {hint}", BoundWarning,
-                      stacklevel=3)
+                      stacklevel=stacklevel)
     success = best.status > 0
     if not success:
         warnings.warn(f"least_squares did not converge: {best.message}", ConvergenceWarning,
-                      stacklevel=3)
+                      stacklevel=stacklevel)
     table = tuple({"start": [float(v) for v in start], "estimate": [float(v) for v in r.x],
                    "cost": float(2 * r.cost), "n_evaluations": int(n), "status": int(r.status)}
                   for r, start, n in runs)

@@ -7,7 +7,8 @@ Hessian H. The estimate's covariance is the sandwich
 
     Cov(θ̂) = H⁻¹ Var(g) H⁻¹,
 
-with Var(g) from the statistics of Welch ordinates (docs: theory, Correlation of neighbouring Welch ordinates):
+with Var(g) from the statistics of Welch ordinates (docs: theory, Correlation of
+neighbouring Welch ordinates):
 Var(Ĝ_k) = φ_k (2/ν) G_k² — φ_k the dispersion the record's own segments show (1 for a
 stationary Gaussian record; :class:`~crowdvib.ResponsePSD`) — and ordinates d bins apart
 correlated by ρ(d)
@@ -26,19 +27,17 @@ Chandler & Bate 2007). Coverage is checked over seeded synthetic records in the 
 import numpy as np
 from scipy import optimize, stats
 
-__all__ = ["sandwich_covariance", "profile_interval"]
+__all__ = ["score_variance", "sandwich_covariance", "profile_interval"]
 
 
-def sandwich_covariance(q, hessian, spread, degrees_of_freedom, correlation, *,
-                        occupancy=None):
-    """Sandwich covariance H⁻¹ Var(g) H⁻¹ of the parameters (module docstring).
+def score_variance(q, spread, degrees_of_freedom, correlation, *, occupancy=None):
+    """Var(g) of the score of one record's misfit (module docstring); the sandwich is
+    H⁻¹ Var(g) H⁻¹, with Var(g) and H summed over independent records.
 
     Parameters
     ----------
     q : ndarray, shape (n_outputs, n_bins, n_parameters)
         Score coefficients (:meth:`PSDObjective.score_terms`).
-    hessian : ndarray, shape (n_parameters, n_parameters)
-        Expected Hessian H of S.
     spread : ndarray, shape (n_outputs, n_bins)
         G(θ̂)·sqrt(φ), in the units of ``q``: the standard deviation of each ordinate over
         sqrt(2/ν), φ its measured dispersion (1 for the χ²_ν of a stationary Gaussian record).
@@ -47,7 +46,7 @@ def sandwich_covariance(q, hessian, spread, degrees_of_freedom, correlation, *,
     correlation : array_like
         ρ(0) = 1, ρ(1), … of ordinates 0, 1, … bins apart.
     occupancy : (ndarray, float), optional
-        ∂G/∂ln n (shape of ``modelled``) and the relative variance of the record's crowd size n:
+        ∂G/∂ln n (shape of ``spread``) and the relative variance of the record's crowd size n:
         a crowd that happened to be larger than its mean shifts every ordinate together.
 
     Returns
@@ -65,6 +64,11 @@ def sandwich_covariance(q, hessian, spread, degrees_of_freedom, correlation, *,
         gradient, relative_variance = occupancy
         shift = np.einsum("lkp,lk->p", q, gradient)
         variance = variance + relative_variance * np.outer(shift, shift)
+    return variance
+
+
+def sandwich_covariance(variance, hessian):
+    """H⁻¹ Var(g) H⁻¹ [parameter units²]."""
     inverse = np.linalg.pinv(hessian)
     return inverse @ variance @ inverse
 
