@@ -187,22 +187,23 @@ class PSDObjective:
         ``model`` replaces the objective's own forward model (e.g. one for another crowd).
         """
         self.evaluations += 1
-        model = self.model if model is None else model
-        modelled = model.psd_array(msd) / self.level[:, np.newaxis]
+        modelled = self.modelled(msd, model=model)
         if self.method == "least_squares":
             return ((self._target - modelled) * self._scale).ravel()
-        # x − 1 − ln x ≥ 0, computed without cancellation near x = 1; a model ordinate that
-        # underflows is held at a tiny level so that the deviance stays finite but large.
+        # x − 1 − ln x ≥ 0 (clipped: round-off near x = 1 can make it −1e−16); a model ordinate
+        # that underflows is held at a tiny level so that the deviance stays finite but large.
         x = self._target / np.maximum(modelled, 1e-300)
         deviance = np.maximum(x - 1.0 - np.log(x), 0.0)
         return (np.sign(x - 1.0) * np.sqrt(deviance * self._scale)).ravel()
 
-    def modelled(self, msd):
+    def modelled(self, msd, *, model=None):
         """The model PSD in the objective's normalised units (each output over its level)."""
-        return self.model.psd_array(msd) / self.level[:, np.newaxis]
+        return (self.model if model is None else model).psd_array(msd) / self.level[:, np.newaxis]
 
     def score_terms(self, modelled, gradient):
-        """Linearised score and curvature of S = Σ r² about a model PSD (docs: theory, Statistical uncertainty of an estimate).
+        """Linearised score and curvature of S = Σ r² about a model PSD.
+
+        docs: theory, Statistical uncertainty of an estimate.
 
         The score is ∂S/∂θ = Σ_{l,k} q_{l,k} (Ĝ_{l,k} − G_{l,k}) and the expected Hessian H
         (E[Ĝ] = G), both in the normalised units of :meth:`modelled`.
@@ -233,9 +234,8 @@ class PSDObjective:
         ∫ G̃_l df / ∫ G_l(θ) df over the band: far from 1 at the optimum means the data and the
         model disagree on the level itself (units, gain, channel), which no MSD can fix.
         """
-        modelled = self.model.psd_array(msd) / self.level[:, np.newaxis]
         with np.errstate(divide="ignore"):
-            return self._target.sum(axis=1) / modelled.sum(axis=1)
+            return self._target.sum(axis=1) / self.modelled(msd).sum(axis=1)
 
     def cost(self, msd):
         """J(θ) of paper Eq. (6), or the deviance D(θ) for the likelihood [-]."""

@@ -43,6 +43,21 @@ def require_file(path, what):
     return path
 
 
+def named_file(path, where, shown=None):
+    """``path`` if it is a regular file, else a :class:`DataError` saying that ``where`` (a case
+    file's key, e.g. ``"c.toml: measurement.files[0]"``) names a directory or a missing file.
+
+    ``shown`` is the value as the case file wrote it (quoted, with the resolved path beside it).
+    """
+    path = Path(path)
+    text = path if shown is None else f"{quote(shown)} (looked at {path})"
+    if path.is_dir():
+        raise DataError(f"{where} names a directory, expected a file: {text}")
+    if not path.is_file():
+        raise DataError(f"{where} names a file that does not exist: {text}")
+    return path
+
+
 @contextlib.contextmanager
 def reading(path, what):
     """Guard one reader: any failure inside becomes a :class:`DataError` naming ``path``.

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DataError, ParameterError
-from ._common import quote, require_file
+from ._common import named_file, quote, require_file
 
 __all__ = ["Table", "REQUIRED", "read_toml", "wrap"]
 
@@ -121,14 +121,8 @@ class Table:
         value = self.string(name, default)
         if value is None or value is default:
             return value
-        path = (self.path.parent / value).resolve()
-        if path.is_dir():
-            raise ParameterError(f"{self.path.name}: {self.key(name)} names a directory, expected "
-                                 f"a file: {quote(value)} (looked at {path})")
-        if not path.is_file():
-            raise ParameterError(f"{self.path.name}: {self.key(name)} names a file that does not "
-                                 f"exist: {quote(value)} (looked for {path})")
-        return path
+        return named_file((self.path.parent / value).resolve(),
+                          f"{self.path.name}: {self.key(name)}", shown=value)
 
     def finish(self):
         unknown = sorted(set(self.data) - self.used)

@@ -1,7 +1,8 @@
 """A case's measured records, read, merged, checked and pre-processed (docs: theory, Welch PSDs, filters and convergence)."""
 
-from ..errors import DataError, ParameterError
+from ..errors import ParameterError
 from ..signals import detrend, resample, stationary_time_frame
+from ._common import named_file
 from .records import check_record, merge_records, read_record
 
 __all__ = ["load_measurement"]
@@ -34,12 +35,7 @@ def load_measurement(case, *, band=None):
                              "is empty: the case has no record to read")
     records = []
     for number, file in enumerate(spec.files):
-        if file.is_dir():
-            raise DataError(f"{case.path.name}: measurement.files[{number}] names a directory, "
-                            f"expected a file: {file}")
-        if not file.is_file():
-            raise DataError(f"{case.path.name}: measurement.files[{number}] names a file "
-                            f"that does not exist: {file}")
+        named_file(file, f"{case.path.name}: measurement.files[{number}]")
         record = read_record(file, format=spec.format, units=spec.units,
                              sample_rate=spec.sample_rate, time_column=spec.time_column)
         if spec.channels is not None:

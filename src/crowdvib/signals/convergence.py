@@ -3,12 +3,11 @@
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal as _signal
 
 from .._validation import check_positive
 from ..errors import DataError, ParameterError
 from .conditioning import _as_signals
-from .welch import welch_psd, welch_segment_count
+from .welch import channel_names, segment_periodograms, welch_segment_count
 
 __all__ = ["PSDConvergence", "psd_convergence"]
 
@@ -101,15 +100,12 @@ def psd_convergence(signals, sample_rate, *, window_length, band=None, norm="2",
                         f"of {window_length:g} s")
     if lowpass is not None:
         data = lowpass.apply(data)
-    full = welch_psd(data[:, :n_total * segment], sample_rate, window_length=window_length,
-                     overlap=overlap, output_names=output_names)
+    names = channel_names(output_names, data.shape[0])
     # G_kT averages the first welch_segment_count(k·T) segment periodograms of the same
     # segmentation, so one spectrogram and a running mean give every k (checked against
     # welch_psd in the tests) instead of n_T separate Welch estimates.
-    frequency, _, periodograms = _signal.spectrogram(
-        data[:, :n_total * segment], fs=sample_rate, window="hann", nperseg=segment,
-        noverlap=int(segment * overlap), detrend="constant", return_onesided=True,
-        scaling="density", mode="psd", axis=-1)
+    frequency, periodograms = segment_periodograms(data[:, :n_total * segment], sample_rate,
+                                                   segment, overlap)
     running = np.cumsum(periodograms, axis=-1)
     counts_k = [welch_segment_count(k * segment, segment, overlap) for k in range(1, n_total + 1)]
     psds = [running[..., c - 1] / c for c in counts_k]
@@ -125,5 +121,5 @@ def psd_convergence(signals, sample_rate, *, window_length, band=None, norm="2",
                       for p in psds], axis=1)
     counts = np.arange(1, n_total + 1)
     return PSDConvergence(n_windows=counts, duration=counts * segment / sample_rate, error=error,
-                          output_names=full.output_names, window_length=segment / sample_rate,
+                          output_names=names, window_length=segment / sample_rate,
                           band=(lower, upper), norm=norm)

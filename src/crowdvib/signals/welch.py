@@ -95,6 +95,28 @@ def welch_segment_count(n_samples, segment_samples, overlap=0.5):
     return 0 if n_samples < segment_samples else 1 + (n_samples - segment_samples) // step
 
 
+def channel_names(output_names, n_channels):
+    """The channels' names: ``output_names`` checked against the count, or ch0, ch1, …"""
+    names = (tuple(f"ch{i}" for i in range(n_channels)) if output_names is None
+             else tuple(output_names))
+    if len(names) != n_channels:
+        raise ParameterError(
+            f"output_names must name every channel ({n_channels}), got {len(names)}")
+    return names
+
+
+def segment_periodograms(data, sample_rate, segment, overlap):
+    """Frequencies [Hz] and the one-sided periodograms of every Welch segment, shape
+    (n_channels, n_frequencies, n_segments): Hann window, constant detrend, density scaling,
+    as ``scipy.signal.welch`` averages them."""
+    if not 0.0 <= overlap < 1.0:
+        raise ParameterError(f"overlap must lie in [0, 1), got {overlap!r}")
+    frequency, _, periodograms = _signal.spectrogram(
+        data, fs=sample_rate, window="hann", nperseg=segment, noverlap=int(segment * overlap),
+        detrend="constant", return_onesided=True, scaling="density", mode="psd", axis=-1)
+    return frequency, periodograms
+
+
 def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=None,
               lowpass=None):
     """One-sided Welch PSD of acceleration records → :class:`ResponsePSD` (docs: theory, Welch PSDs, filters and convergence).
@@ -124,8 +146,6 @@ def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=
         raise ParameterError(f"signals must have shape (n_channels, n_samples), got {data.shape}")
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
     window_length = check_positive("window_length", window_length, unit="s")
-    if not 0.0 <= overlap < 1.0:
-        raise ParameterError(f"overlap must lie in [0, 1), got {overlap!r}")
     segment = int(round(window_length * sample_rate))
     if segment < 8:
         raise ParameterError(
@@ -134,11 +154,7 @@ def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=
         raise DataError(
             f"record of {data.shape[1] / sample_rate:g} s is shorter than one window of "
             f"{window_length:g} s")
-    names = (tuple(f"ch{i}" for i in range(data.shape[0])) if output_names is None
-             else tuple(output_names))
-    if len(names) != data.shape[0]:
-        raise ParameterError(
-            f"output_names must name every channel ({data.shape[0]}), got {len(names)}")
+    names = channel_names(output_names, data.shape[0])
     if lowpass is not None:
         if abs(lowpass.sample_rate - sample_rate) > 1e-9 * sample_rate:
             raise ParameterError(
@@ -147,9 +163,7 @@ def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=
         data = lowpass.apply(data)
     # The segments' periodograms (what scipy.signal.welch averages), kept to measure their
     # scatter as well as their mean.
-    frequency, _, periodograms = _signal.spectrogram(
-        data, fs=sample_rate, window="hann", nperseg=segment, noverlap=int(segment * overlap),
-        detrend="constant", return_onesided=True, scaling="density", mode="psd", axis=-1)
+    frequency, periodograms = segment_periodograms(data, sample_rate, segment, overlap)
     psd = periodograms.mean(axis=-1)
     n_windows = periodograms.shape[-1]
     return ResponsePSD(frequency=frequency, psd=psd, output_names=names,
