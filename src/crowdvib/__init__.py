@@ -23,7 +23,7 @@ except PackageNotFoundError:  # running from a source tree that was not installe
 _LAZY = {
     **dict.fromkeys(("ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce"), "models"),
     **dict.fromkeys(("ResponsePSD", "welch_psd", "LowPassFilter", "psd_convergence",
-                     "PSDConvergence", "detrend", "resample"), "signals"),
+                     "PSDConvergence", "detrend", "resample", "running_rms"), "signals"),
     **dict.fromkeys(("response_psd", "frf", "effective_modal_properties", "SpectralModel",
                      "simulate", "Pedestrian", "FRF", "EffectiveModalProperties", "Simulation"),
                     "response"),

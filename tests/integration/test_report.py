@@ -90,10 +90,32 @@ def _check_in_browser(report, tmp_path):
     # Not blank: text, tables and plots darken a real share of the page and vary strongly.
     assert (pixels < 200).mean() > 0.02
     assert pixels.std() > 20.0
+    assert _input_rows_without_units(dom) == []
     data = pdf.read_bytes()
     assert data.startswith(b"%PDF")
     assert len(re.findall(rb"/Type\s*/Page\b", data)) >= 2
     return dom
+
+
+#: Input rows whose value is a name or a choice, not a quantity: no unit to show.
+_NAMES = {"name", "path", "description", "seed", "source", "files", "output names",
+          "channel names", "outputs", "formats", "format", "dtype", "record units",
+          "convergence norm"}
+
+
+def _input_rows_without_units(dom):
+    """(label, value) of every row of the Inputs section whose value holds a number but whose
+    label has no [unit] (issue 10: every input with its unit). Nested tables are checked row by
+    row; a row holding a table is only its container."""
+    part = dom[dom.index('<section id="inputs">'):]
+    part = part[:part.index("</section>")]
+    missing = []
+    for head, cell in re.findall(r"<tr><th>([^<]*)</th><td>((?:(?!<table).)*?)</td></tr>", part,
+                                 re.S):
+        name, text = html.unescape(head), html.unescape(re.sub(r"<[^>]+>", "", cell))
+        if re.search(r"\d", text) and "[" not in name and name not in _NAMES:
+            missing.append((name, text))
+    return missing
 
 
 def _decode_embedded_images(text):

@@ -10,7 +10,7 @@ from tqdm import tqdm
 
 from .. import __version__
 
-__all__ = ["say", "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output", "finish_output",
+__all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "say", "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output", "finish_output",
            "staged_output", "versions", "warning_texts", "progress_printer"]
 
 def say(message=""):
@@ -22,6 +22,11 @@ def say(message=""):
 # lists, and --out may never be, or contain, the working directory or a file the run reads.
 # A file a user added to (or edited in) crowdvib's results is foreign: --force and --resume
 # then refuse and name it rather than delete it or list it as crowdvib's in the next manifest.
+
+#: The case tables each kind of command reads; its report shows no others.
+ESTIMATION_TABLES = ("structure", "crowd", "hsi", "measurement", "estimation", "expected")
+SIMULATION_TABLES = ("structure", "crowd", "hsi", "simulation", "expected")
+
 
 def case_inputs(case):
     """(label, path) of every file a case reads: the case file, its records and modal files.

@@ -123,7 +123,7 @@ def _write_results(args, out, case, measured, estimate, occupied, n_windows):
                           lowpass=measured.lowpass)
     label = "measured (synthetic)" if args.spectral else "measured (simulated)"
     ax = plot_psd_comparison({label: measured, "fitted MSD": fitted,
-                              "no HSI": no_hsi}, band=case.band,
+                              "no HSI": no_hsi}, band=case.band, analysis_band=case.band,
                              title="Paper example: midspan acceleration PSD")
     figure = save_figure(ax, out / "psd_fit.png")
     results = {

@@ -7,7 +7,7 @@ from .. import __version__
 from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
 from ..reporting.text import interval_of, with_interval
-from .common import case_inputs, say, say_verdict, staged_output, versions, warning_texts
+from .common import ESTIMATION_TABLES, case_inputs, say, say_verdict, staged_output, versions, warning_texts
 
 
 def add_arguments(parser):
@@ -149,8 +149,7 @@ def _estimate_case(case, out):
     for name in outputs:
         ax = plot_psd_comparison({"measured": measured, "fitted MSD": fitted, "no HSI": no_hsi},
                                  output=name, band=(0.0, max(est.band[1], 2 * est.band[0])),
-                                 title=f"{case.name}: {name}")
-        ax.axvspan(*est.band, color="tab:green", alpha=0.07, label="band")
+                                 analysis_band=est.band, title=f"{case.name}: {name}")
         figures.append(save_figure(ax, out / names[name]).name)
     figures.append(save_figure(plot_psd_convergence(convergence, title=f"{case.name}: PSD "
                                                     "convergence"),
@@ -164,7 +163,7 @@ def _estimate_case(case, out):
     if step_result is not None:
         diagnostics["step_frequencies"] = step_result.to_dict()
     return {"command": "estimate", "crowdvib_version": __version__, "versions": versions(),
-            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
+            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(ESTIMATION_TABLES),
             "record": record.to_dict(), "crowd_used": {
                 "step_frequency_mean": crowd.step_frequency_mean,
                 "step_frequency_std": crowd.step_frequency_std},

@@ -9,7 +9,7 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import (case_inputs, progress_printer, say, say_verdict, staged_output, versions,
+from .common import (ESTIMATION_TABLES, case_inputs, progress_printer, say, say_verdict, staged_output, versions,
                      warning_texts)
 from .estimate import case_crowd, case_measurement, estimate_options
 
@@ -73,7 +73,7 @@ def run(args):
         figure = save_figure(ax, staging / "objective_map.png").name
         write_json(staging / "results.json", {
             "command": "map", "crowdvib_version": __version__, "versions": versions(),
-            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
+            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(ESTIMATION_TABLES),
             "estimate": estimate.msd.to_dict(), "expected": dict(case.expected),
             "diagnostics": {k: v for k, v in estimate.to_dict().items() if k != "estimate"},
             "objective_map": landscape.to_dict(),

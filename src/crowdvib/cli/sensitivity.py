@@ -7,7 +7,7 @@ from pathlib import Path
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import (case_inputs, dask_address, finish_output, positive_int, prepare_output,
+from .common import (ESTIMATION_TABLES, case_inputs, dask_address, finish_output, positive_int, prepare_output,
                      progress_printer, say, versions)
 from .estimate import case_crowd, case_measurement, estimate_options
 
@@ -145,7 +145,7 @@ def run(args):
     figure = save_figure(axes, out / "estimation_errors.png").name
     write_json(out / "results.json", {
         "command": "sensitivity", "crowdvib_version": __version__, "versions": versions(),
-        "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
+        "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(ESTIMATION_TABLES),
         "estimate": {"frequency": study.nominal["frequency"],
                      "damping_ratio": study.nominal["damping_ratio"],
                      "mass_ratio": study.nominal["mass_ratio"],

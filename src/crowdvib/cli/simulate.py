@@ -3,12 +3,10 @@
 import time
 from pathlib import Path
 
-import numpy as np
-
 from .. import __version__
-from .._files import write_json
+from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
-from .common import (case_inputs, progress_printer, record_formats, say, say_if_compiling,
+from .common import (SIMULATION_TABLES, case_inputs, progress_printer, record_formats, say, say_if_compiling,
                      say_verdict, staged_output, versions)
 
 
@@ -71,23 +69,26 @@ def run(args):
         window = min(case.measurement.window_length, record.duration)
         psd = welch_psd(record.data, rate, window_length=window,
                         output_names=record.channel_names)
-        figure = save_figure(plot_psd_comparison({"simulated (Welch)": psd},
-                                                 band=(0.0, min(rate / 2, 12.0)),
-                                                 title=f"{case.name}: simulated record"),
-                             staging / "psd.png").name
-        history = save_figure(plot_time_history(simulation,
-                                                title=f"{case.name}: simulated time history"),
-                              staging / "time_history.png").name
+        # Every output on the PSD figure, named; one time history per output.
+        figures = [save_figure(plot_psd_comparison(
+            {name: psd.select(name) for name in psd.output_names},
+            band=(0.0, min(rate / 2, 12.0)), title=f"{case.name}: simulated record (Welch PSD)"),
+            staging / "psd.png").name]
+        names = unique_filenames(simulation.output_names, prefix="time_history_", suffix=".png",
+                                 taken=("psd.png",))
+        for name in simulation.output_names:
+            figures.append(save_figure(plot_time_history(
+                simulation, output=name, title=f"{case.name}: simulated time history at {name}"),
+                staging / names[name]).name)
         results = {"command": "simulate", "crowdvib_version": __version__,
                    "versions": versions(), "seed": int(simulation.seed),
                    "case": None if case.path is None else str(case.path),
-                   "inputs": case.to_dict(), "msd": None if msd is None else msd.to_dict(),
+                   "inputs": case.to_dict(SIMULATION_TABLES),
+                   "msd": None if msd is None else msd.to_dict(),
                    "duration": duration, "sample_rate": sample_rate,
                    "record": {**record.to_dict(), "files": files},
-                   "rms": dict(zip(record.channel_names, np.sqrt(np.mean(
-                       (record.data - record.data.mean(axis=1, keepdims=True)) ** 2,
-                       axis=1)).tolist())),
-                   "elapsed_s": elapsed, "figures": [figure, history],
+                   "response": simulation.summary(window=1.0),
+                   "elapsed_s": elapsed, "figures": figures,
                    **provenance(case.path)}
         write_json(staging / "results.json", results)
         write_report(staging)

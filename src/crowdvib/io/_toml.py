@@ -20,10 +20,13 @@ REQUIRED = object()
 class Table:
     """One TOML table with its dotted prefix and file, for messages that point at the key."""
 
-    def __init__(self, data, prefix, path):
+    def __init__(self, data, prefix, path, defaulted=None):
         if not isinstance(data, dict):
             raise ParameterError(f"{path.name}: {prefix} must be a table, got {quote(data)}")
         self.data, self.prefix, self.path, self.used = data, prefix, path, set()
+        # Dotted keys the file left out, shared by a table and its sub-tables: the report marks
+        # their values as defaults, not as the user's inputs.
+        self.defaulted = set() if defaulted is None else defaulted
 
     def key(self, name):
         return f"{self.prefix}.{name}" if self.prefix else name
@@ -41,6 +44,7 @@ class Table:
                 near = difflib.get_close_matches(name, [k for k in self.data if k != name], n=1)
                 hint = f" (found {quote(self.key(near[0]))}: misspelt?)" if near else ""
                 raise ParameterError(f"{self.path.name}: {self.key(name)} is required{hint}")
+            self.defaulted.add(self.key(name))
             return default
         return self.data[name]
 
@@ -115,7 +119,7 @@ class Table:
 
     def table(self, name, *, required=False):
         value = self.raw(name, REQUIRED if required else {})
-        return Table(value, self.key(name), self.path)
+        return Table(value, self.key(name), self.path, self.defaulted)
 
     def file(self, name, default=REQUIRED):
         value = self.string(name, default)

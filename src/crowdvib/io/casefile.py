@@ -154,9 +154,15 @@ class Case:
     expected: dict = field(default_factory=dict)
     seed: int = None
     description: str = ""
+    #: Dotted keys of :meth:`to_dict` the file did not set → "default" or how they were derived.
+    not_set: dict = field(default_factory=dict)
 
-    def to_dict(self):
-        """The inputs as a JSON-ready dict (models summarised, paths as strings)."""
+    def to_dict(self, sections=None):
+        """The inputs as a JSON-ready dict (models summarised, paths as strings).
+
+        ``sections`` keeps only those tables (e.g. a simulation has no use for ``estimation``);
+        ``not_set`` lists the keys the file left to their defaults, for the report to mark.
+        """
         def plain(value):
             if isinstance(value, Path):
                 return str(value)
@@ -169,7 +175,7 @@ class Case:
             return value
 
         s = self.structure
-        return {"name": self.name, "path": None if self.path is None else str(self.path),
+        data = {"name": self.name, "path": None if self.path is None else str(self.path),
                 "description": self.description, "seed": self.seed,
                 "structure": {"name": s.name, "frequencies": s.frequencies.tolist(),
                               "damping_ratios": s.damping_ratios.tolist(),
@@ -181,6 +187,10 @@ class Case:
                 "crowd": plain(self.crowd), "hsi": self.msd.to_dict(),
                 "measurement": plain(self.measurement), "estimation": plain(self.estimation),
                 "simulation": plain(self.simulation), "expected": dict(self.expected)}
+        if sections is not None:
+            data = {k: v for k, v in data.items() if not isinstance(v, dict) or k in sections}
+        data["not_set"] = {k: v for k, v in self.not_set.items() if k.split(".")[0] in data}
+        return data
 
 
 def _outputs(table, path, *, pairs):
@@ -444,6 +454,7 @@ def _case(path, data):
     simulation = _simulation(root.table("simulation"), path)
     expected = _expected(root.table("expected"))
     root.finish()
+    not_set = _not_set(root.defaulted | ({"estimation"} if not root.has("estimation") else set()))
     outputs = estimation.outputs or structure.output_names
     try:
         structure.output_index(outputs)
@@ -456,7 +467,21 @@ def _case(path, data):
             raise ParameterError(f"{path.name}: measurement.channels keys: {exc}") from None
     return Case(name=name, path=path, structure=structure, crowd=crowd, msd=msd,
                 measurement=measurement, estimation=estimation, simulation=simulation,
-                expected=expected, seed=seed, description=description)
+                expected=expected, seed=seed, description=description, not_set=not_set)
+
+
+#: Case-file keys whose :meth:`Case.to_dict` name differs.
+_RENAMED = {"measurement.filter.cutoff": "measurement.lowpass_cutoff",
+            "measurement.filter.order": "measurement.lowpass_order",
+            "estimation.weights": "estimation.output_weights"}
+#: Keys that, when left out, are computed from others rather than defaulted.
+_DERIVED = {"crowd.walking_speed": "from the density (Weidmann 1993)",
+            "crowd.step_frequency_mean": "from the walking speed (Bruno & Venuti 2009)"}
+
+
+def _not_set(defaulted):
+    """The keys a file left out, as :meth:`Case.to_dict` names them → "default" or derivation."""
+    return {_RENAMED.get(key, key): _DERIVED.get(key, "default") for key in sorted(defaulted)}
 
 
 def paper_example_case():

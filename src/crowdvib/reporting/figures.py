@@ -27,7 +27,7 @@ _CAPTIONS = {
                          "error level (paper Figs. 11, 19).",
     "parametric_ratios": "Ratio of estimated to true MSD parameters across the family of "
                          "structures; filled circles: optimum on a bound (paper Figs. 5, 6).",
-    "psd": "Welch PSD of the simulated record.",
+    "psd": "Welch PSD of the simulated record at every output.",
     "time_history": "Simulated acceleration with its 1 s running RMS and the people on the deck.",
 }
 _PNG = b"\x89PNG\r\n\x1a\n"
@@ -80,6 +80,9 @@ def caption(name):
     if stem.startswith("psd_"):
         return html("PSD at {}: measured against the model without HSI and with the fitted MSD "
                     "(paper Figs. 12, 17, 20).", stem[4:])
+    if stem.startswith("time_history_"):
+        return html("Simulated acceleration at {} with its 1 s running RMS and the people on the "
+                    "deck.", stem[len("time_history_"):])
     return html("{}", stem.replace("_", " "))
 
 

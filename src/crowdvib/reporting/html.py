@@ -38,6 +38,7 @@ def number(value, digits=4):
 
 
 _TITLES = {"hsi": "HSI (MSD model)", "msd": "MSD model", "crowd_used": "crowd used",
+           "units": "record units",
            "truth": "truth (MSD of the synthetic measurement)"}
 
 
@@ -62,6 +63,11 @@ _QUANTITIES = {
     "duration_s": ("duration", "s"), "warm_up": ("warm-up", "s"),
     "rms": ("RMS acceleration", "m/s²"), "elapsed_s": ("run time", "s"),
     "n_windows": ("Welch windows", "-"), "level": ("confidence level", "-"),
+    "output_weights": ("output weights γ", "-"), "weights": ("output weights γ", "-"),
+    "n_samples": ("samples", "-"), "start_time": ("start time", "s"),
+    "starts": ("starting points (f_h1, ξ_h1[, μ_h1])", "Hz, -, -"),
+    "mean_on_deck": ("mean number on the deck", "-"), "n_pedestrians": ("pedestrians", "-"),
+    "time_step": ("time step", "s"), "peak": ("peak acceleration", "m/s²"),
 }
 
 
@@ -163,7 +169,8 @@ table.kv table.kv th { width: 50%; }
 .cards { display: grid; grid-template-columns: repeat(auto-fill, minmax(310px, 1fr));
          gap: 14px; }
 .card { border: 1px solid var(--line); border-radius: 6px; padding: 4px 12px 8px; }
-.card h3 { margin: 8px 0 4px; text-transform: capitalize; }
+.card h3 { margin: 8px 0 4px; }
+.default { color: #8a6d00; font-size: .82em; font-style: italic; }
 figure { margin: 18px 0 26px; }
 figure img { display: block; max-width: 100%; height: auto; margin: 0 auto;
              border: 1px solid var(--line); }

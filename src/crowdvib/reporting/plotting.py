@@ -7,6 +7,7 @@ Axes and never calls ``plt.show()``; matplotlib is imported only when a plot is 
 
 import numpy as np
 
+from ..signals.conditioning import running_rms
 from .figure_base import (_DARK, _LIGHT, FigureAxes, _axes, _in_band, _panels, _positive,
                           figure_bytes, save_figure)
 from .study_plots import plot_estimation_errors, plot_objective_map, plot_parametric_ratios
@@ -16,7 +17,8 @@ __all__ = ["FigureAxes", "plot_psd_comparison", "plot_psd_convergence", "plot_lo
            "plot_parametric_ratios", "plot_time_history", "save_figure", "figure_bytes"]
 
 
-def plot_psd_comparison(curves, *, output=None, band=None, logscale=True, ax=None, title=None):
+def plot_psd_comparison(curves, *, output=None, band=None, analysis_band=None, logscale=True,
+                        ax=None, title=None):
     """Acceleration PSDs of one output on one axes (paper Figs. 3, 12, 17, 20).
 
     Parameters
@@ -27,6 +29,8 @@ def plot_psd_comparison(curves, *, output=None, band=None, logscale=True, ax=Non
         Output name (default the first output of the first curve).
     band : (float, float), optional
         Frequency range [Hz] to show.
+    analysis_band : (float, float), optional
+        The estimator's analysis band [Hz], shaded and named in the legend.
     logscale : bool
         Logarithmic PSD axis.
     ax : matplotlib.axes.Axes, optional
@@ -37,6 +41,10 @@ def plot_psd_comparison(curves, *, output=None, band=None, logscale=True, ax=Non
     matplotlib.axes.Axes
     """
     ax = _axes(ax)
+    if analysis_band is not None:
+        low, high = analysis_band
+        ax.axvspan(low, high, color="tab:green", alpha=0.07, lw=0,
+                   label=f"analysis band {low:g}–{high:g} Hz")
     styles = [dict(color="black", lw=1.0), dict(color="tab:red", lw=1.6, ls="--"),
               dict(color="0.55", lw=1.2), dict(color="tab:blue", lw=1.2, ls=":")]
     unit, top = None, 0.0
@@ -214,16 +222,6 @@ def plot_frf(empty, occupied=None, *, output=None, input=None, band=None, ax=Non
     return ax
 
 
-def _running_rms(signal, sample_rate, window):
-    """Trailing running RMS over ``window`` seconds; NaN until the first window is full."""
-    n = max(int(round(window * sample_rate)), 1)
-    energy = np.concatenate([[0.0], np.cumsum(np.asarray(signal, dtype=float) ** 2)])
-    result = np.full(np.size(signal), np.nan)
-    if result.size >= n:
-        result[n - 1:] = np.sqrt(np.maximum(energy[n:] - energy[:-n], 0.0) / n)
-    return result
-
-
 def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=None):
     """Simulated acceleration, its running RMS and the number of people on the deck.
 
@@ -254,7 +252,7 @@ def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=N
         raise ParameterError(f"output must be one of {list(names)}, got {name!r}")
     signal = np.asarray(simulation.acceleration)[names.index(name)]
     time = np.asarray(simulation.time)
-    rms = _running_rms(signal, simulation.sample_rate, window)
+    rms = running_rms(signal, simulation.sample_rate, window)
     top.plot(time, signal, color=_LIGHT, lw=0.4, label="acceleration")
     peak = np.nanmax(rms) if np.isfinite(rms).any() else np.nan
     top.plot(time, rms, color=_DARK, lw=1.4, label=f"{window:g} s running RMS (max {peak:.3g} m/s²)")

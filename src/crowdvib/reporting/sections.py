@@ -77,6 +77,9 @@ def summary_section(results, notes):
     relative = hsi(results, "relative_cost")
     if relative is not None:
         items.append(html("{} = {}", _RELATIVE, number(relative, 3)))
+    response = _response(results)
+    if response is not None:
+        items.append(response[0])
     verdict = (join(html("<li>{}</li>", item) for item in items)
                or Markup("<li>no estimate in these results</li>"))
     if notes.warnings:
@@ -86,8 +89,27 @@ def summary_section(results, notes):
         good = (html("<ul>{}</ul>", join(html("<li>{}</li>", g) for g in notes.good))
                 if notes.good else "")
         box = html('<div class="callout ok"><strong>No warnings</strong>{}</div>', good)
-    return html('<section id="summary"><h2>Summary</h2><ul class="headline">{}</ul>{}</section>',
-                verdict, box)
+    return html('<section id="summary"><h2>Summary</h2><ul class="headline">{}</ul>{}{}</section>',
+                verdict, response[1] if response is not None else "", box)
+
+
+def _response(results):
+    """(headline, table) of a simulated response: RMS, peak and largest running RMS per output
+    in m/s², or None when the results hold none."""
+    data = results.get("response")
+    if not isinstance(data, dict) or not isinstance(data.get("output_names"), list):
+        return None
+    names = data["output_names"]
+    columns = [data.get(k) if isinstance(data.get(k), list) and len(data[k]) == len(names)
+               else [None] * len(names) for k in ("rms", "peak", "max_running_rms")]
+    window = number(data.get("running_rms_window"))
+    rows = [[name, *(number(_real(c[i]), 3) for c in columns)] for i, name in enumerate(names)]
+    running = [(_real(v), name) for v, name in zip(columns[2], names) if _real(v) is not None]
+    headline = (html("largest {} s running RMS = {} m/s² (at {})", window,
+                     number(max(running)[0], 3), max(running)[1]) if running
+                else Markup("simulated response (no running RMS)"))
+    return headline, table(["output", "RMS [m/s²]", "peak |a| [m/s²]",
+                            html("largest {} s running RMS [m/s²]", window)], rows)
 
 
 def _combined(results, key):
@@ -224,6 +246,17 @@ def diagnostics_section(results, notes):
         if failed:
             notes.warn(html("{} modelling-error case(s) failed, e.g. {}: {}", len(failed),
                             failed[0].get("name", "?"), failed[0]["error"]))
+        # A case on a search bound has a Δ the bound cut short: the study's bound is then a
+        # lower limit, which the verdict must say.
+        stuck = [c for c in cases if isinstance(c.get("active_bounds"), list)
+                 and c["active_bounds"]]
+        if stuck:
+            first = stuck[0]
+            notes.warn(html("{} of {} modelling-error case(s) ended on a search bound (e.g. {}: "
+                            "{}): their Δ is cut short by the bound, so the modelling bound is "
+                            "a lower limit; widen the search bounds.", len(stuck), len(cases),
+                            first.get("label") or first.get("name", "?"),
+                            ", ".join(map(str, first["active_bounds"]))))
     messages = results.get("warnings")
     messages = messages if isinstance(messages, list) else []
     for message in messages:
@@ -325,27 +358,56 @@ def figures_section(figures):
 
 def inputs_section(results):
     inputs = results.get("inputs")
+    not_set = {}
     blocks = []
     if isinstance(inputs, dict):
+        inputs = dict(inputs)
+        if isinstance(inputs.get("not_set"), dict):
+            not_set = inputs.pop("not_set")
         simple = {k: v for k, v in inputs.items() if not isinstance(v, dict)}
         if simple:
-            blocks.append(("case", simple))
-        blocks += [(k, v) for k, v in inputs.items() if isinstance(v, dict) and v]
+            blocks.append(("case", "", simple))
+        blocks += [(k, k, v) for k, v in inputs.items() if isinstance(v, dict) and v]
     elif results.get("case") is not None:
-        blocks.append(("case", {"name": results["case"]}))
+        blocks.append(("case", "", {"name": results["case"]}))
     for key in ("truth", "expected", "measured", "record", "crowd_used", "msd", "levels"):
         if isinstance(results.get(key), dict) and not (key == "expected" and isinstance(
                 inputs, dict) and inputs.get("expected") == results[key]):
-            blocks.append((key, results[key]))
-    for key in ("duration", "sample_rate", "rms", "elapsed_s"):
+            blocks.append((key, None, results[key]))
+    for key in ("duration", "sample_rate", "elapsed_s"):
         if key in results:
-            blocks.append((key, {key: results[key]}))
-    cards = join(html('<div class="card"><h3>{}</h3>{}</div>', label(title), value(block))
-                 for title, block in blocks)
+            blocks.append((key, None, {key: results[key]}))
+    cards = join(html('<div class="card"><h3>{}</h3>{}</div>', _capital(label(title)),
+                      _input_rows(block, prefix, not_set)) for title, prefix, block in blocks)
     if not blocks:
         cards = Markup('<p class="muted">No inputs recorded in these results.</p>')
-    return html('<section id="inputs"><h2>Inputs</h2><div class="cards">{}</div></section>',
-                cards)
+    note = (html('<p class="muted">Values marked <span class="default">default</span> were not '
+                 'set in the case file; <span class="default">derived</span> ones were computed '
+                 'from other inputs.</p>') if not_set else Markup(""))
+    return html('<section id="inputs"><h2>Inputs</h2>{}<div class="cards">{}</div></section>',
+                note, cards)
+
+
+def _capital(text):
+    """First letter upper case, the rest as written ("HSI (MSD model)", not "Msd Model")."""
+    return text[:1].upper() + text[1:]
+
+
+def _input_rows(block, prefix, not_set):
+    """One card's rows; a key the case file left out is marked as a default (or derived)."""
+    rows = []
+    for key, data in block.items():
+        how = None
+        if prefix is not None:
+            dotted = f"{prefix}.{key}" if prefix else key
+            how = not_set.get(dotted, not_set.get(prefix) if prefix else None)
+        cell = value(data, 1)
+        if how == "default":
+            cell = html('{} <span class="default">default</span>', cell)
+        elif how:
+            cell = html('{} <span class="default">derived {}</span>', cell, how)
+        rows.append(html("<tr><th>{}</th><td>{}</td></tr>", label(key), cell))
+    return html('<table class="kv">{}</table>', join(rows))
 
 
 def _now():

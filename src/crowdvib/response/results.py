@@ -172,6 +172,28 @@ class Simulation:
         return welch_psd(self.acceleration, self.sample_rate, window_length=window_length,
                          overlap=overlap, output_names=self.output_names, lowpass=lowpass)
 
+    def summary(self, window=1.0):
+        """What a comfort check reads first, per output: RMS, peak |a| and the largest running
+        RMS over ``window`` seconds, all in m/s² (docs: theory, Design checks).
+
+        Returns
+        -------
+        dict
+            ``output_names``, ``rms``, ``peak``, ``max_running_rms`` (lists, one per output) and
+            ``running_rms_window`` [s].
+        """
+        from ..signals.conditioning import running_rms
+
+        data = np.asarray(self.acceleration)
+        moving = running_rms(data, self.sample_rate, window)
+        full = np.isfinite(moving).any(axis=-1)
+        return {"output_names": list(self.output_names),
+                "rms": np.sqrt(np.mean(data ** 2, axis=-1)).tolist(),
+                "peak": np.max(np.abs(data), axis=-1, initial=0.0).tolist(),
+                "max_running_rms": [float(np.nanmax(row)) if ok else None
+                                    for row, ok in zip(moving, full)],
+                "running_rms_window": float(window)}
+
     def plot(self, *, output=None, window=1.0, axes=None, title=None):
         """Draw the record, its running RMS and the people on the deck
         (see :func:`crowdvib.reporting.plotting.plot_time_history`)."""

@@ -5,7 +5,8 @@ Welch PSD and its expectation kernel) → ``conditioning`` (detrend, resample, t
 ``convergence`` (PSD against record length).
 """
 
-from .conditioning import detrend, resample, select_time_frame, stationary_time_frame
+from .conditioning import (detrend, resample, running_rms, select_time_frame,
+                           stationary_time_frame)
 from .convergence import PSDConvergence, psd_convergence
 from .spectrum import ResponsePSD
 from .welch import (LowPassFilter, synthetic_welch_psd, welch_degrees_of_freedom, welch_kernel,
@@ -13,4 +14,4 @@ from .welch import (LowPassFilter, synthetic_welch_psd, welch_degrees_of_freedom
 
 __all__ = ["ResponsePSD", "LowPassFilter", "welch_psd", "welch_kernel", "welch_segment_count",
            "welch_degrees_of_freedom", "synthetic_welch_psd", "detrend", "resample",
-           "select_time_frame", "stationary_time_frame", "PSDConvergence", "psd_convergence"]
+           "running_rms", "select_time_frame", "stationary_time_frame", "PSDConvergence", "psd_convergence"]
