@@ -30,6 +30,7 @@ extensions = [
     "sphinx_gallery.gen_gallery",
     "sphinxarg.ext",
     "casefile_keys",
+    "validation",
 ]
 
 exclude_patterns = ["_build", "**.ipynb_checkpoints"]

@@ -1,5 +1,7 @@
 """Shared fixtures: the paper's numerical example (docs: theory, The paper's numerical example) and a seeded generator."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -34,3 +36,79 @@ def welch_grid():
 @pytest.fixture
 def rng():
     return np.random.default_rng(20221109)
+
+
+# ------------------------------------------------------------------------ validation records
+# Tests that check crowdvib against an outside reference (a closed form, the paper's numbers, an
+# independent solver) do so through the ``reference`` fixture, which asserts and records. With
+# ``--validation-json PATH`` the records and each test's outcome are written to PATH; the docs'
+# validation page (docs/_ext/validation.py) is generated from that file, so the page shows the
+# values the tests obtained, never numbers copied by hand.
+class Reference:
+    """``reference(quantity, obtained, expected, rel=…, abs=…, unit=…, source=…)``: assert
+    ``obtained ≈ expected`` (pytest.approx) and record it for the validation page."""
+
+    def __init__(self, records, nodeid):
+        self.records, self.nodeid = records, nodeid
+
+    def __call__(self, quantity, obtained, expected, *, source, rel=None, abs=None, unit=""):
+        obtained_array, expected_array = np.asarray(obtained), np.asarray(expected)
+        record = {"test": self.nodeid, "quantity": quantity, "source": source, "unit": unit,
+                  "obtained": _plain(obtained_array), "expected": _plain(expected_array),
+                  "rel": rel, "abs": abs}
+        if obtained_array.size > 1:      # arrays: the worst relative deviation is the figure
+            scale = np.maximum(np.abs(expected_array), np.finfo(float).tiny)
+            record["size"] = int(obtained_array.size)
+            record["max_relative_deviation"] = float(np.max(np.abs(
+                obtained_array - expected_array) / scale))
+        self.records.append(record)
+        assert obtained_array == pytest.approx(expected_array, rel=rel, abs=abs), (
+            f"{quantity}: {obtained} against {expected} ({source})")
+
+
+def _plain(array):
+    """JSON form of a checked value (complex numbers as text, long arrays cut to 12 values)."""
+    values = array.ravel()[:12]
+    values = ([f"{v:.6g}" for v in values] if np.iscomplexobj(values)
+              else values.astype(float).tolist())
+    return values[0] if array.size == 1 else values
+
+
+def pytest_addoption(parser):
+    parser.addoption("--validation-json", default=None, metavar="PATH",
+                     help="write every reference check (the docs' validation page) to PATH")
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "reference: checks crowdvib against an outside reference "
+                                       "(listed on the docs' validation page)")
+    config.crowdvib_references, config.crowdvib_outcomes = [], {}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if "reference" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.reference)
+
+
+@pytest.fixture
+def reference(request):
+    return Reference(request.config.crowdvib_references, request.node.nodeid)
+
+
+def pytest_runtest_makereport(item, call):
+    # Each test's outcome beside its records: the page shows a failed check as failed.
+    if call.when == "call" or call.excinfo is not None:
+        outcome = "passed"
+        if call.excinfo is not None:
+            outcome = "skipped" if call.excinfo.errisinstance(pytest.skip.Exception) else "failed"
+        item.config.crowdvib_outcomes[item.nodeid] = outcome
+
+
+def pytest_sessionfinish(session):
+    path = session.config.getoption("--validation-json")
+    if path:
+        data = {"records": session.config.crowdvib_references,
+                "outcomes": session.config.crowdvib_outcomes}
+        with open(path, "w", encoding="utf-8") as handle:
+            json.dump(data, handle, indent=1)

@@ -9,7 +9,7 @@ from crowdvib.models.loading import STANDARD_GRAVITY
 from crowdvib.signals import LowPassFilter, welch_kernel
 
 
-def test_crowd_load_variance_matches_campbell_closed_form(paper_bridge, paper_crowd):
+def test_crowd_load_variance_matches_campbell_closed_form(paper_bridge, paper_crowd, reference):
     # docs: theory, Modal load PSD of a Poisson crowd check: σ_Q² = Ψ11 W² Σ_c E[α_c²]/2, the expectation over f_s ~ N(μ, σ)
     # computed here independently by quadrature in the step frequency (not in f).
     force = ZivanovicForce()
@@ -24,22 +24,30 @@ def test_crowd_load_variance_matches_campbell_closed_form(paper_bridge, paper_cr
 
     expected = (37.5 * (70 * STANDARD_GRAVITY) ** 2
                 * sum(mean_square(c) for c in range(10)) / 2)
-    assert variance == pytest.approx(expected, rel=1e-3)
+    reference("modal load variance of a Poisson crowd (paper example)", variance, expected,
+              rel=1e-3, unit="N²", source="Campbell's theorem by quadrature over f_s (docs: "
+                                          "theory, Modal load PSD of a Poisson crowd)")
 
 
-def test_sdof_frf_matches_closed_form():
+def test_sdof_frf_matches_closed_form(reference):
     # Closed form of an SDOF accelerance at the antinode: H = −ω²/(k − ω² m + iωc).
     bridge = ModalModel.simply_supported_beam(40.0, 2.0, 2.5, 0.01, 30e3)
     f = np.linspace(0.1, 6.0, 500)
     w, wn = 2 * np.pi * f, 2 * np.pi * 2.5
     expected = -w**2 / (30e3 * wn**2 - w**2 * 30e3 + 1j * w * 2 * 0.01 * 30e3 * wn)
-    np.testing.assert_allclose(frf(bridge, f).values[0, 0], expected, rtol=1e-12)
+    got = frf(bridge, f).values[0, 0]
+    reference("SDOF accelerance, real part (500 frequencies)", got.real, expected.real,
+              rel=1e-12, unit="1/kg", source="closed form −ω²/(k − ω²m + iωc)")
+    reference("SDOF accelerance, imaginary part (500 frequencies)", got.imag, expected.imag,
+              rel=1e-12, unit="1/kg", source="closed form −ω²/(k − ω²m + iωc)")
     # Resonance: |displacement receptance| = 1/(2ξk).
     at = frf(bridge, [2.5]).values[0, 0, 0] / -(wn**2)
-    assert abs(at) == pytest.approx(1 / (2 * 0.01 * 30e3 * wn**2), rel=1e-12)
+    reference("SDOF receptance at resonance", abs(at), 1 / (2 * 0.01 * 30e3 * wn**2), rel=1e-12,
+              unit="m/N", source="closed form 1/(2ξk)")
 
 
-def test_coupled_poles_match_characteristic_polynomial(paper_bridge, paper_crowd, paper_msd):
+def test_coupled_poles_match_characteristic_polynomial(paper_bridge, paper_crowd, paper_msd,
+                                                       reference):
     # 1 mode + smeared MSD is a 2-DOF system (docs: theory, The smeared crowd and the occupied bridge); its poles are the roots of
     # det(λ²M + λC + K) = 0, a quartic written out here by hand.
     from crowdvib import effective_modal_properties
@@ -60,37 +68,43 @@ def test_coupled_poles_match_characteristic_polynomial(paper_bridge, paper_crowd
     expected = np.sort(np.abs(roots) / (2 * np.pi))
     props = effective_modal_properties(paper_bridge, paper_crowd, paper_msd)
     got = np.sort(np.r_[props.frequencies, props.interaction_frequencies])
-    np.testing.assert_allclose(got, expected, rtol=1e-9)
+    reference("poles of the mode + smeared MSD (paper example)", got, expected, rel=1e-9,
+              unit="Hz", source="roots of the hand-written characteristic quartic (docs: theory, "
+                                "The smeared crowd and the occupied bridge)")
 
 
-def test_welch_of_white_noise_is_flat_at_variance_over_nyquist(rng):
+def test_welch_of_white_noise_is_flat_at_variance_over_nyquist(rng, reference):
     # One-sided density convention: white noise of variance σ² has G = σ²/(fs/2) (docs: theory, Conventions).
     fs, sigma = 100.0, 0.7
     x = rng.normal(0, sigma, size=400_000)
     psd = welch_psd(x, fs, window_length=20.0)
     inner = psd.psd[0, 1:-1]
-    assert inner.mean() == pytest.approx(sigma**2 / (fs / 2), rel=0.01)
+    reference("Welch PSD level of white noise", inner.mean(), sigma**2 / (fs / 2), rel=0.01,
+              unit="1/Hz", source="one-sided convention G = σ²/(f_s/2) (docs: theory, Conventions)")
     # Parseval: ∫ G df = variance of the record.
-    assert psd.variance()[0] == pytest.approx(x.var(), rel=0.01)
+    reference("Parseval: ∫G df of a Welch PSD", psd.variance()[0], x.var(), rel=0.01,
+              source="variance of the record (Parseval)")
 
 
-def test_welch_psd_equals_scipy_welch(rng):
+def test_welch_psd_equals_scipy_welch(rng, reference):
     # Same numbers as scipy.signal.welch(Hann, 50 %, constant detrend, density).
     x = rng.normal(size=(2, 12_000))
     ours = welch_psd(x, 50.0, window_length=10.0, output_names=("a", "b"))
     f, ref = signal.welch(x, fs=50.0, window="hann", nperseg=500, noverlap=250,
                           detrend="constant", scaling="density", axis=-1)
     np.testing.assert_allclose(ours.frequency, f)
-    np.testing.assert_allclose(ours.psd, ref, rtol=1e-12)
+    reference("Welch PSD of two noise records", ours.psd, ref, rel=1e-12,
+              source="scipy.signal.welch (Hann, 50 %, constant detrend, density)")
     assert ours.n_windows == 47
 
 
-def test_welch_kernel_has_unit_area_and_predicts_a_sinusoid():
+def test_welch_kernel_has_unit_area_and_predicts_a_sinusoid(reference):
     # docs: theory, What a Welch estimate sees: the expectation kernel: E[Ĝ](f) = ∫ G(ν) K(f−ν) dν with ∫K = 1. A sinusoid of amplitude A at f0
     # has G = A²/2 δ(f − f0), so its Welch PSD is (A²/2) K(f − f0), here checked against scipy.
     T = 20.0
     nu = np.linspace(-40, 40, 400_001) / T
-    assert np.trapezoid(welch_kernel(nu, T), nu) == pytest.approx(1.0, abs=2e-5)
+    reference("area of the Welch expectation kernel", np.trapezoid(welch_kernel(nu, T), nu), 1.0,
+              abs=2e-5, source="unit area (docs: theory, What a Welch estimate sees)")
     fs, amplitude, f0 = 100.0, 0.3, 2.0 + 0.37 / T      # between two bins
     t = np.arange(int(600 * fs)) / fs
     x = amplitude * np.sin(2 * np.pi * f0 * t + 0.4)
@@ -100,7 +114,7 @@ def test_welch_kernel_has_unit_area_and_predicts_a_sinusoid():
     np.testing.assert_allclose(psd.psd[0, near], expected, rtol=0.02, atol=1e-6 * expected.max())
 
 
-def test_lowpass_power_gain_matches_filtered_noise(rng):
+def test_lowpass_power_gain_matches_filtered_noise(rng, reference):
     # A zero-phase filter applies |H|² twice: the PSD of filtered white noise is G·|H|⁴.
     fs = 100.0
     lowpass = LowPassFilter(cutoff=5.0, order=4, sample_rate=fs)
@@ -109,16 +123,23 @@ def test_lowpass_power_gain_matches_filtered_noise(rng):
     filtered = welch_psd(x, fs, window_length=20.0, lowpass=lowpass)
     band = (raw.frequency > 1) & (raw.frequency < 7)
     ratio = filtered.psd[0, band] / raw.psd[0, band]
-    np.testing.assert_allclose(ratio, lowpass.power_gain(raw.frequency[band]), rtol=0.02,
-                               atol=1e-4)
+    reference("zero-phase low-pass: filtered/raw PSD of white noise, 1–7 Hz", ratio,
+              lowpass.power_gain(raw.frequency[band]), rel=0.02, abs=1e-4,
+              source="|H|⁴ of a forward-backward Butterworth filter (docs: theory, Conventions)")
     assert filtered.lowpass is lowpass
 
 
-def test_apparent_mass_limits():
+_APPARENT = ("M_app(0) = m_h, M_app(∞) = (1 − μ_h1) m_h (docs: theory, Occupied receptance and "
+             "FRFs)")
+
+
+def test_apparent_mass_limits(reference):
     # docs: theory, Occupied receptance and FRFs: M_app(0) = m_h, M_app(∞) = m_h0 = (1 − μ_h1) m_h.
     msd = MSDModel(3.0, 0.3, 0.95)
-    assert msd.apparent_mass(0.0, 70.0) == pytest.approx(70.0)
-    assert msd.apparent_mass(1e9, 70.0) == pytest.approx(3.5, rel=1e-6)
+    reference("apparent mass of the MSD at 0 Hz", msd.apparent_mass(0.0, 70.0), 70.0, rel=1e-6,
+              unit="kg", source=_APPARENT)
+    reference("apparent mass of the MSD far above f_h1", msd.apparent_mass(1e9, 70.0), 3.5,
+              rel=1e-6, unit="kg", source=_APPARENT)
 
 
 def test_modal_scaling_does_not_change_physics(paper_crowd, paper_msd, welch_grid):
@@ -134,7 +155,7 @@ def test_modal_scaling_does_not_change_physics(paper_crowd, paper_msd, welch_gri
 
 @pytest.mark.parametrize("mean, std", [(0.07, 0.03), (0.03, 0.015), (0.3644, 0.0583),
                                        (-0.01, 0.02)])
-def test_positive_normal_moments_match_scipy_truncnorm(mean, std):
+def test_positive_normal_moments_match_scipy_truncnorm(mean, std, reference):
     # Reference: scipy.stats.truncnorm (X > 0) for a positive mean; for a mean ≤ 0 the sampler
     # clips at 0, E[max(X, 0)^k] by numerical quadrature.
     from crowdvib.models.loading import positive_normal_moments
@@ -142,8 +163,10 @@ def test_positive_normal_moments_match_scipy_truncnorm(mean, std):
     first, second = positive_normal_moments(mean, std)
     if mean > 0:
         law = stats.truncnorm(-mean / std, np.inf, loc=mean, scale=std)
-        assert first == pytest.approx(law.mean(), rel=1e-10)
-        assert second == pytest.approx(law.moment(2), rel=1e-10)
+        reference(f"mean of a DLF N({mean}, {std}) redrawn until positive", first, law.mean(),
+                  rel=1e-10, source="scipy.stats.truncnorm")
+        reference(f"mean square of a DLF N({mean}, {std}) redrawn until positive", second,
+                  law.moment(2), rel=1e-10, source="scipy.stats.truncnorm")
     else:
         law = stats.norm(mean, std)
         assert first == pytest.approx(integrate.quad(lambda x: x * law.pdf(x), 0, 1)[0],
@@ -152,11 +175,13 @@ def test_positive_normal_moments_match_scipy_truncnorm(mean, std):
                                        rel=1e-6)
 
 
-def test_spectral_dlf_moments_are_those_the_simulator_draws():
+def test_spectral_dlf_moments_are_those_the_simulator_draws(reference):
     # Issue 12: the sampler redraws non-positive DLFs; the spectral load now uses the moments of
     # exactly those draws (it used untruncated ones, 0.6–2.2 % off for harmonics 2–5). Reference:
     # a Monte Carlo of 400 000 pedestrians at f_s = 1.89 Hz (relative error ≈ 0.3 % at 3σ).
     force = ZivanovicForce()
     amplitudes, _ = force.sample(np.full(400_000, 1.89), np.random.default_rng(2))
     spectral = force.mean_square_dlf(np.full((10, 1), 1.89))[:, 0]
-    assert (amplitudes**2).mean(axis=0) == pytest.approx(spectral, rel=6e-3)
+    reference("mean-square DLFs of the spectral load (10 components, f_s = 1.89 Hz)", spectral,
+              (amplitudes**2).mean(axis=0), rel=6e-3,
+              source="Monte Carlo of 400 000 pedestrians drawn by the simulator's sampler")

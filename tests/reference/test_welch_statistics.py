@@ -13,24 +13,30 @@ from crowdvib.signals.synthesis import gaussian_record, record_frequencies
 from crowdvib.signals.welch import welch_bin_correlation, welch_degrees_of_freedom
 
 
-def test_single_hann_segment_bin_correlation_is_closed_form():
+_HANN = "closed form from the Hann window's DFT (−¼, ½, −¼): (2/3)², (1/6)²"
+
+
+def test_single_hann_segment_bin_correlation_is_closed_form(reference):
     rho = welch_bin_correlation(1, max_lag=3)
     assert rho[0] == 1.0
-    assert rho[1] == pytest.approx(4 / 9, rel=1e-9)
-    assert rho[2] == pytest.approx(1 / 36, rel=1e-9)
+    reference("Hann periodogram: correlation of neighbouring bins", rho[1], 4 / 9, rel=1e-9,
+              source=_HANN)
+    reference("Hann periodogram: correlation two bins apart", rho[2], 1 / 36, rel=1e-9,
+              source=_HANN)
     assert rho[3] == pytest.approx(0.0, abs=1e-12)
 
 
-def test_white_noise_synthesis_has_the_requested_variance():
+def test_white_noise_synthesis_has_the_requested_variance(reference):
     # Flat one-sided PSD G0 up to Nyquist: σ² = G0 · f_s / 2 (Parseval).
     sample_rate, g0 = 20.0, 0.3
     frequency = record_frequencies(600.0, sample_rate)
     records = gaussian_record(np.full((8, frequency.size), g0), sample_rate, rng=5)
     assert records.shape == (8, 12000)
-    assert records.var() == pytest.approx(g0 * sample_rate / 2, rel=0.02)
+    reference("variance of synthesised white noise", records.var(), g0 * sample_rate / 2,
+              rel=0.02, source="Parseval: σ² = G0 f_s/2")
 
 
-def test_welch_of_synthetic_white_noise_has_the_predicted_scatter_and_correlation():
+def test_welch_of_synthetic_white_noise_has_the_predicted_scatter_and_correlation(reference):
     # Welch ordinates of Gaussian records scatter as G·χ²_ν/ν with neighbours correlated as
     # welch_bin_correlation predicts (the assumptions of the sandwich covariance).
     sample_rate, g0, duration, window = 20.0, 1.0, 1200.0, 20.0
@@ -41,7 +47,9 @@ def test_welch_of_synthetic_white_noise_has_the_predicted_scatter_and_correlatio
     relative = inner / g0 - 1.0
     dof = welch_degrees_of_freedom(psd.n_windows)
     assert inner.mean() == pytest.approx(g0, rel=0.01)
-    assert relative.var() == pytest.approx(2 / dof, rel=0.05)
+    reference("relative variance of Welch ordinates (40 noise records)", relative.var(), 2 / dof,
+              rel=0.05, source="χ²_ν/ν with ν of the overlapped Hann estimate (docs: theory, "
+                               "Welch statistics)")
     rho = welch_bin_correlation(psd.n_windows)
     for lag in (1, 2):
         measured = np.mean(relative[:, :-lag] * relative[:, lag:]) / relative.var()
