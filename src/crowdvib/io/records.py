@@ -15,9 +15,14 @@ The file formats themselves (one reader and writer each, their layouts) are in
 :class:`DataError` naming the file (issue 9).
 """
 
+from __future__ import annotations
+
+import os
 import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -102,26 +107,26 @@ class Record:
         object.__setattr__(self, "source", str(self.source))
 
     @property
-    def n_channels(self):
+    def n_channels(self) -> int:
         """Number of channels."""
         return self.data.shape[0]
 
     @property
-    def n_samples(self):
+    def n_samples(self) -> int:
         """Number of samples per channel."""
         return self.data.shape[1]
 
     @property
-    def duration(self):
+    def duration(self) -> float:
         """Record length n_samples / f_samp [s]."""
         return self.n_samples / self.sample_rate
 
     @property
-    def time(self):
+    def time(self) -> np.ndarray:
         """Time stamps [s] of the samples."""
         return self.start_time + np.arange(self.n_samples) / self.sample_rate
 
-    def select(self, channels):
+    def select(self, channels: str | Sequence[str] | Mapping[str, str]) -> Record:
         """The named channels in that order; a ``dict`` maps new names to names in the record.
 
         Parameters
@@ -140,7 +145,7 @@ class Record:
             rows.append(self.channel_names.index(old))
         return self.replace(data=self.data[rows], channel_names=tuple(mapping))
 
-    def frame(self, start=None, end=None):
+    def frame(self, start: float | None = None, end: float | None = None) -> Record:
         """The samples with start <= t < end [s] (times as in :attr:`time`)."""
         first = 0 if start is None else int(np.ceil((start - self.start_time) * self.sample_rate
                                                     - 1e-9))
@@ -155,7 +160,7 @@ class Record:
         return self.replace(data=self.data[:, first:last],
                             start_time=self.start_time + first / self.sample_rate)
 
-    def replace(self, **changes):
+    def replace(self, **changes: Any) -> Record:
         """A copy with some fields changed (validated again)."""
         fields = dict(data=self.data, sample_rate=self.sample_rate,
                       channel_names=self.channel_names, start_time=self.start_time,
@@ -173,7 +178,7 @@ class Record:
     def _where(self):
         return f"{Path(self.source).name}: " if self.source else ""
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """Metadata as a JSON-ready dict (no samples)."""
         return {"source": self.source, "channel_names": list(self.channel_names),
                 "sample_rate": self.sample_rate, "n_samples": self.n_samples,
@@ -193,7 +198,8 @@ def _flat_runs(row, min_length):
     return (int(starts[k]), int(lengths[k])) if lengths[k] >= min_length else None
 
 
-def check_record(record, *, band=None, flat_duration=1.0, clip_samples=5):
+def check_record(record: Record, *, band: tuple[float, float] | None = None,
+                 flat_duration: float = 1.0, clip_samples: int = 5) -> Record:
     """Check the samples of a record; raise or warn naming file, channel and sample index.
 
     Parameters
@@ -340,8 +346,10 @@ def _format_of(path, format):
                          f"give format= one of {list(RECORD_FORMATS)}")
 
 
-def read_record(path, *, format=None, channels=None, units=None, sample_rate=None,
-                time_column="time"):
+def read_record(path: str | os.PathLike, *, format: str | None = None,
+                channels: Mapping[str, str] | Sequence[str] | None = None,
+                units: str | None = None, sample_rate: float | None = None,
+                time_column: str = "time") -> Record:
     """Read an acceleration record from a CSV, NPZ, MAT (v5, v7.3) or UFF-58 file.
 
     Parameters
@@ -386,7 +394,8 @@ def read_record(path, *, format=None, channels=None, units=None, sample_rate=Non
     return record if channels is None else record.select(channels)
 
 
-def write_record(record, path, *, format=None, dtype="float64"):
+def write_record(record: Record, path: str | os.PathLike, *, format: str | None = None,
+                 dtype: str = "float64") -> Path:
     """Write a record atomically in one of the formats :func:`read_record` reads.
 
     Parameters

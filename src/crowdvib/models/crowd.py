@@ -5,9 +5,12 @@ Poisson arrivals at rate λ = d·B·v, one walking speed, step frequencies f_s ~
 one (average) body mass.
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import as_float_array, check_non_negative, check_positive
 from ..errors import ParameterError
@@ -25,7 +28,7 @@ JAM_DENSITY = 5.4
 UNRESTRICTED_STEP_FREQUENCY_STD = 0.175
 
 
-def weidmann_speed(density):
+def weidmann_speed(density: ArrayLike) -> np.ndarray:
     """Walking speed v(d) = v_0 [1 − exp(−γ (1/d − 1/d_max))] [m/s] (Weidmann 1993; docs: theory, The crowd).
 
     Check value: v(0.5) = 1.298 m/s, the paper's 1.30 m/s.
@@ -38,7 +41,7 @@ def weidmann_speed(density):
     return FREE_SPEED * (1.0 - np.exp(-WEIDMANN_GAMMA * (1.0 / density - 1.0 / JAM_DENSITY)))
 
 
-def bruno_venuti_step_frequency(speed):
+def bruno_venuti_step_frequency(speed: ArrayLike) -> np.ndarray:
     """Mean step frequency f_s(v) = 0.35 v³ − 1.59 v² + 2.93 v [Hz] (Bruno & Venuti 2009).
 
     RECALLED in docs: theory, The crowd and validated there: f_s(1.30) = 1.891 Hz, the paper's 1.89 Hz.
@@ -102,9 +105,9 @@ class Crowd:
             object.__setattr__(self, name, float(getattr(self, name)))
 
     @classmethod
-    def from_density(cls, density, *, body_mass=70.0,
-                     step_frequency_std=UNRESTRICTED_STEP_FREQUENCY_STD, forward_fraction=1.0,
-                     body_mass_std=0.0):
+    def from_density(cls, density: float, *, body_mass: float = 70.0,
+                     step_frequency_std: float = UNRESTRICTED_STEP_FREQUENCY_STD,
+                     forward_fraction: float = 1.0, body_mass_std: float = 0.0) -> Crowd:
         """A crowd whose speed follows Weidmann and whose step frequency follows Bruno & Venuti.
 
         >>> crowd = Crowd.from_density(0.5)
@@ -117,19 +120,19 @@ class Crowd:
                    step_frequency_std=step_frequency_std, body_mass=body_mass,
                    forward_fraction=forward_fraction, body_mass_std=body_mass_std)
 
-    def with_density(self, density):
+    def with_density(self, density: float) -> Crowd:
         """The same walkers at another density (speed and step frequencies unchanged)."""
         return replace(self, density=density)
 
-    def mean_square_weight(self):
+    def mean_square_weight(self) -> float:
         """E[W²] = g² (m_h² + σ_m²) [N²]: the weight factor of the crowd-load PSD (docs: theory, Modal load PSD of a Poisson crowd)."""
         return STANDARD_GRAVITY**2 * (self.body_mass**2 + self.body_mass_std**2)
 
-    def arrival_rate(self, width):
+    def arrival_rate(self, width: float) -> float:
         """Poisson arrival rate λ = d·B·v [persons/s] onto a walkway of width B (docs: theory, Poisson arrivals)."""
         return self.density * check_positive("width", width, unit="m") * self.walking_speed
 
-    def step_frequency_pdf(self, step_frequency):
+    def step_frequency_pdf(self, step_frequency: ArrayLike) -> np.ndarray:
         """Gaussian density p_fs of the step frequencies [1/Hz]."""
         z = (np.asarray(step_frequency, dtype=float) - self.step_frequency_mean) / self.step_frequency_std
         return np.exp(-0.5 * z * z) / (self.step_frequency_std * np.sqrt(2.0 * np.pi))

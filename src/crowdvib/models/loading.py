@@ -11,13 +11,21 @@ and gives
 Every constant sits in a table below with its provenance.
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import special
 
 from .._validation import check_non_negative, check_positive
 from ..errors import ParameterError
+
+if TYPE_CHECKING:
+    from .crowd import Crowd
+    from .structure import ModalModel
 
 __all__ = ["ZivanovicForce", "YoungForce", "STANDARD_GRAVITY"]
 
@@ -44,10 +52,15 @@ YOUNG_DLF1_CAP = 0.56
 class _WalkingForce:
     """Shared machinery: crowd spectrum and time histories from per-component DLF statistics."""
 
-    #: Multiples r_c of the step frequency, one per force component.
-    ratios: np.ndarray
+    #: Scale factor on every DLF (1 = the model as published); set by each force model.
+    scale: float
 
-    def mean_square_dlf(self, step_frequency):
+    @property
+    def ratios(self) -> np.ndarray:
+        """Multiples r_c of the step frequency, one per force component."""
+        raise NotImplementedError
+
+    def mean_square_dlf(self, step_frequency: ArrayLike) -> np.ndarray:
         """E[α_c² | f_s] [-] of each component c at its own step frequency.
 
         Parameters
@@ -58,7 +71,8 @@ class _WalkingForce:
         """
         raise NotImplementedError
 
-    def sample(self, step_frequency, rng):
+    def sample(self, step_frequency: ArrayLike,
+               rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
         """DLFs α_c [-] and phases θ_c [rad] of pedestrians with the given step frequencies.
 
         Returns
@@ -67,7 +81,7 @@ class _WalkingForce:
         """
         raise NotImplementedError
 
-    def load_spectrum(self, frequency, crowd):
+    def load_spectrum(self, frequency: ArrayLike, crowd: Crowd) -> np.ndarray:
         """One-sided crowd-load PSD per unit influence s(f) [N²/Hz] (docs: theory, Modal load PSD of a Poisson crowd).
 
         s(f) = E[W²] Σ_c E[α_c² | f_s = f/r_c] / 2 · p_fs(f/r_c) / r_c, so that the modal-load
@@ -87,12 +101,14 @@ class _WalkingForce:
         terms = self.mean_square_dlf(step) / 2.0 * crowd.step_frequency_pdf(step) / ratios
         return self.scale**2 * crowd.mean_square_weight() * terms.sum(axis=0)
 
-    def modal_load_psd(self, frequency, crowd, structure):
+    def modal_load_psd(self, frequency: ArrayLike, crowd: Crowd,
+                       structure: ModalModel) -> np.ndarray:
         """One-sided modal-load cross-PSD G_QQ(f) [N²/Hz], shape (n_f, n_modes, n_modes)."""
         psi = structure.influence_matrix(crowd.density)
         return self.load_spectrum(frequency, crowd)[:, np.newaxis, np.newaxis] * psi
 
-    def time_history(self, time, step_frequency, body_mass, rng=None):
+    def time_history(self, time: ArrayLike, step_frequency: float, body_mass: float,
+                     rng: int | np.random.Generator | None = None) -> np.ndarray:
         """Force [N] of one pedestrian on a rigid floor, dynamic part only (docs: theory, Živanović, Pavić & Reynolds (2007)).
 
         Parameters
@@ -142,15 +158,15 @@ class ZivanovicForce(_WalkingForce):
         object.__setattr__(self, "scale", _check_scale(self.scale))
 
     @property
-    def ratios(self):
+    def ratios(self) -> np.ndarray:
         return np.array([1.0, 2.0, 3.0, 4.0, 5.0, 0.5, 1.5, 2.5, 3.5, 4.5])
 
     @staticmethod
-    def first_harmonic_dlf(step_frequency):
+    def first_harmonic_dlf(step_frequency: ArrayLike) -> np.ndarray:
         """Mean first-harmonic DLF μ₁(f_s) (Kerr 1998 fit; docs: theory, Živanović, Pavić & Reynolds (2007)). μ₁(1.89) = 0.3644."""
         return np.polyval(ZIVANOVIC_DLF1_POLYNOMIAL, step_frequency)
 
-    def mean_square_dlf(self, step_frequency):
+    def mean_square_dlf(self, step_frequency: ArrayLike) -> np.ndarray:
         mu1 = self.first_harmonic_dlf(np.asarray(step_frequency, dtype=float))
         column = (slice(None),) + (np.newaxis,) * (mu1.ndim - 1)
         means = np.asarray(ZIVANOVIC_HARMONIC_MEAN[1:])[column]
@@ -170,7 +186,8 @@ class ZivanovicForce(_WalkingForce):
             sub = (slope * mu1[5:] + offset) ** 2
         return np.concatenate([first_square, harmonics, sub])
 
-    def sample(self, step_frequency, rng):
+    def sample(self, step_frequency: ArrayLike,
+               rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
         step_frequency = np.asarray(step_frequency, dtype=float)
         n = step_frequency.size
         mu1 = self.first_harmonic_dlf(step_frequency)
@@ -245,10 +262,10 @@ class YoungForce(_WalkingForce):
         object.__setattr__(self, "scale", _check_scale(self.scale))
 
     @property
-    def ratios(self):
+    def ratios(self) -> np.ndarray:
         return np.array([1.0, 2.0, 3.0, 4.0])
 
-    def dlf(self, step_frequency):
+    def dlf(self, step_frequency: ArrayLike) -> np.ndarray:
         """Young's DLFs α_h [-] of harmonic h at the step frequencies in row h − 1.
 
         Parameters
@@ -263,10 +280,11 @@ class YoungForce(_WalkingForce):
         alpha[0] = np.minimum(alpha[0], YOUNG_DLF1_CAP)
         return np.maximum(alpha, 0.0)
 
-    def mean_square_dlf(self, step_frequency):
+    def mean_square_dlf(self, step_frequency: ArrayLike) -> np.ndarray:
         return self.dlf(step_frequency) ** 2
 
-    def sample(self, step_frequency, rng):
+    def sample(self, step_frequency: ArrayLike,
+               rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
         step = np.asarray(step_frequency, dtype=float)
         amplitudes = self.scale * self.dlf(np.broadcast_to(step, (4,) + step.shape)).T
         phases = rng.uniform(0.0, 2 * np.pi, size=amplitudes.shape)

@@ -4,16 +4,19 @@ The body mass m_h splits into a sprung mass m_h1 = μ_h1·m_h on a spring k_h1 a
 and an unsprung mass m_h0 = (1 − μ_h1)·m_h that moves with the deck.
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import check_damping_ratio, check_open_unit, check_positive
 
 __all__ = ["MSDModel", "transmissibility"]
 
 
-def transmissibility(frequency_ratio, damping_ratio):
+def transmissibility(frequency_ratio: ArrayLike, damping_ratio: float) -> np.ndarray:
     """Displacement transmissibility T = (1 + 2iξr)/(1 − r² + 2iξr) of a base-excited SDOF [-].
 
     The motion of a sprung mass over that of its (moving) base, with r = f/f_n: the factor by
@@ -53,19 +56,19 @@ class MSDModel:
                            check_damping_ratio("damping_ratio", self.damping_ratio, upper=2.0))
         object.__setattr__(self, "mass_ratio", check_open_unit("mass_ratio", self.mass_ratio))
 
-    def sprung_mass(self, body_mass):
+    def sprung_mass(self, body_mass: ArrayLike) -> np.ndarray | float:
         """m_h1 = μ_h1·m_h [kg]."""
         return self.mass_ratio * body_mass
 
-    def stiffness(self, body_mass):
+    def stiffness(self, body_mass: ArrayLike) -> np.ndarray | float:
         """k_h1 = m_h1 ω_h1² [N/m]."""
         return self.sprung_mass(body_mass) * (2.0 * np.pi * self.frequency) ** 2
 
-    def damping(self, body_mass):
+    def damping(self, body_mass: ArrayLike) -> np.ndarray | float:
         """c_h1 = 2 ξ_h1 m_h1 ω_h1 [N·s/m]."""
         return 2.0 * self.damping_ratio * self.sprung_mass(body_mass) * 2.0 * np.pi * self.frequency
 
-    def apparent_mass(self, frequency, body_mass):
+    def apparent_mass(self, frequency: ArrayLike, body_mass: ArrayLike) -> np.ndarray | complex:
         """Apparent (dynamic) mass M_app(f) [kg] of the person on a moving point (docs: theory, Occupied receptance and FRFs).
 
         M_app = m_h0 + m_h1 (k_h1 + iωc_h1)/(k_h1 − ω² m_h1 + iωc_h1); M_app(0) = m_h,
@@ -88,7 +91,7 @@ class MSDModel:
         return body_mass * ((1.0 - self.mass_ratio)
                             + self.mass_ratio * transmissibility(ratio, self.damping_ratio))
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, float]:
         """The parameters as a JSON-ready dict (keys as in ``results.json``)."""
         return {"frequency": self.frequency, "damping_ratio": self.damping_ratio,
                 "mass_ratio": self.mass_ratio}

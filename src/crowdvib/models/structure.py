@@ -6,9 +6,14 @@ points with their mode-shape rows. It is the bottom layer: everything else reads
 reads anything else of crowdvib but the validation helpers.
 """
 
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import (as_float_array, check_damping_ratio, check_non_negative, check_positive,
                           frozen_array, name_indices)
@@ -85,7 +90,7 @@ class ModalModel:
     width: float
     output_names: tuple
     output_shapes: np.ndarray
-    lanes: np.ndarray = None
+    lanes: np.ndarray | None = None
     name: str = "footbridge"
     _area_weights: np.ndarray = field(init=False, repr=False)
 
@@ -151,26 +156,26 @@ class ModalModel:
 
     # ------------------------------------------------------------------ geometry
     @property
-    def n_modes(self):
+    def n_modes(self) -> int:
         """Number of structural modes."""
         return self.frequencies.size
 
     @property
-    def n_outputs(self):
+    def n_outputs(self) -> int:
         """Number of output points."""
         return len(self.output_names)
 
     @property
-    def length(self):
+    def length(self) -> float:
         """Walkway length L [m]."""
         return float(self.positions[-1] - self.positions[0])
 
     @property
-    def area(self):
+    def area(self) -> float:
         """Walkway area A = L·B [m²]."""
         return self.length * self.width
 
-    def implausibilities(self):
+    def implausibilities(self) -> list[str]:
         """Values that are legal but unlikely for a footbridge, with their likely cause.
 
         Two checks (docs: theory, Conventions), both independent of the mode-shape scaling:
@@ -203,7 +208,7 @@ class ModalModel:
                     "masses not in the scaling of the mode shapes?")
         return notes
 
-    def influence_matrix(self, density):
+    def influence_matrix(self, density: float) -> np.ndarray:
         """Crowd-influence matrix Ψ = d ∫_A φ φᵀ dA [persons] (docs: theory, The smeared crowd and the occupied bridge).
 
         Trapezoidal quadrature along the walkway and across the lanes (outer lanes held constant
@@ -222,7 +227,7 @@ class ModalModel:
         shapes = self.mode_shapes
         return density * np.einsum("lp,lpi,lpj->ij", self._area_weights, shapes, shapes)
 
-    def shape_integrals(self, absolute=False):
+    def shape_integrals(self, absolute: bool = False) -> np.ndarray:
         """∫_A φ_j dA, or ∫_A |φ_j| dA with ``absolute`` [m² × scaling of the shapes].
 
         The modal force of a unit pressure over the walkway; with ``absolute``, of a unit
@@ -236,12 +241,12 @@ class ModalModel:
         shapes = np.abs(self.mode_shapes) if absolute else self.mode_shapes
         return np.einsum("lp,lpj->j", self._area_weights, shapes)
 
-    def modal_mass_ratios(self, density, body_mass):
+    def modal_mass_ratios(self, density: float, body_mass: float) -> np.ndarray:
         """Crowd-to-structure modal mass ratios μ_m,j = m_h Ψ_jj / m_j [-] (docs: theory, The smeared crowd and the occupied bridge)."""
         body_mass = check_positive("body_mass", body_mass, unit="kg")
         return body_mass * np.diag(self.influence_matrix(density)) / self.modal_masses
 
-    def shapes_at(self, x, y=None):
+    def shapes_at(self, x: ArrayLike, y: ArrayLike | None = None) -> np.ndarray:
         """Mode-shape rows at walkway coordinates, by linear interpolation [scaling of the model].
 
         Parameters
@@ -272,12 +277,12 @@ class ModalModel:
         upper = per_lane[index + 1, pick]
         return (1 - t) * lower + t * upper
 
-    def output_index(self, names):
+    def output_index(self, names: str | Sequence[str]) -> np.ndarray:
         """Indices of the named outputs; a :class:`ParameterError` lists the known names."""
         return name_indices(names, self.output_names)
 
     # ------------------------------------------------------------------ variants
-    def rescaled(self, factors):
+    def rescaled(self, factors: ArrayLike) -> ModalModel:
         """The same physics with mode j scaled by ``factors[j]`` (m_j scales by factors[j]²).
 
         A negative factor flips the sign of a mode; ``1/sqrt(m_j)`` gives mass-normalised shapes.
@@ -289,11 +294,11 @@ class ModalModel:
                             output_shapes=self.output_shapes * factors,
                             modal_masses=self.modal_masses * factors**2)
 
-    def mass_normalised(self):
+    def mass_normalised(self) -> ModalModel:
         """The same physics with mass-normalised shapes (m_j = 1)."""
         return self.rescaled(1.0 / np.sqrt(self.modal_masses))
 
-    def replace(self, **changes):
+    def replace(self, **changes: Any) -> ModalModel:
         """A copy with some fields changed (validated again)."""
         fields = dict(frequencies=self.frequencies, damping_ratios=self.damping_ratios,
                       modal_masses=self.modal_masses, positions=self.positions,
@@ -305,8 +310,11 @@ class ModalModel:
 
     # ------------------------------------------------------------------ constructors
     @classmethod
-    def simply_supported_beam(cls, span, width, frequency, damping_ratio, modal_mass, n_modes=1,
-                              *, n_points=201, outputs=None, name="simply supported beam"):
+    def simply_supported_beam(cls, span: float, width: float, frequency: ArrayLike,
+                              damping_ratio: ArrayLike, modal_mass: ArrayLike, n_modes: int = 1,
+                              *, n_points: int = 201,
+                              outputs: Mapping[str, float | Sequence[float]] | None = None,
+                              name: str = "simply supported beam") -> ModalModel:
         """Simply supported beam with sine modes scaled to 1 at their antinode.
 
         Parameters

@@ -4,13 +4,24 @@ Each documents its fields with units, offers ``to_dict()`` for JSON and, where a
 ``plot()`` which delegates to :mod:`crowdvib.reporting.plotting` (imported only then).
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._validation import frozen_array
 from ..errors import ParameterError
 from ..signals.welch import welch_psd
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..reporting.figure_base import FigureAxes
+    from ..signals.spectrum import ResponsePSD
+    from ..signals.welch import LowPassFilter
 
 __all__ = ["FRF", "EffectiveModalProperties", "Simulation"]
 
@@ -42,7 +53,9 @@ class FRF:
         object.__setattr__(self, "frequency", frozen_array(self.frequency))
         object.__setattr__(self, "values", frozen_array(self.values, complex))
 
-    def plot(self, occupied=None, *, output=None, input=None, band=None, ax=None, title=None):
+    def plot(self, occupied: FRF | None = None, *, output: str | None = None,
+             input: str | None = None, band: tuple[float, float] | None = None,
+             ax: Axes | None = None, title: str | None = None) -> Axes:
         """Draw |H| of one output/input pair, with an occupied FRF beside it if given
         (see :func:`crowdvib.reporting.plotting.plot_frf`)."""
         from ..reporting.plotting import plot_frf
@@ -50,7 +63,7 @@ class FRF:
         return plot_frf(self, occupied, output=output, input=input, band=band, ax=ax,
                         title=title)
 
-    def magnitude(self, output, input=None):
+    def magnitude(self, output: str, input: str | None = None) -> np.ndarray:
         """|H| [(m/s²)/N] of one output/input pair (input defaults to the output itself)."""
         o = self.output_names.index(output)
         i = self.input_names.index(output if input is None else input)
@@ -83,9 +96,9 @@ class EffectiveModalProperties:
     participation: np.ndarray
     interaction_frequencies: np.ndarray
     interaction_damping_ratios: np.ndarray
-    modal_masses: np.ndarray = None
+    modal_masses: np.ndarray | None = None
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict."""
         return {name: (None if getattr(self, name) is None
                        else np.asarray(getattr(self, name)).tolist()) for name in
@@ -132,9 +145,9 @@ class Simulation:
     sample_rate: float
     seed: int
     duration: float
-    modal_load: np.ndarray = None
-    time_step: float = None
-    n_pedestrians: int = None
+    modal_load: np.ndarray | None = None
+    time_step: float | None = None
+    n_pedestrians: int | None = None
     hsi: bool = False
     warm_up: float = 0.0
 
@@ -153,11 +166,12 @@ class Simulation:
             object.__setattr__(self, "modal_load", frozen_array(self.modal_load))
 
     @property
-    def n_samples(self):
+    def n_samples(self) -> int:
         """Number of samples per output."""
         return self.time.size
 
-    def psd(self, window_length, overlap=0.5, lowpass=None):
+    def psd(self, window_length: float, overlap: float = 0.5,
+            lowpass: LowPassFilter | None = None) -> ResponsePSD:
         """Welch PSD of the accelerations → :class:`ResponsePSD` (docs: theory, Welch PSDs, filters and convergence).
 
         Parameters
@@ -172,7 +186,7 @@ class Simulation:
         return welch_psd(self.acceleration, self.sample_rate, window_length=window_length,
                          overlap=overlap, output_names=self.output_names, lowpass=lowpass)
 
-    def summary(self, window=1.0):
+    def summary(self, window: float = 1.0) -> dict[str, Any]:
         """What a comfort check reads first, per output: RMS, peak |a| and the largest running
         RMS over ``window`` seconds, all in m/s² (docs: theory, Design checks).
 
@@ -194,7 +208,8 @@ class Simulation:
                                     for row, ok in zip(moving, full)],
                 "running_rms_window": float(window)}
 
-    def plot(self, *, output=None, window=1.0, axes=None, title=None):
+    def plot(self, *, output: str | None = None, window: float = 1.0,
+             axes: Sequence[Axes] | None = None, title: str | None = None) -> FigureAxes:
         """Draw the record, its running RMS and the people on the deck
         (see :func:`crowdvib.reporting.plotting.plot_time_history`)."""
         from ..reporting.plotting import plot_time_history
@@ -206,7 +221,7 @@ class Simulation:
                 f"{self.sample_rate:g} Hz, {self.n_pedestrians} pedestrians, "
                 f"{'MSD' if self.hsi else 'forces only'}, seed={self.seed})")
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready metadata (no time series; write those with the I/O functions)."""
         return {"output_names": list(self.output_names), "sample_rate": self.sample_rate,
                 "n_samples": self.n_samples, "duration": self.duration, "seed": self.seed,

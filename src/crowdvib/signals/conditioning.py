@@ -3,7 +3,10 @@
 Signals have time on the last axis: (n_channels, n_samples).
 """
 
+from __future__ import annotations
+
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import signal as _signal
 
 from .._validation import as_float_array, check_positive
@@ -19,7 +22,7 @@ def _as_signals(signals):
     return data
 
 
-def detrend(signals, kind="constant"):
+def detrend(signals: ArrayLike, kind: str = "constant") -> np.ndarray:
     """Remove the mean (``"constant"``, the paper's practice) or a straight line (``"linear"``).
 
     Parameters
@@ -37,7 +40,8 @@ def detrend(signals, kind="constant"):
     return _signal.detrend(_as_signals(signals), axis=-1, type=kind)
 
 
-def resample(signals, sample_rate, new_sample_rate, *, max_denominator=1000):
+def resample(signals: ArrayLike, sample_rate: float, new_sample_rate: float, *,
+             max_denominator: int = 1000) -> tuple[np.ndarray, float]:
     """Resample with a polyphase anti-aliasing filter (``scipy.signal.resample_poly``).
 
     The ratio new/old is approximated by a fraction up/down with down <= ``max_denominator``;
@@ -72,7 +76,8 @@ def resample(signals, sample_rate, new_sample_rate, *, max_denominator=1000):
     return out, sample_rate * ratio.numerator / ratio.denominator
 
 
-def select_time_frame(signals, sample_rate, start=None, end=None):
+def select_time_frame(signals: ArrayLike, sample_rate: float, start: float | None = None,
+                      end: float | None = None) -> np.ndarray:
     """The samples with start <= t < end [s], t = index / sample_rate.
 
     Raises
@@ -91,7 +96,8 @@ def select_time_frame(signals, sample_rate, start=None, end=None):
     return data[..., first:last]
 
 
-def stationary_time_frame(signals, sample_rate, *, block_length=60.0, tolerance=0.5):
+def stationary_time_frame(signals: ArrayLike, sample_rate: float, *, block_length: float = 60.0,
+                          tolerance: float = 0.5) -> tuple[float, float]:
     """The longest stretch whose running RMS stays near the record's typical level [s].
 
     The record is cut into blocks of ``block_length``; a block is stationary when the RMS of every
@@ -141,7 +147,7 @@ def stationary_time_frame(signals, sample_rate, *, block_length=60.0, tolerance=
     return best_start * size / sample_rate, (best_start + best) * size / sample_rate
 
 
-def running_rms(signals, sample_rate, window=1.0):
+def running_rms(signals: ArrayLike, sample_rate: float, window: float = 1.0) -> np.ndarray:
     """Trailing running RMS over ``window`` seconds, per row; NaN until the first window is full.
 
     The comfort criteria of the design guides (docs: theory, Design checks) judge the largest

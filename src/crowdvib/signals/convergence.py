@@ -1,13 +1,18 @@
 """Convergence of a Welch PSD with record length (paper Fig. 15; docs: theory, Welch PSDs, filters and convergence)."""
 
+from __future__ import annotations
+
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import check_positive
 from ..errors import DataError, ParameterError
 from .conditioning import _as_signals
-from .welch import channel_names, segment_periodograms, welch_segment_count
+from .welch import LowPassFilter, channel_names, segment_periodograms, welch_segment_count
 
 __all__ = ["PSDConvergence", "psd_convergence"]
 
@@ -41,7 +46,7 @@ class PSDConvergence:
     band: tuple
     norm: str
 
-    def duration_to_reach(self, level):
+    def duration_to_reach(self, level: float) -> np.ndarray:
         """Shortest k·T [s] from which ΔG stays below ``level`` for every output (None if never)."""
         below = np.all(self.error < level, axis=0)
         for k in range(below.size):
@@ -49,7 +54,7 @@ class PSDConvergence:
                 return float(self.duration[k])
         return None
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict."""
         return {"n_windows": self.n_windows.tolist(), "duration": self.duration.tolist(),
                 "error": self.error.tolist(), "output_names": list(self.output_names),
@@ -57,8 +62,10 @@ class PSDConvergence:
                 "norm": self.norm}
 
 
-def psd_convergence(signals, sample_rate, *, window_length, band=None, norm="2", overlap=0.5,
-                    output_names=None, lowpass=None):
+def psd_convergence(signals: ArrayLike, sample_rate: float, *, window_length: float,
+                    band: tuple[float, float] | None = None, norm: str = "2",
+                    overlap: float = 0.5, output_names: Sequence[str] | None = None,
+                    lowpass: LowPassFilter | None = None) -> PSDConvergence:
     """Convergence error of the Welch PSD as windows are added (paper Fig. 15; docs: theory, Welch PSDs, filters and convergence).
 
     For k = 1 … n_T = floor(record / T): G_kT is the Welch PSD (Hann, T, ``overlap``) of the first

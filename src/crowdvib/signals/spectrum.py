@@ -4,12 +4,21 @@
 :func:`crowdvib.response_psd` from the spectral model, and compared by the estimator.
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._validation import as_float_array, frozen_array, name_indices
 from ..errors import DataError, ParameterError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from .welch import LowPassFilter
 
 __all__ = ["ResponsePSD"]
 
@@ -47,12 +56,12 @@ class ResponsePSD:
     frequency: np.ndarray
     psd: np.ndarray
     output_names: tuple
-    window_length: float = None
-    n_windows: int = None
-    lowpass: object = None
+    window_length: float | None = None
+    n_windows: int | None = None
+    lowpass: LowPassFilter | None = None
     source: str = "model"
     unit: str = "(m/s²)²/Hz"
-    dispersion: np.ndarray = None
+    dispersion: np.ndarray | None = None
 
     def __post_init__(self):
         frequency = as_float_array("frequency", self.frequency, ndim=1)
@@ -74,7 +83,7 @@ class ResponsePSD:
                                      f"{dispersion.shape}")
             object.__setattr__(self, "dispersion", frozen_array(dispersion))
 
-    def check_measured(self):
+    def check_measured(self) -> ResponsePSD:
         """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values."""
         for row, name in zip(self.psd, self.output_names):
             bad = np.flatnonzero(~np.isfinite(row) | (row < 0))
@@ -84,30 +93,30 @@ class ResponsePSD:
                     f"at {self.frequency[bad[0]]:g} Hz (index {bad[0]})")
         return self
 
-    def select(self, names):
+    def select(self, names: str | Sequence[str]) -> ResponsePSD:
         """The PSDs of the named outputs, in that order."""
         rows = name_indices(names, self.output_names)
         return self._with(psd=self.psd[rows],
                           output_names=tuple(self.output_names[i] for i in rows),
                           dispersion=None if self.dispersion is None else self.dispersion[rows])
 
-    def band(self, lower, upper):
+    def band(self, lower: float, upper: float) -> ResponsePSD:
         """The PSDs restricted to lower <= f <= upper [Hz]."""
         keep = (self.frequency >= lower) & (self.frequency <= upper)
         return self._with(frequency=self.frequency[keep], psd=self.psd[:, keep],
                           dispersion=None if self.dispersion is None
                           else self.dispersion[:, keep])
 
-    def variance(self, lower=0.0, upper=np.inf):
+    def variance(self, lower: float = 0.0, upper: float = np.inf) -> np.ndarray:
         """Band variance ∫ G df over [lower, upper] per output [(m/s²)²], trapezoid rule."""
         keep = (self.frequency >= lower) & (self.frequency <= upper)
         return np.trapezoid(self.psd[:, keep], self.frequency[keep], axis=-1)
 
-    def rms(self, lower=0.0, upper=np.inf):
+    def rms(self, lower: float = 0.0, upper: float = np.inf) -> np.ndarray:
         """RMS value per output over a band [m/s²]."""
         return np.sqrt(self.variance(lower, upper))
 
-    def peak_frequency(self):
+    def peak_frequency(self) -> np.ndarray:
         """Frequency of the PSD maximum per output [Hz]."""
         return self.frequency[np.argmax(self.psd, axis=-1)]
 
@@ -119,7 +128,8 @@ class ResponsePSD:
         fields.update(changes)
         return ResponsePSD(**fields)
 
-    def plot(self, *, output=None, band=None, ax=None, title=None, label=None):
+    def plot(self, *, output: str | None = None, band: tuple[float, float] | None = None,
+             ax: Axes | None = None, title: str | None = None, label: str | None = None) -> Axes:
         """Draw the PSD of one output (see :func:`crowdvib.reporting.plotting.plot_psd_comparison`)."""
         from ..reporting.plotting import plot_psd_comparison
 
@@ -133,7 +143,7 @@ class ResponsePSD:
         return (f"ResponsePSD({list(self.output_names)}, {f.size} frequencies "
                 f"{f[0]:g}–{f[-1]:g} Hz{welch}, source={self.source!r})")
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict of the PSD and its metadata."""
         return {"frequency": self.frequency.tolist(), "psd": self.psd.tolist(),
                 "output_names": list(self.output_names), "window_length": self.window_length,

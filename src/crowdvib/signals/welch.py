@@ -5,9 +5,13 @@ zero-phase filter and the expectation kernel of a Hann-window Welch estimate (do
 Signals have time on the last axis: (n_channels, n_samples).
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import signal as _signal
 
 from .._validation import as_float_array, check_positive
@@ -50,22 +54,22 @@ class LowPassFilter:
         return _signal.butter(int(self.order), self.cutoff, btype="low", output="sos",
                               fs=self.sample_rate)
 
-    def apply(self, signals):
+    def apply(self, signals: ArrayLike) -> np.ndarray:
         """Filtered copy of ``signals`` (time on the last axis)."""
         return _signal.sosfiltfilt(self._sos(), np.asarray(signals, dtype=float), axis=-1)
 
-    def power_gain(self, frequency):
+    def power_gain(self, frequency: ArrayLike) -> np.ndarray:
         """|H(f)|⁴ [-]: the PSD gain of the forward-backward filter (docs: theory, What a Welch estimate sees: the expectation kernel)."""
         _, response = _signal.sosfreqz(self._sos(), worN=np.asarray(frequency, dtype=float),
                                        fs=self.sample_rate)
         return np.abs(response) ** 4
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, float]:
         """The filter settings as a JSON-ready dict."""
         return {"cutoff": self.cutoff, "order": int(self.order), "sample_rate": self.sample_rate}
 
 
-def welch_kernel(offset, window_length):
+def welch_kernel(offset: ArrayLike, window_length: float) -> np.ndarray:
     """Expectation kernel of a Hann-window Welch PSD estimate [1/Hz] (docs: theory, What a Welch estimate sees: the expectation kernel).
 
     E[Ĝ](f) = ∫ G(ν) K(f − ν) dν with K(ν) = |W_T(ν)|² / ∫ w², the continuous Hann window
@@ -89,7 +93,7 @@ def welch_kernel(offset, window_length):
     return 8.0 * window_length / 3.0 * amplitude**2
 
 
-def welch_segment_count(n_samples, segment_samples, overlap=0.5):
+def welch_segment_count(n_samples: int, segment_samples: int, overlap: float = 0.5) -> int:
     """Number of Welch segments of ``segment_samples`` in a record of ``n_samples``."""
     step = segment_samples - int(segment_samples * overlap)
     return 0 if n_samples < segment_samples else 1 + (n_samples - segment_samples) // step
@@ -117,8 +121,9 @@ def segment_periodograms(data, sample_rate, segment, overlap):
     return frequency, periodograms
 
 
-def welch_psd(signals, sample_rate, *, window_length, overlap=0.5, output_names=None,
-              lowpass=None):
+def welch_psd(signals: ArrayLike, sample_rate: float, *, window_length: float,
+              overlap: float = 0.5, output_names: Sequence[str] | None = None,
+              lowpass: LowPassFilter | None = None) -> ResponsePSD:
     """One-sided Welch PSD of acceleration records → :class:`ResponsePSD` (docs: theory, Welch PSDs, filters and convergence).
 
     Hann window of length T, constant detrend per segment, ``scaling='density'``: the result
@@ -235,7 +240,7 @@ def _segment_pair_sums(n_windows, overlap, max_lag):
     return total / np.dot(window, window) ** 2
 
 
-def welch_degrees_of_freedom(n_windows, overlap=0.5):
+def welch_degrees_of_freedom(n_windows: int, overlap: float = 0.5) -> float:
     """Equivalent degrees of freedom ν of a Hann-window Welch estimate of ``n_windows`` segments.
 
     ν = 2K / (1 + 2 Σ_j (1 − j/K) ρ_j), ρ_j the squared normalised overlap correlation of
@@ -245,7 +250,7 @@ def welch_degrees_of_freedom(n_windows, overlap=0.5):
     return 2.0 * int(n_windows) ** 2 / _segment_pair_sums(n_windows, overlap, 0)[0]
 
 
-def welch_bin_correlation(n_windows, overlap=0.5, max_lag=3):
+def welch_bin_correlation(n_windows: int, overlap: float = 0.5, max_lag: int = 3) -> np.ndarray:
     """Correlation of Welch PSD ordinates d = 0 … ``max_lag`` bins apart (white-noise limit).
 
     For Gaussian data the periodogram covariance of segments i, j at bins k, k + d is
@@ -262,7 +267,8 @@ def welch_bin_correlation(n_windows, overlap=0.5, max_lag=3):
     return sums / sums[0]
 
 
-def synthetic_welch_psd(expected, n_windows, rng=None):
+def synthetic_welch_psd(expected: ResponsePSD, n_windows: int,
+                        rng: int | np.random.Generator | None = None) -> ResponsePSD:
     """A random PSD with the scatter of a Welch estimate around its expectation.
 
     Each ordinate is drawn as E[Ĝ]·χ²_ν/ν with ν from :func:`welch_degrees_of_freedom`
