@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import DataError
+
 
 @contextlib.contextmanager
 def atomic_path(path, *, fsync=False):
@@ -177,3 +179,14 @@ def sha256_file(path):
         for block in iter(lambda: handle.read(1 << 20), b""):
             digest.update(block)
     return digest.hexdigest()
+
+
+def require_file(path, what):
+    """A :class:`DataError` unless ``path`` is an existing regular file (naming a directory as
+    such: the usual mix-up of a folder given for a file)."""
+    path = Path(path)
+    if path.is_dir():
+        raise DataError(f"{path}: is a directory, expected a {what} file")
+    if not path.is_file():
+        raise DataError(f"{path}: {what} file not found")
+    return path

@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 from .. import __version__
+from .._files import require_file
 from ..errors import CrowdvibError
 from ..reporting.report import write_report
 from . import demo, estimate, landscape, sensitivity, simulate
@@ -70,6 +71,10 @@ def main(argv=None):
     except SystemExit as exit_:
         return int(exit_.code or 0)
     try:
+        case = getattr(args, "case", None)
+        if isinstance(case, Path):
+            # Before the command imports scipy and numba: a wrong path is answered at once.
+            require_file(case, "case")
         return _COMMANDS[args.command][1].run(args)
     except CrowdvibError as error:
         if args.verbose:

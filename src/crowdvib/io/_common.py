@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._files import require_file  # noqa: F401 (the readers import it from here)
 from ..errors import CrowdvibError, DataError, ParameterError
 
 # Time stamps whose step differs from the median step by more than this fraction are non-uniform;
@@ -30,17 +31,6 @@ def where(source, channel=None):
     """Message prefix ``"file.csv: channel 'a': "`` (``"record: "`` without a file)."""
     name = Path(source).name if source else "record"
     return f"{name}: " + ("" if channel is None else f"channel {quote(channel)}: ")
-
-
-def require_file(path, what):
-    """A :class:`DataError` unless ``path`` is an existing regular file (naming a directory as
-    such: the usual mix-up of a folder given for a file)."""
-    path = Path(path)
-    if path.is_dir():
-        raise DataError(f"{path}: is a directory, expected a {what} file")
-    if not path.is_file():
-        raise DataError(f"{path}: {what} file not found")
-    return path
 
 
 def named_file(path, where, shown=None):
