@@ -146,3 +146,16 @@ def test_ukna_bad_input():
         design_check(beam(2.0), "hivoss", traffic_class="TC1", site_factors=(1, 1, 1, 1))
     with pytest.raises(ParameterError, match="weighting"):
         design_check(beam(2.0), "ukna", traffic_class="B", weighting="Wk")
+
+
+def test_weighted_running_rms_of_the_crossing():
+    # The crossing's response near its peak is a sine at f_v with an envelope that changes
+    # little over 1 s (ξ = 0.5 %): the largest 1-s running RMS of the W_b-weighted record is
+    # |W_b(f_v)| · peak / √2 (Parseval; W_b from signals.weighting, checked there), within 1 %.
+    from crowdvib.signals.weighting import wb_response
+
+    check = design_check(beam(2.0), "ukna", traffic_class="C", weighting="Wb")
+    rms = np.array(check.details["running_rms"]["walkers"])          # (n_models, out, modes)
+    peak = check.case_accelerations[check.cases.index("walkers")]
+    expected = abs(wb_response(2.0)) * peak / np.sqrt(2)
+    assert rms == pytest.approx(expected, rel=0.01)

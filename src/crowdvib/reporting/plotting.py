@@ -214,17 +214,23 @@ def plot_frf(empty, occupied=None, *, output=None, input=None, band=None, ax=Non
     return ax
 
 
-def _running_rms(signal, sample_rate, window):
-    """Trailing running RMS over ``window`` seconds; NaN until the first window is full."""
+def _running_rms(signal, sample_rate, window, weighting=None):
+    """Trailing running RMS over ``window`` seconds (optionally of the W_b-weighted signal);
+    NaN until the first window is full."""
+    from ..signals.weighting import running_rms, weight_wb
+
+    signal = np.asarray(signal, dtype=float)
+    if weighting == "Wb":
+        signal = weight_wb(signal, sample_rate)
     n = max(int(round(window * sample_rate)), 1)
-    energy = np.concatenate([[0.0], np.cumsum(np.asarray(signal, dtype=float) ** 2)])
-    result = np.full(np.size(signal), np.nan)
+    result = np.full(signal.size, np.nan)
     if result.size >= n:
-        result[n - 1:] = np.sqrt(np.maximum(energy[n:] - energy[:-n], 0.0) / n)
+        result[n - 1:] = running_rms(signal, sample_rate, n / sample_rate)
     return result
 
 
-def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=None):
+def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=None,
+                      weighting=None):
     """Simulated acceleration, its running RMS and the number of people on the deck.
 
     Parameters
@@ -238,6 +244,9 @@ def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=N
         Running-RMS window [s] (default 1 s).
     axes : sequence of two matplotlib.axes.Axes, optional
     title : str, optional
+    weighting : {None, "Wb"}
+        Running RMS of the W_b-weighted acceleration (BS 6841 / ISO 10137,
+        :mod:`crowdvib.signals.weighting`) instead of the unweighted one.
 
     Returns
     -------
@@ -254,10 +263,15 @@ def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=N
         raise ParameterError(f"output must be one of {list(names)}, got {name!r}")
     signal = np.asarray(simulation.acceleration)[names.index(name)]
     time = np.asarray(simulation.time)
-    rms = _running_rms(signal, simulation.sample_rate, window)
+    if weighting not in (None, "Wb"):
+        from ..errors import ParameterError
+
+        raise ParameterError(f"weighting must be None or 'Wb', got {weighting!r}")
+    rms = _running_rms(signal, simulation.sample_rate, window, weighting)
     top.plot(time, signal, color=_LIGHT, lw=0.4, label="acceleration")
     peak = np.nanmax(rms) if np.isfinite(rms).any() else np.nan
-    top.plot(time, rms, color=_DARK, lw=1.4, label=f"{window:g} s running RMS (max {peak:.3g} m/s²)")
+    label = f"{window:g} s running RMS{' (W_b)' if weighting else ''} (max {peak:.3g} m/s²)"
+    top.plot(time, rms, color=_DARK, lw=1.4, label=label)
     top.set_ylabel("Acceleration [m/s²]")
     top.grid(True, alpha=0.3)
     top.legend(loc="upper right", fontsize="small")

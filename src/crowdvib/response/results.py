@@ -172,12 +172,13 @@ class Simulation:
         return welch_psd(self.acceleration, self.sample_rate, window_length=window_length,
                          overlap=overlap, output_names=self.output_names, lowpass=lowpass)
 
-    def plot(self, *, output=None, window=1.0, axes=None, title=None):
-        """Draw the record, its running RMS and the people on the deck
-        (see :func:`crowdvib.reporting.plotting.plot_time_history`)."""
+    def plot(self, *, output=None, window=1.0, axes=None, title=None, weighting=None):
+        """Draw the record, its running RMS (``weighting="Wb"``: of the W_b-weighted record)
+        and the people on the deck (see :func:`crowdvib.reporting.plotting.plot_time_history`)."""
         from ..reporting.plotting import plot_time_history
 
-        return plot_time_history(self, output=output, window=window, axes=axes, title=title)
+        return plot_time_history(self, output=output, window=window, axes=axes, title=title,
+                                 weighting=weighting)
 
     def __repr__(self):
         return (f"Simulation({list(self.output_names)}, {self.duration:g} s at "
