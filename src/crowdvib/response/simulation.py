@@ -265,7 +265,8 @@ def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None
     dampers : sequence of TunedMassDamper, optional
         Tuned mass dampers fixed to the deck: each is a force-free mass-spring-damper entry of the
         integrator, standing at its position for the whole record (warm-up included), coupled
-        through its mode-shape row like a pedestrian's MSD (docs: theory, Tuned mass dampers).
+        through its mode-shape row like a pedestrian's MSD (docs: theory, Tuned mass dampers in
+        the simulator).
 
     Returns
     -------
