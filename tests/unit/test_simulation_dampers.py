@@ -17,7 +17,7 @@ def bridge():
 
 def steady_amplitude(signal, rate, frequency, seconds):
     """Amplitude of the f-component over the last whole periods (least squares on sin, cos)."""
-    n = int(round(seconds * rate))
+    n = round(seconds * rate)
     t = np.arange(signal.size)[-n:] / rate
     basis = np.column_stack([np.sin(2 * np.pi * frequency * t), np.cos(2 * np.pi * frequency * t)])
     coefficients = np.linalg.lstsq(basis, signal[-n:], rcond=None)[0]

@@ -7,6 +7,7 @@ stream is predicted with :func:`crowdvib.design.predict_response`. The results d
 ``results.json`` (every check in full and a verdict table), the figures and ``report.html``.
 """
 
+import argparse
 import time
 from pathlib import Path
 
@@ -20,7 +21,7 @@ from .common import case_inputs, say, say_verdict, staged_output, versions
 __all__ = ["add_arguments", "run", "verdict_rows"]
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("case", type=Path, help="case file (TOML) with a [design] table")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
     parser.add_argument("--force", action="store_true",
@@ -30,7 +31,7 @@ def add_arguments(parser):
                              "its estimated MSD replaces the case's for the HSI model")
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     from ..errors import ParameterError
     from ..io.casefile import load_case
 
@@ -141,7 +142,7 @@ def _check(case, spec, code, msd, dampers):
                         crowd=case.crowd, msd=msd, dampers=dampers, **options)
 
 
-def verdict_rows(checks):
+def verdict_rows(checks: dict) -> list[dict]:
     """One row per code, model and output: governing acceleration, limit, utilisation, class."""
     labels = {"empty": "no HSI", "added_mass": "added mass", "hsi": "HSI"}
     rows = []
@@ -165,8 +166,9 @@ def _comfort(value):
 
 
 def _table_lines(rows):
-    lines = [f"{'code':7s} {'class':5s} {'model':10s} {'output':12s} {'a [m/s²]':>9s} "
-             f"{'limit':>6s} {'util.':>6s} {'comfort':>7s}"]
+    header = (f"{'code':7s} {'class':5s} {'model':10s} {'output':12s} {'a [m/s²]':>9s} "
+              f"{'limit':>6s} {'util.':>6s} {'comfort':>7s}")
+    lines = [header]
     for row in rows:
         lines.append(f"{row['code']:7s} {row['traffic_class'] or '-':5s} {row['model']:10s} "
                      f"{row['output'][:12]:12s} {row['governing']:9.3f} {row['limit']:6.2f} "

@@ -16,6 +16,7 @@ its code load (:func:`damped_response`).
 """
 
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -80,7 +81,7 @@ class DesignCheck:
     """
 
     code: str
-    traffic_class: str
+    traffic_class: str | None
     density: float
     limit: float
     output_names: tuple
@@ -92,7 +93,7 @@ class DesignCheck:
     harmonics: np.ndarray
     peak_accelerations: np.ndarray
     cases: tuple = ()
-    case_accelerations: np.ndarray = None
+    case_accelerations: np.ndarray | None = None
     details: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -282,7 +283,8 @@ def _check_density(code, structure, traffic_class, density, crowd):
     return float(density)
 
 
-def structure_models(structure, crowd, density, msd):
+def structure_models(structure: ModalModel, crowd: Crowd, density: float,
+                     msd: MSDModel | None) -> dict:
     """The models of the structure a check compares, name → (structure, crowd, msd).
 
     "empty"; "added_mass" (each mode's frequency lowered by sqrt(m_j / (m_j + m_h Ψ_jj)), mass
@@ -292,10 +294,10 @@ def structure_models(structure, crowd, density, msd):
     crowd = crowd.with_density(density)
     m = structure.modal_masses
     loaded = m + crowd.body_mass * np.diag(structure.influence_matrix(density))
-    models = {"empty": (structure, None, None),
-              "added_mass": (structure.replace(frequencies=structure.frequencies
-                                               * np.sqrt(m / loaded), modal_masses=loaded),
-                             None, None)}
+    models: dict[str, tuple] = {
+        "empty": (structure, None, None),
+        "added_mass": (structure.replace(frequencies=structure.frequencies * np.sqrt(m / loaded),
+                                         modal_masses=loaded), None, None)}
     if msd is not None:
         models["hsi"] = (structure, crowd, msd)
     return models
@@ -315,8 +317,11 @@ def _check_inputs(structure, code, crowd, msd):
                              f"{structure.damping_ratios.tolist()}")
 
 
-def design_check(structure, code, *, traffic_class=None, density=None, crowd=None, msd=None,
-                 dampers=None, comfort_class=None, site_factors=None, weighting=None):
+def design_check(structure: ModalModel, code: str, *, traffic_class: str | None = None,
+                 density: float | None = None, crowd: Crowd | None = None,
+                 msd: MSDModel | None = None, dampers: Sequence | None = None,
+                 comfort_class: str | None = None, site_factors: dict | Sequence | None = None,
+                 weighting: str | None = None) -> DesignCheck:
     """Comfort check of a footbridge to a design guide, without and with HSI.
 
     Parameters
@@ -382,8 +387,9 @@ def design_check(structure, code, *, traffic_class=None, density=None, crowd=Non
     density = _check_density(code, structure, traffic_class, density, crowd)
     crowd = Crowd.from_density(density) if crowd is None else crowd
     models = structure_models(structure, crowd, density, msd)
-    columns = {name: [] for name in ("frequencies", "damping_ratios", "modal_masses",
-                                     "modal_forces", "harmonics", "peak_accelerations")}
+    columns: dict[str, list] = {name: [] for name in (
+        "frequencies", "damping_ratios", "modal_masses", "modal_forces", "harmonics",
+        "peak_accelerations")}
     for model, model_crowd, model_msd in models.values():
         modal = effective_modal_properties(model, model_crowd, model_msd, dampers=dampers)
         if dampers:
@@ -395,6 +401,11 @@ def design_check(structure, code, *, traffic_class=None, density=None, crowd=Non
         values = (modal.frequencies, modal.damping_ratios, modal.modal_masses) + response
         for name, value in zip(columns, values):
             columns[name].append(value)
+    arrays = {name: np.array(value) for name, value in columns.items()}
     return DesignCheck(code=code, traffic_class=traffic_class, density=density, limit=limit,
                        output_names=structure.output_names, models=tuple(models),
-                       **{name: np.array(value) for name, value in columns.items()})
+                       frequencies=arrays["frequencies"],
+                       damping_ratios=arrays["damping_ratios"],
+                       modal_masses=arrays["modal_masses"], modal_forces=arrays["modal_forces"],
+                       harmonics=arrays["harmonics"],
+                       peak_accelerations=arrays["peak_accelerations"])

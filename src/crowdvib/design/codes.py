@@ -12,11 +12,18 @@ source (SOURCED, with where) or is RECALLED from the guides, which were not reac
 RECALLED constant is a default to verify against the guide before a design relies on it.
 """
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.interpolate import RegularGridInterpolator
 
 from .._validation import check_non_negative, check_positive
 from ..errors import ParameterError
+
+if TYPE_CHECKING:
+    from ..models.structure import ModalModel
 
 __all__ = ["CODES", "TRAFFIC_CLASSES", "COMFORT_CLASSES", "EN1990_VERTICAL_LIMIT",
            "HARMONIC_FORCES", "reduction_factor", "equivalent_pedestrians", "class_density",
@@ -239,7 +246,7 @@ UKNA_SITE_FACTORS = {
 }
 
 
-def ukna_k_factor(frequency, group="walkers"):
+def ukna_k_factor(frequency: ArrayLike, group: str = "walkers") -> np.ndarray:
     """k(f_v) [-] of Figure NA.8 (digitised, linear between points, 0 outside), UK NA."""
     if group not in UKNA_K_CURVES:
         raise ParameterError(f"group must be one of {list(UKNA_K_CURVES)}, got {group!r}")
@@ -247,7 +254,7 @@ def ukna_k_factor(frequency, group="walkers"):
     return np.interp(np.asarray(frequency, dtype=float), f, k, left=0.0, right=0.0)
 
 
-def ukna_gamma(log_decrement, effective_span):
+def ukna_gamma(log_decrement: ArrayLike, effective_span: ArrayLike) -> np.ndarray | float:
     """γ(δ, S_eff) [-] of Figure NA.9 for groups (bilinear on the digitised grid, clamped)."""
     delta = np.clip(np.asarray(log_decrement, dtype=float), 0.0, UKNA_GAMMA_DECREMENTS[-1])
     span = np.clip(np.asarray(effective_span, dtype=float), UKNA_GAMMA_SPANS[0],
@@ -259,12 +266,12 @@ def ukna_gamma(log_decrement, effective_span):
     return values if values.ndim else float(values)
 
 
-def ukna_crowd_gamma(log_decrement):
+def ukna_crowd_gamma(log_decrement: ArrayLike) -> np.ndarray:
     """γ [-] of Figure NA.9 for crowds: 0.23 δ / 0.2."""
     return UKNA_CROWD_GAMMA_SLOPE * np.asarray(log_decrement, dtype=float)
 
 
-def ukna_limit(site_factors=None):
+def ukna_limit(site_factors: dict | Sequence | None = None) -> tuple[float, dict]:
     """Vertical acceleration limit [m/s²] of NA.2.44.6 and the factors used.
 
     Parameters
@@ -304,7 +311,7 @@ def ukna_limit(site_factors=None):
     return float(np.clip(limit, *UKNA_LIMIT_BOUNDS)), factors
 
 
-def effective_span(structure):
+def effective_span(structure: "ModalModel") -> tuple[np.ndarray, np.ndarray]:
     """Effective span S_eff [m] of each mode (Figure NA.7) and λ = 0.634 S_eff / S [-].
 
     S_eff = ∫_A |φ_j| dA / (B · 0.634 · max|φ_j|): the walkway integral of the absolute mode

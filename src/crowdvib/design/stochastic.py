@@ -17,7 +17,10 @@ structure as the checks ("empty", "added_mass", "hsi").
 
 from dataclasses import dataclass
 
+from collections.abc import Sequence
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import check_positive, check_type, frozen_array
 from ..errors import ParameterError
@@ -38,7 +41,7 @@ STEPS_PER_HALF_WIDTH = 8
 TOP_FREQUENCY_FACTOR = 1.5
 
 
-def davenport_peak_factor(rate, duration):
+def davenport_peak_factor(rate: ArrayLike, duration: float) -> np.ndarray:
     """Expected largest peak over σ of a stationary Gaussian process (Davenport 1964).
 
     g = sqrt(2 ln(ν T)) + 0.5772 / sqrt(2 ln(ν T)), ν the mean zero up-crossing rate [Hz] and T
@@ -79,14 +82,14 @@ class ResponsePrediction:
     crossing_rate: np.ndarray
     peak_factor: np.ndarray
     expected_peak: np.ndarray
-    weighted_rms: np.ndarray = None
+    weighted_rms: np.ndarray | None = None
 
     def __post_init__(self):
         for name in ("rms", "crossing_rate", "peak_factor", "expected_peak", "weighted_rms"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, frozen_array(getattr(self, name)))
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """JSON-ready dict."""
         return {"models": list(self.models), "output_names": list(self.output_names),
                 "density": self.density, "duration": self.duration,
@@ -106,8 +109,10 @@ def _grid(structure, crowd, msd, dampers):
     return np.linspace(0.0, top, int(np.ceil(top / step)) + 1)
 
 
-def predict_response(structure, crowd, *, msd=None, dampers=None, duration=600.0, force=None,
-                     weighting=None, frequency=None):
+def predict_response(structure: ModalModel, crowd: Crowd, *, msd: MSDModel | None = None,
+                     dampers: Sequence | None = None, duration: float = 600.0,
+                     force: object = None, weighting: str | None = None,
+                     frequency: ArrayLike | None = None) -> ResponsePrediction:
     """RMS and expected peak acceleration of a crowd stream from the spectral model.
 
     Parameters
@@ -154,7 +159,7 @@ def predict_response(structure, crowd, *, msd=None, dampers=None, duration=600.0
         raise ParameterError(f"weighting must be None or 'Wb', got {weighting!r}")
     dampers = as_dampers(dampers)
     grid = _grid(structure, crowd, msd, dampers) if frequency is None else frequency
-    columns = {"rms": [], "crossing_rate": [], "weighted_rms": []}
+    columns: dict[str, list] = {"rms": [], "crossing_rate": [], "weighted_rms": []}
     models = structure_models(structure, crowd, crowd.density, msd)
     for model, _, model_msd in models.values():
         spectral = SpectralModel(model, crowd, grid, force=force, dampers=dampers)

@@ -19,13 +19,23 @@ logarithmic decrement δ = 2πξ of γ are those of each model's mode.
 
 import warnings
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.signal import cont2discrete, lfilter, ss2tf
 
 from .._validation import check_non_negative
 from ..errors import ParameterError, ResolutionWarning
+from ..models.crowd import Crowd
+from ..models.pedestrian import MSDModel
+from ..models.structure import ModalModel
 from .codes import (UKNA_CLASSES, UKNA_CROWD_FACTOR, UKNA_GAMMA_DECREMENTS, UKNA_GROUPS,
                     effective_span, ukna_crowd_gamma, ukna_gamma, ukna_k_factor)
+
+if TYPE_CHECKING:
+    from .check import DesignCheck
 
 __all__ = ["sdof_acceleration", "group_response", "crowd_response", "ukna_cases", "ukna_check"]
 
@@ -35,7 +45,8 @@ __all__ = ["sdof_acceleration", "group_response", "crowd_response", "ukna_cases"
 SAMPLES_PER_PERIOD = 64
 
 
-def sdof_acceleration(frequency, damping_ratio, modal_mass, force, dt):
+def sdof_acceleration(frequency: float, damping_ratio: float, modal_mass: float,
+                      force: np.ndarray, dt: float) -> np.ndarray:
     """Acceleration q̈(t) [m/s² × scaling] of m q̈ + 2ξωm q̇ + ω²m q = Q(t) from rest.
 
     Q is taken linear between its samples (first-order hold), for which the discretisation is
@@ -73,8 +84,9 @@ def _path_shapes(structure, speed, top_frequency):
     return dt, np.stack([forward, backward])
 
 
-def group_response(structure, group, size, frequencies, damping_ratios, modal_masses, *,
-                   effective_spans=None):
+def group_response(structure: ModalModel, group: str, size: int, frequencies: ArrayLike,
+                   damping_ratios: ArrayLike, modal_masses: ArrayLike, *,
+                   effective_spans: ArrayLike | None = None) -> dict:
     """Peak accelerations of every mode under a crossing group of walkers or joggers (NA.2.44.4).
 
     Parameters
@@ -100,6 +112,7 @@ def group_response(structure, group, size, frequencies, damping_ratios, modal_ma
     f0, speed = UKNA_GROUPS[group]
     frequencies = np.asarray(frequencies, dtype=float)
     damping_ratios = np.asarray(damping_ratios, dtype=float)
+    masses = np.asarray(modal_masses, dtype=float)
     spans = effective_span(structure)[0] if effective_spans is None else effective_spans
     decrement = 2 * np.pi * damping_ratios
     if np.any(decrement > UKNA_GAMMA_DECREMENTS[-1]):
@@ -122,7 +135,7 @@ def group_response(structure, group, size, frequencies, damping_ratios, modal_ma
         wave = amplitude[j] * np.sin(2 * np.pi * frequencies[j] * time)
         for direction in range(2):
             # |φ_j| under the load: the force flips with the shape, driving mode j throughout.
-            response = sdof_acceleration(frequencies[j], damping_ratios[j], modal_masses[j],
+            response = sdof_acceleration(frequencies[j], damping_ratios[j], masses[j],
                                          wave * np.abs(shapes[direction, :, j]), dt)
             peak = np.abs(response).max()
             if peak > modal[j]:
@@ -131,7 +144,8 @@ def group_response(structure, group, size, frequencies, damping_ratios, modal_ma
             "peak": np.abs(structure.output_shapes) * modal, "dt": dt, "history": history}
 
 
-def crowd_response(structure, density, frequencies, damping_ratios, modal_masses):
+def crowd_response(structure: ModalModel, density: float, frequencies: ArrayLike,
+                   damping_ratios: ArrayLike, modal_masses: ArrayLike) -> dict:
     """Steady-state resonant response of every mode to the NA.2.44.5 crowd load.
 
     w = 1.8 (F0/A) k(f_v) sqrt(γ N / λ) [N/m²], N = ρ A, γ = 0.23 δ/0.2, λ = 0.634 S_eff/S,
@@ -157,13 +171,13 @@ def crowd_response(structure, density, frequencies, damping_ratios, modal_masses
             "peak": np.abs(structure.output_shapes) * modal}
 
 
-def ukna_cases(traffic_class, density):
+def ukna_cases(traffic_class: str | None, density: float | None) -> list[tuple]:
     """The load cases of a bridge class: (name, kind, size or density) with a non-zero load.
 
     ``density`` (persons/m²) overrides the class's crowd density; without a class only the
     crowd case is checked.
     """
-    cases = []
+    cases: list[tuple] = []
     if traffic_class is not None:
         if traffic_class not in UKNA_CLASSES:
             raise ParameterError(f"traffic_class must be one of {list(UKNA_CLASSES)} for code "
@@ -185,10 +199,10 @@ def _occupancy(kind, size_or_density, area):
     return size_or_density / area if kind != "crowd" else size_or_density
 
 
-def ukna_check(structure, *, traffic_class, density, crowd, msd, dampers, site_factors,
-               weighting):
+def ukna_check(structure: ModalModel, *, traffic_class: str | None, density: float | None,
+               crowd: Crowd | None, msd: MSDModel | None, dampers: Sequence,
+               site_factors: dict | Sequence | None, weighting: str | None) -> "DesignCheck":
     """UK NA check of :func:`crowdvib.design.design_check` (inputs already validated there)."""
-    from ..models.crowd import Crowd
     from ..response.spectral import effective_modal_properties
     from .check import DesignCheck, structure_models
     from .codes import ukna_limit
@@ -202,14 +216,16 @@ def ukna_check(structure, *, traffic_class, density, crowd, msd, dampers, site_f
     spans, lam = effective_span(structure)
     base_crowd = Crowd.from_density(1.0) if crowd is None else crowd
     n_modes = structure.n_modes
-    model_names = None
-    case_peaks, case_props, case_forces, per_case = [], [], [], {}
-    running = {}
+    model_names: tuple = ()
+    peak_rows, prop_rows, force_rows = [], [], []
+    per_case: dict[str, dict] = {}
+    running: dict[str, list] = {}
     for name, kind, value in cases:
         occupancy = _occupancy(kind, value, structure.area)
         models = structure_models(structure, base_crowd, occupancy, msd)
         model_names = tuple(models)
-        peaks, props, forces, info = [], [], [], {"k": [], "gamma": []}
+        peaks, props, forces = [], [], []
+        info: dict[str, list] = {"k": [], "gamma": []}
         for model, model_crowd, model_msd in models.values():
             modal = effective_modal_properties(model, model_crowd, model_msd, dampers=dampers)
             args = (modal.frequencies, modal.damping_ratios, modal.modal_masses)
@@ -225,21 +241,21 @@ def ukna_check(structure, *, traffic_class, density, crowd, msd, dampers, site_f
             forces.append(result["force"])
             info["k"].append(np.asarray(result["k"]).tolist())
             info["gamma"].append(np.atleast_1d(result["gamma"]).tolist())
-        case_peaks.append(peaks)
-        case_props.append(props)
-        case_forces.append(forces)
+        peak_rows.append(peaks)
+        prop_rows.append(props)
+        force_rows.append(forces)
         per_case[name] = {"kind": kind, ("group_size" if kind != "crowd" else "density"): value,
                           "occupancy_density": occupancy,
                           "frequencies": [p[0].tolist() for p in props],
                           "damping_ratios": [p[1].tolist() for p in props],
                           "modal_masses": [p[2].tolist() for p in props], **info}
-    case_peaks = np.array(case_peaks)                  # (n_cases, n_models, n_outputs, n_modes)
-    case_props = np.array(case_props)                  # (n_cases, n_models, 3, n_modes)
-    case_forces = np.array(case_forces)                # (n_cases, n_models, n_modes)
+    case_peaks = np.array(peak_rows)                   # (n_cases, n_models, n_outputs, n_modes)
+    case_props = np.array(prop_rows)                   # (n_cases, n_models, 3, n_modes)
+    case_forces = np.array(force_rows)                 # (n_cases, n_models, n_modes)
     # The case that governs each model's mode (largest over the outputs) supplies its row.
     governing = case_peaks.max(axis=2).argmax(axis=0)  # (n_models, n_modes)
     models_idx, modes_idx = np.indices(governing.shape)
-    props = case_props[governing, models_idx, :, modes_idx]          # (n_models, n_modes, 3)
+    chosen = case_props[governing, models_idx, :, modes_idx]         # (n_models, n_modes, 3)
     details = {"effective_span": spans.tolist(), "lambda": lam.tolist(),
                "site_factors": factors, "cases": per_case,
                "governing_case": [[cases[i][0] for i in row] for row in governing]}
@@ -250,7 +266,7 @@ def ukna_check(structure, *, traffic_class, density, crowd, msd, dampers, site_f
     return DesignCheck(
         code="ukna", traffic_class=traffic_class, density=crowd_density, limit=limit,
         output_names=structure.output_names, models=model_names,
-        frequencies=props[..., 0], damping_ratios=props[..., 1], modal_masses=props[..., 2],
+        frequencies=chosen[..., 0], damping_ratios=chosen[..., 1], modal_masses=chosen[..., 2],
         modal_forces=case_forces[governing, models_idx, modes_idx],
         harmonics=np.zeros((len(model_names), n_modes), dtype=int),
         peak_accelerations=case_peaks.max(axis=0),

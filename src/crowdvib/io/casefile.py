@@ -158,7 +158,7 @@ class Case:
     expected: dict = field(default_factory=dict)
     seed: int = None
     description: str = ""
-    design: "DesignSpec" = None
+    design: "DesignSpec | None" = None
 
     def to_dict(self):
         """The inputs as a JSON-ready dict (models summarised, paths as strings)."""
@@ -517,13 +517,13 @@ class DesignSpec:
 
     codes: tuple
     classes: dict = field(default_factory=dict)
-    density: float = None
-    comfort_class: str = None
+    density: float | None = None
+    comfort_class: str | None = None
     hsi: bool = True
-    msd: MSDModel = None
+    msd: MSDModel | None = None
     site_factors: dict = field(default_factory=dict)
-    weighting: str = None
-    damper: dict = None
+    weighting: str | None = None
+    damper: dict | None = None
     prediction: bool = True
     duration: float = 600.0
 

@@ -3,7 +3,7 @@ peak acceleration of every mode."""
 
 import numpy as np
 
-from .figure_base import _DARK, _panels
+from .figure_base import _DARK, FigureAxes, _panels
 
 __all__ = ["plot_utilisation", "plot_mode_accelerations"]
 
@@ -11,7 +11,7 @@ _MODEL_LABELS = {"empty": "no HSI", "added_mass": "added mass", "hsi": "HSI"}
 _SHADES = {"empty": "0.75", "added_mass": "0.45", "hsi": "black"}
 
 
-def plot_utilisation(checks, *, axes=None, title=None):
+def plot_utilisation(checks: dict, *, axes: object = None, title: str | None = None) -> FigureAxes:
     """Governing utilisation (largest over the outputs) per code, one bar per structural model.
 
     Parameters
@@ -43,7 +43,8 @@ def plot_utilisation(checks, *, axes=None, title=None):
     return handles
 
 
-def plot_mode_accelerations(checks, *, axes=None, title=None):
+def plot_mode_accelerations(checks: dict, *, axes: object = None,
+                            title: str | None = None) -> FigureAxes:
     """Peak acceleration of every mode at the governing output, per code and model.
 
     Returns

@@ -311,7 +311,7 @@ def _starts(results):
                                     rows, "data"), more)
 
 
-def design_section(results, notes):
+def design_section(results: dict, notes: Notes) -> Markup:
     """The verdict table of ``crowdvib check`` (``design.verdict``); empty for other commands.
 
     A check that fails with the primary model (HSI when checked, else no HSI) is a warning.

@@ -15,6 +15,7 @@ ISO 2631-1's linear integration over a window τ (1 s).
 """
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import as_float_array, check_positive
 from ..errors import ParameterError
@@ -30,7 +31,7 @@ WB_CONSTANTS = {"f1": 0.4, "q1": 1 / np.sqrt(2), "f2": 100.0, "q2": 1 / np.sqrt(
                 "q6": 0.95, "k": 0.4}
 
 
-def wb_response(frequency):
+def wb_response(frequency: ArrayLike) -> np.ndarray:
     """Complex W_b(i 2π f) [-] at frequencies [Hz] (the analytic transfer function)."""
     c = WB_CONSTANTS
     s = 2j * np.pi * np.asarray(frequency, dtype=float)
@@ -42,7 +43,7 @@ def wb_response(frequency):
     return high * low * c["k"] * transition * step
 
 
-def weight_wb(acceleration, sample_rate):
+def weight_wb(acceleration: ArrayLike, sample_rate: float) -> np.ndarray:
     """W_b-weighted accelerations [m/s²] of records sampled at ``sample_rate`` [Hz].
 
     Parameters
@@ -56,17 +57,17 @@ def weight_wb(acceleration, sample_rate):
     -------
     ndarray, shape of ``acceleration``
     """
-    acceleration = as_float_array("acceleration", acceleration)
+    values = np.asarray(as_float_array("acceleration", acceleration))
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
-    n = acceleration.shape[-1]
+    n = values.shape[-1]
     # Twice the record plus the 0.4 Hz high pass's memory (≈ 10/f1 s): no wrap-around.
     size = 1 << int(np.ceil(np.log2(2 * n + 10 * sample_rate / WB_CONSTANTS["f1"])))
-    spectrum = np.fft.rfft(acceleration, size, axis=-1)
+    spectrum = np.fft.rfft(values, size, axis=-1)
     spectrum *= wb_response(np.fft.rfftfreq(size, 1.0 / sample_rate))
     return np.fft.irfft(spectrum, size, axis=-1)[..., :n]
 
 
-def running_rms(acceleration, sample_rate, window=1.0):
+def running_rms(acceleration: ArrayLike, sample_rate: float, window: float = 1.0) -> np.ndarray:
     """Running RMS over a sliding window (ISO 2631-1 linear integration) [m/s²].
 
     a_rms(t_k) = sqrt(mean of a² over the ``window`` seconds ending at t_k), for every sample
@@ -84,14 +85,14 @@ def running_rms(acceleration, sample_rate, window=1.0):
     -------
     ndarray, shape (..., n_samples − m + 1), m = round(window · sample_rate)
     """
-    acceleration = as_float_array("acceleration", acceleration)
+    values = np.asarray(as_float_array("acceleration", acceleration))
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
     window = check_positive("window", window, unit="s")
     m = round(window * sample_rate)
-    n = acceleration.shape[-1]
+    n = values.shape[-1]
     if not 1 <= m <= n:
         raise ParameterError(f"window × sample_rate must give 1 to {n} samples (the record), "
                              f"got {window:g} s × {sample_rate:g} Hz = {m}")
-    squares = np.cumsum(np.concatenate([np.zeros(acceleration.shape[:-1] + (1,)),
-                                        acceleration**2], axis=-1), axis=-1)
+    squares = np.cumsum(np.concatenate([np.zeros(values.shape[:-1] + (1,)), values**2],
+                                       axis=-1), axis=-1)
     return np.sqrt(np.maximum(squares[..., m:] - squares[..., :-m], 0.0) / m)
