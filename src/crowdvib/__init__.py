@@ -23,7 +23,8 @@ except PackageNotFoundError:  # running from a source tree that was not installe
 _LAZY = {
     **dict.fromkeys(("ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce"), "models"),
     **dict.fromkeys(("ResponsePSD", "welch_psd", "LowPassFilter", "psd_convergence",
-                     "PSDConvergence", "detrend", "resample", "running_rms"), "signals"),
+                     "PSDConvergence", "detrend", "resample", "running_rms", "weight_wb"),
+                    "signals"),
     **dict.fromkeys(("response_psd", "frf", "effective_modal_properties", "SpectralModel",
                      "simulate", "Pedestrian", "FRF", "EffectiveModalProperties", "Simulation"),
                     "response"),
@@ -32,7 +33,8 @@ _LAZY = {
                      "StepFrequencyEstimate"), "identification"),
     **dict.fromkeys(("Record", "read_record", "write_record", "check_record", "Case", "load_case",
                      "read_modal_model"), "io"),
-    **dict.fromkeys(("TunedMassDamper", "tune_damper", "design_check", "DesignCheck"), "design"),
+    **dict.fromkeys(("TunedMassDamper", "tune_damper", "design_check", "DesignCheck",
+                     "predict_response", "ResponsePrediction"), "design"),
     "modal_accelerance": "response",
 }
 
@@ -66,7 +68,8 @@ if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
     from .models import Crowd, ModalModel, MSDModel, YoungForce, ZivanovicForce
     from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
                            effective_modal_properties, frf, response_psd, simulate)
-    from .design import DesignCheck, TunedMassDamper, design_check, tune_damper
+    from .design import (DesignCheck, ResponsePrediction, TunedMassDamper, design_check,
+                         predict_response, tune_damper)
     from .response import modal_accelerance
     from .signals import (LowPassFilter, PSDConvergence, ResponsePSD, detrend, psd_convergence,
                           resample, welch_psd)

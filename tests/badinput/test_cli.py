@@ -197,3 +197,40 @@ def test_missing_optional_package_is_a_usage_error_before_any_work(tmp_path, cap
     assert f"needs the package {package}" in error
     assert f"pip install 'crowdvib[{extra}]'" in error
     assert not out.exists()
+
+
+# --- crowdvib check ([design], issue 11) ------------------------------------------------------
+
+def _design_case(tmp_path, edit=lambda text: text):
+    text = (EXAMPLES / "check_paper.toml").read_text()
+    path = tmp_path / "design.toml"
+    path.write_text(edit(text))
+    return path
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda t: t.replace('codes = ["hivoss", "setra", "en1990", "ukna"]', 'codes = ["bs5400"]'),
+     "design.codes must list codes among"),
+    (lambda t: t.replace('k1 = "urban"', 'k1 = "city"'), "site factor k1 must be a number or one of"),
+    (lambda t: t.replace('ukna = "C"', 'ukna = "E"'), "traffic_class must be one of"),
+    (lambda t: t.replace('weighting = "Wb"', 'weighting = "Wk"'), "design.weighting must be one of"),
+    (lambda t: t.replace("[design]", "[design]\ntypo = 1"), "design.typo"),
+    (lambda t: t.replace('codes = ["hivoss", "setra", "en1990", "ukna"]', 'codes = ["hivoss"]'),
+     "classes.setra is given but 'setra' is not in design.codes"),
+])
+def test_check_bad_design_table(tmp_path, capsys, edit, message):
+    assert main(["check", str(_design_case(tmp_path, edit)), "--out", str(tmp_path / "o")]) == 1
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_check_needs_a_design_table(tmp_path, capsys):
+    assert main(["check", str(_case(tmp_path)), "--out", str(tmp_path / "o")]) == 1
+    assert "crowdvib check needs a [design] table" in capsys.readouterr().err
+
+
+def test_check_msd_from_without_estimate(tmp_path, capsys):
+    source = _results_dir(tmp_path, json.dumps({"command": "simulate"}))
+    assert main(["check", str(_design_case(tmp_path)), "--out", str(tmp_path / "o"),
+                 "--msd-from", str(source)]) == 1
+    assert "holds no MSD estimate" in capsys.readouterr().err

@@ -119,8 +119,8 @@ def test_to_dict_is_json_ready(paper_bridge):
 
 def test_bad_design_inputs(paper_bridge):
     with pytest.raises(ParameterError,
-                       match=r"code must be one of \['setra', 'hivoss', 'en1990'\]"):
-        design_check(paper_bridge, "ukna", traffic_class="TC3")
+                       match=r"code must be one of \['setra', 'hivoss', 'en1990', 'ukna'\]"):
+        design_check(paper_bridge, "bs5400", traffic_class="TC3")
     with pytest.raises(ParameterError, match="traffic_class must be one of .* got 'TC3'"):
         design_check(paper_bridge, "setra", traffic_class="TC3")
     with pytest.raises(ParameterError, match="'IV' of Sétra .* requires no comfort check"):

@@ -100,7 +100,8 @@ def _check_in_browser(report, tmp_path):
 #: Input rows whose value is a name or a choice, not a quantity: no unit to show.
 _NAMES = {"name", "path", "description", "seed", "source", "files", "output names",
           "channel names", "outputs", "formats", "format", "dtype", "record units",
-          "convergence norm"}
+          "convergence norm", "design codes", "hivoss", "setra", "en1990", "ukna",
+          "comfort class", "height of the deck k3"}
 
 
 def _input_rows_without_units(dom):
@@ -374,3 +375,11 @@ def test_statistical_interval_and_modelling_bound_side_by_side_and_together():
     assert "with the interval: 2.77–3.36" in section
     assert "with the interval: 0.166–0.373" in section
     assert "widened on each side by the bound" in section
+
+
+def test_check_report_in_the_browser(tmp_path):
+    # The design-check report: its inputs carry units like every other report's (issue 10).
+    out = tmp_path / "check"
+    assert main(["check", str(EXAMPLES / "check_paper.toml"), "--out", str(out)]) == 0
+    dom = _check_in_browser(out / REPORT_NAME, tmp_path)
+    assert "UK NA site factors" in html.unescape(dom)

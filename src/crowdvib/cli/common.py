@@ -10,7 +10,7 @@ from tqdm import tqdm
 
 from .. import __version__
 
-__all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "say", "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output", "finish_output",
+__all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "say", "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output", "finish_output",
            "staged_output", "versions", "warning_texts", "progress_printer"]
 
 def say(message=""):
@@ -26,6 +26,7 @@ def say(message=""):
 #: The case tables each kind of command reads; its report shows no others.
 ESTIMATION_TABLES = ("structure", "crowd", "hsi", "measurement", "estimation", "expected")
 SIMULATION_TABLES = ("structure", "crowd", "hsi", "simulation", "expected")
+DESIGN_TABLES = ("structure", "crowd", "hsi", "design")
 
 
 def case_inputs(case):

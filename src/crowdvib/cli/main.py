@@ -13,7 +13,7 @@ from .. import __version__
 from .._files import require_file
 from ..errors import CrowdvibError
 from ..reporting.report import write_report
-from . import demo, estimate, landscape, sensitivity, simulate
+from . import check, demo, estimate, landscape, sensitivity, simulate
 from .common import say
 
 __all__ = ["main", "build_parser"]
@@ -44,6 +44,7 @@ _COMMANDS = {
     "map": ("evaluate the objective J(f_h1, ξ_h1) of a case on a grid", landscape),
     "sensitivity": ("estimation error from modelling errors and record length: nominal ± bound",
                     sensitivity),
+    "check": ("design checks of a case's [design] table (codes, with and without HSI)", check),
 }
 
 

@@ -1,8 +1,10 @@
 """From the bridge model to a design decision: tuned mass dampers and design-code checks.
 
-``codes`` tables the design guides' constants (Sétra/AFGC 2006, HiVoSS 2008, EN 1990 A2) with
-their provenance; ``check`` runs the resonant comfort check without HSI, with added mass and with
-HSI side by side (:func:`design_check` → :class:`DesignCheck`). ``tuning`` places and tunes a
+``codes`` tables the design guides' constants (Sétra/AFGC 2006, HiVoSS 2008, EN 1990 A2, the UK
+National Annex to BS EN 1991-2) with their provenance; ``check`` runs the comfort check without
+HSI, with added mass and with HSI side by side (:func:`design_check` → :class:`DesignCheck`;
+``ukna`` holds the UK NA's time-domain walkers and steady-state crowd); ``stochastic`` predicts
+the RMS and expected peak of a crowd stream from the spectral model (:func:`predict_response`). ``tuning`` places and tunes a
 :class:`TunedMassDamper` (Den Hartog, Asami et al.) on the empty or on the occupied structure.
 The damper itself is a model (``crowdvib.models.damper``) that the response functions take as
 ``dampers=``.
@@ -10,6 +12,8 @@ The damper itself is a model (``crowdvib.models.damper``) that the response func
 
 from ..models.damper import TunedMassDamper
 from .check import DesignCheck, design_check
+from .stochastic import ResponsePrediction, predict_response
 from .tuning import optimal_tuning, tune_damper
 
-__all__ = ["TunedMassDamper", "tune_damper", "optimal_tuning", "design_check", "DesignCheck"]
+__all__ = ["TunedMassDamper", "tune_damper", "optimal_tuning", "design_check", "DesignCheck",
+           "predict_response", "ResponsePrediction"]

@@ -16,7 +16,8 @@ its code load (:func:`damped_response`).
 """
 
 import warnings
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -67,11 +68,20 @@ class DesignCheck:
     harmonics : ndarray of int, shape (n_models, n_modes)
         Walking harmonic (1 or 2) that loads each mode; 0 where ψ = 0 for both.
     peak_accelerations : ndarray, shape (n_models, n_outputs, n_modes)
-        Steady-state resonant peak accelerations [m/s²] at each output, mode by mode.
+        Steady-state resonant peak accelerations [m/s²] at each output, mode by mode; for
+        "ukna" the largest over its load cases.
+    cases : tuple of str
+        "ukna" only: the load cases checked ("walkers", "joggers", "crowd"); empty otherwise.
+    case_accelerations : ndarray, shape (n_cases, n_models, n_outputs, n_modes)
+        "ukna" only: the peak accelerations of each load case [m/s²].
+    details : dict
+        Code-specific, JSON-ready intermediate values ("ukna": S_eff, λ, k, γ, group sizes,
+        site factors, per-case modal properties, and with ``weighting`` the largest running
+        RMS values).
     """
 
     code: str
-    traffic_class: str
+    traffic_class: str | None
     density: float
     limit: float
     output_names: tuple
@@ -82,11 +92,17 @@ class DesignCheck:
     modal_forces: np.ndarray
     harmonics: np.ndarray
     peak_accelerations: np.ndarray
+    cases: tuple = ()
+    case_accelerations: np.ndarray | None = None
+    details: dict = field(default_factory=dict)
 
     def __post_init__(self):
         for name in ("frequencies", "damping_ratios", "modal_masses", "modal_forces",
                      "peak_accelerations"):
             object.__setattr__(self, name, frozen_array(getattr(self, name)))
+        if self.case_accelerations is not None:
+            object.__setattr__(self, "case_accelerations",
+                               frozen_array(self.case_accelerations))
         object.__setattr__(self, "harmonics", frozen_array(self.harmonics, int))
 
     @property
@@ -144,6 +160,10 @@ class DesignCheck:
             "governing": self.governing.tolist(), "utilisation": self.utilisation.tolist(),
             "comfort_class": list(self.comfort_class),
             "ratios": {key: value.tolist() for key, value in self.ratios.items()},
+            "cases": list(self.cases),
+            "case_accelerations": (None if self.case_accelerations is None
+                                   else self.case_accelerations.tolist()),
+            "details": self.details,
         }
 
 
@@ -263,21 +283,61 @@ def _check_density(code, structure, traffic_class, density, crowd):
     return float(density)
 
 
-def design_check(structure, code, *, traffic_class=None, density=None, crowd=None, msd=None,
-                 dampers=None, comfort_class=None):
+def structure_models(structure: ModalModel, crowd: Crowd, density: float,
+                     msd: MSDModel | None) -> dict:
+    """The models of the structure a check compares, name → (structure, crowd, msd).
+
+    "empty"; "added_mass" (each mode's frequency lowered by sqrt(m_j / (m_j + m_h Ψ_jj)), mass
+    m_j + m_h Ψ_jj, damping kept); with ``msd`` "hsi" (the crowd of MSDs on the empty model).
+    ``crowd`` gives the body mass; its density is replaced by ``density``.
+    """
+    crowd = crowd.with_density(density)
+    m = structure.modal_masses
+    loaded = m + crowd.body_mass * np.diag(structure.influence_matrix(density))
+    models: dict[str, tuple] = {
+        "empty": (structure, None, None),
+        "added_mass": (structure.replace(frequencies=structure.frequencies * np.sqrt(m / loaded),
+                                         modal_masses=loaded), None, None)}
+    if msd is not None:
+        models["hsi"] = (structure, crowd, msd)
+    return models
+
+
+def _check_inputs(structure, code, crowd, msd):
+    if not isinstance(structure, ModalModel):
+        raise ParameterError(f"structure must be a ModalModel, got {type(structure).__name__}")
+    if code not in CODES:
+        raise ParameterError(f"code must be one of {list(CODES)}, got {code!r}")
+    if crowd is not None and not isinstance(crowd, Crowd):
+        raise ParameterError(f"crowd must be a Crowd or None, got {type(crowd).__name__}")
+    if msd is not None and not isinstance(msd, MSDModel):
+        raise ParameterError(f"msd must be an MSDModel or None, got {type(msd).__name__}")
+    if np.any(structure.damping_ratios == 0):
+        raise ParameterError("damping_ratios must be > 0 for a resonant design check, got "
+                             f"{structure.damping_ratios.tolist()}")
+
+
+def design_check(structure: ModalModel, code: str, *, traffic_class: str | None = None,
+                 density: float | None = None, crowd: Crowd | None = None,
+                 msd: MSDModel | None = None, dampers: Sequence | None = None,
+                 comfort_class: str | None = None, site_factors: dict | Sequence | None = None,
+                 weighting: str | None = None) -> DesignCheck:
     """Comfort check of a footbridge to a design guide, without and with HSI.
 
     Parameters
     ----------
     structure : ModalModel
         The empty footbridge.
-    code : {"setra", "hivoss", "en1990"}
-        Sétra/AFGC 2006, HiVoSS 2008, or EN 1990 Annex A2's limit (0.7 m/s²) with the HiVoSS
-        load and classes.
+    code : {"setra", "hivoss", "en1990", "ukna"}
+        Sétra/AFGC 2006, HiVoSS 2008, EN 1990 Annex A2's limit (0.7 m/s²) with the HiVoSS
+        load and classes, or the UK National Annex to BS EN 1991-2 (NA.2.44: walkers and
+        joggers in the time domain, the steady-state crowd; :mod:`crowdvib.design.ukna`).
     traffic_class : str, optional
-        "I", "II", "III" (Sétra) or "TC1"…"TC5" (HiVoSS, EN 1990).
+        "I", "II", "III" (Sétra), "TC1"…"TC5" (HiVoSS, EN 1990) or the bridge class "A"…"D"
+        (UK NA, Table NA.7: group sizes and crowd density).
     density : float, optional
-        Crowd density [persons/m²]; overrides the class's density.
+        Crowd density [persons/m²]; overrides the class's density (UK NA: of the crowd case;
+        without a class only the crowd case is checked).
     crowd : Crowd, optional
         Body mass (and walkers) of the design crowd; its density is replaced by the class's
         (default ``Crowd.from_density``: 70 kg). Used for the added mass and with ``msd``.
@@ -285,9 +345,17 @@ def design_check(structure, code, *, traffic_class=None, density=None, crowd=Non
         The pedestrians' MSD model (identified or assumed): adds the "hsi" model.
     dampers : sequence of TunedMassDamper, optional
         Tuned mass dampers, part of every model; each mode's response is then the peak of its
-        exact steady-state response over its band (:func:`damped_response`).
+        exact steady-state response over its band (:func:`damped_response`). UK NA: each mode
+        is the damped structure's effective mode.
     comfort_class : {"CL1", "CL2", "CL3"}, optional
         Target comfort class of Sétra/HiVoSS (default "CL2", mean comfort: 1.0 m/s²).
+    site_factors : dict or sequence, optional
+        UK NA only: k1…k4 of the limit 1.0 k1 k2 k3 k4 in [0.5, 2.0] m/s²
+        (:func:`crowdvib.design.codes.ukna_limit`).
+    weighting : {None, "Wb"}, optional
+        UK NA only: also report the largest 1-s running RMS of the W_b-weighted accelerations
+        of the walkers' and joggers' crossings (``details["running_rms"]``;
+        :mod:`crowdvib.signals.weighting`).
 
     Returns
     -------
@@ -301,33 +369,27 @@ def design_check(structure, code, *, traffic_class=None, density=None, crowd=Non
     >>> check.comfort_class, round(float(check.ratios["hsi/empty"][0]), 2)
     (('CL3',), 0.58)
     """
-    if not isinstance(structure, ModalModel):
-        raise ParameterError(f"structure must be a ModalModel, got {type(structure).__name__}")
-    if code not in CODES:
-        raise ParameterError(f"code must be one of {list(CODES)}, got {code!r}")
-    if crowd is not None and not isinstance(crowd, Crowd):
-        raise ParameterError(f"crowd must be a Crowd or None, got {type(crowd).__name__}")
-    if msd is not None and not isinstance(msd, MSDModel):
-        raise ParameterError(f"msd must be an MSDModel or None, got {type(msd).__name__}")
+    _check_inputs(structure, code, crowd, msd)
+    dampers = as_dampers(dampers)
+    if code == "ukna":
+        if comfort_class is not None:
+            raise ParameterError(f"comfort_class applies to 'setra' and 'hivoss'; the UK NA "
+                                 f"limit comes from site_factors, got {comfort_class!r}")
+        from .ukna import ukna_check
+        return ukna_check(structure, traffic_class=traffic_class, density=density,
+                          crowd=crowd, msd=msd, dampers=dampers, site_factors=site_factors,
+                          weighting=weighting)
+    for name, value in (("site_factors", site_factors), ("weighting", weighting)):
+        if value is not None:
+            raise ParameterError(f"{name} applies to code 'ukna' only, got {name}={value!r} "
+                                 f"with code {code!r}")
     limit = comfort_limit(code, comfort_class)
     density = _check_density(code, structure, traffic_class, density, crowd)
-    if np.any(structure.damping_ratios == 0):
-        raise ParameterError("damping_ratios must be > 0 for a resonant design check, got "
-                             f"{structure.damping_ratios.tolist()}")
-    crowd = (Crowd.from_density(density) if crowd is None else crowd.with_density(density))
-    dampers = as_dampers(dampers)
-
-    m = structure.modal_masses
-    loaded = m + crowd.body_mass * np.diag(structure.influence_matrix(density))
-    # Each model: the structure it checks, and the crowd of MSDs on it (HSI only).
-    models = {"empty": (structure, None, None),
-              "added_mass": (structure.replace(frequencies=structure.frequencies
-                                               * np.sqrt(m / loaded), modal_masses=loaded),
-                             None, None)}
-    if msd is not None:
-        models["hsi"] = (structure, crowd, msd)
-    columns = {name: [] for name in ("frequencies", "damping_ratios", "modal_masses",
-                                     "modal_forces", "harmonics", "peak_accelerations")}
+    crowd = Crowd.from_density(density) if crowd is None else crowd
+    models = structure_models(structure, crowd, density, msd)
+    columns: dict[str, list] = {name: [] for name in (
+        "frequencies", "damping_ratios", "modal_masses", "modal_forces", "harmonics",
+        "peak_accelerations")}
     for model, model_crowd, model_msd in models.values():
         modal = effective_modal_properties(model, model_crowd, model_msd, dampers=dampers)
         if dampers:
@@ -339,6 +401,11 @@ def design_check(structure, code, *, traffic_class=None, density=None, crowd=Non
         values = (modal.frequencies, modal.damping_ratios, modal.modal_masses) + response
         for name, value in zip(columns, values):
             columns[name].append(value)
+    arrays = {name: np.array(value) for name, value in columns.items()}
     return DesignCheck(code=code, traffic_class=traffic_class, density=density, limit=limit,
                        output_names=structure.output_names, models=tuple(models),
-                       **{name: np.array(value) for name, value in columns.items()})
+                       frequencies=arrays["frequencies"],
+                       damping_ratios=arrays["damping_ratios"],
+                       modal_masses=arrays["modal_masses"], modal_forces=arrays["modal_forces"],
+                       harmonics=arrays["harmonics"],
+                       peak_accelerations=arrays["peak_accelerations"])

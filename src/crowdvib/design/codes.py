@@ -12,17 +12,26 @@ source (SOURCED, with where) or is RECALLED from the guides, which were not reac
 RECALLED constant is a default to verify against the guide before a design relies on it.
 """
 
-import numpy as np
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
-from .._validation import check_non_negative
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.interpolate import RegularGridInterpolator
+
+from .._validation import check_non_negative, check_positive
 from ..errors import ParameterError
+
+if TYPE_CHECKING:
+    from ..models.structure import ModalModel
 
 __all__ = ["CODES", "TRAFFIC_CLASSES", "COMFORT_CLASSES", "EN1990_VERTICAL_LIMIT",
            "HARMONIC_FORCES", "reduction_factor", "equivalent_pedestrians", "class_density",
-           "comfort_class", "comfort_limit"]
+           "comfort_class", "comfort_limit", "UKNA_CLASSES", "UKNA_GROUPS", "ukna_k_factor",
+           "ukna_gamma", "ukna_crowd_gamma", "ukna_limit", "effective_span"]
 
 #: Codes understood by :func:`crowdvib.design.design_check`.
-CODES = ("setra", "hivoss", "en1990")
+CODES = ("setra", "hivoss", "en1990", "ukna")
 
 #: Vertical force amplitude per equivalent pedestrian [N] of walking harmonic 1 and 2.
 #: 280 N: SOURCED (public Sétra/HiVoSS implementations, docs: theory, Design-guide load models: the CSA S7 code
@@ -152,3 +161,163 @@ def comfort_limit(code, target_class):
     if target_class not in names:
         raise ParameterError(f"comfort_class must be one of {names}, got {target_class!r}")
     return dict(COMFORT_CLASSES)[target_class]
+
+
+# --- UK National Annex to BS EN 1991-2 (NA.2.44): walkers, joggers and crowds -----------------
+#
+# Provenance: the NA text itself was not reachable here. Values marked SOURCED were read in the
+# public DynSys package (R. Hewitt, Python, modules ``ped_dyn``/``dyn_analysis``: Table NA.7 and
+# NA.8 values, digitised Figures NA.8 and NA.9, Figure NA.7's S_eff and λ), which implements the
+# NA; values marked RECALLED are from memory of the NA and must be checked against it.
+
+#: Table NA.7 (bridge usage class → walkers per group, joggers per group, crowd density
+#: [persons/m²]). SOURCED (DynSys calc_N and get_crowd_density). Class A needs no crowd check
+#: and no joggers (N = 0).
+UKNA_CLASSES = {"A": (2, 0, 0.0), "B": (4, 1, 0.4), "C": (8, 2, 0.8), "D": (16, 4, 1.5)}
+
+#: Table NA.8: reference force amplitude F0 [N] and speed [m/s] of a walker and of a jogger.
+#: SOURCED (DynSys UKNA_BSEN1991_2_walkers_joggers_loading / get_load_velocity).
+UKNA_GROUPS = {"walkers": (280.0, 1.7), "joggers": (910.0, 3.0)}
+
+#: Figure NA.8: combined population and harmonic factor k(f_v) [-] against the mode frequency
+#: f_v [Hz], as (f, k) points of the digitised curves; crowdvib interpolates linearly between
+#: them (DynSys uses a cubic spline through the same points) and takes 0 outside. SOURCED
+#: (DynSys UKNA_BSEN1991_2_Figure_NA_8 digitisation, walkers = curve A, joggers = curve B).
+UKNA_K_CURVES = {
+    "walkers": ((0.0, 0.0), (0.2, 0.0), (0.4, 0.01), (0.6, 0.03), (0.8, 0.08), (1.0, 0.24),
+                (1.2, 0.44), (1.4, 0.72), (1.6, 0.93), (1.7, 0.98), (1.8, 1.0), (2.0, 0.997),
+                (2.1, 0.97), (2.2, 0.9), (2.4, 0.65), (2.6, 0.4), (2.8, 0.25), (3.0, 0.28),
+                (3.2, 0.32), (3.4, 0.34), (3.6, 0.36), (3.8, 0.36), (4.0, 0.35), (4.5, 0.28),
+                (5.0, 0.18), (5.5, 0.13), (6.0, 0.115), (6.5, 0.098), (7.0, 0.08), (8.0, 0.02),
+                (9.0, 0.0)),
+    "joggers": ((0.0, 0.0), (0.8, 0.0), (1.0, 0.01), (1.2, 0.04), (1.4, 0.15), (1.6, 0.3),
+                (1.7, 0.45), (1.8, 0.55), (2.0, 0.87), (2.1, 1.01), (2.2, 1.11), (2.4, 1.16),
+                (2.6, 1.12), (2.8, 0.93), (3.0, 0.64), (3.2, 0.36), (3.4, 0.16), (3.6, 0.1),
+                (3.8, 0.13), (4.0, 0.16), (4.5, 0.21), (5.0, 0.22), (5.5, 0.18), (6.0, 0.11),
+                (6.5, 0.04), (7.0, 0.03), (8.0, 0.02), (9.0, 0.0)),
+}
+
+#: Figure NA.9 (groups): reduction factor γ [-] for the unsynchronised walkers or joggers of a
+#: group, on a grid of logarithmic decrement δ = 2πξ [-] (rows) and effective span S_eff [m]
+#: (columns); bilinear interpolation, δ and S_eff clamped to the grid (S_eff below 10 m takes
+#: the 10 m curve, the larger γ: conservative; above 300 m the 300 m curve; δ above 0.2 the
+#: 0.2 row, with a warning as γ grows with δ). SOURCED (DynSys UKNA_BSEN1991_2_Figure_NA_9
+#: digitisation). PD 6688-2:2011 (Background to the NA) replaces Figure NA.9 by its corrected
+#: Figure 2 (SOURCED: the PD's list of figures); whether DynSys digitised the corrected curves
+#: could not be verified here, so the PD 6688-2 correction is RECALLED-UNVERIFIED: compare
+#: ``UKNA_GAMMA_TABLE`` with PD 6688-2 Figure 2 before a design relies on it.
+UKNA_GAMMA_DECREMENTS = tuple(round(0.02 * i, 2) for i in range(11))
+UKNA_GAMMA_SPANS = (10.0, 12.0, 15.0, 20.0, 30.0, 40.0, 60.0, 100.0, 200.0, 300.0)
+UKNA_GAMMA_TABLE = (
+    (0.680, 0.435, 0.315, 0.245, 0.200, 0.135, 0.100, 0.062, 0.048, 0.030),
+    (0.692, 0.462, 0.345, 0.283, 0.240, 0.180, 0.150, 0.117, 0.103, 0.093),
+    (0.705, 0.488, 0.380, 0.320, 0.280, 0.225, 0.200, 0.175, 0.163, 0.155),
+    (0.716, 0.512, 0.410, 0.350, 0.315, 0.267, 0.248, 0.230, 0.218, 0.215),
+    (0.728, 0.535, 0.437, 0.382, 0.352, 0.310, 0.292, 0.277, 0.270, 0.268),
+    (0.738, 0.556, 0.465, 0.415, 0.385, 0.350, 0.335, 0.322, 0.320, 0.320),
+    (0.746, 0.577, 0.492, 0.445, 0.420, 0.390, 0.375, 0.367, 0.366, 0.366),
+    (0.755, 0.597, 0.518, 0.473, 0.451, 0.426, 0.415, 0.408, 0.408, 0.408),
+    (0.763, 0.614, 0.540, 0.503, 0.482, 0.460, 0.450, 0.445, 0.445, 0.445),
+    (0.774, 0.632, 0.565, 0.530, 0.513, 0.496, 0.485, 0.480, 0.480, 0.480),
+    (0.783, 0.645, 0.585, 0.555, 0.540, 0.530, 0.520, 0.513, 0.513, 0.513),
+)
+
+#: Figure NA.9 (crowds): γ = 0.23 δ / 0.2 [-], a straight line through 0.23 at δ = 0.2.
+#: SOURCED (DynSys UKNA_BSEN1991_2_Figure_NA_9, groupType "crowd").
+UKNA_CROWD_GAMMA_SLOPE = 0.23 / 0.20
+
+#: NA.2.44.5: crowd load w = CROWD_FACTOR (F0/A) k(f_v) sqrt(γ N / λ), F0 = 280 N (walkers),
+#: N = ρ A, λ = 0.634 S_eff / S. SOURCED (DynSys UKNA_BSEN1991_2_crowd.calc_load_intensity).
+UKNA_CROWD_FACTOR = 1.8
+#: Figure NA.7: S_eff = ∫|φ| dx / (0.634 max|φ|), λ = 0.634 S_eff / S. SOURCED (DynSys Calc_Seff).
+UKNA_SPAN_FACTOR = 0.634
+
+#: NA.2.44.6: a_limit = 1.0 k1 k2 k3 k4 [m/s²], bounded to [0.5, 2.0]. RECALLED.
+UKNA_BASE_LIMIT, UKNA_LIMIT_BOUNDS = 1.0, (0.5, 2.0)
+#: Site factors (NA.2.44.6, Tables NA.9–NA.11), named choices → value. RECALLED (the tables were
+#: not reachable here): k1 site usage, k2 route redundancy, k3 height of the structure; k4 the
+#: exposure factor, 1.0 unless the designer justifies another value.
+UKNA_SITE_FACTORS = {
+    "k1": {"hospital": 0.6, "school": 0.8, "stadium": 0.8, "urban": 1.0, "suburban": 1.3,
+           "rural": 1.6},
+    "k2": {"sole": 0.7, "primary": 1.0, "alternative": 1.6},
+    "k3": {"above_8m": 0.7, "4_to_8m": 1.0, "below_4m": 1.1},
+    "k4": {"default": 1.0},
+}
+
+
+def ukna_k_factor(frequency: ArrayLike, group: str = "walkers") -> np.ndarray:
+    """k(f_v) [-] of Figure NA.8 (digitised, linear between points, 0 outside), UK NA."""
+    if group not in UKNA_K_CURVES:
+        raise ParameterError(f"group must be one of {list(UKNA_K_CURVES)}, got {group!r}")
+    f, k = np.array(UKNA_K_CURVES[group]).T
+    return np.interp(np.asarray(frequency, dtype=float), f, k, left=0.0, right=0.0)
+
+
+def ukna_gamma(log_decrement: ArrayLike, effective_span: ArrayLike) -> np.ndarray | float:
+    """γ(δ, S_eff) [-] of Figure NA.9 for groups (bilinear on the digitised grid, clamped)."""
+    delta = np.clip(np.asarray(log_decrement, dtype=float), 0.0, UKNA_GAMMA_DECREMENTS[-1])
+    span = np.clip(np.asarray(effective_span, dtype=float), UKNA_GAMMA_SPANS[0],
+                   UKNA_GAMMA_SPANS[-1])
+    delta, span = np.broadcast_arrays(delta, span)
+    grid = RegularGridInterpolator((UKNA_GAMMA_DECREMENTS, UKNA_GAMMA_SPANS),
+                                   np.array(UKNA_GAMMA_TABLE))
+    values = grid(np.stack([delta.ravel(), span.ravel()], axis=-1)).reshape(delta.shape)
+    return values if values.ndim else float(values)
+
+
+def ukna_crowd_gamma(log_decrement: ArrayLike) -> np.ndarray:
+    """γ [-] of Figure NA.9 for crowds: 0.23 δ / 0.2."""
+    return UKNA_CROWD_GAMMA_SLOPE * np.asarray(log_decrement, dtype=float)
+
+
+def ukna_limit(site_factors: dict | Sequence | None = None) -> tuple[float, dict]:
+    """Vertical acceleration limit [m/s²] of NA.2.44.6 and the factors used.
+
+    Parameters
+    ----------
+    site_factors : dict or sequence of 4 floats, optional
+        k1…k4 as numbers or as names of :data:`UKNA_SITE_FACTORS` (``{"k1": "urban", "k3":
+        0.7}``); missing factors are 1.0.
+
+    Returns
+    -------
+    (float, dict)
+        clip(1.0 k1 k2 k3 k4, 0.5, 2.0) and the factors.
+    """
+    names = ("k1", "k2", "k3", "k4")
+    if site_factors is None:
+        site_factors = {}
+    elif not isinstance(site_factors, dict):
+        values = list(np.atleast_1d(np.asarray(site_factors, dtype=object)))
+        if len(values) != 4:
+            raise ParameterError(f"site_factors must hold 4 values (k1, k2, k3, k4), got "
+                                 f"{len(values)}")
+        site_factors = dict(zip(names, values))
+    unknown = set(site_factors) - set(names)
+    if unknown:
+        raise ParameterError(f"site_factors keys must be among {list(names)}, got "
+                             f"{sorted(unknown)}")
+    factors = {}
+    for name in names:
+        value = site_factors.get(name, 1.0)
+        if isinstance(value, str):
+            if value not in UKNA_SITE_FACTORS[name]:
+                raise ParameterError(f"site factor {name} must be a number or one of "
+                                     f"{list(UKNA_SITE_FACTORS[name])}, got {value!r}")
+            value = UKNA_SITE_FACTORS[name][value]
+        factors[name] = float(check_positive(name, value))
+    limit = UKNA_BASE_LIMIT * np.prod(list(factors.values()))
+    return float(np.clip(limit, *UKNA_LIMIT_BOUNDS)), factors
+
+
+def effective_span(structure: "ModalModel") -> tuple[np.ndarray, np.ndarray]:
+    """Effective span S_eff [m] of each mode (Figure NA.7) and λ = 0.634 S_eff / S [-].
+
+    S_eff = ∫_A |φ_j| dA / (B · 0.634 · max|φ_j|): the walkway integral of the absolute mode
+    shape (averaged across the width) over its largest value on the walkway.
+    """
+    peak = np.abs(structure.mode_shapes).max(axis=(0, 1))
+    span = structure.shape_integrals(absolute=True) / (structure.width * UKNA_SPAN_FACTOR
+                                                       * peak)
+    return span, UKNA_SPAN_FACTOR * span / structure.length

@@ -21,6 +21,9 @@ A case file describes one bridge and one crowd, and how its records are read and
                    convergence_norm; [estimation.step_frequencies] cutoff, band, starts, bounds
     [simulation]   duration, sample_rate, warm_up, hsi, record_sample_rate, formats, dtype
     [expected]     the MSD (and step frequencies) a synthetic record was made with
+    [design]       codes, density, comfort_class, hsi, weighting, prediction, duration;
+                   [design.classes] per code; [design.site_factors] k1–k4 (UK NA);
+                   [design.msd] (else [hsi]); [design.damper] (used by `crowdvib check`)
 
 Paths are relative to the case file. Every value is checked once here; a bad one raises a
 :class:`ParameterError` that names the file and the key, e.g.
@@ -46,6 +49,7 @@ from .modalfiles import read_modal_model, write_modal_model
 from .records import RECORD_FORMATS, _unit_key
 
 __all__ = ["Case", "MeasurementSpec", "EstimationSpec", "StepFrequencySpec", "SimulationSpec",
+           "DesignSpec",
            "load_case", "load_measurement", "read_modal_model", "write_modal_model",
            "paper_example_case"]
 
@@ -156,6 +160,7 @@ class Case:
     description: str = ""
     #: Dotted keys of :meth:`to_dict` the file did not set → "default" or how they were derived.
     not_set: dict = field(default_factory=dict)
+    design: "DesignSpec | None" = None
 
     def to_dict(self, sections=None):
         """The inputs as a JSON-ready dict (models summarised, paths as strings).
@@ -186,7 +191,8 @@ class Case:
                                   self.crowd.density, self.crowd.body_mass).tolist()},
                 "crowd": plain(self.crowd), "hsi": self.msd.to_dict(),
                 "measurement": plain(self.measurement), "estimation": plain(self.estimation),
-                "simulation": plain(self.simulation), "expected": dict(self.expected)}
+                "simulation": plain(self.simulation), "expected": dict(self.expected),
+                **({} if self.design is None else {"design": plain(self.design)})}
         if sections is not None:
             data = {k: v for k, v in data.items() if not isinstance(v, dict) or k in sections}
         data["not_set"] = {k: v for k, v in self.not_set.items() if k.split(".")[0] in data}
@@ -453,6 +459,7 @@ def _case(path, data):
         root.used.add("estimation")
     simulation = _simulation(root.table("simulation"), path)
     expected = _expected(root.table("expected"))
+    design = _design(root.table("design"), path) if root.has("design") else None
     root.finish()
     not_set = _not_set(root.defaulted | ({"estimation"} if not root.has("estimation") else set()))
     outputs = estimation.outputs or structure.output_names
@@ -467,7 +474,8 @@ def _case(path, data):
             raise ParameterError(f"{path.name}: measurement.channels keys: {exc}") from None
     return Case(name=name, path=path, structure=structure, crowd=crowd, msd=msd,
                 measurement=measurement, estimation=estimation, simulation=simulation,
-                expected=expected, seed=seed, description=description, not_set=not_set)
+                expected=expected, seed=seed, description=description, not_set=not_set,
+                design=design)
 
 
 #: Case-file keys whose :meth:`Case.to_dict` name differs.
@@ -496,3 +504,118 @@ def paper_example_case():
                 simulation=SimulationSpec(duration=3600.0, sample_rate=100.0, warm_up=200.0),
                 expected=example.msd.to_dict(), seed=20230101,
                 description="Van Nimmen & Van den Broeck (2023), numerical example")
+
+
+# ------------------------------------------------------------------------------------- [design]
+# The design checks of `crowdvib check` (issue 11), kept apart from the other sections.
+
+@dataclass(frozen=True)
+class DesignSpec:
+    """The design checks of ``[design]`` (used by ``crowdvib check``).
+
+    Attributes
+    ----------
+    codes : tuple of str
+        Codes of :func:`crowdvib.design.design_check` to check.
+    classes : dict
+        Code → traffic class ("TC3", "II", "B", …); a code without one takes ``density``.
+    density : float or None
+        Crowd density [persons/m²] overriding the classes' (and the checks' only one for codes
+        without a class).
+    comfort_class : str or None
+        Target comfort class of Sétra/HiVoSS (default CL2).
+    hsi : bool
+        Add the HSI model with ``msd``.
+    msd : MSDModel or None
+        ``[design.msd]``; None: the case's ``[hsi]``.
+    site_factors : dict
+        k1…k4 of the UK NA limit (numbers or named choices).
+    weighting : str or None
+        "Wb": running RMS of W_b-weighted accelerations where computed.
+    damper : dict or None
+        ``[design.damper]``: mass, frequency, damping_ratio, position[, lane], or mode and
+        mass_ratio (tuned with :func:`crowdvib.design.tune_damper`).
+    prediction : bool
+        Add the stochastic prediction of the case's ``[crowd]`` stream.
+    duration : float
+        Record length [s] of the prediction's expected peak.
+    """
+
+    codes: tuple
+    classes: dict = field(default_factory=dict)
+    density: float | None = None
+    comfort_class: str | None = None
+    hsi: bool = True
+    msd: MSDModel | None = None
+    site_factors: dict = field(default_factory=dict)
+    weighting: str | None = None
+    damper: dict | None = None
+    prediction: bool = True
+    duration: float = 600.0
+
+
+def _design(table, path):
+    from ..design.codes import CODES, COMFORT_CLASSES
+
+    codes = table.strings("codes")
+    for code in codes:
+        if code not in CODES:
+            raise table.error("codes", f"must list codes among {list(CODES)}", list(codes))
+    classes_table = table.table("classes")
+    classes = {"setra": classes_table.string("setra", None),
+               "hivoss": classes_table.string("hivoss", None),
+               "en1990": classes_table.string("en1990", None),
+               "ukna": classes_table.string("ukna", None)}
+    classes_table.finish()
+    factors_table = table.table("site_factors")
+    factors = {"k1": factors_table.raw("k1", None), "k2": factors_table.raw("k2", None),
+               "k3": factors_table.raw("k3", None), "k4": factors_table.raw("k4", None)}
+    for name, value in factors.items():
+        if value is not None and (isinstance(value, bool)
+                                  or not isinstance(value, (int, float, str))):
+            raise factors_table.error(name, "must be a number or a named choice", value)
+    factors = {name: value for name, value in factors.items() if value is not None}
+    factors_table.finish()
+    msd = None
+    if table.has("msd"):
+        msd_table = table.table("msd")              # the keys of [hsi]
+        msd = _msd(msd_table, path)
+    damper = _design_damper(table.table("damper"), path) if table.has("damper") else None
+    spec = DesignSpec(
+        codes=codes, classes={k: v for k, v in classes.items() if v is not None},
+        density=table.number("density", None, rule="positive"),
+        comfort_class=table.string("comfort_class", None,
+                                   choices=[name for name, _ in COMFORT_CLASSES[:-1]]),
+        hsi=table.boolean("hsi", True), msd=msd, site_factors=factors,
+        weighting=table.string("weighting", None, choices=("Wb",)), damper=damper,
+        prediction=table.boolean("prediction", True),
+        duration=table.number("duration", 600.0, rule="positive"))
+    table.finish()
+    try:                       # the checks' own validation, reported against the case file
+        from ..design.codes import ukna_limit
+
+        ukna_limit(factors)
+        for code, traffic_class in spec.classes.items():
+            if code not in codes:
+                raise ParameterError(f"classes.{code} is given but {code!r} is not in "
+                                     f"design.codes {list(codes)}")
+    except ParameterError as exc:
+        raise wrap(path, "design", exc) from None
+    return spec
+
+
+def _design_damper(table, path):
+    """``[design.damper]``: an explicit damper, or a mode and mass ratio to tune one for."""
+    if table.has("mode"):
+        mode = table.number("mode", rule="positive")
+        if int(mode) != mode:
+            raise table.error("mode", "must be an integer >= 1 (1 = the first mode)", mode)
+        damper = {"mode": int(mode), "mass_ratio": table.number("mass_ratio", rule="fraction")}
+    else:
+        damper = {"mass": table.number("mass", rule="positive"),
+                  "frequency": table.number("frequency", rule="positive"),
+                  "damping_ratio": table.number("damping_ratio", rule="fraction"),
+                  "position": table.number("position"),
+                  "lane": table.number("lane", None, rule="non_negative")}
+    table.finish()
+    return damper

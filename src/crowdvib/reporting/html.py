@@ -38,7 +38,9 @@ def number(value, digits=4):
 
 
 _TITLES = {"hsi": "HSI (MSD model)", "msd": "MSD model", "crowd_used": "crowd used",
-           "units": "record units",
+           "units": "record units", "classes": "traffic class per code",
+           "codes": "design codes", "k1": "site usage k1", "k2": "route redundancy k2",
+           "k3": "height of the deck k3", "site_factors": "UK NA site factors",
            "truth": "truth (MSD of the synthetic measurement)"}
 
 
@@ -68,6 +70,7 @@ _QUANTITIES = {
     "starts": ("starting points (f_h1, ξ_h1[, μ_h1])", "Hz, -, -"),
     "mean_on_deck": ("mean number on the deck", "-"), "n_pedestrians": ("pedestrians", "-"),
     "time_step": ("time step", "s"), "peak": ("peak acceleration", "m/s²"),
+    "k4": ("exposure factor k4", "-"),
 }
 
 

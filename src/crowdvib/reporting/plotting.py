@@ -7,7 +7,6 @@ Axes and never calls ``plt.show()``; matplotlib is imported only when a plot is 
 
 import numpy as np
 
-from ..signals.conditioning import running_rms
 from .figure_base import (_DARK, _LIGHT, FigureAxes, _axes, _in_band, _panels, _positive,
                           figure_bytes, save_figure)
 from .study_plots import plot_estimation_errors, plot_objective_map, plot_parametric_ratios
@@ -222,7 +221,23 @@ def plot_frf(empty, occupied=None, *, output=None, input=None, band=None, ax=Non
     return ax
 
 
-def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=None):
+def _running_rms(signal, sample_rate, window, weighting=None):
+    """Trailing running RMS over ``window`` seconds (optionally of the W_b-weighted signal);
+    NaN until the first window is full."""
+    from ..signals.weighting import running_rms, weight_wb
+
+    signal = np.asarray(signal, dtype=float)
+    if weighting == "Wb":
+        signal = weight_wb(signal, sample_rate)
+    n = max(int(round(window * sample_rate)), 1)
+    result = np.full(signal.size, np.nan)
+    if result.size >= n:
+        result[n - 1:] = running_rms(signal, sample_rate, n / sample_rate)
+    return result
+
+
+def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=None,
+                      weighting=None):
     """Simulated acceleration, its running RMS and the number of people on the deck.
 
     Parameters
@@ -236,6 +251,9 @@ def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=N
         Running-RMS window [s] (default 1 s).
     axes : sequence of two matplotlib.axes.Axes, optional
     title : str, optional
+    weighting : {None, "Wb"}
+        Running RMS of the W_b-weighted acceleration (BS 6841 / ISO 10137,
+        :mod:`crowdvib.signals.weighting`) instead of the unweighted one.
 
     Returns
     -------
@@ -252,10 +270,15 @@ def plot_time_history(simulation, *, output=None, window=1.0, axes=None, title=N
         raise ParameterError(f"output must be one of {list(names)}, got {name!r}")
     signal = np.asarray(simulation.acceleration)[names.index(name)]
     time = np.asarray(simulation.time)
-    rms = running_rms(signal, simulation.sample_rate, window)
+    if weighting not in (None, "Wb"):
+        from ..errors import ParameterError
+
+        raise ParameterError(f"weighting must be None or 'Wb', got {weighting!r}")
+    rms = _running_rms(signal, simulation.sample_rate, window, weighting)
     top.plot(time, signal, color=_LIGHT, lw=0.4, label="acceleration")
     peak = np.nanmax(rms) if np.isfinite(rms).any() else np.nan
-    top.plot(time, rms, color=_DARK, lw=1.4, label=f"{window:g} s running RMS (max {peak:.3g} m/s²)")
+    label = f"{window:g} s running RMS{' (W_b)' if weighting else ''} (max {peak:.3g} m/s²)"
+    top.plot(time, rms, color=_DARK, lw=1.4, label=label)
     top.set_ylabel("Acceleration [m/s²]")
     top.grid(True, alpha=0.3)
     top.legend(loc="upper right", fontsize="small")

@@ -122,6 +122,7 @@ def _assess(results, directory):
     notes = sections.Notes()
     figures = collect_figures(results, directory, notes, CONVERGENCE_LEVEL)
     diagnostics = sections.diagnostics_section(results, notes)   # fills notes before the summary
+    diagnostics += sections.design_section(results, notes)       # crowdvib check only
     return notes, figures, diagnostics
 
 

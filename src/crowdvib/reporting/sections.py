@@ -344,6 +344,44 @@ def _starts(results):
                                     rows, "data"), more)
 
 
+def design_section(results: dict, notes: Notes) -> Markup:
+    """The verdict table of ``crowdvib check`` (``design.verdict``); empty for other commands.
+
+    A check that fails with the primary model (HSI when checked, else no HSI) is a warning.
+    """
+    rows = get(results, ("design", "verdict"))
+    if not isinstance(rows, list) or not rows:
+        return Markup("")
+    rows = [r for r in rows if isinstance(r, dict)]
+    primary = "HSI" if any(r.get("model") == "HSI" for r in rows) else "no HSI"
+    for r in rows:
+        if r.get("model") == primary and r.get("passes") is False:
+            notes.warn(html("{} {} fails at {} with {}: {} m/s² above the limit {} m/s² "
+                            "(utilisation {}).", r.get("code"), r.get("traffic_class") or "",
+                            r.get("output"), primary, number(r.get("governing"), 3),
+                            number(r.get("limit"), 3), number(r.get("utilisation"), 3)))
+    cells = [[r.get("code"), r.get("traffic_class") or "—", r.get("model"), r.get("output"),
+              number(r.get("governing"), 3), number(r.get("limit"), 3),
+              number(r.get("utilisation"), 3), r.get("comfort_class"),
+              "yes" if r.get("passes") else "no"] for r in rows]
+    prediction = get(results, ("design", "prediction"))
+    extra = ""
+    if isinstance(prediction, dict) and isinstance(prediction.get("rms"), list):
+        names = prediction.get("output_names") or []
+        lines = [[model, name, number(rms, 3), number(peak, 3)]
+                 for model, rms_row, peak_row in zip(prediction.get("models") or [],
+                                                     prediction["rms"],
+                                                     prediction.get("expected_peak") or [])
+                 for name, rms, peak in zip(names, rms_row, peak_row)]
+        extra = html("<h3>Crowd stream ({} persons/m², record {} s)</h3>{}",
+                     number(prediction.get("density"), 3), number(prediction.get("duration")),
+                     table(["model", "output", "RMS [m/s²]", "expected peak [m/s²]"], lines,
+                           "data"))
+    return html('<section id="design"><h2>Design checks</h2>{}{}</section>',
+                table(["code", "class", "model", "output", "a [m/s²]", "limit [m/s²]",
+                       "utilisation", "comfort class", "passes"], cells, "data"), extra)
+
+
 def figures_section(figures):
     parts = []
     if not figures:

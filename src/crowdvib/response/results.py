@@ -196,25 +196,27 @@ class Simulation:
             ``output_names``, ``rms``, ``peak``, ``max_running_rms`` (lists, one per output) and
             ``running_rms_window`` [s].
         """
-        from ..signals.conditioning import running_rms
+        from ..signals.weighting import running_rms
 
         data = np.asarray(self.acceleration)
-        moving = running_rms(data, self.sample_rate, window)
-        full = np.isfinite(moving).any(axis=-1)
+        full = data.shape[-1] >= round(window * self.sample_rate)   # a record shorter than
+        moving = running_rms(data, self.sample_rate, window) if full else None  # one window
         return {"output_names": list(self.output_names),
                 "rms": np.sqrt(np.mean(data ** 2, axis=-1)).tolist(),
                 "peak": np.max(np.abs(data), axis=-1, initial=0.0).tolist(),
-                "max_running_rms": [float(np.nanmax(row)) if ok else None
-                                    for row, ok in zip(moving, full)],
+                "max_running_rms": (moving.max(axis=-1).tolist() if full
+                                    else [None] * len(self.output_names)),
                 "running_rms_window": float(window)}
 
     def plot(self, *, output: str | None = None, window: float = 1.0,
-             axes: Sequence[Axes] | None = None, title: str | None = None) -> FigureAxes:
-        """Draw the record, its running RMS and the people on the deck
-        (see :func:`crowdvib.reporting.plotting.plot_time_history`)."""
+             axes: Sequence[Axes] | None = None, title: str | None = None,
+             weighting: str | None = None) -> FigureAxes:
+        """Draw the record, its running RMS (``weighting="Wb"``: of the W_b-weighted record)
+        and the people on the deck (see :func:`crowdvib.reporting.plotting.plot_time_history`)."""
         from ..reporting.plotting import plot_time_history
 
-        return plot_time_history(self, output=output, window=window, axes=axes, title=title)
+        return plot_time_history(self, output=output, window=window, axes=axes, title=title,
+                                 weighting=weighting)
 
     def __repr__(self):
         return (f"Simulation({list(self.output_names)}, {self.duration:g} s at "

@@ -16,10 +16,11 @@ from . import _kernels
 from .._validation import check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import JAM_DENSITY, Crowd
+from ..models.damper import as_dampers
 from ..models.loading import STANDARD_GRAVITY, as_force_model
 from ..models.pedestrian import MSDModel
 from .results import Simulation
-from .traffic import _check_duration, _check_structure, _seed_from, _walkers
+from .traffic import _check_duration, _check_structure, _seed_from, _walkers, _with_dampers
 
 __all__ = ["simulate"]
 
@@ -62,7 +63,7 @@ class _Integrator:
     """
 
     def __init__(self, structure, walkers, msd, sample_rate, substeps, first_step, n_samples,
-                 record_modal_load, include_static_weight):
+                 record_modal_load, include_static_weight, dampers=(), damper_mask=None):
         self.structure = structure
         self.walkers = walkers
         self.substeps = substeps
@@ -80,7 +81,17 @@ class _Integrator:
             self.damping = msd.damping(mass)
         else:
             self.sprung = np.ones(n)
-            self.unsprung = self.stiffness = self.damping = np.zeros(n)
+            self.unsprung, self.stiffness, self.damping = np.zeros((3, n))
+        if dampers:
+            # Tuned mass dampers: the MSD entries of the kernel with their own spring, dashpot
+            # and no unsprung mass (their walkers never move and carry no force).
+            self.hsi = True
+            slots = np.flatnonzero(damper_mask)
+            self.sprung[slots] = [d.mass for d in dampers]
+            self.unsprung[slots] = 0.0
+            self.stiffness[slots] = [d.stiffness() for d in dampers]
+            self.damping[slots] = [d.damping() for d in dampers]
+        self.n_dampers = len(dampers)
         self.added_mass = bool(self.hsi and np.any(self.unsprung > 0))
         omega_n = 2 * np.pi * structure.frequencies
         self.modal_masses = np.ascontiguousarray(structure.modal_masses, dtype=float)
@@ -103,6 +114,8 @@ class _Integrator:
             self.lane_weight = np.clip((walkers.lateral - lanes[low]) / (lanes[low + 1] - lanes[low]),
                                        0.0, 1.0)
         self.static = (mass * STANDARD_GRAVITY if include_static_weight else np.zeros(n))
+        if dampers and include_static_weight:
+            self.static[damper_mask] = 0.0            # a damper's weight is the deck's dead load
         self.amplitude = np.ascontiguousarray(walkers.amplitude)
         self.omega = np.ascontiguousarray(walkers.omega)
         self.two_cos = 2.0 * np.cos(self.omega * self.h / 2)
@@ -154,7 +167,7 @@ class _Integrator:
 
 
 def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
-             include_static_weight, record_modal_load, warm_up):
+             include_static_weight, record_modal_load, warm_up, dampers=()):
     """Validate everything and build the integrator (no time stepping yet)."""
     _check_structure(structure)
     if crowd is None and pedestrians is None:
@@ -186,16 +199,20 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
     rng = np.random.default_rng(seed)
     start = -warm_up_samples / sample_rate
     walkers = _walkers(structure, crowd, pedestrians, start, duration, force, rng)
+    walkers, damper_mask = _with_dampers(structure, walkers, dampers, start)
     substeps = _internal_substeps(structure, walkers, msd, sample_rate)
+    if dampers:      # the dampers' own frequencies bound the step like the modes'
+        fastest = max(d.frequency for d in dampers)
+        substeps = max(substeps, math.ceil(STEPS_PER_PERIOD * fastest / sample_rate - 1e-9))
     integrator = _Integrator(structure, walkers, msd, sample_rate, substeps,
                              -warm_up_samples * substeps, n_samples, record_modal_load,
-                             include_static_weight)
+                             include_static_weight, dampers, damper_mask)
     return integrator, n_samples, warm_up_samples, sample_rate, duration
 
 
 def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None, force=None,
              sample_rate=100.0, rng=None, progress=None, include_static_weight=False,
-             chunk_duration=None, record_modal_load=False, warm_up=0.0):
+             chunk_duration=None, record_modal_load=False, warm_up=0.0, dampers=None):
     """Accelerations of a footbridge under a crowd of moving forces and MSDs (docs: theory, The coupled time-domain model).
 
     The structure's modes carry every pedestrian on the deck: the force on a rigid floor
@@ -245,6 +262,11 @@ def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None
         Simulated time [s] before t = 0 that is not recorded: the structure starts at rest, so
         a lightly damped mode needs ~5/(ξ_1 ω_1) to reach a stationary response (the traffic is
         stationary from the start anyway). Default 0.
+    dampers : sequence of TunedMassDamper, optional
+        Tuned mass dampers fixed to the deck: each is a force-free mass-spring-damper entry of the
+        integrator, standing at its position for the whole record (warm-up included), coupled
+        through its mode-shape row like a pedestrian's MSD (docs: theory, Tuned mass dampers in
+        the simulator).
 
     Returns
     -------
@@ -280,7 +302,7 @@ def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None
                       else check_positive("chunk_duration", chunk_duration, unit="s"))
     integrator, n_samples, warm_up_samples, sample_rate, duration = _prepare(
         structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
-        include_static_weight, record_modal_load, warm_up)
+        include_static_weight, record_modal_load, warm_up, as_dampers(dampers))
     substeps = integrator.substeps
     total_steps = (warm_up_samples + n_samples) * substeps
     chunk_steps = max(1, int(round(chunk_duration * sample_rate))) * substeps
@@ -296,13 +318,13 @@ def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None
         time=np.arange(n_samples) / sample_rate,
         acceleration=integrator.acceleration,
         output_names=structure.output_names,
-        n_on_deck=integrator.n_on_deck,
+        n_on_deck=integrator.n_on_deck - integrator.n_dampers,   # people only
         sample_rate=sample_rate,
         seed=seed,
         duration=n_samples / sample_rate,
         modal_load=integrator.modal_load if record_modal_load else None,
         time_step=integrator.h,
-        n_pedestrians=integrator.walkers.size,
+        n_pedestrians=integrator.walkers.size - integrator.n_dampers,
         hsi=msd is not None,
         warm_up=warm_up_samples / sample_rate,
     )

@@ -293,3 +293,33 @@ def _check_duration(duration, warm_up):
 
 def _check_structure(structure):
     check_type("structure", structure, ModalModel)
+
+
+# --- Tuned mass dampers in the simulator (issue 11) -------------------------------------------
+# A damper is a walker that never walks: fixed at its position for the whole record, with no
+# walking force and its own spring and dashpot (set by the integrator from ``dampers``).
+
+def _with_dampers(structure, walkers, dampers, start):
+    """``walkers`` plus one stationary, force-free entry per damper, present from ``start``.
+
+    Returns the new :class:`_Walkers` (sorted by arrival, stable, so the dampers keep their
+    order) and the boolean mask of the damper entries.
+    """
+    if not dampers:
+        return walkers, np.zeros(walkers.size, dtype=bool)
+    for damper in dampers:
+        damper.shape_row(structure)                 # raises if off the walkway
+    n, components = len(dampers), walkers.dlf.shape[1]
+    extra = {"arrival": np.full(n, float(start)),
+             "x_start": np.array([d.position for d in dampers]),
+             "velocity": np.zeros(n), "t_on": np.full(n, float(start)), "t_off": np.full(n, np.inf),
+             "lateral": np.array([structure.width / 2 if d.lane is None else d.lane
+                                  for d in dampers]),
+             "step_frequency": np.ones(n), "body_mass": np.array([d.mass for d in dampers]),
+             "dlf": np.zeros((n, components)), "ratio": np.ones((n, components)),
+             "phase": np.zeros((n, components))}
+    merged = {name: np.concatenate([getattr(walkers, name), value])
+              for name, value in extra.items()}
+    order = np.argsort(merged["arrival"], kind="stable")
+    mask = np.concatenate([np.zeros(walkers.size, dtype=bool), np.ones(n, dtype=bool)])
+    return _Walkers(**{name: value[order] for name, value in merged.items()}), mask[order]

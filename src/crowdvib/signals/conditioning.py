@@ -12,7 +12,7 @@ from scipy import signal as _signal
 from .._validation import as_float_array, check_positive
 from ..errors import DataError, ParameterError
 
-__all__ = ["detrend", "resample", "running_rms", "select_time_frame", "stationary_time_frame"]
+__all__ = ["detrend", "resample", "select_time_frame", "stationary_time_frame"]
 
 
 def _as_signals(signals):
@@ -146,35 +146,3 @@ def stationary_time_frame(signals: ArrayLike, sample_rate: float, *, block_lengt
                         f"{tolerance:g}; raise the tolerance or choose the frame by hand")
     return best_start * size / sample_rate, (best_start + best) * size / sample_rate
 
-
-def running_rms(signals: ArrayLike, sample_rate: float, window: float = 1.0) -> np.ndarray:
-    """Trailing running RMS over ``window`` seconds, per row; NaN until the first window is full.
-
-    The comfort criteria of the design guides (docs: theory, Design checks) judge the largest
-    1-s running RMS of the vertical acceleration, not the RMS of the whole record.
-
-    Parameters
-    ----------
-    signals : array_like
-        (n_samples,) or (n_channels, n_samples).
-    sample_rate : float
-        [Hz].
-    window : float
-        Averaging time [s] (default 1 s).
-
-    Returns
-    -------
-    numpy.ndarray
-        Same shape as ``signals``, in the signal's unit.
-    """
-    data = np.asarray(signals, dtype=float)
-    check_positive("sample_rate", sample_rate, unit="Hz")
-    check_positive("window", window, unit="s")
-    n = max(int(round(window * sample_rate)), 1)
-    energy = np.cumsum(data ** 2, axis=-1)
-    energy = np.concatenate([np.zeros(data.shape[:-1] + (1,)), energy], axis=-1)
-    result = np.full(data.shape, np.nan)
-    if data.shape[-1] >= n:
-        # Differences of a cumulative sum: O(n) for any window, clipped at 0 against round-off.
-        result[..., n - 1:] = np.sqrt(np.maximum(energy[..., n:] - energy[..., :-n], 0.0) / n)
-    return result

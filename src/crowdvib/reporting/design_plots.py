@@ -1,0 +1,74 @@
+"""Figures of the design checks (``crowdvib check``): utilisation per code and model, and the
+peak acceleration of every mode."""
+
+import numpy as np
+
+from .figure_base import _DARK, FigureAxes, _panels
+
+__all__ = ["plot_utilisation", "plot_mode_accelerations"]
+
+_MODEL_LABELS = {"empty": "no HSI", "added_mass": "added mass", "hsi": "HSI"}
+_SHADES = {"empty": "0.75", "added_mass": "0.45", "hsi": "black"}
+
+
+def plot_utilisation(checks: dict, *, axes: object = None, title: str | None = None) -> FigureAxes:
+    """Governing utilisation (largest over the outputs) per code, one bar per structural model.
+
+    Parameters
+    ----------
+    checks : dict
+        Code → :class:`crowdvib.design.DesignCheck`.
+    axes : matplotlib.axes.Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    FigureAxes
+    """
+    handles = _panels(axes, 1, 1, (7.5, 4.0))
+    ax = handles.axes[0]
+    models = ("empty", "added_mass", "hsi")
+    width = 0.8 / len(models)
+    for k, model in enumerate(models):
+        values = [float(np.max(check.governing_of(model) / check.limit))
+                  if model in check.models else np.nan for check in checks.values()]
+        ax.bar(np.arange(len(checks)) + (k - 1) * width, values, width, color=_SHADES[model],
+               edgecolor=_DARK, label=_MODEL_LABELS[model])
+    ax.axhline(1.0, color=_DARK, ls="--", lw=1.0, label="limit")
+    ax.set_xticks(np.arange(len(checks)), [_code_label(c) for c in checks.values()])
+    ax.set_ylabel("Utilisation a / a_limit [-]")
+    ax.grid(True, axis="y", alpha=0.3)
+    ax.legend(fontsize="small")
+    ax.set_title(title or "Design checks: governing utilisation")
+    return handles
+
+
+def plot_mode_accelerations(checks: dict, *, axes: object = None,
+                            title: str | None = None) -> FigureAxes:
+    """Peak acceleration of every mode at the governing output, per code and model.
+
+    Returns
+    -------
+    FigureAxes
+        One panel per code.
+    """
+    handles = _panels(axes, 1, len(checks), (3.6 * len(checks) + 1.0, 3.8), sharey=False)
+    for ax, check in zip(handles.axes, checks.values()):
+        output = int(np.argmax(check.governing))
+        modes = np.arange(1, check.peak_accelerations.shape[-1] + 1)
+        for model in check.models:
+            index = check.models.index(model)
+            ax.plot(modes, check.peak_accelerations[index, output], "o-",
+                    color=_SHADES[model], mec=_DARK, label=_MODEL_LABELS[model])
+        ax.axhline(check.limit, color=_DARK, ls="--", lw=1.0, label="limit")
+        ax.set_xlabel("Mode [-]")
+        ax.set_title(f"{_code_label(check)}, {check.output_names[output]}", fontsize="medium")
+        ax.grid(True, alpha=0.3)
+    handles.axes[0].set_ylabel("Peak acceleration [m/s²]")
+    handles.axes[0].legend(fontsize="small")
+    handles.figure.suptitle(title or "Peak acceleration per mode")
+    return handles
+
+
+def _code_label(check):
+    return check.code + (f" {check.traffic_class}" if check.traffic_class else "")
