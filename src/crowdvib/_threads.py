@@ -34,3 +34,10 @@ def thread_share(workers: int, cores: int | None = None) -> int:
     """Threads each of ``workers`` processes may use on ``cores`` cores (default: physical; >= 1)."""
     cores = physical_cores() if cores is None else cores
     return max(1, cores // workers)
+
+
+def thread_budget() -> int:
+    """Threads this process may use: ``NUMBA_NUM_THREADS`` when set (a study worker's share),
+    else the physical cores."""
+    share = os.environ.get("NUMBA_NUM_THREADS", "")
+    return int(share) if share.isdigit() and int(share) > 0 else physical_cores()

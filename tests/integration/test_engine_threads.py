@@ -4,7 +4,12 @@ import os
 
 import pytest
 
-from crowdvib._threads import THREAD_VARIABLES, default_workers, physical_cores, thread_share
+from crowdvib._threads import (
+    THREAD_VARIABLES,
+    default_workers,
+    physical_cores,
+    thread_share,
+)
 from crowdvib.identification import run_tasks, study_executor
 
 
