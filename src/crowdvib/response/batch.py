@@ -64,27 +64,25 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
     def one(seed):
         return simulate(structure, crowd, duration, rng=seed, **options)
 
-    # The first record alone: it validates the inputs once (an error is raised as from
-    # simulate) and compiles the kernel before the threads start.
-    records = [one(seeds[0])]
-    if progress is not None:
-        progress(1, len(seeds))
-    workers = min(workers, len(seeds) - 1)
-    if workers <= 1:
-        for seed in seeds[1:]:
+    workers = min(workers, len(seeds))
+    if workers == 1:
+        records = []
+        for seed in seeds:
             records.append(one(seed))
             if progress is not None:
                 progress(len(records), len(seeds))
         return records
     with concurrent.futures.ThreadPoolExecutor(workers) as pool:
-        futures = [pool.submit(one, seed) for seed in seeds[1:]]
-        done = 1
-        for _ in concurrent.futures.as_completed(futures):
-            done += 1
-            if progress is not None:
-                progress(done, len(seeds))
-        records.extend(future.result() for future in futures)
-    return records
+        futures = [pool.submit(one, seed) for seed in seeds]
+        try:
+            for done, _ in enumerate(concurrent.futures.as_completed(futures), start=1):
+                if progress is not None:
+                    progress(done, len(seeds))
+            return [future.result() for future in futures]
+        except BaseException:
+            # A bad input fails every record alike: do not start the others.
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
 
 
 def _check_seeds(seeds):
