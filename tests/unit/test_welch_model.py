@@ -90,3 +90,16 @@ def test_corrected_rule_resolves_a_peak_narrower_than_its_grid():
     msd = MSDModel()
     fine_hsi = rule.apply(model._exact_psd(model._model_grid(rule.grid), model._attached(msd)))
     np.testing.assert_allclose(model.psd_array(msd)[:, near], fine_hsi[:, near], rtol=1e-4)
+
+
+def test_an_undamped_mode_falls_back_to_the_dense_rule():
+    # ξ = 0 is allowed; without HSI its poles sit on the imaginary axis, where the closed form
+    # does not hold. Reference: the dense rule, which the model then uses.
+    from crowdvib.models.structure import ModalModel
+    paper = paper_example()
+    structure = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.0, 50e3)
+    grid = np.arange(60, 180) / 60.0
+    model = SpectralModel(structure, paper.crowd, grid, welch_window_length=60.0)
+    with np.errstate(divide="ignore", invalid="ignore"):    # the dense grid hits f = 2 Hz
+        psd = model.psd_array(None)
+        np.testing.assert_array_equal(psd, model._dense_welch_psd(()))

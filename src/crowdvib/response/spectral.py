@@ -139,7 +139,9 @@ class SpectralModel:
         probe = grid[np.unique(np.linspace(0, grid.size - 1, 5).astype(int))]
         expansion = _pole_residue(self.structure, attached, self._load_factor, self._shapes,
                                   probe)
-        if expansion is None:       # a nearly defective state matrix: the dense rule instead
+        # A nearly defective state matrix, or an undamped pole (ξ = 0 and no HSI: the closed
+        # form needs Re λ < 0): the dense rule instead.
+        if expansion is None or not np.all(expansion[0].real < 0):
             return self._dense_welch_psd(attached)
         return self._welch.psd(*expansion)
 
