@@ -26,7 +26,7 @@ _LAZY = {
                      "PSDConvergence", "detrend", "resample", "running_rms", "weight_wb"),
                     "signals"),
     **dict.fromkeys(("response_psd", "frf", "effective_modal_properties", "SpectralModel",
-                     "simulate", "Pedestrian", "FRF", "EffectiveModalProperties", "Simulation"),
+                     "simulate", "simulate_many", "Pedestrian", "FRF", "EffectiveModalProperties", "Simulation"),
                     "response"),
     **dict.fromkeys(("estimate_hsi", "estimate_hsi_joint", "HSIEstimate",
                      "estimate_step_frequencies",
@@ -67,9 +67,10 @@ if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
                      write_record)
     from .models import Crowd, ModalModel, MSDModel, YoungForce, ZivanovicForce
     from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
-                           effective_modal_properties, frf, response_psd, simulate)
+                           effective_modal_properties, frf, response_psd, simulate,
+                           simulate_many)
     from .design import (DesignCheck, ResponsePrediction, TunedMassDamper, design_check,
                          predict_response, tune_damper)
     from .response import modal_accelerance
     from .signals import (LowPassFilter, PSDConvergence, ResponsePSD, detrend, psd_convergence,
-                          resample, welch_psd)
+                          resample, running_rms, weight_wb, welch_psd)

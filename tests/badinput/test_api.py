@@ -10,7 +10,7 @@ import pytest
 
 from crowdvib import (Crowd, DataError, LowPassFilter, ModalModel, MSDModel, ParameterError,
                       ZivanovicForce, detrend, estimate_hsi, frf, psd_convergence, resample,
-                      response_psd, simulate, welch_psd)
+                      response_psd, simulate, simulate_many, welch_psd)
 from crowdvib.identification import objective_map
 from crowdvib.signals import select_time_frame, synthetic_welch_psd
 
@@ -36,6 +36,15 @@ CASES = [
      ParameterError, r"crowd must be a Crowd, got str"),
     ("simulate: structure of the wrong type", lambda b, c, m, p: simulate("bridge", c, 10.0),
      ParameterError, r"structure must be a ModalModel, got str"),
+    ("simulate_many: no seeds", lambda b, c, m, p: simulate_many(b, c, 10.0, seeds=[]),
+     ParameterError, r"seeds must hold at least one seed, got an empty sequence"),
+    ("simulate_many: negative seed", lambda b, c, m, p: simulate_many(b, c, 10.0, seeds=[1, -2]),
+     ParameterError, r"seeds must be non-negative integers, got -2"),
+    ("simulate_many: zero workers",
+     lambda b, c, m, p: simulate_many(b, c, 10.0, seeds=[1], workers=0),
+     ParameterError, r"workers must be an integer >= 1 or None, got 0"),
+    ("simulate_many: rng given", lambda b, c, m, p: simulate_many(b, c, 10.0, seeds=[1], rng=3),
+     ParameterError, r"rng is not an option of simulate_many"),
     ("response_psd: msd of the wrong type",
      lambda b, c, m, p: response_psd(b, c, p.frequency, msd=3.0),
      ParameterError, r"msd must be an MSDModel or None, got float"),

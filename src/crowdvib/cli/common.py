@@ -295,6 +295,18 @@ def positive_int(text):
     return value
 
 
+def add_workers_argument(parser):
+    """``--workers N``: local worker processes, by default the machine's physical cores."""
+    from .._threads import default_workers, physical_cores
+
+    cores = physical_cores()
+    parser.add_argument(
+        "--workers", type=positive_int, default=default_workers(),
+        help=f"worker processes of a local dask cluster, each with its share of the cores for "
+             f"BLAS and numba (default: the physical cores, {cores} on this machine, when "
+             f"crowdvib[dask] is installed, else 1; 1 runs in this process, without a cluster)")
+
+
 def record_formats(text):
     """argparse type: comma-separated record formats, each known (else a usage error, exit 2)."""
     from ..io.records import RECORD_FORMATS

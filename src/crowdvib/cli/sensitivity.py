@@ -5,10 +5,11 @@ import sys
 from pathlib import Path
 
 from .. import __version__
+from .._threads import default_workers
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import (ESTIMATION_TABLES, case_inputs, dask_address, finish_output, positive_int, prepare_output,
-                     progress_printer, say, versions)
+from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, dask_address,
+                     finish_output, prepare_output, progress_printer, say, versions)
 from .estimate import case_crowd, case_measurement, estimate_options
 
 
@@ -19,9 +20,7 @@ _STORES = ("tasks", "record_length")
 def add_arguments(parser):
     parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
-    parser.add_argument("--workers", type=positive_int, default=1,
-                        help="worker processes of a local dask cluster (default 1: no cluster, "
-                             "in this process; needs crowdvib[dask] above 1)")
+    add_workers_argument(parser)
     parser.add_argument("--scheduler", type=dask_address, metavar="ADDRESS", default=None,
                         help="run on a dask.distributed scheduler, e.g. tcp://127.0.0.1:8786 "
                              "(needs crowdvib[dask])")
@@ -44,7 +43,7 @@ def _resume_command(args):
     words = ["crowdvib", "sensitivity", str(args.case), "--out", str(args.out)]
     if args.scheduler is not None:
         words += ["--scheduler", args.scheduler]
-    elif args.workers != 1:
+    elif args.workers != default_workers():
         words += ["--workers", str(args.workers)]
     words += [flag for flag, given in (("--no-joint", args.no_joint),
                                        ("--no-record-length", args.no_record_length)) if given]

@@ -2,7 +2,8 @@
 
 ``estimation`` (f_h1, ξ_h1 from a measured PSD: paper Eq. 5 and 6) and ``step_frequencies`` (the
 crowd's N(μ, σ) from the low band); ``landscape`` (the objective on a grid), ``studies``
-(modelling-error and record-length studies) and ``parametric`` (the paper's parametric study),
+(modelling-error and record-length studies), ``parametric`` (the paper's parametric study)
+and ``monte_carlo`` (seeded simulated records in batches),
 run as independent tasks by ``tasks`` on the executor ``engine`` gives (this process or dask).
 """
 
@@ -10,6 +11,7 @@ from .engine import study_executor
 from .estimation import (DEFAULT_BOUNDS, DEFAULT_STARTS, HSIEstimate, estimate_hsi,
                          estimate_hsi_joint)
 from .landscape import ObjectiveMap, objective_map
+from .monte_carlo import monte_carlo, record_statistics
 from .objective import PSDObjective
 from .parametric import ParametricResult, parametric_study
 from .step_frequencies import (DEFAULT_STEP_FREQUENCY_BOUNDS, StepFrequencyEstimate,
@@ -23,4 +25,5 @@ __all__ = ["estimate_hsi", "estimate_hsi_joint", "HSIEstimate", "PSDObjective", 
            "estimate_step_frequencies", "StepFrequencyEstimate", "DEFAULT_STEP_FREQUENCY_BOUNDS",
            "objective_map", "ObjectiveMap", "modelling_error_study", "ErrorCase",
            "SensitivityResult", "record_length_study", "parametric_study", "ParametricResult",
-           "PAPER_ERROR_LEVELS", "TaskStore", "run_tasks", "study_executor"]
+           "PAPER_ERROR_LEVELS", "TaskStore", "run_tasks", "study_executor", "monte_carlo",
+           "record_statistics"]

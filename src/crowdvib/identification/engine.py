@@ -14,8 +14,15 @@ Why dask.distributed rather than loky (or ``concurrent.futures``' process pool):
   a pipe whose other end a thread of the worker reads, and the kernel closes it with the parent
   (``distributed.process.AsyncProcess``); the fault tests check this.
 
-Its cost is about a second to start two workers, which is why one worker (the default) runs in
-this process without any cluster.
+Its cost is about a second to start two workers; one worker runs in this process without any
+cluster.
+
+Threads: a machine's cores are shared out between its workers. Each local worker process starts
+with BLAS (OpenMP, OpenBLAS, MKL) and numba limited to its share, cores // workers, so that two
+workers on two cores do not run four threads (measured in issue 14: two workers with
+multi-threaded BLAS were 1.36× slower than one). In this process (one worker) numba keeps all
+cores. Inside a task, :func:`crowdvib.identification.tasks.run_tasks` further pins BLAS to one
+thread so that a task gives the same bits wherever it runs.
 """
 
 import contextlib
@@ -23,6 +30,7 @@ import logging
 import signal
 import threading
 
+from .._threads import THREAD_VARIABLES, default_workers, thread_share
 from ..errors import ParameterError
 
 __all__ = ["study_executor"]
@@ -34,8 +42,10 @@ def study_executor(workers=1, scheduler=None):
 
     Parameters
     ----------
-    workers : int
-        Local worker processes; 1 runs the tasks in this process (yields None).
+    workers : int or None
+        Local worker processes; 1 runs the tasks in this process (yields None); None = the
+        physical cores when dask.distributed is installed, else 1. Each local worker's BLAS,
+        OpenMP and numba pools get cores // workers threads.
     scheduler : str, optional
         Address of a running dask.distributed scheduler, e.g. ``"tcp://10.0.0.5:8786"``;
         ``workers`` is then ignored.
@@ -51,6 +61,8 @@ def study_executor(workers=1, scheduler=None):
     unfinished tasks. Ctrl-C while the local cluster starts is held until it is up, so that it
     is closed like any other.
     """
+    if workers is None:
+        workers = default_workers()
     if scheduler is None:
         if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
             raise ParameterError(f"--workers must be >= 1, got {workers}")
@@ -84,8 +96,20 @@ def _local_client(distributed, dask, workers, stack):
     # mmap threshold: every large numpy temporary is then mapped and unmapped afresh, and the
     # page faults made a study on 2 workers slower than on 1 (measured: 6 s of system time per
     # worker for the 85 estimations of the paper example). Its OMP/OPENBLAS_NUM_THREADS=1 stays:
-    # run_tasks gives every task one BLAS thread anyway, wherever it runs.
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+    # run_tasks gives every task one BLAS thread anyway, wherever it runs. Each worker's BLAS,
+    # OpenMP and numba pools are sized to its share of the cores (set before numpy and numba load).
+    share = str(thread_share(workers))
+    environ = {f"distributed.nanny.pre-spawn-environ.{name}": share for name in THREAD_VARIABLES}
+    environ["distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"] = None
+    # A study's tasks are long and few: dask's own bookkeeping need not poll. Its statistical
+    # profiler (every 10 ms), GIL monitor (every 1 ms), system monitor (every 0.5 s) and event-
+    # loop tick (every 20 ms) took 0.10 CPU-second per second on an idle 2-worker cluster,
+    # 0.026 without (measured, issue 14): on 2 busy workers that is CPU taken from the tasks.
+    environ.update({"distributed.worker.profile.enabled": False,
+                    "distributed.admin.system-monitor.gil.enabled": False,
+                    "distributed.admin.system-monitor.interval": "5s",
+                    "distributed.admin.tick.interval": "100ms"})
+    with dask.config.set(environ):
         # Loopback only; no dashboard, and the scheduler's health route on a free port (by
         # default it takes 8787, or warns when that is taken). dask's own log lines are
         # silenced: what matters reaches run_tasks through the futures, and on Ctrl-C a worker

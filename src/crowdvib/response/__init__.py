@@ -5,6 +5,7 @@ and ``simulation`` (time-domain Monte Carlo with moving pedestrians; its compile
 ``_kernels``); their results are in ``results``.
 """
 
+from .batch import simulate_many
 from .results import FRF, EffectiveModalProperties, Simulation
 from .simulation import simulate
 from .spectral import (SpectralModel, effective_modal_properties, frf, modal_accelerance,
@@ -12,5 +13,5 @@ from .spectral import (SpectralModel, effective_modal_properties, frf, modal_acc
 from .traffic import Pedestrian, generate_traffic
 
 __all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties",
-           "modal_accelerance", "simulate",
+           "modal_accelerance", "simulate", "simulate_many",
            "Pedestrian", "generate_traffic", "FRF", "EffectiveModalProperties", "Simulation"]

@@ -148,7 +148,8 @@ def _accelerations(z, zd, u, ud, phi, force, n_active, active, sprung, stiffness
     _solve(factor, rhs, zdd)
 
 
-@njit(cache=True)
+# nogil: simulate_many runs several records at once, one thread each, on their own state.
+@njit(cache=True, nogil=True)
 def advance(first_step, n_steps, substeps, h,
             modal_masses, modal_damping, modal_stiffness, shapes, positions, inverse_spacing,
             output_shapes,

@@ -14,27 +14,26 @@ estimator can call it many times; :func:`response_psd` is the one-shot front doo
 """
 
 import numpy as np
-from scipy import sparse
 from scipy.optimize import linear_sum_assignment
 
 from .._validation import check_frequency_grid, check_positive
 from ..errors import ParameterError
 from ..models.loading import as_force_model
 from ..models.pedestrian import MSDModel
-from ..signals import ResponsePSD, welch_kernel
-from ._attached import (attachments, crowd_attachment, damper_attachments, psd_factor,
-                        reduced_matrices)
+from ..signals import ResponsePSD
+from ._attached import (
+    attachments,
+    crowd_attachment,
+    damper_attachments,
+    psd_factor,
+    reduced_matrices,
+)
 from ._linalg import solve_occupied
+from ._welch_model import DENSE_POINTS_PER_BIN, CorrectedWelch, WelchRule
 from .results import FRF, EffectiveModalProperties
 
 __all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties",
            "modal_accelerance"]
-
-# Welch kernel support: ±8 bins of 1/T hold all but ~1e-5 of the Hann kernel's area; 16 model
-# points per bin resolve a 0.5 %-damped peak at 2 Hz (half-power width 0.02 Hz) with T = 60 s.
-_KERNEL_HALF_WIDTH_BINS = 8
-_POINTS_PER_BIN = 16
-
 
 def _check_msd_inputs(crowd, msd):
     if msd is not None and not isinstance(msd, MSDModel):
@@ -81,7 +80,9 @@ class SpectralModel:
         Output names (default all outputs of ``structure``).
     welch_window_length : float, optional
         If given, return what a Hann-window Welch estimate with segments of T seconds would see
-        on average: the exact PSD convolved with the Welch kernel (docs: theory, What a Welch estimate sees: the expectation kernel).
+        on average: the exact PSD convolved with the Welch kernel (docs: theory, What a Welch estimate sees: the expectation kernel),
+        evaluated at 4 points per bin with the narrow peaks convolved in closed form (docs:
+        theory, Evaluating the Welch expectation).
     lowpass : LowPassFilter, optional
         Zero-phase low-pass filter applied to the modelled signal: the PSD is multiplied by
         |H_LP|⁴ before the Welch smoothing (docs: theory, What a Welch estimate sees: the expectation kernel).
@@ -98,51 +99,76 @@ class SpectralModel:
         self.output_names = (structure.output_names if outputs is None
                              else tuple([outputs] if isinstance(outputs, str) else outputs))
         shapes = structure.output_shapes[structure.output_index(self.output_names)]
-        if welch_window_length is None:
-            model_frequency, self._smoothing = self.frequency, None
-        else:
-            window = check_positive("welch_window_length", welch_window_length, unit="s")
-            model_frequency, self._smoothing = _welch_smoothing(self.frequency, window)
         self.welch_window_length = welch_window_length
         self.lowpass = lowpass
-        self._model_frequency = model_frequency
-        omega = 2 * np.pi * model_frequency
-        spectrum = self.force.load_spectrum(model_frequency, crowd)
-        if lowpass is not None:
-            spectrum = spectrum * lowpass.power_gain(model_frequency)
-        # ω⁴ turns displacement into acceleration PSD; folded into the load spectrum once.
-        self._weight = omega**4 * spectrum
         self._psi = structure.influence_matrix(crowd.density)
         self._load_factor = psd_factor(self._psi)
-        self._diagonal = _dynamic_stiffness_diagonal(structure, omega)
         self._shapes = shapes
         self._dampers = damper_attachments(structure, dampers)
+        self._dense = None
+        if welch_window_length is None:
+            self._welch = None
+            self._grid = self._model_grid(self.frequency)
+        else:
+            window = check_positive("welch_window_length", welch_window_length, unit="s")
+            self._welch = CorrectedWelch(self.frequency, window, self._weight_at)
+
+    def _weight_at(self, frequency):
+        """ω⁴ s(f) |H_LP|⁴: the load spectrum (and filter gain) with ω⁴ for accelerations."""
+        spectrum = self.force.load_spectrum(frequency, self.crowd)
+        if self.lowpass is not None:
+            spectrum = spectrum * self.lowpass.power_gain(frequency)
+        return (2 * np.pi * frequency) ** 4 * spectrum
+
+    def _model_grid(self, frequency):
+        """Frequencies, weight and empty dynamic stiffness for the exact PSD on a grid."""
+        return (frequency, self._weight_at(frequency),
+                _dynamic_stiffness_diagonal(self.structure, 2 * np.pi * frequency))
+
+    def _attached(self, msd):
+        _check_msd_inputs(self.crowd, msd)
+        crowd_part = crowd_attachment(self.crowd, msd, self._psi)
+        return ((crowd_part,) if crowd_part is not None else ()) + self._dampers
 
     def psd_array(self, msd=None):
         """PSD [(m/s²)²/Hz] as an array of shape (n_outputs, n_frequencies)."""
-        _check_msd_inputs(self.crowd, msd)
-        crowd_part = crowd_attachment(self.crowd, msd, self._psi)
-        attached = ((crowd_part,) if crowd_part is not None else ()) + self._dampers
+        attached = self._attached(msd)
+        if self._welch is None:
+            return self._exact_psd(self._grid, attached)
+        grid = self._welch.grid
+        probe = grid[np.unique(np.linspace(0, grid.size - 1, 5).astype(int))]
+        expansion = _pole_residue(self.structure, attached, self._load_factor, self._shapes,
+                                  probe)
+        # A nearly defective state matrix, or an undamped pole (ξ = 0 and no HSI: the closed
+        # form needs Re λ < 0): the dense rule instead.
+        if expansion is None or not np.all(expansion[0].real < 0):
+            return self._dense_welch_psd(attached)
+        return self._welch.psd(*expansion)
+
+    def _exact_psd(self, grid, attached):
+        """The exact PSD (no Welch smoothing) on a model grid, shape (n_outputs, n_f)."""
+        frequency, weight, diagonal = grid
         if not attached:
             # Φ_o H with H diagonal: no solve needed.
-            transfer = self._shapes[np.newaxis] / self._diagonal[:, np.newaxis, :]
+            transfer = self._shapes[np.newaxis] / diagonal[:, np.newaxis, :]
             projected = transfer @ self._load_factor            # (n_f, n_out, rank)
         else:
-            projected = self._occupied_projection(attached)
-        psd = (np.abs(projected) ** 2).sum(axis=-1).T * self._weight
-        if self._smoothing is not None:
-            psd = (self._smoothing @ psd.T).T
-        return psd
+            projected = None
+            if self.structure.n_modes > 1:
+                projected = _modal_projection(self.structure, attached, self._load_factor,
+                                              self._shapes, frequency)
+            if projected is None:
+                projected = _direct_projection(diagonal, attached, frequency, self._shapes,
+                                               self._load_factor)
+        return (np.abs(projected) ** 2).sum(axis=-1).T * weight
 
-    def _occupied_projection(self, attached):
-        """Φ_o H(ω) B for every model frequency, shape (n_f, n_outputs, rank)."""
-        if self.structure.n_modes > 1:
-            projected = _modal_projection(self.structure, attached, self._load_factor,
-                                          self._shapes, self._model_frequency)
-            if projected is not None:
-                return projected
-        return _direct_projection(self._diagonal, attached, self._model_frequency, self._shapes,
-                                  self._load_factor)
+    def _dense_welch_psd(self, attached):
+        """Reference Welch expectation: the exact PSD at 16 points per bin, rectangle rule."""
+        if self._dense is None:
+            rule = WelchRule(self.frequency, self.welch_window_length, DENSE_POINTS_PER_BIN)
+            self._dense = (rule, self._model_grid(rule.grid))
+        rule, grid = self._dense
+        return rule.apply(self._exact_psd(grid, attached))
 
     def psd(self, msd=None):
         """PSD at the outputs → :class:`ResponsePSD`."""
@@ -164,8 +190,9 @@ def _state_matrix(mass, damping, stiffness):
 _MODAL_CHECK_TOLERANCE = 1e-7
 
 
-def _modal_projection(structure, attached, factor, shapes, frequency):
-    """Φ_o H(ω) B by complex modal superposition of the reduced model, or None if unreliable.
+def _pole_residue(structure, attached, factor, shapes, probe):
+    """Poles λ, left (n_out, 2N) and right (2N, rank) with Φ_o H(ω) B = Σ_p left_p right_p /
+    (iω − λ_p), or None if the expansion misses a direct solve at the ``probe`` frequencies.
 
     With A = V Λ V⁻¹ the state matrix of (M_r, C_r, K_r), z(ω) = Σ_p V_zp (V⁻¹ F)_p / (iω − λ_p):
     one small eigen-decomposition per MSD model replaces one LU solve per frequency.
@@ -180,34 +207,28 @@ def _modal_projection(structure, attached, factor, shapes, frequency):
         return None
     left = shapes @ vectors[:n_modes]                                  # (n_out, 2N)
     right = inverse_vectors[:, size:] @ inverse_mass[:, :n_modes] @ factor   # (2N, rank)
-    omega = 2 * np.pi * frequency
-    resolvent = 1.0 / (1j * omega[:, np.newaxis] - poles)             # (n_f, 2N)
-    projected = np.stack([(resolvent * row) @ right for row in left], axis=1)
-    probe = np.unique(np.linspace(0, frequency.size - 1, 5).astype(int))
-    direct = _direct_projection(_dynamic_stiffness_diagonal(structure, omega[probe]), attached,
-                                frequency[probe], shapes, factor)
+    resolvent = 1.0 / (2j * np.pi * probe[:, np.newaxis] - poles)
+    expanded = np.stack([(resolvent * row) @ right for row in left], axis=1)
+    diagonal = _dynamic_stiffness_diagonal(structure, 2 * np.pi * probe)
+    if attached:
+        direct = _direct_projection(diagonal, attached, probe, shapes, factor)
+    else:
+        direct = (shapes[np.newaxis] / diagonal[:, np.newaxis, :]) @ factor
     scale = np.abs(direct).max()
-    if scale > 0 and np.abs(projected[probe] - direct).max() > _MODAL_CHECK_TOLERANCE * scale:
+    if scale > 0 and np.abs(expanded - direct).max() > _MODAL_CHECK_TOLERANCE * scale:
         return None
-    return projected
+    return poles, left, right
 
 
-def _welch_smoothing(frequency, window_length):
-    """Fine model grid and the sparse matrix that maps it to Welch expectations at ``frequency``."""
-    bin_width = 1.0 / window_length
-    step = bin_width / _POINTS_PER_BIN
-    reach = _KERNEL_HALF_WIDTH_BINS * bin_width
-    lower = max(frequency[0] - reach, 0.0)
-    fine = lower + step * np.arange(int(np.ceil((frequency[-1] + reach - lower) / step)) + 1)
-    half = int(round(reach / step))
-    centre = np.rint((frequency - lower) / step).astype(int)
-    index = centre[:, np.newaxis] + np.arange(-half, half + 1)
-    inside = (index >= 0) & (index < fine.size)
-    rows = np.broadcast_to(np.arange(frequency.size)[:, np.newaxis], index.shape)[inside]
-    cols = index[inside]
-    values = welch_kernel(frequency[rows] - fine[cols], window_length) * step
-    matrix = sparse.csr_matrix((values, (rows, cols)), shape=(frequency.size, fine.size))
-    return fine, matrix
+def _modal_projection(structure, attached, factor, shapes, frequency):
+    """Φ_o H(ω) B by complex modal superposition of the reduced model, or None if unreliable."""
+    probe = frequency[np.unique(np.linspace(0, frequency.size - 1, 5).astype(int))]
+    expansion = _pole_residue(structure, attached, factor, shapes, probe)
+    if expansion is None:
+        return None
+    poles, left, right = expansion
+    resolvent = 1.0 / (2j * np.pi * frequency[:, np.newaxis] - poles)   # (n_f, 2N)
+    return np.stack([(resolvent * row) @ right for row in left], axis=1)
 
 
 def response_psd(structure, crowd, frequency, *, msd=None, force=None, outputs=None,

@@ -1,0 +1,172 @@
+"""Speed and scaling (issue 14). Prints tables; asserts nothing.
+
+    python benchmarks/bench_scaling.py [welch|simulate|all] [--records N] [--seconds S]
+
+* Welch-window spectral model on one core (BLAS limited to one thread): crowdvib's evaluation
+  (4 points per bin, narrow peaks in closed form) against the dense 16-points-per-bin rule it
+  replaced and against a plain-numpy reference (benchmarks/_numpy_reference.py), with the
+  largest difference relative to the peak.
+* simulate_many: records of the paper example in 1 and 2 threads, and the extrapolated time of
+  100 one-hour records.
+
+Timings are medians of interleaved repeats (the machine may be shared); the load average
+(``os.getloadavg``) is printed beside every figure.
+"""
+
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from _numpy_reference import exact_psd, welch_expectation
+from bench_spectral import fourteen_mode_bridge
+from threadpoolctl import threadpool_limits
+
+from crowdvib import Crowd, MSDModel, SpectralModel, simulate_many
+from crowdvib.io.casefile import load_case
+from crowdvib.models.examples import paper_example
+from crowdvib.models.loading import ZivanovicForce
+from crowdvib.signals import LowPassFilter
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def load():
+    return "load {:.1f}/{:.1f}/{:.1f}".format(*os.getloadavg())
+
+
+def interleaved(functions, repeat=9, budget=0.1):
+    """Median seconds per call of each function, the calls interleaved round by round."""
+    numbers = []
+    for function in functions:
+        started = time.perf_counter()
+        function()
+        numbers.append(max(1, int(budget / max(time.perf_counter() - started, 1e-6))))
+    timings = [[] for _ in functions]
+    for _ in range(repeat):
+        for k, function in enumerate(functions):
+            started = time.perf_counter()
+            for _ in range(numbers[k]):
+                function()
+            timings[k].append((time.perf_counter() - started) / numbers[k])
+    return [statistics.median(t) for t in timings]
+
+
+def welch_cases():
+    paper = paper_example()
+    eeklo = load_case(EXAMPLES / "eeklo_like.toml")
+    big = fourteen_mode_bridge()
+    return [
+        ("paper example, 601 f, T = 60 s", paper.structure, paper.crowd, paper.msd,
+         np.arange(0, 601) / 60.0, 60.0, None, "<= 2 ms"),
+        ("14 modes x 2 outputs x 6000 f, T = 60 s", big, Crowd.from_density(0.5), MSDModel(),
+         np.linspace(0.0, 20.0, 6000), 60.0, None, "<= 20 ms"),
+        ("eeklo-like, 2.5-8 Hz, T = 25 s, low-pass", eeklo.structure, eeklo.crowd, eeklo.msd,
+         np.arange(63, 201) / 25.0, 25.0, LowPassFilter(10.0, 4, 25.0), "-"),
+    ]
+
+
+def bench_welch():
+    print("Welch-window model, one BLAS thread: median ms per evaluation")
+    print(f"{'case':42s}{'target':>9s}{'numpy':>9s}{'dense':>9s}{'new':>8s}"
+          f"{'np/new':>8s}{'dense/new':>10s}{'max|Δ|/peak':>13s}  load")
+    force = ZivanovicForce()
+    with threadpool_limits(1):
+        for name, structure, crowd, msd, grid, window, lowpass, target in welch_cases():
+            model = SpectralModel(structure, crowd, grid, welch_window_length=window,
+                                  lowpass=lowpass)
+            attached = model._attached(msd)
+            outputs = model.output_names
+            if lowpass is None:
+                def reference():
+                    return welch_expectation(structure, crowd, msd, grid, outputs, force, window)
+            else:
+                reference = None
+            functions = [lambda: model._dense_welch_psd(attached), lambda: model.psd_array(msd)]
+            if reference is not None:
+                functions.insert(0, reference)
+            times = interleaved(functions, repeat=5)
+            new = model.psd_array(msd)
+            if reference is not None:
+                numpy_time, dense_time, new_time = times
+                truth = reference()
+            else:
+                numpy_time = float("nan")
+                dense_time, new_time = times
+                truth = model._dense_welch_psd(attached)
+            error = (np.abs(new - truth) / truth.max(axis=1, keepdims=True)).max()
+            print(f"{name:42s}{target:>9s}{numpy_time * 1e3:9.2f}{dense_time * 1e3:9.2f}"
+                  f"{new_time * 1e3:8.2f}{numpy_time / new_time:8.1f}{dense_time / new_time:10.1f}"
+                  f"{error:13.1e}  {load()}")
+    print("(numpy: benchmarks/_numpy_reference.py, exact PSD at 16 points per bin by batched "
+          "linalg.solve, then the kernel sum; dense: the rule crowdvib used before; the "
+          "eeklo-like row is compared with dense, the numpy reference has no filter)")
+    print()
+    print("Exact PSD (no Welch smoothing), one BLAS thread: median ms per evaluation")
+    paper = paper_example()
+    big = fourteen_mode_bridge()
+    with threadpool_limits(1):
+        for name, structure, crowd, msd, grid in [
+                ("paper example, 601 f", paper.structure, paper.crowd, paper.msd,
+                 np.arange(0, 601) / 60.0),
+                ("14 modes x 2 outputs x 6000 f", big, Crowd.from_density(0.5), MSDModel(),
+                 np.linspace(0.0, 20.0, 6000))]:
+            model = SpectralModel(structure, crowd, grid)
+            outputs = model.output_names
+            numpy_time, new_time = interleaved(
+                [lambda: exact_psd(structure, crowd, msd, grid, outputs, force),
+                 lambda: model.psd_array(msd)], repeat=5)
+            print(f"{name:42s} numpy {numpy_time * 1e3:8.2f}  crowdvib {new_time * 1e3:7.2f}"
+                  f"  ratio {numpy_time / new_time:6.1f}  {load()}")
+
+
+def bench_simulate(records=4, seconds=300.0):
+    case = paper_example()
+    seeds = list(range(records))
+
+    def run(threads):
+        started, cpu = time.perf_counter(), time.process_time()
+        simulate_many(case.structure, case.crowd, seconds, seeds=seeds, msd=case.msd,
+                      workers=threads)
+        return time.perf_counter() - started, time.process_time() - cpu
+
+    simulate_many(case.structure, case.crowd, 2.0, seeds=[0, 1], msd=case.msd)   # compile
+    rounds = {1: [], 2: []}
+    for _ in range(3):
+        for threads in (1, 2):
+            rounds[threads].append((*run(threads), load()))
+    print(f"simulate_many, paper example with HSI: {records} records x {seconds:g} s "
+          f"(median of 3 interleaved rounds)")
+    print(f"{'threads':>8s}{'wall [s]':>10s}{'CPU [s]':>9s}{'CPU/wall':>9s}"
+          f"{'wall ms/record-s':>18s}{'CPU ms/record-s':>17s}{'speed-up':>10s}  loads of the rounds")
+    base = None
+    for threads, rows in rounds.items():
+        wall = statistics.median(r[0] for r in rows)
+        cpu = statistics.median(r[1] for r in rows)
+        base = base or wall
+        print(f"{threads:8d}{wall:10.2f}{cpu:9.2f}{cpu / wall:9.2f}"
+              f"{1e3 * wall / (records * seconds):18.3f}{1e3 * cpu / (records * seconds):17.3f}"
+              f"{base / wall:10.2f}  {'; '.join(r[2] for r in rows)}")
+    best = min(statistics.median(r[0] for r in rows) for rows in rounds.values())
+    cpu = min(statistics.median(r[1] for r in rows) for rows in rounds.values())
+    print(f"extrapolated (not measured): 100 one-hour records ≈ "
+          f"{best / (records * seconds) * 360000:.0f} s wall at this load; "
+          f"{cpu / (records * seconds) * 360000 / 2:.0f} s on 2 idle cores from the CPU time")
+
+
+def main(argv):
+    what = argv[0] if argv and not argv[0].startswith("--") else "all"
+    records = int(argv[argv.index("--records") + 1]) if "--records" in argv else 4
+    seconds = float(argv[argv.index("--seconds") + 1]) if "--seconds" in argv else 300.0
+    print(f"crowdvib benchmarks, issue 14 ({os.cpu_count()} CPUs, {load()})")
+    if what in ("welch", "all"):
+        bench_welch()
+        print()
+    if what in ("simulate", "all"):
+        bench_simulate(records, seconds)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,57 @@
+"""Threads of a study's workers and the --workers default (issue 14)."""
+
+import os
+
+import pytest
+
+from crowdvib._threads import (
+    THREAD_VARIABLES,
+    default_workers,
+    physical_cores,
+    thread_share,
+)
+from crowdvib.identification import run_tasks, study_executor
+
+
+def _threads_in_worker(payload):
+    import numba
+
+    return {"numba": numba.get_num_threads(),
+            "environ": {name: os.environ.get(name) for name in THREAD_VARIABLES}}
+
+
+def test_thread_share_divides_the_cores():
+    # Reference: the rule cores // workers, at least one.
+    assert [thread_share(w, cores=8) for w in (1, 2, 3, 8, 16)] == [8, 4, 2, 1, 1]
+
+
+def test_default_workers_is_the_physical_core_count():
+    # Reference: psutil's count of physical cores (the issue's rule), when dask is installed.
+    psutil = pytest.importorskip("psutil")
+    pytest.importorskip("distributed")
+    assert physical_cores() == (psutil.cpu_count(logical=False) or os.cpu_count())
+    assert default_workers() == physical_cores()
+
+
+def test_local_workers_run_numba_and_blas_with_their_share_of_the_cores():
+    # Two workers on this machine: each gets physical_cores() // 2 threads (numba would
+    # otherwise start one thread per CPU in every worker).
+    pytest.importorskip("distributed")
+    share = thread_share(2)
+    with study_executor(workers=2) as executor:
+        result = run_tasks(_threads_in_worker, [("only", None)], executor=executor)["only"]
+    assert result["numba"] == share
+    for name in THREAD_VARIABLES:
+        assert result["environ"][name] == os.environ.get(name, str(share))
+
+
+def test_the_cli_states_the_default_in_its_help(capsys):
+    # Reference: the issue's rule (--workers defaults to the physical cores), said in --help.
+    from crowdvib.cli.main import main
+
+    try:
+        main(["sensitivity", "--help"])
+    except SystemExit:
+        pass
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"physical cores, {physical_cores()} on this machine" in text
