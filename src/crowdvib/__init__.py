@@ -21,7 +21,8 @@ except PackageNotFoundError:  # running from a source tree that was not installe
 #: Public name → the subpackage that defines it. The subpackages (and scipy and numba behind them)
 #: are imported on first use, so that ``crowdvib --help`` and an error message come at once.
 _LAZY = {
-    **dict.fromkeys(("ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce"), "models"),
+    **dict.fromkeys(("ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce",
+                     "MeasuredForce"), "models"),
     **dict.fromkeys(("ResponsePSD", "welch_psd", "LowPassFilter", "psd_convergence",
                      "PSDConvergence", "detrend", "resample"), "signals"),
     **dict.fromkeys(("response_psd", "frf", "effective_modal_properties", "SpectralModel",
@@ -63,7 +64,7 @@ if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
                                  estimate_hsi_joint, estimate_step_frequencies)
     from .io import (Case, Record, check_record, load_case, read_modal_model, read_record,
                      write_record)
-    from .models import Crowd, ModalModel, MSDModel, YoungForce, ZivanovicForce
+    from .models import Crowd, MeasuredForce, ModalModel, MSDModel, YoungForce, ZivanovicForce
     from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
                            effective_modal_properties, frf, response_psd, simulate)
     from .design import DesignCheck, TunedMassDamper, design_check, tune_damper
