@@ -3,7 +3,8 @@
 ``estimation`` (f_h1, ξ_h1 from a measured PSD: paper Eq. 5 and 6) and ``step_frequencies`` (the
 crowd's N(μ, σ) from the low band); ``landscape`` (the objective on a grid), ``studies``
 (modelling-error and record-length studies) and ``parametric`` (the paper's parametric study),
-run as independent tasks by ``tasks`` on the executor ``engine`` gives (this process or dask).
+run as independent tasks by ``tasks`` on the executor ``engine`` gives (this process or dask);
+``oma``: the empty bridge's modes from an ambient record (SSI-cov through pyOMA2).
 """
 
 from .engine import study_executor
@@ -11,6 +12,7 @@ from .estimation import (DEFAULT_BOUNDS, DEFAULT_STARTS, HSIEstimate, estimate_h
                          estimate_hsi_joint)
 from .landscape import ObjectiveMap, objective_map
 from .objective import PSDObjective
+from .oma import ModeIdentification, identify_modes
 from .parametric import ParametricResult, parametric_study
 from .step_frequencies import (DEFAULT_STEP_FREQUENCY_BOUNDS, StepFrequencyEstimate,
                                estimate_step_frequencies)
@@ -23,4 +25,5 @@ __all__ = ["estimate_hsi", "estimate_hsi_joint", "HSIEstimate", "PSDObjective", 
            "estimate_step_frequencies", "StepFrequencyEstimate", "DEFAULT_STEP_FREQUENCY_BOUNDS",
            "objective_map", "ObjectiveMap", "modelling_error_study", "ErrorCase",
            "SensitivityResult", "record_length_study", "parametric_study", "ParametricResult",
-           "PAPER_ERROR_LEVELS", "TaskStore", "run_tasks", "study_executor"]
+           "PAPER_ERROR_LEVELS", "TaskStore", "run_tasks", "study_executor", "identify_modes",
+           "ModeIdentification"]
