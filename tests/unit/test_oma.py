@@ -3,7 +3,10 @@
 import numpy as np
 import pytest
 
-from crowdvib import ModalModel, ParameterError, Pedestrian, identify_modes, simulate
+from crowdvib import (ModalModel, ParameterError, Pedestrian, Record, identify_modes, simulate,
+                      write_record)
+from crowdvib.cli import main
+from crowdvib.io import read_modal_model
 from crowdvib.identification.studies import error_cases
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies
 
@@ -41,12 +44,15 @@ def ambient_record(structure, seed):
 
 
 @pytest.fixture(scope="module")
-def identified():
-    structure = bridge()
-    # seed 3 of 8 tried (benchmarked scatter over seeds: see the report of issue 13)
-    return structure, identify_modes(ambient_record(structure, 3), SAMPLE_RATE, n_modes=3,
-                                     frequency_band=(1.0, 9.0), sensor_names=list(SENSORS),
-                                     max_order=24)
+def ambient():
+    # seed 3 of 8 tried (the scatter over seeds: benchmarks/bench_oma.py)
+    return ambient_record(bridge(), 3)
+
+
+@pytest.fixture(scope="module")
+def identified(ambient):
+    return bridge(), identify_modes(ambient, SAMPLE_RATE, n_modes=3, frequency_band=(1.0, 9.0),
+                                    sensor_names=list(SENSORS), max_order=24)
 
 
 def test_three_modes_recovered_with_covering_std(identified):
@@ -97,3 +103,29 @@ def test_modal_model_from_fe_pairing_and_from_stated_masses(identified):
 def test_bad_input(call, pattern):
     with pytest.raises(ParameterError, match=pattern):
         call()
+
+
+def test_modes_cli_writes_the_identified_modes(ambient, tmp_path):
+    """``crowdvib modes``: the same identification from a CSV record, files and report written."""
+    write_record(Record(ambient, SAMPLE_RATE, list(SENSORS)), tmp_path / "ambient.csv")
+    (tmp_path / "ambient.toml").write_text(
+        'name = "three-mode bridge"\n[record]\nfile = "ambient.csv"\n'
+        '[identification]\nn_modes = 3\nfrequency_band = [1.0, 9.0]\nmax_order = 24\n'
+        '[modal_model]\nmodal_masses = [5e4, 4e4, 6e4]\nsensor_positions = [12.5, 25.0, 37.5]\n'
+        'walkway = [0.0, 50.0]\nwidth = 3.0\n')
+    out = tmp_path / "out"
+    assert main(["modes", str(tmp_path / "ambient.toml"), "--out", str(out)]) == 0
+    table = np.genfromtxt(out / "modes.csv", delimiter=",", names=True, dtype=None,
+                          encoding="utf-8")
+    np.testing.assert_allclose(table["frequency"], FREQUENCIES, rtol=0.005)
+    model = read_modal_model(out / "modal_table.csv", out / "modal_shapes.csv", width=3.0,
+                             output_points=out / "output_points.csv")
+    np.testing.assert_allclose(model.modal_masses, MASSES)
+    assert (out / "report.html").is_file() and (out / "stabilisation.png").is_file()
+
+
+def test_modes_cli_names_a_misspelt_key(tmp_path, capsys):
+    (tmp_path / "bad.toml").write_text('[record]\nfile = "x.csv"\nchanels = ["a"]\n')
+    (tmp_path / "x.csv").write_text("time,a\n0,0\n0.1,1\n0.2,0\n")
+    assert main(["modes", str(tmp_path / "bad.toml"), "--out", str(tmp_path / "o")]) == 1
+    assert "record.chanels" in capsys.readouterr().err

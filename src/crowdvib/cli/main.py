@@ -12,7 +12,7 @@ from pathlib import Path
 from .. import __version__
 from ..errors import CrowdvibError
 from ..reporting.report import write_report
-from . import demo, estimate, landscape, sensitivity, simulate
+from . import demo, estimate, landscape, modes, sensitivity, simulate
 from .common import say
 
 __all__ = ["main", "build_parser"]
@@ -43,6 +43,8 @@ _COMMANDS = {
     "map": ("evaluate the objective J(f_h1, ξ_h1) of a case on a grid", landscape),
     "sensitivity": ("estimation error from modelling errors and record length: nominal ± bound",
                     sensitivity),
+    "modes": ("the empty bridge's modes from an ambient record (operational modal analysis)",
+              modes),
 }
 
 
