@@ -24,8 +24,8 @@ import warnings
 
 import numpy as np
 
-from crowdvib import (BoundWarning, Crowd, LowPassFilter, MeasuredForce, estimate_hsi, simulate,
-                      welch_psd)
+from crowdvib import (BoundWarning, Crowd, LowPassFilter, MeasuredForce, PlausibilityWarning,
+                      estimate_hsi, simulate, welch_psd)
 from crowdvib.models import paper_example
 
 EXAMPLE = paper_example()
@@ -60,6 +60,9 @@ def errors(density, load, n, methods):
             started = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", BoundWarning)
+                # the raw measured forces are ~4× weaker than the assumed Živanović load, so the
+                # level check fires on every record: expected here, and it is the point
+                warnings.simplefilter("ignore", PlausibilityWarning)
                 estimate = estimate_hsi(measured, EXAMPLE.structure, crowd, band=(0.0, 10.0),
                                         method=method, interval=None)
             seconds[1] += time.perf_counter() - started

@@ -3,11 +3,18 @@
 import numpy as np
 import pytest
 
-from crowdvib import (ModalModel, ParameterError, Pedestrian, Record, identify_modes, simulate,
-                      write_record)
+from crowdvib import (
+    ModalModel,
+    ParameterError,
+    Pedestrian,
+    Record,
+    identify_modes,
+    simulate,
+    write_record,
+)
 from crowdvib.cli import main
-from crowdvib.io import read_modal_model
 from crowdvib.identification.studies import error_cases
+from crowdvib.io import read_modal_model
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies
 
 pytest.importorskip("pyoma2")
