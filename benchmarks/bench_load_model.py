@@ -24,8 +24,16 @@ import warnings
 
 import numpy as np
 
-from crowdvib import (BoundWarning, Crowd, LowPassFilter, MeasuredForce, PlausibilityWarning,
-                      estimate_hsi, simulate, welch_psd)
+from crowdvib import (
+    BoundWarning,
+    Crowd,
+    LowPassFilter,
+    MeasuredForce,
+    PlausibilityWarning,
+    estimate_hsi,
+    simulate,
+    welch_psd,
+)
 from crowdvib.models import paper_example
 
 EXAMPLE = paper_example()

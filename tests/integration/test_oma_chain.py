@@ -4,8 +4,14 @@ crowd record → estimate_hsi recovers the paper's MSD (3.0 Hz, 0.30) within its
 import numpy as np
 import pytest
 
-from crowdvib import (LowPassFilter, ModalModel, estimate_hsi, identify_modes, simulate,
-                      welch_psd)
+from crowdvib import (
+    LowPassFilter,
+    ModalModel,
+    estimate_hsi,
+    identify_modes,
+    simulate,
+    welch_psd,
+)
 from crowdvib.models import paper_example
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies
 
