@@ -21,7 +21,8 @@ except PackageNotFoundError:  # running from a source tree that was not installe
 #: Public name → the subpackage that defines it. The subpackages (and scipy and numba behind them)
 #: are imported on first use, so that ``crowdvib --help`` and an error message come at once.
 _LAZY = {
-    **dict.fromkeys(("ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce"), "models"),
+    **dict.fromkeys(("ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce",
+                     "MeasuredForce"), "models"),
     **dict.fromkeys(("ResponsePSD", "welch_psd", "LowPassFilter", "psd_convergence",
                      "PSDConvergence", "detrend", "resample", "running_rms", "weight_wb"),
                     "signals"),
@@ -30,7 +31,8 @@ _LAZY = {
                     "response"),
     **dict.fromkeys(("estimate_hsi", "estimate_hsi_joint", "HSIEstimate",
                      "estimate_step_frequencies",
-                     "StepFrequencyEstimate"), "identification"),
+                     "StepFrequencyEstimate", "identify_modes", "ModeIdentification"),
+                    "identification"),
     **dict.fromkeys(("Record", "read_record", "write_record", "check_record", "Case", "load_case",
                      "read_modal_model"), "io"),
     **dict.fromkeys(("TunedMassDamper", "tune_damper", "design_check", "DesignCheck",
@@ -61,11 +63,12 @@ def __dir__():
 
 if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
     # ruff: noqa: F401
-    from .identification import (HSIEstimate, StepFrequencyEstimate, estimate_hsi,
-                                 estimate_hsi_joint, estimate_step_frequencies)
+    from .identification import (HSIEstimate, ModeIdentification, StepFrequencyEstimate,
+                                 estimate_hsi, estimate_hsi_joint, estimate_step_frequencies,
+                                 identify_modes)
     from .io import (Case, Record, check_record, load_case, read_modal_model, read_record,
                      write_record)
-    from .models import Crowd, ModalModel, MSDModel, YoungForce, ZivanovicForce
+    from .models import Crowd, MeasuredForce, ModalModel, MSDModel, YoungForce, ZivanovicForce
     from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
                            effective_modal_properties, frf, response_psd, simulate,
                            simulate_many)

@@ -13,7 +13,7 @@ from .. import __version__
 from .._files import require_file
 from ..errors import CrowdvibError
 from ..reporting.report import write_report
-from . import check, demo, estimate, landscape, sensitivity, simulate
+from . import check, demo, estimate, landscape, modes, sensitivity, simulate
 from .common import say
 
 __all__ = ["main", "build_parser"]
@@ -45,6 +45,8 @@ _COMMANDS = {
     "sensitivity": ("estimation error from modelling errors and record length: nominal ± bound",
                     sensitivity),
     "check": ("design checks of a case's [design] table (codes, with and without HSI)", check),
+    "modes": ("the empty bridge's modes from an ambient record (operational modal analysis)",
+              modes),
 }
 
 

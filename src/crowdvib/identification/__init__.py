@@ -4,7 +4,8 @@
 crowd's N(μ, σ) from the low band); ``landscape`` (the objective on a grid), ``studies``
 (modelling-error and record-length studies), ``parametric`` (the paper's parametric study)
 and ``monte_carlo`` (seeded simulated records in batches),
-run as independent tasks by ``tasks`` on the executor ``engine`` gives (this process or dask).
+run as independent tasks by ``tasks`` on the executor ``engine`` gives (this process or dask);
+``oma``: the empty bridge's modes from an ambient record (SSI-cov through pyOMA2).
 """
 
 from .engine import study_executor
@@ -13,6 +14,7 @@ from .estimation import (DEFAULT_BOUNDS, DEFAULT_STARTS, HSIEstimate, estimate_h
 from .landscape import ObjectiveMap, objective_map
 from .monte_carlo import monte_carlo, record_statistics
 from .objective import PSDObjective
+from .oma import ModeIdentification, identify_modes
 from .parametric import ParametricResult, parametric_study
 from .step_frequencies import (DEFAULT_STEP_FREQUENCY_BOUNDS, StepFrequencyEstimate,
                                estimate_step_frequencies)
@@ -26,4 +28,4 @@ __all__ = ["estimate_hsi", "estimate_hsi_joint", "HSIEstimate", "PSDObjective", 
            "objective_map", "ObjectiveMap", "modelling_error_study", "ErrorCase",
            "SensitivityResult", "record_length_study", "parametric_study", "ParametricResult",
            "PAPER_ERROR_LEVELS", "TaskStore", "run_tasks", "study_executor", "monte_carlo",
-           "record_statistics"]
+           "record_statistics", "identify_modes", "ModeIdentification"]

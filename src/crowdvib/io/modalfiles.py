@@ -68,9 +68,17 @@ def _numbers(path, header, rows, columns):
     return values
 
 
-def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_points=None,
-                     name="footbridge"):
-    """A :class:`ModalModel` from a modal table and mode shapes along the walkway (CSV).
+def read_modal_model(modal_table, mode_shapes=None, *, width, outputs=None, output_points=None,
+                     name="footbridge", **fe_options):
+    """A :class:`ModalModel` from a modal table and mode shapes along the walkway (CSV), or from an FE export.
+
+    FE exports (docs: theory, Modal models from FE exports): a UFF file (``.uff``/``.unv``, data
+    sets 15 and 55) as ``modal_table`` alone, or a modal table with a CSV node table (a ``node``
+    column and x, y, z) as ``mode_shapes``. The deck nodes are mapped onto the walkway, every mode
+    is scaled to 1 at its antinode (a mass-normalised export gets its engaged modal mass) and
+    modes not vertical enough are dropped with a warning; ``fe_options`` are the keywords of
+    :meth:`crowdvib.io.femodes.FEModes.modal_model` (``along``, ``across``, ``vertical``,
+    ``deck_nodes``, ``lanes``, ``damping_ratios``, ``output_nodes``, ``min_vertical``).
 
     Parameters
     ----------
@@ -95,6 +103,27 @@ def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_po
     -------
     ModalModel
     """
+    from .femodes import UFF_SUFFIXES, read_fe_modes
+
+    fe_route = Path(modal_table).suffix.lower() in UFF_SUFFIXES or (
+        mode_shapes is not None and Path(mode_shapes).is_file()
+        and "node" in _read_csv_table(mode_shapes)[0])
+    if fe_route:
+        if output_points is not None:
+            raise ParameterError("output_points is for station CSVs; name FE outputs with "
+                                 "output_nodes (name → node number) or outputs (name → x)")
+        if Path(modal_table).suffix.lower() in UFF_SUFFIXES:
+            if mode_shapes is not None:
+                raise ParameterError("mode_shapes must be None with a UFF file (it holds them)")
+            modes = read_fe_modes(modal_table)
+        else:
+            modes = read_fe_modes(mode_shapes, modal_table)
+        return modes.modal_model(width=width, outputs=outputs, name=name, **fe_options)
+    if fe_options:
+        raise ParameterError(f"{sorted(fe_options)} apply to FE exports only (a UFF file or a "
+                             "CSV node table with a 'node' column)")
+    if mode_shapes is None:
+        raise ParameterError("mode_shapes must be given with a modal table CSV")
     header, rows = _read_csv_table(modal_table)
     _missing(modal_table, header, ("frequency", "damping_ratio", "modal_mass"))
     table = _numbers(modal_table, header, rows, ["frequency", "damping_ratio", "modal_mass"])
@@ -138,20 +167,27 @@ def read_modal_model(modal_table, mode_shapes, *, width, outputs=None, output_po
         names = [row[point_header.index("name")] for row in point_rows]
         rows_ = _numbers(output_points, point_header, point_rows, columns)
     else:
-        names, rows_ = [], []
-        for label, where in outputs.items():
-            try:
-                x, y = (float(where), None) if np.ndim(where) == 0 else (float(where[0]),
-                                                                       float(where[1]))
-            except (TypeError, ValueError, IndexError):
-                raise ParameterError(f"outputs[{label!r}] must be a position x [m] or [x, y], "
-                                     f"got {quote(where)}") from None
-            if not positions[0] <= x <= positions[-1]:
-                raise ParameterError(f"outputs[{label!r}] must lie on the walkway "
-                                     f"[{positions[0]:g}, {positions[-1]:g}] m, got {x:g}")
-            names.append(label)
-            rows_.append(base.shapes_at(np.array([x]), None if y is None else np.array([y]))[0])
+        names, rows_ = output_rows(base, outputs)
     return base.replace(output_names=tuple(names), output_shapes=np.array(rows_, dtype=float))
+
+
+def output_rows(base, outputs):
+    """Names and mode-shape rows of output points given as name → x or (x, y) on the walkway."""
+    positions = base.positions
+    names, rows = [], []
+    for label, where in outputs.items():
+        try:
+            x, y = (float(where), None) if np.ndim(where) == 0 else (float(where[0]),
+                                                                   float(where[1]))
+        except (TypeError, ValueError, IndexError):
+            raise ParameterError(f"outputs[{label!r}] must be a position x [m] or [x, y], "
+                                 f"got {quote(where)}") from None
+        if not positions[0] <= x <= positions[-1]:
+            raise ParameterError(f"outputs[{label!r}] must lie on the walkway "
+                                 f"[{positions[0]:g}, {positions[-1]:g}] m, got {x:g}")
+        names.append(label)
+        rows.append(base.shapes_at(np.array([x]), None if y is None else np.array([y]))[0])
+    return names, np.array(rows, dtype=float).reshape(len(names), base.n_modes)
 
 
 def write_modal_model(structure, modal_table, mode_shapes, output_points=None, *, digits=10):

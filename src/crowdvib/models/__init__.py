@@ -1,14 +1,16 @@
 """The models the rest is built on: the empty bridge, the crowd, each walker's body and force.
 
 ``structure`` (ModalModel) → ``crowd`` (Crowd) → ``pedestrian`` (MSDModel) → ``loading`` (walking
-force models); ``examples`` bundles them into the paper's numerical example.
+force models; ``measured``: replayed measured forces); ``examples`` bundles them into the paper's numerical example.
 """
 
 from .crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from .examples import ExampleCase, paper_example
 from .loading import STANDARD_GRAVITY, YoungForce, ZivanovicForce
+from .measured import MeasuredForce
 from .pedestrian import MSDModel
 from .structure import ModalModel
 
-__all__ = ["ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce", "STANDARD_GRAVITY",
+__all__ = ["ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce", "MeasuredForce",
+           "STANDARD_GRAVITY",
            "weidmann_speed", "bruno_venuti_step_frequency", "ExampleCase", "paper_example"]

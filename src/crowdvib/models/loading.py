@@ -291,12 +291,24 @@ class YoungForce(_WalkingForce):
         return amplitudes, phases
 
 
-def as_force_model(force):
-    """``force`` itself, or the default Živanović model for None; refuse anything else."""
+def as_force_model(force, *, time_domain=False):
+    """``force`` itself, or the default Živanović model for None; refuse anything else.
+
+    ``time_domain``: the caller is the simulator, which can also replay a
+    :class:`~crowdvib.models.measured.MeasuredForce`; the spectral side cannot (no load PSD).
+    """
     if force is None:
         return ZivanovicForce()
-    if not isinstance(force, _WalkingForce):
+    from .measured import MeasuredForce  # here: measured.py imports this module
+    if isinstance(force, MeasuredForce):
+        if time_domain:
+            return force
         raise ParameterError(
-            f"force must be a ZivanovicForce or YoungForce, got {type(force).__name__}")
+            "force must be a ZivanovicForce or YoungForce here: a MeasuredForce replays measured "
+            "histories and has no load PSD for the spectral model (use it with simulate)")
+    if not isinstance(force, _WalkingForce):
+        kinds = "ZivanovicForce, YoungForce or MeasuredForce" if time_domain else (
+            "ZivanovicForce or YoungForce")
+        raise ParameterError(f"force must be a {kinds}, got {type(force).__name__}")
     return force
 

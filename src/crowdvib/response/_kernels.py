@@ -148,6 +148,30 @@ def _accelerations(z, zd, u, ud, phi, force, n_active, active, sprung, stiffness
     _solve(factor, rhs, zdd)
 
 
+# --- Measured-force replay (table look-up), kept apart from the harmonic path ---------------
+# ``replay`` = (record, offset, speed, weight, table): per pedestrian k the table row record[k]
+# (-1: no replay, the harmonic sum alone), the start offset[k] [table samples] at the arrival time,
+# speed[k] [table samples per second] and weight[k] [N] (s_k W_k); table[r] holds F_r/F̄_r − 1.
+# The force is weight · table[r](offset + speed (t − t_k)), periodically continued and linearly
+# interpolated (docs: theory, Measured walking forces); models/measured.py ``replay_value`` is
+# the numpy twin. Harmonic-only runs pass record = -1 everywhere and add nothing: bit-identical.
+
+
+@njit(cache=True)
+def _replayed(k, elapsed, replay):
+    """Replayed dynamic force [N] of pedestrian k at ``elapsed`` = t − t_k [s]."""
+    record, offset, speed, weight, table = replay
+    n = table.shape[1]
+    position = offset[k] + speed[k] * elapsed
+    position -= n * math.floor(position / n)
+    low = int(position)
+    if low > n - 1:
+        low = n - 1
+    high = low + 1 if low + 1 < n else 0
+    row = record[k]
+    return weight[k] * (table[row, low] + (position - low) * (table[row, high] - table[row, low]))
+
+
 # nogil: simulate_many runs several records at once, one thread each, on their own state.
 @njit(cache=True, nogil=True)
 def advance(first_step, n_steps, substeps, h,
@@ -155,7 +179,7 @@ def advance(first_step, n_steps, substeps, h,
             output_shapes,
             t_on, t_off, t_arrival, x_start, velocity, lane_low, lane_weight,
             unsprung, sprung, stiffness, damping, static, amplitude, omega, phase,
-            two_cos, hsi, added_mass,
+            two_cos, replay, hsi, added_mass,
             counters, active, z, zd, u, ud, seg, phi_now, force_now, wave_now, wave_prev, factor_now,
             acceleration, modal_load, record_load, n_on_deck):
     """Advance the coupled system by ``n_steps`` RK4 steps of length ``h`` [s].
@@ -169,8 +193,10 @@ def advance(first_step, n_steps, substeps, h,
     index per slot, in order of entry), z, ż, u, u̇, the segment per slot, φ and the walking force
     at the current time per slot, the force components W α_c sin(ω_c (t − t_k) + θ_c) per slot at
     t and t − h/2 (advanced by the Chebyshev recurrence, ``two_cos`` = 2 cos(ω_c h/2): no sine
-    in the loop), and the Cholesky factor of the mass matrix at the current time.
+    in the loop), and the Cholesky factor of the mass matrix at the current time. A pedestrian
+    with ``replay[0][k] >= 0`` adds a replayed measured force (``_replayed``) to that sum.
     """
+    replay_record = replay[0]
     n_modes = z.size
     n_components = amplitude.shape[1]
     n_pedestrians = t_on.size
@@ -255,6 +281,8 @@ def advance(first_step, n_steps, substeps, h,
                 wave_now[slot, c] = amplitude[k, c] * math.sin(angle)
                 wave_prev[slot, c] = amplitude[k, c] * math.sin(angle - omega[k, c] * half)
                 p += wave_now[slot, c]
+            if replay_record[k] >= 0:
+                p += _replayed(k, elapsed, replay)
             force_now[slot] = p
 
         if changed and added_mass:
@@ -279,6 +307,9 @@ def advance(first_step, n_steps, substeps, h,
                 p_end += y_end
                 wave_prev[slot, c] = y_mid
                 wave_now[slot, c] = y_end
+            if replay_record[k] >= 0:
+                p_mid += _replayed(k, t_mid - t_arrival[k], replay)
+                p_end += _replayed(k, t_end - t_arrival[k], replay)
             force_mid[slot] = p_mid
             force_end[slot] = p_end
         if added_mass:

@@ -12,13 +12,14 @@ import math
 
 import numpy as np
 
-from . import _kernels
 from .._validation import check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import JAM_DENSITY, Crowd
 from ..models.damper import as_dampers
 from ..models.loading import STANDARD_GRAVITY, as_force_model
+from ..models.measured import REPLAY_HARMONICS
 from ..models.pedestrian import MSDModel
+from . import _kernels
 from .results import Simulation
 from .traffic import _check_duration, _check_structure, _seed_from, _walkers, _with_dampers
 
@@ -52,8 +53,20 @@ def _internal_substeps(structure, walkers, msd, sample_rate):
         active = walkers.dlf != 0
         if active.any():
             force = float(np.max(walkers.omega[active])) / (2 * np.pi)
+        replayed = walkers.replay.record >= 0          # measured forces: up to their 5th harmonic
+        if replayed.any():
+            force = max(force, REPLAY_HARMONICS * float(np.max(walkers.replay.step_frequency[replayed])))
     per_second = max(STEPS_PER_PERIOD * state, FORCE_STEPS_PER_PERIOD * force)
     return max(1, math.ceil(per_second / sample_rate - 1e-9))
+
+
+def _replay_arguments(walkers, table):
+    """The kernel's ``replay`` tuple (docs: theory, Measured walking forces); a 1×1 dummy table without."""
+    draws = walkers.replay
+    weight = walkers.body_mass * STANDARD_GRAVITY * draws.factor
+    table = np.zeros((1, 1)) if table is None else np.ascontiguousarray(table, dtype=float)
+    return (np.ascontiguousarray(draws.record, dtype=np.int64), np.ascontiguousarray(draws.offset),
+            np.ascontiguousarray(draws.speed), np.ascontiguousarray(weight), table)
 
 
 class _Integrator:
@@ -63,7 +76,8 @@ class _Integrator:
     """
 
     def __init__(self, structure, walkers, msd, sample_rate, substeps, first_step, n_samples,
-                 record_modal_load, include_static_weight, dampers=(), damper_mask=None):
+                 record_modal_load, include_static_weight, dampers=(), damper_mask=None,
+                 force_table=None):
         self.structure = structure
         self.walkers = walkers
         self.substeps = substeps
@@ -119,6 +133,7 @@ class _Integrator:
         self.amplitude = np.ascontiguousarray(walkers.amplitude)
         self.omega = np.ascontiguousarray(walkers.omega)
         self.two_cos = 2.0 * np.cos(self.omega * self.h / 2)
+        self.replay = _replay_arguments(walkers, force_table)
         n_components = self.amplitude.shape[1]
         # state
         self.counters = np.zeros(2, dtype=np.int64)
@@ -150,7 +165,8 @@ class _Integrator:
             self.positions, self.inverse_spacing, self.output_shapes,
             w.t_on, w.t_off, w.arrival, w.x_start, w.velocity, self.lane_low, self.lane_weight,
             self.unsprung, self.sprung, self.stiffness, self.damping, self.static,
-            self.amplitude, self.omega, w.phase, self.two_cos, self.hsi, self.added_mass,
+            self.amplitude, self.omega, w.phase, self.two_cos, self.replay, self.hsi,
+            self.added_mass,
             self.counters, self.active, self.z, self.zd, self.u, self.ud, self.seg,
             self.phi_now, self.force_now, self.wave_now, self.wave_prev, self.factor_now,
             self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck)
@@ -180,7 +196,7 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
                 f"got {crowd.density:g}")
     if msd is not None and not isinstance(msd, MSDModel):
         raise ParameterError(f"msd must be an MSDModel or None, got {type(msd).__name__}")
-    force = as_force_model(force)
+    force = as_force_model(force, time_domain=True)
     duration, warm_up = _check_duration(duration, warm_up)
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
     highest = float(np.max(structure.frequencies))
@@ -206,7 +222,8 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
         substeps = max(substeps, math.ceil(STEPS_PER_PERIOD * fastest / sample_rate - 1e-9))
     integrator = _Integrator(structure, walkers, msd, sample_rate, substeps,
                              -warm_up_samples * substeps, n_samples, record_modal_load,
-                             include_static_weight, dampers, damper_mask)
+                             include_static_weight, dampers, damper_mask,
+                             getattr(force, "table", None))
     return integrator, n_samples, warm_up_samples, sample_rate, duration
 
 
@@ -240,8 +257,9 @@ def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None
         Explicit pedestrians, in addition to (or instead of) the crowd.
     msd : MSDModel, optional
         Mass-spring-damper model of every pedestrian (HSI); None = moving forces only.
-    force : ZivanovicForce or YoungForce, optional
-        Walking force model (default Živanović 2007).
+    force : ZivanovicForce, YoungForce or MeasuredForce, optional
+        Walking force model (default Živanović 2007); a :class:`~crowdvib.models.MeasuredForce`
+        replays measured force histories instead (docs: theory, Measured walking forces).
     sample_rate : float
         Output sample rate [Hz]; its Nyquist frequency must exceed the highest mode.
     rng : None, int or numpy.random.Generator

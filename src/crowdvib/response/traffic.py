@@ -14,6 +14,7 @@ from .._validation import as_float_array, check_non_negative, check_positive, ch
 from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.loading import STANDARD_GRAVITY, as_force_model, positive_normal
+from ..models.measured import MeasuredForce, ReplayDraws
 from ..models.structure import ModalModel
 
 __all__ = ["Pedestrian", "generate_traffic"]
@@ -101,6 +102,7 @@ class _Walkers:
     dlf: np.ndarray            # α_c [-], (n, n_components)
     ratio: np.ndarray          # r_c [-], (n, n_components)
     phase: np.ndarray          # θ_c [rad], (n, n_components)
+    replay: tuple              # ReplayDraws of a MeasuredForce (record −1: none), one per walker
 
     @property
     def amplitude(self):
@@ -155,11 +157,21 @@ def _crowd_draws(structure, crowd, start, end, force, rng):
     step_frequency = positive_normal(np.full(arrival.size, crowd.step_frequency_mean),
                                      crowd.step_frequency_std, rng)
     dlf, phase = force.sample(step_frequency, rng)
+    replay = _replay_draws(force, step_frequency, rng)
     if crowd.body_mass_std > 0:
         mass = positive_normal(np.full(arrival.size, crowd.body_mass), crowd.body_mass_std, rng)
     else:
         mass = np.full(arrival.size, crowd.body_mass)
-    return arrival, direction, lateral, step_frequency, dlf, phase, mass
+    return arrival, direction, lateral, step_frequency, dlf, phase, mass, replay
+
+
+def _replay_draws(force, step_frequency, rng):
+    """Measured-force replay per walker (models/measured.py); none (record −1, no draws) otherwise."""
+    if isinstance(force, MeasuredForce):
+        return force.sample_replay(step_frequency, rng)
+    n = np.asarray(step_frequency).size
+    return ReplayDraws(np.full(n, -1, dtype=np.int64), np.zeros(n), np.zeros(n), np.zeros(n),
+                       np.zeros(n))
 
 
 def _walkers(structure, crowd, pedestrians, start, end, force, rng):
@@ -167,22 +179,24 @@ def _walkers(structure, crowd, pedestrians, start, end, force, rng):
     x0, x1 = structure.positions[0], structure.positions[-1]
     parts = []
     if crowd is not None and crowd.density > 0:
-        arrival, direction, lateral, fs, dlf, phase, mass = _crowd_draws(structure, crowd, start,
-                                                                        end, force, rng)
+        arrival, direction, lateral, fs, dlf, phase, mass, replay = _crowd_draws(
+            structure, crowd, start, end, force, rng)
         ratios = np.broadcast_to(force.ratios, dlf.shape)
         parts.append((arrival, np.where(direction > 0, x0, x1),
-                      direction * crowd.walking_speed, lateral, fs, mass, dlf, ratios, phase))
+                      direction * crowd.walking_speed, lateral, fs, mass, dlf, ratios, phase,
+                      replay))
     if pedestrians:
         parts.append(_explicit_arrays(structure, pedestrians, force, rng))
     if not parts:
         empty = np.zeros(0)
-        parts.append((empty,) * 6 + (np.zeros((0, 1)),) * 3)
+        parts.append((empty,) * 6 + (np.zeros((0, 1)),) * 3 + (_replay_draws(None, empty, None),))
     width = max(p[6].shape[1] for p in parts)
     columns = [np.concatenate([p[i] for p in parts]) for i in range(6)]
     padded = [np.concatenate([np.pad(p[i], ((0, 0), (0, width - p[i].shape[1]))) for p in parts])
               for i in (6, 7, 8)]
     arrival, x_start, velocity, lateral, fs, mass = columns
     dlf, ratios, phase = padded
+    replay = ReplayDraws(*(np.concatenate([p[9][i] for p in parts]) for i in range(5)))
     # Time on the deck: from the arrival at x_start to the far end (never, when standing).
     remaining = np.where(velocity > 0, x1 - x_start, x_start - x0)
     speed = np.abs(velocity)
@@ -192,7 +206,8 @@ def _walkers(structure, crowd, pedestrians, start, end, force, rng):
     return _Walkers(arrival=arrival[order], x_start=x_start[order], velocity=velocity[order],
                     t_on=arrival[order], t_off=t_off[order], lateral=lateral[order],
                     step_frequency=fs[order], body_mass=mass[order], dlf=dlf[order],
-                    ratio=ratios[order], phase=phase[order])
+                    ratio=ratios[order], phase=phase[order],
+                    replay=ReplayDraws(*(column[order] for column in replay)))
 
 
 def _explicit_arrays(structure, pedestrians, force, rng):
@@ -200,6 +215,7 @@ def _explicit_arrays(structure, pedestrians, force, rng):
     x0, x1 = structure.positions[0], structure.positions[-1]
     half_width = structure.width / 2
     arrival, x_start, velocity, lateral, fs, mass, rows = [], [], [], [], [], [], []
+    replays = []
     for index, walker in enumerate(pedestrians):
         if not isinstance(walker, Pedestrian):
             raise ParameterError(
@@ -216,8 +232,10 @@ def _explicit_arrays(structure, pedestrians, force, rng):
         if walker.harmonics is None:
             dlf, phase = force.sample(np.array([walker.step_frequency]), rng)
             components = np.column_stack([force.ratios, dlf[0], phase[0]])
+            replays.append(_replay_draws(force, np.array([walker.step_frequency]), rng))
         else:
             components = np.array(walker.harmonics, dtype=float).reshape(-1, 3)
+            replays.append(_replay_draws(None, np.zeros(1), None))
         arrival.append(walker.arrival_time)
         x_start.append(start)
         velocity.append(walker.direction * walker.walking_speed)
@@ -231,7 +249,8 @@ def _explicit_arrays(structure, pedestrians, force, rng):
     for i, r in enumerate(rows):
         block[i, :r.shape[0]] = r
     return (np.array(arrival), np.array(x_start), np.array(velocity), np.array(lateral),
-            np.array(fs), np.array(mass), block[:, :, 1], block[:, :, 0], block[:, :, 2])
+            np.array(fs), np.array(mass), block[:, :, 1], block[:, :, 0], block[:, :, 2],
+            ReplayDraws(*(np.concatenate([r[i] for r in replays]) for i in range(5))))
 
 
 def generate_traffic(structure, crowd, duration, *, force=None, rng=None, warm_up=0.0):
@@ -261,7 +280,10 @@ def generate_traffic(structure, crowd, duration, *, force=None, rng=None, warm_u
     _check_structure(structure)
     check_type("crowd", crowd, Crowd)
     duration, warm_up = _check_duration(duration, warm_up)
-    force = as_force_model(force)
+    force = as_force_model(force, time_domain=True)
+    if isinstance(force, MeasuredForce):
+        raise ParameterError("force: generate_traffic lists harmonic pedestrians; a MeasuredForce "
+                             "replay cannot be written as harmonics (pass it to simulate)")
     walkers = _walkers(structure, crowd, None, -warm_up, duration, force,
                        np.random.default_rng(_seed_from(rng)))
     x0, x1 = structure.positions[0], structure.positions[-1]
@@ -322,4 +344,8 @@ def _with_dampers(structure, walkers, dampers, start):
               for name, value in extra.items()}
     order = np.argsort(merged["arrival"], kind="stable")
     mask = np.concatenate([np.zeros(walkers.size, dtype=bool), np.ones(n, dtype=bool)])
-    return _Walkers(**{name: value[order] for name, value in merged.items()}), mask[order]
+    # A damper replays no measured force (record −1), like a harmonic walker.
+    none = _replay_draws(None, np.ones(n), None)
+    replay = ReplayDraws(*(np.concatenate(pair)[order] for pair in zip(walkers.replay, none)))
+    return (_Walkers(**{name: value[order] for name, value in merged.items()}, replay=replay),
+            mask[order])

@@ -1,0 +1,331 @@
+"""Mode shapes at FE nodes → a walkway :class:`ModalModel` (docs: theory, Modal models from FE exports).
+
+Two exports are read: the universal file format (UFF data set 15, the nodes, and data sets 55,
+one normal mode each, through pyuff) and a plain CSV node table (``node``, ``x``, ``y``, ``z`` and
+one column per mode, or three per mode ending in ``_x``, ``_y``, ``_z``) with a modal table beside
+it. :class:`FEModes` holds what the file says; :meth:`FEModes.modal_model` maps the deck nodes
+onto the walkway stations and lanes by linear interpolation, scales every mode to 1 at its
+antinode on the walkway (a mass-normalised export — modal masses 1 — becomes the engaged modal
+mass), and drops modes that are not vertical enough to matter for walkers, saying which.
+"""
+
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy import interpolate
+
+from .._validation import check_damping_ratio, check_positive
+from ..errors import DataError, DataWarning, ParameterError
+from ..models.structure import ModalModel
+from ._common import quote, reading, require_file
+
+__all__ = ["UFF_SUFFIXES", "FEModes", "read_fe_modes"]
+
+UFF_SUFFIXES = (".uff", ".unv")
+AXES = ("x", "y", "z")
+#: Modal masses within this of 1 mark a mass-normalised export.
+UNIT_MASS_TOLERANCE = 1e-4
+
+
+@dataclass(frozen=True)
+class FEModes:
+    """Normal modes at FE nodes as exported.
+
+    Attributes
+    ----------
+    nodes : ndarray of int, (n_nodes,)
+    coordinates : ndarray, (n_nodes, 3)
+        x, y, z [m].
+    shapes : ndarray, (n_nodes, n_modes, 3) or (n_nodes, n_modes, 1)
+        Translations per node and mode (x, y, z), or the vertical one only.
+    frequencies : ndarray [Hz]
+    damping_ratios : ndarray [-] (0 where the export has none)
+    modal_masses : ndarray [kg] in the export's scaling (1 for mass-normalised shapes)
+    source : str
+    """
+
+    nodes: np.ndarray
+    coordinates: np.ndarray
+    shapes: np.ndarray
+    frequencies: np.ndarray
+    damping_ratios: np.ndarray
+    modal_masses: np.ndarray
+    source: str = "FE export"
+
+    @property
+    def n_modes(self):
+        return self.frequencies.size
+
+    @property
+    def mass_normalised(self):
+        """True when every modal mass is 1: the shapes are mass-normalised."""
+        return bool(np.all(np.abs(self.modal_masses - 1.0) <= UNIT_MASS_TOLERANCE))
+
+    def _deck(self, deck_nodes):
+        if deck_nodes is None:
+            return np.arange(self.nodes.size)
+        deck_nodes = np.asarray(deck_nodes).ravel()
+        missing = np.setdiff1d(deck_nodes, self.nodes)
+        if missing.size:
+            raise ParameterError(f"deck_nodes must be nodes of {self.source}, got unknown node(s) "
+                                 f"{missing[:5].tolist()}")
+        return np.flatnonzero(np.isin(self.nodes, deck_nodes))
+
+    def vertical_fractions(self, *, vertical="z", deck_nodes=None):
+        """Share of each mode's translational motion on the deck that is vertical [-].
+
+        Σ φ_v² / Σ (φ_x² + φ_y² + φ_z²) over the deck nodes; 1 when the export holds the vertical
+        component only (it cannot say otherwise).
+        """
+        rows = self._deck(deck_nodes)
+        shapes = self.shapes[rows]
+        if shapes.shape[2] == 1:
+            return np.ones(self.n_modes)
+        total = (shapes**2).sum(axis=(0, 2))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(total > 0, (shapes[:, :, _axis(vertical)] ** 2).sum(axis=0) / total,
+                            0.0)
+
+    def modal_model(self, *, width, along="x", across="y", vertical="z", deck_nodes=None,
+                    lanes=None, damping_ratios=None, outputs=None, output_nodes=None,
+                    min_vertical=0.5, name="footbridge"):
+        """The walkway's :class:`ModalModel` (docs: theory, Modal models from FE exports).
+
+        Parameters
+        ----------
+        width : float
+            Walkway width B [m]; the walkway is centred on the deck nodes' mid ``across``
+            coordinate.
+        along, across, vertical : {"x", "y", "z"}
+            The global axes along the walkway, across it and up.
+        deck_nodes : sequence of int, optional
+            Node numbers on the walkway (default every node of the export).
+        lanes : sequence of float, optional
+            Lanes y [m] in [0, B] at which shapes are interpolated across the deck (default: the
+            deck nodes' distinct ``across`` coordinates, or one lane for a line of nodes).
+        damping_ratios : float or sequence, optional
+            ξ_j [-] per kept mode (or one for all); default the export's (must then be > 0).
+        outputs : dict of str to float or (float, float), optional
+            Output points as name → x [m] along the walkway (or (x, y)).
+        output_nodes : dict of str to int, optional
+            Output points as name → node number (the node's own vertical shape).
+        min_vertical : float
+            Modes whose vertical share on the deck (:meth:`vertical_fractions`) is below this are
+            dropped, with a :class:`DataWarning` naming them.
+        name : str
+        """
+        width = check_positive("width", width, unit="m")
+        i_along, i_across, i_up = (_axis(a, label) for a, label in
+                                   ((along, "along"), (across, "across"), (vertical, "vertical")))
+        if len({i_along, i_across, i_up}) != 3:
+            raise ParameterError(f"along, across and vertical must be three different axes, got "
+                                 f"{along!r}, {across!r}, {vertical!r}")
+        rows = self._deck(deck_nodes)
+        fractions = self.vertical_fractions(vertical=vertical, deck_nodes=self.nodes[rows])
+        keep = np.flatnonzero(fractions >= min_vertical)
+        dropped = [j for j in range(self.n_modes) if j not in keep]
+        if dropped:
+            words = ", ".join(f"mode {j + 1} ({self.frequencies[j]:.3g} Hz, "
+                              f"{fractions[j]:.0%} vertical)" for j in dropped)
+            warnings.warn(f"{self.source}: dropped {len(dropped)} mode(s) not vertical enough to "
+                          f"load the walkway (< {min_vertical:.0%}): {words}", DataWarning,
+                          stacklevel=3)
+        if keep.size == 0:
+            raise DataError(f"{self.source}: no mode is at least {min_vertical:.0%} vertical on "
+                            "the deck")
+        vertical_shapes = self.shapes[:, keep, i_up if self.shapes.shape[2] == 3 else 0]
+        damping = self._damping(damping_ratios, keep)
+        x = self.coordinates[rows, i_along]
+        y = self.coordinates[rows, i_across]
+        positions = np.unique(x)
+        if positions.size < 2:
+            raise DataError(f"{self.source}: the deck nodes must span the walkway, got one "
+                            f"{along} coordinate")
+        centre_offset = 0.5 * (y.min() + y.max()) - width / 2     # walkway y = across − this
+        flat = np.ptp(y) <= 1e-9 * max(1.0, np.ptp(x))
+        if lanes is None:
+            lanes = None if flat else np.unique(y - centre_offset)
+        else:
+            lanes = np.atleast_1d(np.asarray(lanes, dtype=float))
+        grid = _interpolate(x, y, vertical_shapes[rows], positions,
+                            None if lanes is None else lanes + centre_offset, flat)
+        antinode = _antinode(grid)
+        if np.any(antinode == 0):
+            raise DataError(f"{self.source}: mode(s) {(np.flatnonzero(antinode == 0) + 1).tolist()} "
+                            "have no vertical motion on the deck")
+        base = ModalModel(frequencies=self.frequencies[keep], damping_ratios=damping,
+                          modal_masses=self.modal_masses[keep], positions=positions - x.min(),
+                          mode_shapes=grid, width=width, lanes=lanes, output_names=(),
+                          output_shapes=np.zeros((0, keep.size)), name=name)
+        if (outputs is None) == (output_nodes is None):
+            raise ParameterError("give exactly one of outputs (name → position) and output_nodes "
+                                 "(name → node number)")
+        if output_nodes is not None:
+            names, out_rows = [], []
+            for label, node in output_nodes.items():
+                hit = np.flatnonzero(self.nodes == node)
+                if hit.size != 1:
+                    raise ParameterError(f"output_nodes[{label!r}] must be a node of "
+                                         f"{self.source}, got {quote(node)}")
+                names.append(label)
+                out_rows.append(vertical_shapes[hit[0]])
+            base = base.replace(output_names=tuple(names), output_shapes=np.array(out_rows))
+        else:
+            from .modalfiles import output_rows  # the CSV route's positional outputs
+
+            names, out_rows = output_rows(base, outputs)
+            base = base.replace(output_names=tuple(names), output_shapes=out_rows)
+        return base.rescaled(1.0 / antinode)
+
+    def _damping(self, damping_ratios, keep):
+        if damping_ratios is None:
+            damping = self.damping_ratios[keep]
+            if np.any(damping <= 0):
+                raise ParameterError(f"damping_ratios must be given: {self.source} has no damping "
+                                     f"ratio for mode(s) {(keep[damping <= 0] + 1).tolist()}")
+            return damping
+        damping = np.broadcast_to(np.asarray(damping_ratios, dtype=float), keep.shape) if np.ndim(
+            damping_ratios) == 0 else np.asarray(damping_ratios, dtype=float)
+        if damping.shape != keep.shape:
+            raise ParameterError(f"damping_ratios must give one ratio per kept mode ({keep.size}), "
+                                 f"got {damping.size}")
+        return check_damping_ratio("damping_ratios", damping)
+
+
+def _axis(name, label="vertical"):
+    if name not in AXES:
+        raise ParameterError(f"{label} must be one of {AXES}, got {name!r}")
+    return AXES.index(name)
+
+
+def _interpolate(x, y, values, positions, lane_coordinates, flat):
+    """Shapes (n_lanes, n_positions, n_modes) at the walkway grid, linear between nodes."""
+    if flat:
+        order = np.argsort(x, kind="stable")
+        xs, vs = x[order], values[order]
+        _, first = np.unique(xs, return_index=True)
+        line = np.column_stack([np.interp(positions, xs[first], vs[first, j])
+                                for j in range(values.shape[1])])
+        n_lanes = 1 if lane_coordinates is None else lane_coordinates.size
+        return np.broadcast_to(line, (n_lanes,) + line.shape).copy()
+    points = np.column_stack([x, y])
+    lx, ly = np.meshgrid(positions, lane_coordinates)
+    query = np.column_stack([lx.ravel(), ly.ravel()])
+    linear = interpolate.LinearNDInterpolator(points, values)(query)
+    nearest = interpolate.NearestNDInterpolator(points, values)(query)
+    grid = np.where(np.isnan(linear), nearest, linear)     # outside the nodes' hull: nearest
+    return grid.reshape(lane_coordinates.size, positions.size, values.shape[1])
+
+
+def _antinode(grid):
+    """Signed value of each mode at its largest |φ| on the walkway grid."""
+    flat = grid.reshape(-1, grid.shape[2])
+    return flat[np.argmax(np.abs(flat), axis=0), np.arange(grid.shape[2])]
+
+
+def read_fe_modes(path, modal_table=None):
+    """Normal modes at FE nodes from a UFF file (15 + 55) or a CSV node table (+ modal table).
+
+    Parameters
+    ----------
+    path : path
+        ``.uff``/``.unv``: data set 15 (nodes) and one data set 55 per normal mode (frequency,
+        modal mass, viscous damping ratio in its header). Otherwise a CSV node table with columns
+        ``node``, ``x``, ``y``, ``z`` [m] and per mode one vertical column or three ending in
+        ``_x``, ``_y``, ``_z``.
+    modal_table : path, optional
+        For the CSV route: ``frequency`` [Hz], optional ``damping_ratio`` [-] and ``modal_mass``
+        [kg] (absent = mass-normalised shapes), one row per mode in the column order.
+
+    Returns
+    -------
+    FEModes
+    """
+    path = require_file(path, "modal")
+    if path.suffix.lower() in UFF_SUFFIXES:
+        if modal_table is not None:
+            raise ParameterError("modal_table must be None for a UFF file (its data sets 55 hold "
+                                 "the frequencies and modal masses)")
+        return _read_uff_modes(path)
+    if modal_table is None:
+        raise ParameterError("modal_table must be given with a CSV node table")
+    return _read_csv_modes(path, modal_table)
+
+
+def _read_uff_modes(path):
+    from .formats import _check_uff_complete, _pyuff
+
+    _check_uff_complete(path)
+    with reading(path, "a UFF"):
+        sets = _pyuff().UFF(str(path)).read_sets()
+        sets = [sets] if isinstance(sets, dict) else list(sets)
+        node_sets = [s for s in sets if s.get("type") == 15]
+        mode_sets = [s for s in sets if s.get("type") == 55 and s.get("analysis_type") == 2]
+        if not node_sets or not mode_sets:
+            raise DataError(f"{path.name}: must hold a data set 15 (nodes) and data sets 55 of "
+                            f"normal modes (analysis type 2), got {len(node_sets)} and "
+                            f"{len(mode_sets)}")
+        nodes = np.concatenate([np.asarray(s["node_nums"]) for s in node_sets]).astype(np.int64)
+        coordinates = np.column_stack([np.concatenate([np.asarray(s[a], dtype=float)
+                                                       for s in node_sets]) for a in AXES])
+        if np.unique(nodes).size != nodes.size:
+            raise DataError(f"{path.name}: node numbers of data set 15 must be unique")
+        shapes = np.zeros((nodes.size, len(mode_sets), 3))
+        for j, mode in enumerate(mode_sets):
+            numbers = np.asarray(mode["node_nums"]).astype(np.int64)
+            index = {n: i for i, n in enumerate(nodes)}
+            if any(n not in index for n in numbers):
+                raise DataError(f"{path.name}: mode {j + 1} names nodes absent from data set 15")
+            rows = [index[n] for n in numbers]
+            shapes[rows, j] = np.column_stack([np.asarray(mode[r], dtype=float)
+                                               for r in ("r1", "r2", "r3")])
+        header = np.array([[float(m["freq"]), float(m["modal_damp_vis"]), float(m["modal_m"])]
+                           for m in mode_sets])
+    return _checked(path, nodes, coordinates, shapes, header)
+
+
+def _read_csv_modes(path, modal_table):
+    from .modalfiles import _missing, _numbers, _read_csv_table
+
+    header, rows = _read_csv_table(path)
+    _missing(path, header, ("node",) + AXES)
+    columns = [c for c in header if c not in ("node",) + AXES]
+    table_header, table_rows = _read_csv_table(modal_table)
+    _missing(modal_table, table_header, ("frequency",))
+    n_modes = len(table_rows)
+    triples = len(columns) == 3 * n_modes and all(
+        columns[3 * j + k].endswith(f"_{a}") for j in range(n_modes) for k, a in enumerate(AXES))
+    if not triples and len(columns) != n_modes:
+        raise DataError(f"{Path(path).name}: must have one column per mode of "
+                        f"{Path(modal_table).name} ({n_modes}), or three ending in _x, _y, _z, "
+                        f"besides node, x, y, z; got {len(columns)}")
+    values = _numbers(path, header, rows, columns)
+    shapes = values.reshape(len(rows), n_modes, 3 if triples else 1)
+    node_values = _numbers(path, header, rows, ["node"])[:, 0]
+    if np.any(node_values != np.round(node_values)):
+        raise DataError(f"{Path(path).name}: column 'node' must hold integer node numbers")
+    coordinates = _numbers(path, header, rows, list(AXES))
+    table = np.column_stack([
+        _numbers(modal_table, table_header, table_rows, [c])[:, 0] if c in table_header
+        else np.full(n_modes, default)
+        for c, default in (("frequency", 0.0), ("damping_ratio", 0.0), ("modal_mass", 1.0))])
+    return _checked(path, node_values.astype(np.int64), coordinates, shapes, table)
+
+
+def _checked(path, nodes, coordinates, shapes, table):
+    """FEModes after the checks every export shares (finite, positive, unique)."""
+    name = Path(path).name
+    if np.unique(nodes).size != nodes.size:
+        raise DataError(f"{name}: node numbers must be unique")
+    for label, array in (("coordinates", coordinates), ("mode shapes", shapes),
+                         ("modal table", table)):
+        if not np.all(np.isfinite(array)):
+            raise DataError(f"{name}: {label} must be finite numbers")
+    if np.any(table[:, 0] <= 0) or np.any(table[:, 2] <= 0):
+        raise DataError(f"{name}: frequencies and modal masses must be > 0")
+    if np.any(table[:, 1] < 0) or np.any(table[:, 1] >= 1):
+        raise DataError(f"{name}: damping ratios must lie in [0, 1) (fractions)")
+    return FEModes(nodes=nodes, coordinates=coordinates, shapes=shapes, frequencies=table[:, 0],
+                   damping_ratios=table[:, 1], modal_masses=table[:, 2], source=name)
