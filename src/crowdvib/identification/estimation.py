@@ -97,6 +97,8 @@ class HSIEstimate:
         Confidence level of ``intervals``.
     interval_on_bound : tuple of str
         Interval ends that stopped at a search bound, e.g. ``("damping_ratio:upper",)``.
+    crowd_model : str
+        The expected-PSD model of the crowd: ``"smeared"`` or ``"fluctuating"``.
     """
 
     msd: object
@@ -118,6 +120,7 @@ class HSIEstimate:
     intervals: dict = field(default_factory=dict)
     interval_level: float = 0.95
     interval_on_bound: tuple = ()
+    crowd_model: str = "smeared"
 
     @property
     def relative_cost(self):
@@ -181,7 +184,7 @@ class HSIEstimate:
             estimate["interval"]["level"] = self.interval_level
             estimate["standard_error"] = self.standard_errors
         return {
-            "estimate": estimate, "method": self.method,
+            "estimate": estimate, "method": self.method, "crowd_model": self.crowd_model,
             "correlation": None if self.covariance is None else self.correlation.tolist(),
             "interval_on_bound": list(self.interval_on_bound),
             "cost": self.cost, "cost_no_hsi": self.cost_no_hsi,
@@ -200,7 +203,7 @@ class HSIEstimate:
 def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weights=None,
                  frequency_weights=None, starts=None, bounds=None, mass_ratio=0.95,
                  free_mass_ratio=False, force=None, match_welch=True, method="least_squares",
-                 interval="profile", level=0.95):
+                 interval="profile", level=0.95, crowd_model="smeared"):
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Eq. 5, 6).
 
     Parameters
@@ -249,6 +252,10 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         (``measured.n_windows`` known); otherwise the estimate carries no interval.
     level : float
         Confidence level of the profile intervals (default 0.95).
+    crowd_model : {"smeared", "fluctuating"}
+        The expected PSD: the paper's smeared mean crowd, or the mixture over the occupancy of
+        a Poisson crowd, whose fluctuation widens the measured resonance (docs: theory, The
+        fluctuating crowd).
 
     Returns
     -------
@@ -265,7 +272,7 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
     objective = PSDObjective(measured, structure, crowd, band=band, force=force,
                              outputs=outputs, output_weights=output_weights,
                              frequency_weights=frequency_weights, match_welch=match_welch,
-                             method=method)
+                             method=method, crowd_model=crowd_model)
     return _estimate([(objective, measured)], structure, starts=starts, bounds=bounds,
                      mass_ratio=mass_ratio, free_mass_ratio=free_mass_ratio, method=method,
                      interval=interval, level=level)
@@ -274,7 +281,8 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
 def estimate_hsi_joint(measurements, structure, crowds, *, band, outputs=None,
                        output_weights=None, frequency_weights=None, starts=None, bounds=None,
                        mass_ratio=0.95, free_mass_ratio=False, force=None, match_welch=True,
-                       method="least_squares", interval="profile", level=0.95):
+                       method="least_squares", interval="profile", level=0.95,
+                       crowd_model="smeared"):
     """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
 
     The records are independent, so their misfits add (for the likelihood: their likelihoods
@@ -290,7 +298,7 @@ def estimate_hsi_joint(measurements, structure, crowds, *, band, outputs=None,
     crowds : sequence of Crowd
         The crowd of each record, in the same order.
     band, outputs, output_weights, frequency_weights, starts, bounds, mass_ratio,
-    free_mass_ratio, force, match_welch, method, interval, level
+    free_mass_ratio, force, match_welch, method, interval, level, crowd_model
         As in :func:`estimate_hsi`, the same for every record.
 
     Returns
@@ -304,7 +312,8 @@ def estimate_hsi_joint(measurements, structure, crowds, *, band, outputs=None,
                              f"got {len(measurements)} measurement(s) and {len(crowds)} crowd(s)")
     parts = [(PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                            output_weights=output_weights, frequency_weights=frequency_weights,
-                           match_welch=match_welch, method=method), measured)
+                           match_welch=match_welch, method=method, crowd_model=crowd_model),
+              measured)
              for measured, crowd in zip(measurements, crowds)]
     return _estimate(parts, structure, starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                      free_mass_ratio=free_mass_ratio, method=method, interval=interval,
@@ -416,7 +425,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         output_weights=np.concatenate([o.output_weights for o, _ in parts]) / len(parts),
         starts=table, message=str(best.message), level_ratio=np.concatenate(ratios),
         method=method, covariance=covariance, intervals=intervals, interval_level=level,
-        interval_on_bound=on_bound)
+        interval_on_bound=on_bound, crowd_model=parts[0][0].crowd_model)
 
 
 #: |correlation| of two estimated parameters above which the data do not tell them apart.
