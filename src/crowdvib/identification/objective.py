@@ -11,6 +11,8 @@ Two misfits share one interface, a residual vector r(θ) with Σ r² the objecti
   :mod:`crowdvib.identification.uncertainty` corrects its curvature (sandwich) for the intervals.
 """
 
+import copy
+
 import numpy as np
 
 from .._validation import as_float_array, check_positive, check_type
@@ -184,7 +186,32 @@ class PSDObjective:
     def spectral_model(self, crowd):
         """The forward model on the band grid for another crowd (same structure, filter, window)."""
         inputs = dict(self._model_inputs)
-        return spectral_model(inputs.pop("structure"), crowd, self.frequency, **inputs)
+        model = spectral_model(inputs.pop("structure"), crowd, self.frequency, **inputs)
+        if self.crowd_model == "fluctuating":
+            # The node count chosen for the objective's own crowd serves every other crowd
+            # (nearby densities, other bins): choosing it again costs a dozen models.
+            self._model_inputs.setdefault("n_nodes", model.nodes.size)
+        return model
+
+    def exact_model(self, frequency):
+        """The forward model without the Welch kernel on another grid (same crowd, filter)."""
+        inputs = dict(self._model_inputs, welch_window_length=None)
+        return spectral_model(inputs.pop("structure"), self.model.crowd, frequency, **inputs)
+
+    def with_target(self, psd):
+        """The same misfit for another measured PSD on the objective's bins (a bootstrap draw).
+
+        ``psd`` has the shape of :attr:`target`; the normalisation follows it as it follows
+        the measured PSD (each output over its peak; least squares over its norm).
+        """
+        other = copy.copy(self)
+        other.target = np.asarray(psd, dtype=float)
+        other.level = other.target.max(axis=1)
+        other._target = other.target / other.level[:, np.newaxis]
+        if self.method == "least_squares":
+            other._scale = self._scale * (np.linalg.norm(self._target, axis=1)
+                                          / np.linalg.norm(other._target, axis=1))[:, np.newaxis]
+        return other
 
     def residuals(self, msd, *, model=None):
         """Residual vector r (Σ r² = J) for an MSD model, or for no HSI with ``msd=None``.
