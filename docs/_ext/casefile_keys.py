@@ -14,7 +14,8 @@ from pathlib import Path
 #: Parser function → the case-file section its ``table`` argument is.
 SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd", "_msd": "hsi",
             "_measurement": "measurement", "_estimation": "estimation",
-            "_simulation": "simulation", "_outputs": "structure"}
+            "_simulation": "simulation", "_outputs": "structure",
+            "_measurement_block": "measurement", "_measurements": "case"}
 #: Table accessor → the TOML type it accepts.
 KINDS = {"number": "number", "numbers": "number or list of numbers", "string": "string",
          "strings": "list of strings", "boolean": "boolean", "pair": "[lower, upper]",
@@ -34,7 +35,11 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "estimation.weights": "one per entry of estimation.outputs, > 0",
          "crowd.walking_speed": "> 0; default from Weidmann's speed–density relation",
          "crowd.step_frequency_mean": "> 0; default from Bruno & Venuti's speed relation",
-         "case.seed": "a non-negative integer", "case.name": "default: the file name"}
+         "case.seed": "a non-negative integer", "case.name": "default: the file name",
+         "case.measurement": "one [measurement] table, or several [[measurement]] blocks "
+                             "(one MSD fitted to all, each block with its own name and "
+                             "[measurement.crowd])",
+         "measurement.name": "the block's label in a joint fit (default \"record N\")"}
 
 
 def _literal(node):

@@ -80,6 +80,10 @@ def caption(name):
     if stem.startswith("psd_"):
         return html("PSD at {}: measured against the model without HSI and with the fitted MSD "
                     "(paper Figs. 12, 17, 20).", stem[4:])
+    if stem.startswith("residuals_"):
+        return html("Relative residuals of the joint fit at {}, against the 95 % band of the "
+                    "Welch scatter: residuals outside it in many neighbouring bins are what the "
+                    "model does not explain.", stem[10:])
     return html("{}", stem.replace("_", " "))
 
 
