@@ -34,6 +34,7 @@ _LAZY = {
                      "read_modal_model"), "io"),
     **dict.fromkeys(("TunedMassDamper", "tune_damper", "design_check", "DesignCheck"), "design"),
     "modal_accelerance": "response",
+    "FluctuatingSpectralModel": "response",
 }
 
 __all__ = [
@@ -67,6 +68,6 @@ if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
     from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
                            effective_modal_properties, frf, response_psd, simulate)
     from .design import DesignCheck, TunedMassDamper, design_check, tune_damper
-    from .response import modal_accelerance
+    from .response import FluctuatingSpectralModel, modal_accelerance
     from .signals import (LowPassFilter, PSDConvergence, ResponsePSD, detrend, psd_convergence,
                           resample, welch_psd)
