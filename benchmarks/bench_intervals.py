@@ -7,13 +7,20 @@ Two kinds of record of the paper's numerical example (truth f_h1 = 3.0 Hz, ξ_h1
 * ``simulated`` — one-hour time-domain simulations with moving MSD pedestrians (Poisson arrivals:
   the occupancy fluctuates, which the smeared spectral model does not describe).
 
-Both estimators (paper least squares, Whittle likelihood) are run on the same records. Prints a
-table: coverage of the truth by the 95 % profile interval per parameter, mean error with its
-95 % interval, the standard deviation per record and the mean interval width, plus time per
+Both estimators (paper least squares, Whittle likelihood), each with the smeared and the
+fluctuating crowd model of the expected PSD, are run on the same records. Prints a table:
+coverage of the truth by the 95 % profile interval per parameter, mean error with its 95 %
+interval, the standard deviation per record and the mean interval width, plus time per
 estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]``
 (density in persons/m², default the paper's 0.5; walking speed from Weidmann's relation).
+``python benchmarks/bench_intervals.py bootstrap [N] [density] [n_boot]`` checks the parametric
+bootstrap of least squares (percentile intervals, smeared model) on N Gaussian records.
+With the environment variable ``CROWDVIB_RECORD_CACHE`` set to a directory, the simulated
+records' Welch PSDs are kept there (one pickle per density and seed) and reused.
 """
 
+import os
+import pickle
 import sys
 import time
 import warnings
@@ -46,47 +53,86 @@ def gaussian_records(n, crowd):
         yield welch_psd(record, 20.0, window_length=60.0, output_names=["midspan"]).band(0, 10)
 
 
+def simulated_record(crowd, seed):
+    """Welch PSD of one simulated hour (seeded), from the cache directory when there is one."""
+    cache = os.environ.get("CROWDVIB_RECORD_CACHE")
+    path = cache and os.path.join(cache, f"d{crowd.density:g}_s{seed}.pkl")
+    if path and os.path.exists(path):
+        with open(path, "rb") as handle:
+            return pickle.load(handle)
+    record = simulate(BRIDGE, crowd, 3600.0, msd=MSD, rng=seed, warm_up=100.0, sample_rate=100.0)
+    psd = welch_psd(record.acceleration, 100.0, window_length=60.0,
+                    output_names=record.output_names,
+                    lowpass=LowPassFilter(10.0, 4, 100.0)).band(0, 10)
+    if path:
+        with open(path + ".tmp", "wb") as handle:
+            pickle.dump(psd, handle)
+        os.replace(path + ".tmp", path)
+    return psd
+
+
 def simulated_records(n, crowd):
-    lowpass = LowPassFilter(10.0, 4, 100.0)
     for seed in range(1, n + 1):
-        record = simulate(BRIDGE, crowd, 3600.0, msd=MSD, rng=seed, warm_up=100.0,
-                          sample_rate=100.0)
-        yield welch_psd(record.acceleration, 100.0, window_length=60.0,
-                        output_names=record.output_names, lowpass=lowpass).band(0, 10)
+        yield simulated_record(crowd, seed)
 
 
-def main(kind="gaussian", n=40, density=0.5):
+def bootstrap(n=200, density=0.5, n_boot=100):
+    """Coverage of the least-squares percentile intervals on n Gaussian records."""
     crowd = paper_crowd(density)
-    records = {"gaussian": gaussian_records, "simulated": simulated_records}[kind](n, crowd)
-    rows = {method: [] for method in ("least_squares", "likelihood")}
-    seconds = {method: 0.0 for method in rows}
-    for measured in records:
-        for method, found in rows.items():
-            started = time.perf_counter()
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", BoundWarning)
-                estimate = estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0), method=method)
-            seconds[method] += time.perf_counter() - started
-            found.append([(getattr(estimate.msd, name), *estimate.interval(name))
-                          for name in TRUTH])
-    print(f"{kind} records of the paper example at {density:g} P/m², n = {n}, "
-          "95 % profile intervals")
-    print(f"{'method':14s}{'parameter':15s}{'coverage':>9s}{'mean error':>24s}"
+    found, started = [], time.perf_counter()
+    for seed, measured in enumerate(gaussian_records(n, crowd)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", BoundWarning)
+            estimate = estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0),
+                                    interval="bootstrap", n_boot=n_boot, rng=10_000 + seed)
+        found.append([(getattr(estimate.msd, name), *estimate.interval(name))
+                      for name in TRUTH])
+    print(f"gaussian records of the paper example at {density:g} P/m², n = {n}, least squares, "
+          f"95 % parametric-bootstrap percentile intervals of {n_boot} replicates")
+    _table({("least_squares", "bootstrap"): found}, n,
+           {("least_squares", "bootstrap"): time.perf_counter() - started})
+
+
+def _table(rows, n, seconds):
+    print(f"{'method':14s}{'crowd':12s}{'parameter':15s}{'coverage':>9s}{'mean error':>24s}"
           f"{'std/record':>12s}{'mean width':>12s}{'s/estimate':>11s}")
-    for method, found in rows.items():
+    for (method, model), found in rows.items():
         found = np.array(found)                     # (n, parameters, (value, low, high))
         for p, (name, truth) in enumerate(TRUTH.items()):
             value, low, high = found[:, p, 0], found[:, p, 1], found[:, p, 2]
             covered = np.mean((low <= truth) & (truth <= high))
             error = value / truth - 1
             half = 1.96 * error.std(ddof=1) / np.sqrt(n)
-            print(f"{method:14s}{name:15s}{covered:9.1%}"
+            print(f"{method:14s}{model:12s}{name:15s}{covered:9.1%}"
                   f"{f'{error.mean():+.2%} [{error.mean() - half:+.2%}, {error.mean() + half:+.2%}]':>24s}"
                   f"{error.std(ddof=1):12.2%}{np.mean(high - low) / truth:12.2%}"
-                  f"{seconds[method] / n:11.2f}")
+                  f"{seconds[method, model] / n:11.2f}")
 
 
-if __name__ == "__main__":
+def main(kind="gaussian", n=40, density=0.5):
+    crowd = paper_crowd(density)
+    records = {"gaussian": gaussian_records, "simulated": simulated_records}[kind](n, crowd)
+    rows = {(method, model): [] for model in ("smeared", "fluctuating")
+            for method in ("least_squares", "likelihood")}
+    seconds = {key: 0.0 for key in rows}
+    for measured in records:
+        for (method, model), found in rows.items():
+            started = time.perf_counter()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", BoundWarning)
+                estimate = estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0), method=method,
+                                        crowd_model=model)
+            seconds[method, model] += time.perf_counter() - started
+            found.append([(getattr(estimate.msd, name), *estimate.interval(name))
+                          for name in TRUTH])
+    print(f"{kind} records of the paper example at {density:g} P/m², n = {n}, "
+          "95 % profile intervals")
+    _table(rows, n, seconds)
+
+
+if __name__ == "__main__" and sys.argv[1:2] == ["bootstrap"]:
+    bootstrap(*(f(a) for f, a in zip((int, float, int), sys.argv[2:])))
+elif __name__ == "__main__":
     main(sys.argv[1] if len(sys.argv) > 1 else "gaussian",
          int(sys.argv[2]) if len(sys.argv) > 2 else 40,
          float(sys.argv[3]) if len(sys.argv) > 3 else 0.5)

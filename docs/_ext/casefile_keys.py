@@ -15,7 +15,8 @@ from pathlib import Path
 SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd", "_msd": "hsi",
             "_measurement": "measurement", "_estimation": "estimation",
             "_simulation": "simulation", "_outputs": "structure", "_design": "design",
-            "_design_damper": "design.damper"}
+            "_design_damper": "design.damper",
+            "_measurement_block": "measurement", "_measurements": "case"}
 #: Table accessor → the TOML type it accepts.
 KINDS = {"number": "number", "numbers": "number or list of numbers", "string": "string",
          "strings": "list of strings", "boolean": "boolean", "pair": "[lower, upper]",
@@ -42,7 +43,11 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "design.site_factors.k3": "a number > 0 or a named choice (UK NA, NA.2.44.6)",
          "design.site_factors.k4": "a number > 0 or a named choice (UK NA, NA.2.44.6)",
          "design.damper.mode": "an integer >= 1; with mass_ratio instead of an explicit "
-                               "damper (tuned to the structure)"}
+                               "damper (tuned to the structure)",
+         "case.measurement": "one [measurement] table, or several [[measurement]] blocks "
+                             "(one MSD fitted to all, each block with its own name and "
+                             "[measurement.crowd])",
+         "measurement.name": "the block's label in a joint fit (default \"record N\")"}
 
 
 def _literal(node):

@@ -38,6 +38,7 @@ _LAZY = {
     **dict.fromkeys(("TunedMassDamper", "tune_damper", "design_check", "DesignCheck",
                      "predict_response", "ResponsePrediction"), "design"),
     "modal_accelerance": "response",
+    "FluctuatingSpectralModel": "response",
 }
 
 __all__ = [
@@ -74,6 +75,6 @@ if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
                            simulate_many)
     from .design import (DesignCheck, ResponsePrediction, TunedMassDamper, design_check,
                          predict_response, tune_damper)
-    from .response import modal_accelerance
+    from .response import FluctuatingSpectralModel, modal_accelerance
     from .signals import (LowPassFilter, PSDConvergence, ResponsePSD, detrend, psd_convergence,
                           resample, running_rms, weight_wb, welch_psd)

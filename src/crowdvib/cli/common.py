@@ -40,7 +40,8 @@ def case_inputs(case):
     if case is None or case.path is None:
         return []
     inputs = [("the case file", case.path)]
-    inputs += [("the record", path) for path in case.measurement.files]
+    inputs += [("the record", path) for block in case.blocks()
+               for path in block.measurement.files]
     try:
         with open(case.path, "rb") as handle:
             structure = tomllib.load(handle).get("structure", {})

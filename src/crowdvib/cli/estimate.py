@@ -102,9 +102,10 @@ def _estimate_case(case, out):
     from ..identification.estimation import estimate_hsi
     from ..reporting.plotting import plot_psd_comparison, plot_psd_convergence, save_figure
     from ..signals import psd_convergence
-    from ..response.spectral import response_psd
 
     spec, est = case.measurement, case.estimation
+    if case.records:
+        return _estimate_joint(case, out)
     say(f"crowdvib estimate: {case.name} ({case.path.name})")
     record, measured, lowpass = case_measurement(case)
     outputs = record.channel_names
@@ -140,12 +141,7 @@ def _estimate_case(case, out):
     names = unique_filenames(outputs, prefix="psd_", suffix=".png",
                              taken=("psd_convergence.png",))
     figures = []
-    window = measured.window_length if est.match_welch else None
-    fitted = response_psd(case.structure, crowd, measured.frequency, msd=found, outputs=outputs,
-                          welch_window_length=window, lowpass=lowpass if est.match_welch else None)
-    no_hsi = response_psd(case.structure, crowd, measured.frequency, outputs=outputs,
-                          welch_window_length=window,
-                          lowpass=lowpass if est.match_welch else None)
+    fitted, no_hsi = _fitted_and_no_hsi(case, crowd, measured, lowpass, found, outputs)
     for name in outputs:
         ax = plot_psd_comparison({"measured": measured, "fitted MSD": fitted, "no HSI": no_hsi},
                                  output=name, band=(0.0, max(est.band[1], 2 * est.band[0])),
@@ -171,10 +167,81 @@ def _estimate_case(case, out):
             "diagnostics": diagnostics, "figures": figures}
 
 
+def _estimate_joint(case, out):
+    """Several ``[[measurement]]`` blocks, one MSD (estimate_hsi_joint); figures per record."""
+    from ..identification.estimation import estimate_hsi_joint
+    from ..reporting.plotting import plot_psd_comparison, plot_psd_residuals, save_figure
+
+    est = case.estimation
+    say(f"crowdvib estimate: {case.name} ({case.path.name}), joint fit of "
+        f"{len(case.records)} records")
+    parts = []
+    for block in case.blocks():
+        say(f"  {block.name}: crowd {block.crowd.density:g} P/m²")
+        record, measured, lowpass = case_measurement(block)
+        crowd, step_result = case_crowd(block, record)
+        parts.append((block, record, measured, lowpass, crowd, step_result))
+    options = dict(estimate_options(case), outputs=est.outputs)
+    estimate = estimate_hsi_joint([p[2] for p in parts], case.structure, [p[4] for p in parts],
+                                  free_mass_ratio="mass_ratio" in est.free_parameters,
+                                  **options)
+    found, summary = estimate.msd, estimate.to_dict()["estimate"]
+    say(f"  estimate f_h1 = {with_interval(found.frequency, interval_of(summary, 'frequency'), 'Hz')}"
+        f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
+        f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
+        f"J/J_noHSI = {estimate.relative_cost:.3g}")
+    labels = [f"{block.name} {name}" for block, record, *_ in parts
+              for name in record.channel_names]
+    names = unique_filenames(labels, prefix="psd_", suffix=".png")
+    residual_names = unique_filenames(labels, prefix="residuals_", suffix=".png")
+    figures, records = [], []
+    for block, record, measured, lowpass, crowd, step_result in parts:
+        models = _fitted_and_no_hsi(case, crowd, measured, lowpass, found, record.channel_names)
+        for name in record.channel_names:
+            label = f"{block.name} {name}"
+            ax = plot_psd_comparison({"measured": measured, "fitted MSD (joint)": models[0],
+                                      "no HSI": models[1]}, output=name,
+                                     band=(0.0, max(est.band[1], 2 * est.band[0])),
+                                     title=f"{case.name}, {label}")
+            ax.axvspan(*est.band, color="tab:green", alpha=0.07, label="band")
+            figures.append(save_figure(ax, out / names[label]).name)
+            ax = plot_psd_residuals(measured, models[0], output=name, band=est.band,
+                                    title=f"{case.name}, {label}: residuals of the joint fit")
+            figures.append(save_figure(ax, out / residual_names[label]).name)
+        records.append({"name": block.name, "record": record.to_dict(),
+                        "crowd_used": {"density": crowd.density,
+                                       "step_frequency_mean": crowd.step_frequency_mean,
+                                       "step_frequency_std": crowd.step_frequency_std},
+                        "n_windows": measured.n_windows,
+                        "step_frequencies": None if step_result is None
+                        else step_result.to_dict()})
+    hsi = estimate.to_dict()
+    diagnostics = {k: v for k, v in hsi.items() if k != "estimate"}
+    diagnostics["records"] = records
+    return {"command": "estimate", "crowdvib_version": __version__, "versions": versions(),
+            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
+            "records": records, "estimate": hsi["estimate"], "expected": dict(case.expected),
+            "diagnostics": diagnostics, "figures": figures}
+
+
+def _fitted_and_no_hsi(case, crowd, measured, lowpass, msd, outputs):
+    """The fitted and the no-HSI model PSDs as the estimator compared them."""
+    from ..response.fluctuation import spectral_model
+
+    est = case.estimation
+    window = measured.window_length if est.match_welch else None
+    model = spectral_model(case.structure, crowd, measured.frequency, outputs=outputs,
+                           welch_window_length=window,
+                           lowpass=lowpass if est.match_welch else None,
+                           crowd_model=est.crowd_model)
+    return model.psd(msd), model.psd(None)
+
+
 def estimate_options(case):
     """Keyword arguments of estimate_hsi from a case's [estimation] table."""
     est = case.estimation
     return dict(band=est.band, outputs=est.outputs, output_weights=est.output_weights,
                 starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
                 match_welch=est.match_welch, method=est.method,
-                interval=None if est.interval == "none" else est.interval, level=est.level)
+                interval=None if est.interval == "none" else est.interval, level=est.level,
+                crowd_model=est.crowd_model, n_boot=est.n_boot, rng=case.seed)

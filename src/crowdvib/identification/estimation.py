@@ -22,6 +22,7 @@ from ..errors import (BoundWarning, ConvergenceWarning, EstimationError,
 from ..models.loading import STANDARD_GRAVITY
 from ..models.pedestrian import MSDModel
 from ..signals.welch import welch_bin_correlation
+from .bootstrap import bootstrap_estimates, percentile_interval
 from .objective import PSDObjective
 from .uncertainty import profile_interval, sandwich_covariance, score_variance
 
@@ -97,6 +98,12 @@ class HSIEstimate:
         Confidence level of ``intervals``.
     interval_on_bound : tuple of str
         Interval ends that stopped at a search bound, e.g. ``("damping_ratio:upper",)``.
+    crowd_model : str
+        The expected-PSD model of the crowd: ``"smeared"`` or ``"fluctuating"``.
+    interval_method : str or None
+        How ``intervals`` were found: ``"profile"`` or ``"bootstrap"`` (None: not computed).
+    bootstrap_samples : ndarray, shape (n_boot, n_free), or None
+        The refitted parameters of the parametric-bootstrap replicates.
     """
 
     msd: object
@@ -118,6 +125,9 @@ class HSIEstimate:
     intervals: dict = field(default_factory=dict)
     interval_level: float = 0.95
     interval_on_bound: tuple = ()
+    crowd_model: str = "smeared"
+    interval_method: str = None
+    bootstrap_samples: np.ndarray = None
 
     @property
     def relative_cost(self):
@@ -179,9 +189,10 @@ class HSIEstimate:
             estimate["interval"] = {name: list(self.interval(name, self.interval_level))
                                     for name in self.free_parameters}
             estimate["interval"]["level"] = self.interval_level
+            estimate["interval"]["method"] = self.interval_method or "wald"
             estimate["standard_error"] = self.standard_errors
         return {
-            "estimate": estimate, "method": self.method,
+            "estimate": estimate, "method": self.method, "crowd_model": self.crowd_model,
             "correlation": None if self.covariance is None else self.correlation.tolist(),
             "interval_on_bound": list(self.interval_on_bound),
             "cost": self.cost, "cost_no_hsi": self.cost_no_hsi,
@@ -200,7 +211,8 @@ class HSIEstimate:
 def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weights=None,
                  frequency_weights=None, starts=None, bounds=None, mass_ratio=0.95,
                  free_mass_ratio=False, force=None, match_welch=True, method="least_squares",
-                 interval="profile", level=0.95):
+                 interval="profile", level=0.95, crowd_model="smeared", n_boot=200,
+                 rng=None):
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Eq. 5, 6).
 
     Parameters
@@ -242,13 +254,22 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
         several times more sensitive to an error in the crowd's mean step frequency (±5 % moves
         ξ_h1 by −77/+274 % against −12/−13 % on the paper example), so least squares stays the
         default while the crowd model is assumed, not measured.
-    interval : {"profile", "wald", None}
+    interval : {"profile", "wald", "bootstrap", None}
         Statistical uncertainty from this record's Welch scatter: sandwich covariance with
-        profile intervals (default), the covariance only (Wald intervals), or nothing (fastest,
-        for studies that re-estimate many times). Only for a Welch estimate
+        profile intervals (default), the covariance only (Wald intervals), the covariance with
+        parametric-bootstrap percentile intervals (docs: theory, Parametric bootstrap), or
+        nothing (fastest, for studies that re-estimate many times). Only for a Welch estimate
         (``measured.n_windows`` known); otherwise the estimate carries no interval.
     level : float
         Confidence level of the profile intervals (default 0.95).
+    crowd_model : {"smeared", "fluctuating"}
+        The expected PSD: the paper's smeared mean crowd, or the mixture over the occupancy of
+        a Poisson crowd, whose fluctuation widens the measured resonance (docs: theory, The
+        fluctuating crowd).
+    n_boot : int
+        Replicates of the parametric bootstrap (``interval="bootstrap"``), >= 20.
+    rng : None, int or numpy.random.Generator
+        Seed of the bootstrap replicates.
 
     Returns
     -------
@@ -265,16 +286,17 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
     objective = PSDObjective(measured, structure, crowd, band=band, force=force,
                              outputs=outputs, output_weights=output_weights,
                              frequency_weights=frequency_weights, match_welch=match_welch,
-                             method=method)
+                             method=method, crowd_model=crowd_model)
     return _estimate([(objective, measured)], structure, starts=starts, bounds=bounds,
                      mass_ratio=mass_ratio, free_mass_ratio=free_mass_ratio, method=method,
-                     interval=interval, level=level)
+                     interval=interval, level=level, n_boot=n_boot, rng=rng)
 
 
 def estimate_hsi_joint(measurements, structure, crowds, *, band, outputs=None,
                        output_weights=None, frequency_weights=None, starts=None, bounds=None,
                        mass_ratio=0.95, free_mass_ratio=False, force=None, match_welch=True,
-                       method="least_squares", interval="profile", level=0.95):
+                       method="least_squares", interval="profile", level=0.95,
+                       crowd_model="smeared", n_boot=200, rng=None):
     """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
 
     The records are independent, so their misfits add (for the likelihood: their likelihoods
@@ -290,7 +312,7 @@ def estimate_hsi_joint(measurements, structure, crowds, *, band, outputs=None,
     crowds : sequence of Crowd
         The crowd of each record, in the same order.
     band, outputs, output_weights, frequency_weights, starts, bounds, mass_ratio,
-    free_mass_ratio, force, match_welch, method, interval, level
+    free_mass_ratio, force, match_welch, method, interval, level, crowd_model, n_boot, rng
         As in :func:`estimate_hsi`, the same for every record.
 
     Returns
@@ -304,11 +326,12 @@ def estimate_hsi_joint(measurements, structure, crowds, *, band, outputs=None,
                              f"got {len(measurements)} measurement(s) and {len(crowds)} crowd(s)")
     parts = [(PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                            output_weights=output_weights, frequency_weights=frequency_weights,
-                           match_welch=match_welch, method=method), measured)
+                           match_welch=match_welch, method=method, crowd_model=crowd_model),
+              measured)
              for measured, crowd in zip(measurements, crowds)]
     return _estimate(parts, structure, starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                      free_mass_ratio=free_mass_ratio, method=method, interval=interval,
-                     level=level)
+                     level=level, n_boot=n_boot, rng=rng)
 
 
 class _Stacked:
@@ -329,12 +352,18 @@ class _Stacked:
         return float(r @ r)
 
 
+INTERVALS = ("profile", "wald", "bootstrap", None)
+
+
 def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, method,
-              interval, level):
+              interval, level, n_boot=200, rng=None):
     """The estimate from one or several (objective, measured PSD) records (estimate_hsi)."""
     MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
-    if interval not in ("profile", "wald", None):
-        raise ParameterError(f"interval must be 'profile', 'wald' or None, got {interval!r}")
+    if interval not in INTERVALS:
+        raise ParameterError(f"interval must be one of {list(INTERVALS)}, got {interval!r}")
+    if interval == "bootstrap" and not (isinstance(n_boot, (int, np.integer)) and n_boot >= 20):
+        raise ParameterError(f"n_boot must be an integer >= 20 for a percentile interval, got "
+                             f"{n_boot!r}")
     if not 0 < level < 1:
         raise ParameterError(f"level must lie in (0, 1), got {level!r}")
     for note in structure.implausibilities():
@@ -375,22 +404,27 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     for objective, _ in parts:
         ratios.append(objective.level_ratio(msd))
         _check_level(objective, ratios[-1], objective.cost(msd), fit, to_msd)
-    covariance, intervals, on_bound = None, {}, ()
+    covariance, intervals, on_bound, samples = None, {}, (), None
     # Intervals need the scatter of the ordinates: known for a Welch estimate (its n_windows),
     # not for a PSD of unknown origin (a model curve, a PSD read from a table).
     if interval is not None and all(measured.n_windows for _, measured in parts):
-        variance, hessian = 0.0, 0.0
+        variance, hessian, occupancies = 0.0, 0.0, []
         for objective, measured in parts:      # independent records: information adds
             modelled = objective.modelled(msd)
             gradient = _model_gradient(objective, best.x, to_msd, lower, upper)
             q, curvature = objective.score_terms(modelled, gradient)
+            occupancies.append(_occupancy(objective, msd, measured))
             variance = variance + score_variance(
                 q, modelled * np.sqrt(objective.dispersion), objective.degrees_of_freedom,
-                welch_bin_correlation(objective.n_windows),
-                occupancy=_occupancy(objective, msd, measured))
+                welch_bin_correlation(objective.n_windows), occupancy=occupancies[-1])
             hessian = hessian + curvature
         covariance = sandwich_covariance(variance, hessian)
         _check_identifiability(names, covariance)
+        if interval == "bootstrap":
+            samples = bootstrap_estimates(parts, best.x, to_msd, lower, upper, occupancies,
+                                          n_boot, np.random.default_rng(rng))
+            intervals = {name: percentile_interval(samples[:, i], level)
+                         for i, name in enumerate(names)}
         if interval == "profile":
             ends = []
             for i, name in enumerate(names):
@@ -416,7 +450,8 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         output_weights=np.concatenate([o.output_weights for o, _ in parts]) / len(parts),
         starts=table, message=str(best.message), level_ratio=np.concatenate(ratios),
         method=method, covariance=covariance, intervals=intervals, interval_level=level,
-        interval_on_bound=on_bound)
+        interval_on_bound=on_bound, crowd_model=parts[0][0].crowd_model,
+        interval_method=interval if intervals else None, bootstrap_samples=samples)
 
 
 #: |correlation| of two estimated parameters above which the data do not tell them apart.

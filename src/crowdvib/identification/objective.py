@@ -11,13 +11,15 @@ Two misfits share one interface, a residual vector r(θ) with Σ r² the objecti
   :mod:`crowdvib.identification.uncertainty` corrects its curvature (sandwich) for the intervals.
 """
 
+import copy
+
 import numpy as np
 
 from .._validation import as_float_array, check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.structure import ModalModel
-from ..response.spectral import SpectralModel
+from ..response.fluctuation import spectral_model
 from ..signals.spectrum import ResponsePSD
 from ..signals.welch import welch_degrees_of_freedom
 
@@ -82,11 +84,14 @@ class PSDObjective:
     method : {"least_squares", "likelihood"}
         The misfit (module docstring). The likelihood leaves out the 0 Hz bin, whose ordinate
         is not a χ²_ν variable (and is removed by detrending).
+    crowd_model : {"smeared", "fluctuating"}
+        The expected PSD of the mean crowd, or the mixture over the Poisson crowd's fluctuating
+        occupancy (docs: theory, The fluctuating crowd).
     """
 
     def __init__(self, measured, structure, crowd, *, band, force=None, outputs=None,
                  output_weights=None, frequency_weights=None, match_welch=True,
-                 method="least_squares"):
+                 method="least_squares", crowd_model="smeared"):
         if method not in METHODS:
             raise ParameterError(f"method must be one of {list(METHODS)}, got {method!r}")
         self.method = method
@@ -142,7 +147,9 @@ class PSDObjective:
         window = measured.window_length if match_welch else None
         lowpass = measured.lowpass if match_welch else None
         self._model_inputs = dict(structure=structure, force=force, outputs=outputs,
-                                  welch_window_length=window, lowpass=lowpass)
+                                  welch_window_length=window, lowpass=lowpass,
+                                  crowd_model=crowd_model)
+        self.crowd_model = crowd_model
         self.model = self.spectral_model(crowd)
         if method == "likelihood":
             self._likelihood_bins(outputs)
@@ -179,7 +186,32 @@ class PSDObjective:
     def spectral_model(self, crowd):
         """The forward model on the band grid for another crowd (same structure, filter, window)."""
         inputs = dict(self._model_inputs)
-        return SpectralModel(inputs.pop("structure"), crowd, self.frequency, **inputs)
+        model = spectral_model(inputs.pop("structure"), crowd, self.frequency, **inputs)
+        if self.crowd_model == "fluctuating":
+            # The node count chosen for the objective's own crowd serves every other crowd
+            # (nearby densities, other bins): choosing it again costs a dozen models.
+            self._model_inputs.setdefault("n_nodes", model.nodes.size)
+        return model
+
+    def exact_model(self, frequency):
+        """The forward model without the Welch kernel on another grid (same crowd, filter)."""
+        inputs = dict(self._model_inputs, welch_window_length=None)
+        return spectral_model(inputs.pop("structure"), self.model.crowd, frequency, **inputs)
+
+    def with_target(self, psd):
+        """The same misfit for another measured PSD on the objective's bins (a bootstrap draw).
+
+        ``psd`` has the shape of :attr:`target`; the normalisation follows it as it follows
+        the measured PSD (each output over its peak; least squares over its norm).
+        """
+        other = copy.copy(self)
+        other.target = np.asarray(psd, dtype=float)
+        other.level = other.target.max(axis=1)
+        other._target = other.target / other.level[:, np.newaxis]
+        if self.method == "least_squares":
+            other._scale = self._scale * (np.linalg.norm(self._target, axis=1)
+                                          / np.linalg.norm(other._target, axis=1))[:, np.newaxis]
+        return other
 
     def residuals(self, msd, *, model=None):
         """Residual vector r (Σ r² = J) for an MSD model, or for no HSI with ``msd=None``.

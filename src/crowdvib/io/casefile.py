@@ -16,7 +16,8 @@ A case file describes one bridge and one crowd, and how its records are read and
     [crowd]        density, walking_speed, step_frequency_mean, step_frequency_std, body_mass
     [hsi]          frequency, damping_ratio, mass_ratio (MSD of `simulate`; μ_h1 of `estimate`)
     [measurement]  files, format, channels, units, sample_rate, time_frame, filter, resample,
-                   window_length, overlap, detrend
+                   window_length, overlap, detrend; or several [[measurement]] blocks, each
+                   with its own name and [measurement.crowd] (a joint fit of one MSD)
     [estimation]   band, outputs, weights, starts, bounds, free_parameters, match_welch,
                    convergence_norm; [estimation.step_frequencies] cutoff, band, starts, bounds
     [simulation]   duration, sample_rate, warm_up, hsi, record_sample_rate, formats, dtype
@@ -33,7 +34,7 @@ reading lives in :mod:`crowdvib.io._toml`; the records a case names are read by
 :func:`crowdvib.io.measurement.load_measurement`.
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -48,8 +49,8 @@ from .measurement import load_measurement
 from .modalfiles import read_modal_model, write_modal_model
 from .records import RECORD_FORMATS, _unit_key
 
-__all__ = ["Case", "MeasurementSpec", "EstimationSpec", "StepFrequencySpec", "SimulationSpec",
-           "DesignSpec",
+__all__ = ["Case", "MeasurementSpec", "MeasurementBlock", "EstimationSpec", "StepFrequencySpec",
+           "SimulationSpec", "DesignSpec",
            "load_case", "load_measurement", "read_modal_model", "write_modal_model",
            "paper_example_case"]
 
@@ -101,6 +102,15 @@ class MeasurementSpec:
 
 
 @dataclass(frozen=True)
+class MeasurementBlock:
+    """One of several ``[[measurement]]`` blocks: a record with its own crowd (joint fit)."""
+
+    name: str
+    measurement: MeasurementSpec
+    crowd: Crowd
+
+
+@dataclass(frozen=True)
 class StepFrequencySpec:
     """The step-frequency fit of ``[estimation.step_frequencies]`` (paper, Waalse Krook)."""
 
@@ -128,6 +138,8 @@ class EstimationSpec:
     method: str = "least_squares"
     interval: str = "profile"
     level: float = 0.95
+    crowd_model: str = "smeared"
+    n_boot: int = 200
 
 
 @dataclass(frozen=True)
@@ -161,6 +173,16 @@ class Case:
     #: Dotted keys of :meth:`to_dict` the file did not set → "default" or how they were derived.
     not_set: dict = field(default_factory=dict)
     design: "DesignSpec | None" = None
+    #: The ``[[measurement]]`` blocks of a joint fit (empty for one ``[measurement]`` table).
+    records: tuple = ()
+
+    def blocks(self):
+        """One case per record: itself, or per ``[[measurement]]`` block the case with that
+        block's measurement, crowd and name."""
+        if not self.records:
+            return [self]
+        return [replace(self, name=block.name, measurement=block.measurement,
+                        crowd=block.crowd, records=()) for block in self.records]
 
     def to_dict(self, sections=None):
         """The inputs as a JSON-ready dict (models summarised, paths as strings).
@@ -192,7 +214,8 @@ class Case:
                 "crowd": plain(self.crowd), "hsi": self.msd.to_dict(),
                 "measurement": plain(self.measurement), "estimation": plain(self.estimation),
                 "simulation": plain(self.simulation), "expected": dict(self.expected),
-                **({} if self.design is None else {"design": plain(self.design)})}
+                **({} if self.design is None else {"design": plain(self.design)}),
+                **({"records": plain(self.records)} if self.records else {})}
         if sections is not None:
             data = {k: v for k, v in data.items() if not isinstance(v, dict) or k in sections}
         data["not_set"] = {k: v for k, v in self.not_set.items() if k.split(".")[0] in data}
@@ -321,6 +344,31 @@ def _measurement(table, path):
     return spec
 
 
+# -------------------------------------------------------- several measurements (joint fit)
+def _measurement_block(table, path, crowd, number):
+    """One ``[[measurement]]`` block: its name, its own crowd (default the case's) and the keys
+    of ``[measurement]``."""
+    name = table.string("name", f"record {number}")
+    if table.has("crowd"):
+        crowd = _crowd(table.table("crowd"), path)
+    return MeasurementBlock(name=name, measurement=_measurement(table, path), crowd=crowd)
+
+
+def _measurements(root, path, crowd):
+    """``[measurement]`` → (spec, ()); ``[[measurement]]`` blocks → (first spec, blocks)."""
+    blocks = root.raw("measurement", {})
+    if not isinstance(blocks, list):
+        return _measurement(root.table("measurement"), path), ()
+    if not blocks:
+        raise root.error("measurement", "must hold at least one [[measurement]] block", blocks)
+    records = tuple(_measurement_block(Table(block, f"measurement[{i}]", path), path, crowd, i)
+                    for i, block in enumerate(blocks, start=1))
+    names = [block.name for block in records]
+    if len(set(names)) != len(names):
+        raise root.error("measurement", "blocks must have distinct names", names)
+    return records[0].measurement, records
+
+
 def _bounds(table, keys, rename=None):
     bounds = {}
     for key in keys:
@@ -385,8 +433,12 @@ def _estimation(table, path):
                           method=table.string("method", "least_squares",
                                               choices=("least_squares", "likelihood")),
                           interval=table.string("interval", "profile",
-                                                choices=("profile", "wald", "none")),
-                          level=table.number("level", 0.95, rule="positive"))
+                                                choices=("profile", "wald", "bootstrap",
+                                                         "none")),
+                          level=table.number("level", 0.95, rule="positive"),
+                          crowd_model=table.string("crowd_model", "smeared",
+                                                   choices=("smeared", "fluctuating")),
+                          n_boot=int(table.number("n_boot", 200.0, rule="positive")))
     if not spec.level < 1:
         raise table.error("level", "must lie in (0, 1) (a fraction, not percent)", spec.level)
     table.finish()
@@ -452,7 +504,7 @@ def _case(path, data):
     structure = _structure(root.table("structure", required=True), path)
     crowd = _crowd(root.table("crowd", required=True), path)
     msd = _msd(root.table("hsi"), path)
-    measurement = _measurement(root.table("measurement"), path)
+    measurement, records = _measurements(root, path, crowd)
     estimation = (_estimation(root.table("estimation"), path) if root.has("estimation")
                   else EstimationSpec())
     if not root.has("estimation"):
@@ -467,15 +519,16 @@ def _case(path, data):
         structure.output_index(outputs)
     except ParameterError as exc:
         raise ParameterError(f"{path.name}: estimation.{exc}") from None
-    if measurement.channels is not None:
-        try:
-            structure.output_index(list(measurement.channels))
-        except ParameterError as exc:
-            raise ParameterError(f"{path.name}: measurement.channels keys: {exc}") from None
+    for spec in [block.measurement for block in records] or [measurement]:
+        if spec.channels is not None:
+            try:
+                structure.output_index(list(spec.channels))
+            except ParameterError as exc:
+                raise ParameterError(f"{path.name}: measurement.channels keys: {exc}") from None
     return Case(name=name, path=path, structure=structure, crowd=crowd, msd=msd,
                 measurement=measurement, estimation=estimation, simulation=simulation,
                 expected=expected, seed=seed, description=description, not_set=not_set,
-                design=design)
+                design=design, records=records)
 
 
 #: Case-file keys whose :meth:`Case.to_dict` name differs.

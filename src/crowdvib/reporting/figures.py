@@ -87,6 +87,10 @@ def caption(name):
     if stem.startswith("time_history_"):
         return html("Simulated acceleration at {} with its 1 s running RMS and the people on the "
                     "deck.", stem[len("time_history_"):])
+    if stem.startswith("residuals_"):
+        return html("Relative residuals of the joint fit at {}, against the 95 % band of the "
+                    "Welch scatter: residuals outside it in many neighbouring bins are what the "
+                    "model does not explain.", stem[10:])
     return html("{}", stem.replace("_", " "))
 
 

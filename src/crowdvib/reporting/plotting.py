@@ -11,7 +11,7 @@ from .figure_base import (_DARK, _LIGHT, FigureAxes, _axes, _in_band, _panels, _
                           figure_bytes, save_figure)
 from .study_plots import plot_estimation_errors, plot_objective_map, plot_parametric_ratios
 
-__all__ = ["FigureAxes", "plot_psd_comparison", "plot_psd_convergence", "plot_load_psd",
+__all__ = ["FigureAxes", "plot_psd_comparison", "plot_psd_residuals", "plot_psd_convergence", "plot_load_psd",
            "plot_hsi_effect", "plot_frf", "plot_objective_map", "plot_estimation_errors",
            "plot_parametric_ratios", "plot_time_history", "save_figure", "figure_bytes"]
 
@@ -65,6 +65,51 @@ def plot_psd_comparison(curves, *, output=None, band=None, analysis_band=None, l
     if title:
         ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    return ax
+
+
+def plot_psd_residuals(measured, fitted, *, output=None, band=None, ax=None, title=None):
+    """Relative residuals Ĝ/G − 1 of a fit, with the 95 % band of the Welch scatter.
+
+    For a Welch estimate of ν equivalent degrees of freedom, Ĝ/G ~ χ²_ν/ν: residuals that stay
+    within its 2.5–97.5 % quantiles are what the record's length explains
+    (docs: theory, Statistical uncertainty of an estimate).
+
+    Parameters
+    ----------
+    measured, fitted : ResponsePSD
+        The measured (Welch) PSD and the fitted model on the same grid.
+    output : str, optional
+    band : (float, float), optional
+    ax : matplotlib.axes.Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from scipy import stats
+
+    from ..signals.welch import welch_degrees_of_freedom
+
+    ax = _axes(ax)
+    name = output or measured.output_names[0]
+    data, model = measured.select(name), fitted.select(name)
+    keep = _in_band(data.frequency, band) & (model.psd[0] > 0)
+    ax.plot(data.frequency[keep], data.psd[0][keep] / model.psd[0][keep] - 1, color="black",
+            lw=0.9, label="measured / fitted − 1")
+    if measured.n_windows:
+        nu = welch_degrees_of_freedom(measured.n_windows)
+        low, high = stats.chi2.ppf([0.025, 0.975], nu) / nu - 1
+        ax.axhspan(low, high, color="tab:green", alpha=0.15,
+                   label=f"95 % Welch scatter (ν = {nu:.0f})")
+    ax.axhline(0.0, color="0.4", lw=0.8)
+    ax.set_xlabel("Frequency [Hz]")
+    ax.set_ylabel("Relative residual [-]")
+    if title:
+        ax.set_title(title)
+    ax.grid(True, alpha=0.3)
     ax.legend()
     return ax
 

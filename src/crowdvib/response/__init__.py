@@ -1,17 +1,19 @@
 """The forward models: what the bridge does under its crowd.
 
-``spectral`` (frequency domain: FRFs, occupied modal properties, the acceleration PSD with HSI)
+``spectral`` (frequency domain: FRFs, occupied modal properties, the acceleration PSD with HSI),
+``fluctuation`` (the expected PSD of a Poisson crowd whose occupancy fluctuates),
 and ``simulation`` (time-domain Monte Carlo with moving pedestrians; its compiled kernel is
 ``_kernels``); their results are in ``results``.
 """
 
 from .batch import simulate_many
+from .fluctuation import FluctuatingSpectralModel
 from .results import FRF, EffectiveModalProperties, Simulation
 from .simulation import simulate
 from .spectral import (SpectralModel, effective_modal_properties, frf, modal_accelerance,
                        response_psd)
 from .traffic import Pedestrian, generate_traffic
 
-__all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties",
-           "modal_accelerance", "simulate", "simulate_many",
+__all__ = ["SpectralModel", "FluctuatingSpectralModel", "response_psd", "frf",
+           "effective_modal_properties", "modal_accelerance", "simulate", "simulate_many",
            "Pedestrian", "generate_traffic", "FRF", "EffectiveModalProperties", "Simulation"]

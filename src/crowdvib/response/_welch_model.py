@@ -153,6 +153,17 @@ class CorrectedWelch:
             self._correct(expected, beta[:, p], poles[p], centre[p])
         return expected
 
+    def _taylor(self, centre):
+        """a0, a1, a2 of the weight's quadratic Taylor polynomial at ``centre`` [Hz] by finite
+        differences: central, or forward for a peak within one step of 0 Hz (w is one-sided)."""
+        if centre >= TAYLOR_STEP:
+            w_minus, w_0, w_plus = self._weight(centre + TAYLOR_STEP * np.array([-1.0, 0.0, 1.0]))
+            return (w_0, (w_plus - w_minus) / (2 * TAYLOR_STEP),
+                    (w_plus - 2 * w_0 + w_minus) / (2 * TAYLOR_STEP**2))
+        w_0, w_1, w_2 = self._weight(centre + TAYLOR_STEP * np.array([0.0, 1.0, 2.0]))
+        return (w_0, (-3 * w_0 + 4 * w_1 - w_2) / (2 * TAYLOR_STEP),
+                (w_0 - 2 * w_1 + w_2) / (2 * TAYLOR_STEP**2))
+
     def _correct(self, expected, beta, pole, centre):
         """Add K∗S_p − rule(S_p) at the outputs within reach of the pole (in place)."""
         frequency = self.rule.frequency
@@ -160,10 +171,7 @@ class CorrectedWelch:
         if rows.size == 0:
             return
         # Quadratic Taylor polynomial of w at the peak: a0 + a1 Δ + a2 Δ², Δ = ν − ν_p.
-        w_minus, w_0, w_plus = self._weight(centre + TAYLOR_STEP * np.array([-1.0, 0.0, 1.0]))
-        a0 = w_0
-        a1 = (w_plus - w_minus) / (2 * TAYLOR_STEP)
-        a2 = (w_plus - 2 * w_0 + w_minus) / (2 * TAYLOR_STEP**2)
+        a0, a1, a2 = self._taylor(centre)
         # (a0 + a1Δ + a2Δ²) u = b_u u + b_c + b_l Δ, from 2πiΔ u = 1 + Re(λ) u.
         q, r = 1.0 / (2j * np.pi), pole.real
         b_u = a0 + a1 * r * q + a2 * r**2 * q**2

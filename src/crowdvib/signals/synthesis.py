@@ -27,8 +27,8 @@ def record_frequencies(duration, sample_rate):
     return np.arange(n_samples // 2 + 1) * sample_rate / n_samples
 
 
-def gaussian_record(psd, sample_rate, rng=None):
-    """Independent Gaussian records of the one-sided PSDs ``psd`` (rows) → (n_rows, N).
+def gaussian_record(psd, sample_rate, rng=None, *, coherent=False):
+    """Gaussian records of the one-sided PSDs ``psd`` (rows) → (n_rows, N).
 
     Parameters
     ----------
@@ -37,11 +37,15 @@ def gaussian_record(psd, sample_rate, rng=None):
     sample_rate : float
         [Hz].
     rng : None, int or numpy.random.Generator
+    coherent : bool
+        False: the rows are independent of each other. True: every row is the same unit record
+        shaped by its own PSD (the same random coefficients), i.e. fully coherent rows with zero
+        phase between them — outputs driven by one mode.
 
     Returns
     -------
     ndarray, shape (n_rows, N)
-        One record per row (rows are independent of each other).
+        One record per row.
     """
     values = np.atleast_2d(np.asarray(psd, dtype=float))
     if not np.all(np.isfinite(values)) or np.any(values < 0):
@@ -50,10 +54,10 @@ def gaussian_record(psd, sample_rate, rng=None):
     rng = np.random.default_rng(rng)
     n_samples = 2 * (values.shape[1] - 1)
     spacing = sample_rate / n_samples
+    draws = (1, values.shape[1]) if coherent else values.shape
     sigma = np.sqrt(values * spacing * n_samples**2 / 4.0)
-    coefficients = sigma * (rng.standard_normal(values.shape)
-                            + 1j * rng.standard_normal(values.shape))
+    coefficients = sigma * (rng.standard_normal(draws) + 1j * rng.standard_normal(draws))
     # The 0 Hz and Nyquist bins are real: E|Z|² = G Δf N² there, all of it in the real part.
     coefficients[:, [0, -1]] = (np.sqrt(values[:, [0, -1]] * spacing) * n_samples
-                                * rng.standard_normal((values.shape[0], 2)))
+                                * rng.standard_normal((draws[0], 2)))
     return np.fft.irfft(coefficients, n=n_samples, axis=-1)

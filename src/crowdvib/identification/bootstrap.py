@@ -1,0 +1,106 @@
+"""Parametric bootstrap of an estimate (docs: theory, Parametric bootstrap).
+
+Each replicate is a Welch PSD of a Gaussian record whose PSD is the fitted model's: the record is
+synthesised on the FFT grid of a record as long as the measured one
+(:func:`crowdvib.signals.synthesis.gaussian_record`) and averaged with the measured Welch segments,
+so the replicate carries the χ²_ν scatter *and* the correlation of neighbouring bins of a real
+measurement. Its deviation from the model is then widened by the record's measured dispersion
+φ (the scatter its own segments show beyond a Gaussian record) and shifted by a draw of the
+crowd size N of the record (relative variance 1/N), the two terms the sandwich covariance has.
+Refitting every replicate from the estimate gives the bootstrap law of θ̂; the interval is its
+percentile interval.
+"""
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..errors import ParameterError
+from ..signals.synthesis import gaussian_record
+from ..signals.welch import welch_psd
+
+__all__ = ["bootstrap_estimates"]
+
+#: Kernel reach of the Welch expectation beyond the band [bins of 1/T]: ordinates at the band
+#: edge see the record's PSD this far out (the spectral model uses 8).
+_REACH_BINS = 10
+#: Replicate ordinates are kept above this fraction of the model (a dispersion far above 1 can
+#: push the widened deviation below zero, which no PSD can be).
+_FLOOR = 0.02
+
+
+class _Replicates:
+    """Draws of one record's Welch PSD on its objective's bins, around a fitted model."""
+
+    def __init__(self, objective, measured, msd, occupancy):
+        self.objective = objective
+        window, self.n_windows = measured.window_length, objective.n_windows
+        top = objective.frequency[-1] + _REACH_BINS / window
+        # Samples per window: a multiple of 4, at least 2·top·T, so that the 50 %-overlapped
+        # segments tile a record of an even number of samples exactly.
+        per_window = 4 * int(np.ceil(top * window / 2))
+        self.sample_rate = per_window / window
+        n_samples = per_window * (self.n_windows + 1) // 2
+        self.grid = np.arange(n_samples // 2 + 1) * self.sample_rate / n_samples
+        self.exact = objective.exact_model(self.grid).psd_array(msd)
+        self.window = window
+        self.index = np.rint(objective.frequency * window).astype(int)
+        self.expected = objective.model.psd_array(msd)          # Welch expectation on the bins
+        self.spread = np.sqrt(objective.dispersion)
+        self.occupancy = occupancy
+
+    def draw(self, rng):
+        record = gaussian_record(self.exact, self.sample_rate, rng=rng, coherent=True)
+        gaussian = welch_psd(record, self.sample_rate, window_length=self.window).psd
+        gaussian = gaussian[:, self.index]
+        replicate = self.expected + self.spread * (gaussian - self.expected)
+        if self.occupancy is not None:
+            gradient, variance = self.occupancy
+            replicate = replicate + (rng.standard_normal() * np.sqrt(variance) * gradient
+                                     * self.objective.level[:, np.newaxis])
+        return np.maximum(replicate, _FLOOR * self.expected)
+
+
+def bootstrap_estimates(parts, theta, to_msd, lower, upper, occupancies, n_boot, rng):
+    """θ* of ``n_boot`` parametric-bootstrap replicates → array (n_boot, n_parameters).
+
+    Parameters
+    ----------
+    parts : list of (PSDObjective, ResponsePSD)
+        The record(s) of the estimate, each a Welch estimate (``n_windows`` and
+        ``window_length`` known).
+    theta : ndarray
+        The estimate (free parameters), the model the replicates are drawn from and the start
+        of every refit.
+    to_msd : callable
+        θ → MSDModel.
+    lower, upper : ndarray
+        Search bounds.
+    occupancies : list
+        Per record, (∂G/∂ln n, 1/N) of the crowd-size term, or None.
+    n_boot : int
+        Number of replicates.
+    rng : numpy.random.Generator
+    """
+    msd = to_msd(theta)
+    draws = [_Replicates(objective, measured, msd, occupancy)
+             for (objective, measured), occupancy in zip(parts, occupancies)]
+    start = np.clip(theta, lower + 1e-3 * (upper - lower), upper - 1e-3 * (upper - lower))
+    estimates = np.empty((n_boot, theta.size))
+    for b in range(n_boot):
+        objectives = [d.objective.with_target(d.draw(rng)) for d in draws]
+
+        def residuals(values, objectives=objectives):
+            candidate = to_msd(values)
+            return np.concatenate([o.residuals(candidate) for o in objectives])
+
+        estimates[b] = least_squares(residuals, start, method="trf", bounds=(lower, upper),
+                                     x_scale="jac").x
+    return estimates
+
+
+def percentile_interval(samples, level):
+    """(low, high): the (1 − level)/2 and (1 + level)/2 quantiles of the replicates."""
+    if samples.shape[0] < 2:
+        raise ParameterError(f"n_boot must be >= 2 for a percentile interval, got "
+                             f"{samples.shape[0]}")
+    return tuple(float(v) for v in np.quantile(samples, [(1 - level) / 2, (1 + level) / 2]))
