@@ -51,7 +51,7 @@ class DesignCheck:
     Attributes
     ----------
     code : str
-        "setra", "hivoss" or "en1990".
+        "setra", "hivoss", "en1990" or "ukna".
     traffic_class : str or None
         The class checked (None when only a density was given).
     density : float
@@ -66,7 +66,8 @@ class DesignCheck:
     modal_forces : ndarray, shape (n_models, n_modes)
         Amplitude |Q_j| of the resonant modal force [N × scaling].
     harmonics : ndarray of int, shape (n_models, n_modes)
-        Walking harmonic (1 or 2) that loads each mode; 0 where ψ = 0 for both.
+        Walking harmonic (1 or 2) that loads each mode; 0 where ψ = 0 for both, and 0 for
+        "ukna", whose k(f) folds the harmonics in.
     peak_accelerations : ndarray, shape (n_models, n_outputs, n_modes)
         Steady-state resonant peak accelerations [m/s²] at each output, mode by mode; for
         "ukna" the largest over its load cases.
