@@ -15,9 +15,12 @@ dampers, and mode j's response is the peak over frequency of its exact steady-st
 its code load (:func:`damped_response`).
 """
 
+from __future__ import annotations
+
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -107,38 +110,38 @@ class DesignCheck:
         object.__setattr__(self, "harmonics", frozen_array(self.harmonics, int))
 
     @property
-    def primary(self):
+    def primary(self) -> str:
         """The model the verdict is given for: "hsi" when checked, else "empty" (the guides)."""
         return "hsi" if "hsi" in self.models else "empty"
 
     @property
-    def peak_acceleration(self):
+    def peak_acceleration(self) -> np.ndarray:
         """Peak accelerations [m/s²] of the primary model, shape (n_outputs, n_modes)."""
         return self.peak_accelerations[self.models.index(self.primary)]
 
-    def governing_of(self, model):
+    def governing_of(self, model: str) -> np.ndarray:
         """Largest peak acceleration over the modes [m/s²] per output, for one model."""
         if model not in self.models:
             raise ParameterError(f"model must be one of {list(self.models)}, got {model!r}")
         return self.peak_accelerations[self.models.index(model)].max(axis=1)
 
     @property
-    def governing(self):
+    def governing(self) -> np.ndarray:
         """Largest peak acceleration over the modes per output [m/s²] (primary model)."""
         return self.governing_of(self.primary)
 
     @property
-    def utilisation(self):
+    def utilisation(self) -> np.ndarray:
         """governing / limit per output [-]: above 1 fails the check."""
         return self.governing / self.limit
 
     @property
-    def comfort_class(self):
+    def comfort_class(self) -> np.ndarray:
         """Comfort class ("CL1"…"CL4") per output, from the governing acceleration."""
         return comfort_class(self.governing)
 
     @property
-    def ratios(self):
+    def ratios(self) -> dict[str, np.ndarray]:
         """Governing accelerations of each model over each earlier one, per output [-]:
         keys "added_mass/empty", and with HSI "hsi/empty" and "hsi/added_mass"."""
         result = {}
@@ -149,7 +152,7 @@ class DesignCheck:
                     result[f"{top}/{bottom}"] = self.governing_of(top) / self.governing_of(bottom)
         return result
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict: inputs, per-model modal data and accelerations, and the verdict."""
         return {
             "code": self.code, "traffic_class": self.traffic_class, "density": self.density,

@@ -7,12 +7,21 @@ whose frequency and engaged modal mass come from :func:`crowdvib.effective_modal
 a damper tuned to the empty bridge is detuned by the crowd's human–structure interaction.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .._validation import check_positive
 from ..errors import ParameterError
 from ..models.damper import TunedMassDamper
 from ..response.spectral import effective_modal_properties
+
+if TYPE_CHECKING:
+    from ..models.crowd import Crowd
+    from ..models.pedestrian import MSDModel
+    from ..models.structure import ModalModel
 
 __all__ = ["optimal_tuning", "tune_damper", "TUNING_CRITERIA"]
 
@@ -61,7 +70,8 @@ def _antinode(structure, mode):
             float(structure.mode_shapes[lane, station, mode]))
 
 
-def tune_damper(structure, mode, mass_ratio, *, crowd=None, msd=None, criterion="acceleration"):
+def tune_damper(structure: ModalModel, mode: int, mass_ratio: float, *, crowd: Crowd | None = None,
+                msd: MSDModel | None = None, criterion: str = "acceleration") -> TunedMassDamper:
     """A tuned mass damper at the antinode of a mode, tuned to the empty or occupied structure.
 
     The damper's mass is m_d = μ m_j / φ_j(x_d)² with m_j the *empty* modal mass, so one

@@ -7,12 +7,17 @@ J(θ) = Σ_l γ_l ‖G̃_l − G_l(θ)‖₂² / ‖G̃_l‖₂² over the analy
 r_{l,k} = sqrt(γ_l w_k) (G̃_l(f_k) − G_l(f_k; θ)) / ‖G̃_l‖₂ has Σ r² = J.
 """
 
+from __future__ import annotations
+
 import copy
 import logging
 import warnings
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import stats
 from scipy.optimize import least_squares
 
@@ -25,6 +30,15 @@ from ..signals.welch import welch_bin_correlation
 from .bootstrap import bootstrap_estimates, percentile_interval
 from .objective import PSDObjective
 from .uncertainty import profile_interval, sandwich_covariance, score_variance
+
+if TYPE_CHECKING:
+    from .._typing import ForceModel, Seed
+    from ..models.crowd import Crowd
+    from ..models.structure import ModalModel
+    from ..signals.spectrum import ResponsePSD
+
+    #: The paper's γ_ω: a function of frequency [Hz] or one weight per measured frequency.
+    FrequencyWeights = Callable[[np.ndarray], np.ndarray] | ArrayLike
 
 __all__ = ["estimate_hsi", "estimate_hsi_joint", "HSIEstimate", "PSDObjective", "DEFAULT_STARTS",
            "DEFAULT_BOUNDS"]
@@ -106,7 +120,7 @@ class HSIEstimate:
         The refitted parameters of the parametric-bootstrap replicates.
     """
 
-    msd: object
+    msd: MSDModel
     cost: float
     cost_no_hsi: float
     n_evaluations: int
@@ -130,12 +144,12 @@ class HSIEstimate:
     bootstrap_samples: np.ndarray = None
 
     @property
-    def relative_cost(self):
+    def relative_cost(self) -> float:
         """J(θ̂)/J(no HSI) [-]: the paper's "residual relative to no HSI"."""
         return self.cost / self.cost_no_hsi if self.cost_no_hsi > 0 else np.nan
 
     @property
-    def standard_errors(self):
+    def standard_errors(self) -> dict[str, float]:
         """Parameter → standard error from the sandwich covariance (units of the parameter)."""
         if self.covariance is None:
             return {}
@@ -143,14 +157,14 @@ class HSIEstimate:
                 for i, name in enumerate(self.free_parameters)}
 
     @property
-    def correlation(self):
+    def correlation(self) -> np.ndarray | None:
         """Correlation matrix of the free parameters [-], or None."""
         if self.covariance is None:
             return None
         scale = np.sqrt(np.maximum(np.diag(self.covariance), 1e-300))
         return self.covariance / np.outer(scale, scale)
 
-    def interval(self, parameter, level=0.95):
+    def interval(self, parameter: str, level: float = 0.95) -> tuple[float, float]:
         """Confidence interval (low, high) of a free parameter.
 
         The profile interval when it was computed at this level, else the Wald interval
@@ -182,7 +196,7 @@ class HSIEstimate:
         return (f"HSIEstimate({', '.join(parts)}, method={self.method!r}, "
                 f"J/J_noHSI={self.relative_cost:.3g})")
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict; the estimate sits under ``"estimate"`` with its interval."""
         estimate = self.msd.to_dict()
         if self.covariance is not None:
@@ -208,11 +222,17 @@ class HSIEstimate:
         }
 
 
-def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weights=None,
-                 frequency_weights=None, starts=None, bounds=None, mass_ratio=0.95,
-                 free_mass_ratio=False, force=None, match_welch=True, method="least_squares",
-                 interval="profile", level=0.95, crowd_model="smeared", n_boot=200,
-                 rng=None):
+def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
+                 band: tuple[float, float], outputs: Sequence[str] | None = None,
+                 output_weights: Sequence[float] | None = None,
+                 frequency_weights: FrequencyWeights | None = None,
+                 starts: Sequence[Sequence[float]] | None = None,
+                 bounds: Mapping[str, tuple[float, float]] | None = None,
+                 mass_ratio: float = 0.95, free_mass_ratio: bool = False,
+                 force: ForceModel | None = None, match_welch: bool = True,
+                 method: str = "least_squares", interval: str = "profile", level: float = 0.95,
+                 crowd_model: str = "smeared", n_boot: int = 200,
+                 rng: Seed = None) -> HSIEstimate:
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Eq. 5, 6).
 
     Parameters
@@ -292,11 +312,18 @@ def estimate_hsi(measured, structure, crowd, *, band, outputs=None, output_weigh
                      interval=interval, level=level, n_boot=n_boot, rng=rng)
 
 
-def estimate_hsi_joint(measurements, structure, crowds, *, band, outputs=None,
-                       output_weights=None, frequency_weights=None, starts=None, bounds=None,
-                       mass_ratio=0.95, free_mass_ratio=False, force=None, match_welch=True,
-                       method="least_squares", interval="profile", level=0.95,
-                       crowd_model="smeared", n_boot=200, rng=None):
+def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalModel,
+                       crowds: Sequence[Crowd], *, band: tuple[float, float],
+                       outputs: Sequence[str] | None = None,
+                       output_weights: Sequence[float] | None = None,
+                       frequency_weights: FrequencyWeights | None = None,
+                       starts: Sequence[Sequence[float]] | None = None,
+                       bounds: Mapping[str, tuple[float, float]] | None = None,
+                       mass_ratio: float = 0.95, free_mass_ratio: bool = False,
+                       force: ForceModel | None = None, match_welch: bool = True,
+                       method: str = "least_squares", interval: str = "profile",
+                       level: float = 0.95, crowd_model: str = "smeared", n_boot: int = 200,
+                       rng: Seed = None) -> HSIEstimate:
     """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
 
     The records are independent, so their misfits add (for the likelihood: their likelihoods

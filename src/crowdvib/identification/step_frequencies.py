@@ -3,7 +3,11 @@
 The paper's Waalse Krook procedure (docs: theory, The estimator).
 """
 
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -11,6 +15,11 @@ from .._validation import check_positive
 from ..errors import ParameterError
 from ..signals.spectrum import ResponsePSD
 from .estimation import PSDObjective, _diagnose, _merge_bounds, _multistart, _starting_points
+
+if TYPE_CHECKING:
+    from .._typing import ForceModel
+    from ..models.crowd import Crowd
+    from ..models.structure import ModalModel
 
 __all__ = ["estimate_step_frequencies", "StepFrequencyEstimate", "DEFAULT_STEP_FREQUENCY_BOUNDS"]
 
@@ -49,7 +58,7 @@ class StepFrequencyEstimate:
     message : str
     """
 
-    crowd: object
+    crowd: Crowd
     cost: float
     cost_initial: float
     n_evaluations: int
@@ -62,7 +71,7 @@ class StepFrequencyEstimate:
     starts: tuple = field(default=())
     message: str = ""
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict; the fitted distribution sits under ``"step_frequencies"``."""
         return {"step_frequencies": {"mean": self.crowd.step_frequency_mean,
                                      "std": self.crowd.step_frequency_std},
@@ -74,9 +83,14 @@ class StepFrequencyEstimate:
                 "starts": [dict(s) for s in self.starts], "message": self.message}
 
 
-def estimate_step_frequencies(measured, structure, crowd, *, cutoff=2.3, band=None, starts=None,
-                              bounds=None, outputs=None, output_weights=None, force=None,
-                              match_welch=True):
+def estimate_step_frequencies(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
+                              cutoff: float = 2.3, band: tuple[float, float] | None = None,
+                              starts: Sequence[Sequence[float]] | None = None,
+                              bounds: Mapping[str, tuple[float, float]] | None = None,
+                              outputs: Sequence[str] | None = None,
+                              output_weights: Sequence[float] | None = None,
+                              force: ForceModel | None = None,
+                              match_welch: bool = True) -> StepFrequencyEstimate:
     """Fit the crowd's step-frequency distribution N(μ_fs, σ_fs) to low-passed PSDs.
 
     The paper's procedure for the Waalse Krook bridge (docs: theory, The estimator): below the cut-off the

@@ -34,8 +34,13 @@ reading lives in :mod:`crowdvib.io._toml`; the records a case names are read by
 :func:`crowdvib.io.measurement.load_measurement`.
 """
 
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -176,7 +181,7 @@ class Case:
     #: The ``[[measurement]]`` blocks of a joint fit (empty for one ``[measurement]`` table).
     records: tuple = ()
 
-    def blocks(self):
+    def blocks(self) -> list[Case]:
         """One case per record: itself, or per ``[[measurement]]`` block the case with that
         block's measurement, crowd and name."""
         if not self.records:
@@ -184,7 +189,7 @@ class Case:
         return [replace(self, name=block.name, measurement=block.measurement,
                         crowd=block.crowd, records=()) for block in self.records]
 
-    def to_dict(self, sections=None):
+    def to_dict(self, sections: Sequence[str] | None = None) -> dict[str, Any]:
         """The inputs as a JSON-ready dict (models summarised, paths as strings).
 
         ``sections`` keeps only those tables (e.g. a simulation has no use for ``estimation``);
@@ -476,7 +481,7 @@ def _expected(table):
     return expected
 
 
-def load_case(path):
+def load_case(path: str | os.PathLike) -> Case:
     """Read and check a TOML case file → :class:`Case` (paths relative to the file).
 
     Raises

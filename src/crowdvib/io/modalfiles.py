@@ -7,9 +7,14 @@ masses match it (docs: theory, Conventions): a mass-normalised export and a unit
 physics.
 """
 
+from __future__ import annotations
+
 import csv
 import difflib
+import os
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -68,8 +73,11 @@ def _numbers(path, header, rows, columns):
     return values
 
 
-def read_modal_model(modal_table, mode_shapes=None, *, width, outputs=None, output_points=None,
-                     name="footbridge", **fe_options):
+def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathLike | None = None,
+                     *, width: float,
+                     outputs: Mapping[str, float | tuple[float, float]] | None = None,
+                     output_points: str | os.PathLike | None = None, name: str = "footbridge",
+                     **fe_options: Any) -> ModalModel:
     """A :class:`ModalModel` from a modal table and mode shapes along the walkway (CSV), or from an FE export.
 
     FE exports (docs: theory, Modal models from FE exports): a UFF file (``.uff``/``.unv``, data

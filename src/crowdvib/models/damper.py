@@ -7,13 +7,20 @@ It lives beside :class:`~crowdvib.models.MSDModel` because the response layer re
 design layer (:mod:`crowdvib.design`) tunes it.
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import as_float_array, check_damping_ratio, check_non_negative, check_positive
 from ..errors import ParameterError
 from .pedestrian import transmissibility
+
+if TYPE_CHECKING:
+    from .structure import ModalModel
 
 __all__ = ["TunedMassDamper", "as_dampers"]
 
@@ -54,15 +61,15 @@ class TunedMassDamper:
         if self.lane is not None:
             object.__setattr__(self, "lane", check_non_negative("lane", self.lane, unit="m"))
 
-    def stiffness(self):
+    def stiffness(self) -> float:
         """k_d = m_d ω_d² [N/m]."""
         return self.mass * (2.0 * np.pi * self.frequency) ** 2
 
-    def damping(self):
+    def damping(self) -> float:
         """c_d = 2 ξ_d m_d ω_d [N·s/m]."""
         return 2.0 * self.damping_ratio * self.mass * 2.0 * np.pi * self.frequency
 
-    def apparent_mass(self, frequency):
+    def apparent_mass(self, frequency: ArrayLike) -> np.ndarray:
         """Apparent mass m_d·T(f/f_d) [kg] the damper adds at its point (docs: theory, Occupied receptance and FRFs).
 
         Parameters
@@ -77,7 +84,7 @@ class TunedMassDamper:
         ratio = np.asarray(frequency, dtype=float) / self.frequency
         return self.mass * transmissibility(ratio, self.damping_ratio)
 
-    def shape_row(self, structure):
+    def shape_row(self, structure: ModalModel) -> np.ndarray:
         """Mode-shape row φ(x_d, y_d) of ``structure`` at the damper [scaling of the model].
 
         Raises
@@ -97,7 +104,7 @@ class TunedMassDamper:
         return structure.shapes_at(np.array([self.position]),
                                    None if self.lane is None else np.array([self.lane]))[0]
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict of the parameters."""
         return {"mass": self.mass, "frequency": self.frequency,
                 "damping_ratio": self.damping_ratio, "position": self.position,

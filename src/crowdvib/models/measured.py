@@ -16,11 +16,14 @@ and licence in ``WALKING_FORCES_PROVENANCE.txt`` beside them). Only the time-dom
 use the model: a replayed record has no load PSD for the spectral model.
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass, field
 from importlib import resources
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import signal
 
 from .._validation import as_float_array, check_non_negative, check_positive
@@ -184,15 +187,16 @@ class MeasuredForce:
     ratios = np.array([1.0])
 
     @property
-    def n_records(self):
+    def n_records(self) -> int:
         return self.table.shape[0]
 
-    def sample(self, step_frequency, rng):
+    def sample(self, step_frequency: ArrayLike,
+               rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
         """No harmonic components (zero DLF, zero phase; draws nothing): see :meth:`sample_replay`."""
         n = np.asarray(step_frequency).size
         return np.zeros((n, 1)), np.zeros((n, 1))
 
-    def sample_replay(self, step_frequency, rng):
+    def sample_replay(self, step_frequency: ArrayLike, rng: np.random.Generator) -> ReplayDraws:
         """Record, start, time scale and force factor of each walker (from ``rng``, in that order)."""
         step_frequency = np.asarray(step_frequency, dtype=float).ravel()
         n = step_frequency.size
@@ -209,7 +213,8 @@ class MeasuredForce:
             factor = np.ones(n)
         return ReplayDraws(record, offset, scale * self.sample_rate, factor, scale * record_step)
 
-    def time_history(self, time, step_frequency, body_mass, rng=None):
+    def time_history(self, time: ArrayLike, step_frequency: float, body_mass: float,
+                     rng: int | np.random.Generator | None = None) -> np.ndarray:
         """Dynamic force [N] of one walker on a rigid floor, from t_k = 0 (as the simulator replays it).
 
         Parameters

@@ -15,7 +15,12 @@ quadrature built from these moments: a handful of :class:`~crowdvib.response.Spe
 instances, each used as a black box.
 """
 
+from __future__ import annotations
+
+from typing import Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import check_type
 from ..errors import ParameterError
@@ -156,16 +161,17 @@ class FluctuatingSpectralModel:
         its λ.
     """
 
-    def __init__(self, structure, crowd, frequency, *, n_nodes=None, mode=None, **options):
+    def __init__(self, structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
+                 n_nodes: int | None = None, mode: int | None = None, **options: Any) -> None:
         check_type("structure", structure, ModalModel)
         check_type("crowd", crowd, Crowd)
         if n_nodes is not None and (not isinstance(n_nodes, (int, np.integer))
                                     or not 1 <= n_nodes <= 40):
             raise ParameterError(f"n_nodes must be an integer from 1 to 40, got {n_nodes!r}")
         base = SpectralModel(structure, crowd, frequency, **options)
-        for name in ("structure", "crowd", "frequency", "force", "output_names",
-                     "welch_window_length", "lowpass"):
-            setattr(self, name, getattr(base, name))
+        self.structure, self.crowd, self.frequency = base.structure, base.crowd, base.frequency
+        self.force, self.output_names = base.force, base.output_names
+        self.welch_window_length, self.lowpass = base.welch_window_length, base.lowpass
         self.mode = (dominant_mode(structure, crowd, base.frequency, options.get("force"),
                                    base.output_names) if mode is None else int(mode))
         if crowd.density == 0 or n_nodes == 1:
@@ -185,17 +191,17 @@ class FluctuatingSpectralModel:
         current = rule(_NODE_COUNTS[0])
         for count in _NODE_COUNTS[1:]:
             finer = rule(count)
-            coarse, fine = (_mixture(*r[1:], _REFERENCE_MSD) for r in (current, finer))
+            coarse, fine = (_mixture(r[1], r[2], _REFERENCE_MSD) for r in (current, finer))
             if np.abs(coarse - fine).max() <= _NODE_TOLERANCE * fine.max():
                 break
             current = finer
         self.nodes, self.weights, self._models = current
 
-    def psd_array(self, msd=None):
+    def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
         """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
         return _mixture(self.weights, self._models, msd)
 
-    def psd(self, msd=None):
+    def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
         """Expected PSD at the outputs → :class:`ResponsePSD`."""
         return ResponsePSD(frequency=self.frequency, psd=self.psd_array(msd),
                            output_names=self.output_names,

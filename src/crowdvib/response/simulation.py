@@ -8,7 +8,11 @@ numerics (fixed-step RK4 over the pedestrians on the deck) live in :mod:`crowdvi
 Public: :func:`simulate`; the walkers come from :mod:`.traffic`.
 """
 
+from __future__ import annotations
+
 import math
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -21,7 +25,13 @@ from ..models.measured import REPLAY_HARMONICS
 from ..models.pedestrian import MSDModel
 from . import _kernels
 from .results import Simulation
-from .traffic import _check_duration, _check_structure, _seed_from, _walkers, _with_dampers
+from .traffic import (Pedestrian, _check_duration, _check_structure, _seed_from, _walkers,
+                      _with_dampers)
+
+if TYPE_CHECKING:
+    from .._typing import ForceModel, Seed
+    from ..models.damper import TunedMassDamper
+    from ..models.structure import ModalModel
 
 __all__ = ["simulate"]
 
@@ -227,9 +237,13 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
     return integrator, n_samples, warm_up_samples, sample_rate, duration
 
 
-def simulate(structure, crowd=None, duration=None, *, pedestrians=None, msd=None, force=None,
-             sample_rate=100.0, rng=None, progress=None, include_static_weight=False,
-             chunk_duration=None, record_modal_load=False, warm_up=0.0, dampers=None):
+def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float | None = None,
+             *, pedestrians: Sequence[Pedestrian] | None = None, msd: MSDModel | None = None,
+             force: ForceModel | None = None, sample_rate: float = 100.0, rng: Seed = None,
+             progress: Callable[[float, float], None] | None = None,
+             include_static_weight: bool = False, chunk_duration: float | None = None,
+             record_modal_load: bool = False, warm_up: float = 0.0,
+             dampers: Sequence[TunedMassDamper] | None = None) -> Simulation:
     """Accelerations of a footbridge under a crowd of moving forces and MSDs (docs: theory, The coupled time-domain model).
 
     The structure's modes carry every pedestrian on the deck: the force on a rigid floor

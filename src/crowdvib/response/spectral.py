@@ -13,7 +13,13 @@ as the crowd with its own apparent mass and the influence matrix φ_d φ_dᵀ of
 estimator can call it many times; :func:`response_psd` is the one-shot front door.
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
 from .._validation import check_frequency_grid, check_positive
@@ -31,6 +37,13 @@ from ._attached import (
 from ._linalg import solve_occupied
 from ._welch_model import DENSE_POINTS_PER_BIN, CorrectedWelch, WelchRule
 from .results import FRF, EffectiveModalProperties
+
+if TYPE_CHECKING:
+    from .._typing import ForceModel
+    from ..models.crowd import Crowd
+    from ..models.damper import TunedMassDamper
+    from ..models.structure import ModalModel
+    from ..signals.welch import LowPassFilter
 
 __all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties",
            "modal_accelerance"]
@@ -90,8 +103,10 @@ class SpectralModel:
         Tuned mass dampers fixed to the deck (part of the structure for every ``msd``).
     """
 
-    def __init__(self, structure, crowd, frequency, *, force=None, outputs=None,
-                 welch_window_length=None, lowpass=None, dampers=None):
+    def __init__(self, structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
+                 force: ForceModel | None = None, outputs: str | Sequence[str] | None = None,
+                 welch_window_length: float | None = None, lowpass: LowPassFilter | None = None,
+                 dampers: Sequence[TunedMassDamper] | None = None) -> None:
         self.structure = structure
         self.crowd = crowd
         self.frequency = check_frequency_grid(frequency)
@@ -130,7 +145,7 @@ class SpectralModel:
         crowd_part = crowd_attachment(self.crowd, msd, self._psi)
         return ((crowd_part,) if crowd_part is not None else ()) + self._dampers
 
-    def psd_array(self, msd=None):
+    def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
         """PSD [(m/s²)²/Hz] as an array of shape (n_outputs, n_frequencies)."""
         attached = self._attached(msd)
         if self._welch is None:
@@ -170,7 +185,7 @@ class SpectralModel:
         rule, grid = self._dense
         return rule.apply(self._exact_psd(grid, attached))
 
-    def psd(self, msd=None):
+    def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
         """PSD at the outputs → :class:`ResponsePSD`."""
         return ResponsePSD(frequency=self.frequency, psd=self.psd_array(msd),
                            output_names=self.output_names,
@@ -231,8 +246,11 @@ def _modal_projection(structure, attached, factor, shapes, frequency):
     return np.stack([(resolvent * row) @ right for row in left], axis=1)
 
 
-def response_psd(structure, crowd, frequency, *, msd=None, force=None, outputs=None,
-                 welch_window_length=None, lowpass=None, dampers=None):
+def response_psd(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
+                 msd: MSDModel | None = None, force: ForceModel | None = None,
+                 outputs: str | Sequence[str] | None = None,
+                 welch_window_length: float | None = None, lowpass: LowPassFilter | None = None,
+                 dampers: Sequence[TunedMassDamper] | None = None) -> ResponsePSD:
     """One-sided acceleration PSD at the outputs of a crowd-loaded footbridge (docs: theory, Response PSD with HSI).
 
     G_ü(f) = ω⁴ Φ_o H(ω) G_QQ(f) H(ω)ᴴ Φ_oᵀ with the occupied receptance H (HSI, when ``msd`` is
@@ -281,7 +299,10 @@ def response_psd(structure, crowd, frequency, *, msd=None, force=None, outputs=N
     return model.psd(msd)
 
 
-def frf(structure, frequency, *, crowd=None, msd=None, outputs=None, inputs=None, dampers=None):
+def frf(structure: ModalModel, frequency: ArrayLike, *, crowd: Crowd | None = None,
+        msd: MSDModel | None = None, outputs: str | Sequence[str] | None = None,
+        inputs: str | Sequence[str] | None = None,
+        dampers: Sequence[TunedMassDamper] | None = None) -> FRF:
     """Accelerance FRFs between deck points, empty or occupied (docs: theory, Occupied receptance and FRFs).
 
     H_oi(ω) = −ω² φ_oᵀ H(ω) φ_i with H the empty receptance, or the occupied one when ``crowd``
@@ -333,7 +354,10 @@ def _accelerance(structure, frequency, attached, out_shapes, loads):
     return np.moveaxis(values, 0, -1)
 
 
-def modal_accelerance(structure, frequency, *, crowd=None, msd=None, dampers=None, outputs=None):
+def modal_accelerance(structure: ModalModel, frequency: ArrayLike, *, crowd: Crowd | None = None,
+                      msd: MSDModel | None = None,
+                      dampers: Sequence[TunedMassDamper] | None = None,
+                      outputs: str | Sequence[str] | None = None) -> np.ndarray:
     """Accelerations at the outputs per unit modal force, −ω² Φ_o H(ω) (docs: theory, Occupied receptance and FRFs).
 
     Column j is the response to a unit harmonic force in mode j alone (as a design code loads
@@ -363,7 +387,10 @@ def modal_accelerance(structure, frequency, *, crowd=None, msd=None, dampers=Non
                         np.eye(structure.n_modes))
 
 
-def effective_modal_properties(structure, crowd=None, msd=None, *, dampers=None):
+def effective_modal_properties(structure: ModalModel, crowd: Crowd | None = None,
+                               msd: MSDModel | None = None, *,
+                               dampers: Sequence[TunedMassDamper] | None = None
+                               ) -> EffectiveModalProperties:
     """Natural frequencies, damping ratios and engaged modal masses of the occupied structure
     (docs: theory, The smeared crowd and the occupied bridge).
 
