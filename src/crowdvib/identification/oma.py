@@ -17,12 +17,18 @@ import contextlib
 import io
 import logging
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validation import as_float_array, check_positive
 from ..errors import DataError, EstimationError, ParameterError
 from ..models.structure import ModalModel
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure, SubFigure
 
 __all__ = ["ModeIdentification", "ambient_response", "identify_modes"]
 
@@ -73,11 +79,14 @@ class ModeIdentification:
     method: str = "ssi-cov"
 
     @property
-    def n_modes(self):
+    def n_modes(self) -> int:
         return self.frequencies.size
 
-    def modal_model(self, structure=None, *, modal_masses=None, sensor_positions=None,
-                    walkway=None, width=None, name="identified footbridge"):
+    def modal_model(self, structure: ModalModel | None = None, *,
+                    modal_masses: ArrayLike | None = None,
+                    sensor_positions: ArrayLike | None = None,
+                    walkway: tuple[float, float] | None = None, width: float | None = None,
+                    name: str = "identified footbridge") -> ModalModel:
         """A :class:`ModalModel` with the identified frequencies and damping ratios.
 
         The estimator needs the mode shapes along the whole walkway and the modal masses, which
@@ -132,7 +141,7 @@ class ModeIdentification:
         damping[pairs] = self.damping_ratios
         return structure.replace(frequencies=frequencies, damping_ratios=damping)
 
-    def error_levels(self, levels=None):
+    def error_levels(self, levels: dict | None = None) -> dict:
         """Modelling-error levels for :func:`~crowdvib.identification.modelling_error_study`.
 
         ε_f and ε_ξ from the identification instead of fixed percentages: one and two relative
@@ -148,7 +157,7 @@ class ModeIdentification:
             result[name] = (worst, 2 * worst)
         return result
 
-    def plot_stabilisation(self, ax=None):
+    def plot_stabilisation(self, ax: "Axes | None" = None) -> "Figure | SubFigure":
         """Stabilisation diagram: poles per model order, stable ones filled, modes marked."""
         import matplotlib.pyplot as plt
 
@@ -175,8 +184,10 @@ def _mac(a, b):
     return num / np.outer((a * a).sum(axis=0), (b * b).sum(axis=0))
 
 
-def identify_modes(signals, sample_rate, *, n_modes=None, frequency_band=None, method="ssi-cov",
-                   block_rows=None, max_order=40, n_blocks=50, sensor_names=None):
+def identify_modes(signals: ArrayLike, sample_rate: float, *, n_modes: int | None = None,
+                   frequency_band: tuple[float, float] | None = None, method: str = "ssi-cov",
+                   block_rows: int | None = None, max_order: int = 40, n_blocks: int = 50,
+                   sensor_names: list[str] | None = None) -> ModeIdentification:
     """Modes of the empty bridge from an ambient record by SSI-cov (docs: theory, Operational modal analysis).
 
     Parameters
@@ -305,7 +316,9 @@ def clusters_sorted(chosen, clusters, values):
     return [clusters[i] for i in sorted(chosen, key=lambda i: np.median(values[clusters[i]]))]
 
 
-def ambient_response(structure, duration, sample_rate, load_psd, rng=None):
+def ambient_response(structure: ModalModel, duration: float, sample_rate: float,
+                     load_psd: ArrayLike,
+                     rng: int | np.random.Generator | None = None) -> np.ndarray:
     """Ambient accelerations [m/s²] of the empty bridge at its outputs, shape (n_outputs, N).
 
     Independent white-noise modal loads with one-sided PSD ``load_psd`` [N²/Hz] (one value, or

@@ -18,9 +18,10 @@ use the model: a replayed record has no load PSD for the spectral model.
 
 from dataclasses import dataclass, field
 from importlib import resources
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import signal
 
 from .._validation import as_float_array, check_non_negative, check_positive
@@ -43,7 +44,7 @@ HARMONIC_HALF_BAND = 0.2
 REPLAY_HARMONICS = 5
 
 
-def builtin_walking_forces():
+def builtin_walking_forces() -> tuple[tuple[str, ...], np.ndarray, float]:
     """The packaged walks: names, total vertical force [N] (n_walks, n_samples), sample rate [Hz]."""
     source = resources.files("crowdvib").joinpath("data", BUILTIN_FILE)
     with source.open("rb") as handle, np.load(handle) as data:
@@ -51,7 +52,8 @@ def builtin_walking_forces():
                     float(data["sample_rate"]))
 
 
-def step_frequency_and_dlfs(force, sample_rate, n_harmonics=3, window=30.0):
+def step_frequency_and_dlfs(force: ArrayLike, sample_rate: float, n_harmonics: int = 3,
+                            window: float = 30.0) -> tuple[float, np.ndarray]:
     """Step frequency [Hz] and DLFs α_1..n [-] of one force history from its Welch spectrum.
 
     α_k = sqrt(2 ∫ G_FF df) / F̄ over f within ±0.2 Hz of k·f_s, f_s the highest PSD peak in the
@@ -125,12 +127,12 @@ class MeasuredForce:
     needs a load PSD, which a replayed record does not have.
     """
 
-    records: tuple = None
+    records: tuple | None = None
     time_scale: bool = True
     first_harmonic: str = "measured"
     random_start: bool = True
-    forces: np.ndarray = field(default=None, repr=False)
-    sample_rate: float = None
+    forces: np.ndarray | None = field(default=None, repr=False)
+    sample_rate: float | None = None
     names: tuple = field(init=False, repr=False, compare=False)
     table: np.ndarray = field(init=False, repr=False, compare=False)
     record_step_frequency: np.ndarray = field(init=False, repr=False, compare=False)
@@ -184,15 +186,16 @@ class MeasuredForce:
     ratios = np.array([1.0])
 
     @property
-    def n_records(self):
+    def n_records(self) -> int:
         return self.table.shape[0]
 
-    def sample(self, step_frequency, rng):
+    def sample(self, step_frequency: ArrayLike,
+               rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
         """No harmonic components (zero DLF, zero phase; draws nothing): see :meth:`sample_replay`."""
         n = np.asarray(step_frequency).size
         return np.zeros((n, 1)), np.zeros((n, 1))
 
-    def sample_replay(self, step_frequency, rng):
+    def sample_replay(self, step_frequency: ArrayLike, rng: np.random.Generator) -> ReplayDraws:
         """Record, start, time scale and force factor of each walker (from ``rng``, in that order)."""
         step_frequency = np.asarray(step_frequency, dtype=float).ravel()
         n = step_frequency.size
@@ -207,9 +210,11 @@ class MeasuredForce:
             factor = ZivanovicForce.first_harmonic_dlf(replayed) / self.record_dlf1[record]
         else:
             factor = np.ones(n)
-        return ReplayDraws(record, offset, scale * self.sample_rate, factor, scale * record_step)
+        rate = cast(float, self.sample_rate)        # set by __post_init__
+        return ReplayDraws(record, offset, scale * rate, factor, scale * record_step)
 
-    def time_history(self, time, step_frequency, body_mass, rng=None):
+    def time_history(self, time: ArrayLike, step_frequency: float, body_mass: float,
+                     rng: int | np.random.Generator | None = None) -> np.ndarray:
         """Dynamic force [N] of one walker on a rigid floor, from t_k = 0 (as the simulator replays it).
 
         Parameters
@@ -232,7 +237,7 @@ class MeasuredForce:
                 * replay_value(self.table[draws.record[0]], position))
 
 
-def replay_value(row, position):
+def replay_value(row: np.ndarray, position: ArrayLike) -> np.ndarray:
     """Linear interpolation of a periodically continued table row at fractional sample ``position``.
 
     The numpy twin of the kernel's ``_replayed`` (response/_kernels.py); the tests hold them equal.
