@@ -8,9 +8,9 @@ not repeated here.
 import numpy as np
 import pytest
 
-from crowdvib import (Crowd, DataError, LowPassFilter, ModalModel, MSDModel, ParameterError,
-                      ZivanovicForce, detrend, estimate_hsi, frf, psd_convergence, resample,
-                      response_psd, simulate, simulate_many, welch_psd)
+from crowdvib import (Crowd, DataError, LowPassFilter, MeasuredForce, ModalModel, MSDModel,
+                      ParameterError, ZivanovicForce, detrend, estimate_hsi, frf, identify_modes,
+                      psd_convergence, resample, response_psd, simulate, simulate_many, welch_psd)
 from crowdvib.identification import objective_map
 from crowdvib.signals import select_time_frame, synthetic_welch_psd
 
@@ -138,6 +138,15 @@ CASES = [
      ParameterError, r"scale must be > 0, got -1"),
     ("synthetic_welch_psd: no window", lambda b, c, m, p: synthetic_welch_psd(p, 0),
      ParameterError, r"n_windows must be >= 1, got 0"),
+    ("simulate: measured force with an unknown walk",
+     lambda b, c, m, p: simulate(b, c, 10.0, force=MeasuredForce(records=["GaCo01_09"])),
+     ParameterError, r"records must name packaged walks"),
+    ("response_psd: a measured force has no load PSD",
+     lambda b, c, m, p: response_psd(b, c, p.frequency, force=MeasuredForce()),
+     ParameterError, r"force must be a ZivanovicForce or YoungForce here: a MeasuredForce"),
+    ("identify_modes: one sample per sensor",
+     lambda b, c, m, p: identify_modes(np.zeros((3, 1)), 20.0),
+     ParameterError, r"signals must have shape \(n_sensors, n_samples\) with at least 100"),
 ]
 
 

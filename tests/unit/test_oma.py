@@ -13,9 +13,9 @@ from crowdvib import (
     write_record,
 )
 from crowdvib.cli import main
+from crowdvib.identification.oma import ambient_response
 from crowdvib.identification.studies import error_cases
 from crowdvib.io import read_modal_model
-from crowdvib.signals.synthesis import gaussian_record, record_frequencies
 
 pytest.importorskip("pyoma2")
 
@@ -36,18 +36,13 @@ def bridge():
 
 
 def ambient_record(structure, seed):
-    """30 min: independent white-noise modal loads (exact Gaussian synthesis of each mode's
-    acceleration PSD |ω² H_j|² S_q / m_j², Clough & Penzien) plus five walkers (simulate)."""
-    omega = 2 * np.pi * record_frequencies(DURATION, SAMPLE_RATE)
-    wj = 2 * np.pi * FREQUENCIES[:, np.newaxis]
-    frf = omega**2 / (MASSES[:, np.newaxis] * (wj**2 - omega**2 + 2j * DAMPING[:, np.newaxis]
-                                                * wj * omega))
-    modal = gaussian_record(np.abs(frf) ** 2 * 200.0**2, SAMPLE_RATE, rng=seed)
+    """30 min: independent white-noise modal loads plus five walkers (simulate)."""
+    ambient = ambient_response(structure, DURATION, SAMPLE_RATE, 200.0**2, rng=seed)
     walkers = [Pedestrian(t, 1.3, 1.70 + 0.04 * k, 70.0)
                for k, t in enumerate([10.0, 400.0, 800.0, 1200.0, 1500.0])]
     crowd = simulate(structure, pedestrians=walkers, duration=DURATION,
                      sample_rate=5 * SAMPLE_RATE, rng=seed)
-    return structure.output_shapes @ modal + crowd.acceleration[:, ::5]
+    return ambient + crowd.acceleration[:, ::5]
 
 
 @pytest.fixture(scope="module")

@@ -14,7 +14,7 @@ from .estimation import (DEFAULT_BOUNDS, DEFAULT_STARTS, HSIEstimate, estimate_h
 from .landscape import ObjectiveMap, objective_map
 from .monte_carlo import monte_carlo, record_statistics
 from .objective import PSDObjective
-from .oma import ModeIdentification, identify_modes
+from .oma import ModeIdentification, ambient_response, identify_modes
 from .parametric import ParametricResult, parametric_study
 from .step_frequencies import (DEFAULT_STEP_FREQUENCY_BOUNDS, StepFrequencyEstimate,
                                estimate_step_frequencies)
@@ -28,4 +28,4 @@ __all__ = ["estimate_hsi", "estimate_hsi_joint", "HSIEstimate", "PSDObjective", 
            "objective_map", "ObjectiveMap", "modelling_error_study", "ErrorCase",
            "SensitivityResult", "record_length_study", "parametric_study", "ParametricResult",
            "PAPER_ERROR_LEVELS", "TaskStore", "run_tasks", "study_executor", "monte_carlo",
-           "record_statistics", "identify_modes", "ModeIdentification"]
+           "record_statistics", "identify_modes", "ModeIdentification", "ambient_response"]

@@ -31,9 +31,9 @@ from ..models.structure import ModalModel
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
+    from matplotlib.figure import Figure, SubFigure
 
-__all__ = ["ModeIdentification", "identify_modes"]
+__all__ = ["ModeIdentification", "ambient_response", "identify_modes"]
 
 #: Stable poles closer than this relative frequency gap belong to one mode.
 CLUSTER_TOLERANCE = 0.01
@@ -161,7 +161,7 @@ class ModeIdentification:
             result[name] = (worst, 2 * worst)
         return result
 
-    def plot_stabilisation(self, ax: Axes | None = None) -> Figure:
+    def plot_stabilisation(self, ax: "Axes | None" = None) -> "Figure | SubFigure":
         """Stabilisation diagram: poles per model order, stable ones filled, modes marked."""
         import matplotlib.pyplot as plt
 
@@ -318,3 +318,26 @@ def _median_finite(values):
 def clusters_sorted(chosen, clusters, values):
     """The chosen clusters in order of increasing frequency."""
     return [clusters[i] for i in sorted(chosen, key=lambda i: np.median(values[clusters[i]]))]
+
+
+def ambient_response(structure: ModalModel, duration: float, sample_rate: float,
+                     load_psd: ArrayLike,
+                     rng: int | np.random.Generator | None = None) -> np.ndarray:
+    """Ambient accelerations [m/s²] of the empty bridge at its outputs, shape (n_outputs, N).
+
+    Independent white-noise modal loads with one-sided PSD ``load_psd`` [N²/Hz] (one value, or
+    one per mode): each modal acceleration is an exact Gaussian record of the PSD
+    |ω² H_j(ω)|² S_q / m_j², H_j = 1/(ω_j² − ω² + 2iξ_jω_jω) [CP03] (docs: theory, Operational
+    modal analysis), summed through the output shapes. For testing identification.
+    """
+    from ..signals.synthesis import gaussian_record, record_frequencies
+
+    omega = 2 * np.pi * record_frequencies(duration, sample_rate)
+    natural = 2 * np.pi * structure.frequencies[:, np.newaxis]
+    masses = structure.modal_masses[:, np.newaxis]
+    damping = structure.damping_ratios[:, np.newaxis]
+    load = check_positive("load_psd", np.broadcast_to(np.asarray(load_psd, dtype=float),
+                                                      (structure.n_modes,)), unit="N²/Hz")
+    frf = omega**2 / (masses * (natural**2 - omega**2 + 2j * damping * natural * omega))
+    modal = gaussian_record(np.abs(frf) ** 2 * load[:, np.newaxis], sample_rate, rng=rng)
+    return structure.output_shapes @ modal

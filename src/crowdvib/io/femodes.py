@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import interpolate
 
 from .._validation import check_damping_ratio, check_positive
@@ -55,11 +56,11 @@ class FEModes:
     source: str = "FE export"
 
     @property
-    def n_modes(self):
+    def n_modes(self) -> int:
         return self.frequencies.size
 
     @property
-    def mass_normalised(self):
+    def mass_normalised(self) -> bool:
         """True when every modal mass is 1: the shapes are mass-normalised."""
         return bool(np.all(np.abs(self.modal_masses - 1.0) <= UNIT_MASS_TOLERANCE))
 
@@ -73,7 +74,8 @@ class FEModes:
                                  f"{missing[:5].tolist()}")
         return np.flatnonzero(np.isin(self.nodes, deck_nodes))
 
-    def vertical_fractions(self, *, vertical="z", deck_nodes=None):
+    def vertical_fractions(self, *, vertical: str = "z",
+                           deck_nodes: ArrayLike | None = None) -> np.ndarray:
         """Share of each mode's translational motion on the deck that is vertical [-].
 
         Σ φ_v² / Σ (φ_x² + φ_y² + φ_z²) over the deck nodes; 1 when the export holds the vertical
@@ -88,9 +90,11 @@ class FEModes:
             return np.where(total > 0, (shapes[:, :, _axis(vertical)] ** 2).sum(axis=0) / total,
                             0.0)
 
-    def modal_model(self, *, width, along="x", across="y", vertical="z", deck_nodes=None,
-                    lanes=None, damping_ratios=None, outputs=None, output_nodes=None,
-                    min_vertical=0.5, name="footbridge"):
+    def modal_model(self, *, width: float, along: str = "x", across: str = "y",
+                    vertical: str = "z", deck_nodes: ArrayLike | None = None,
+                    lanes: ArrayLike | None = None, damping_ratios: ArrayLike | None = None,
+                    outputs: dict | None = None, output_nodes: dict | None = None,
+                    min_vertical: float = 0.5, name: str = "footbridge") -> ModalModel:
         """The walkway's :class:`ModalModel` (docs: theory, Modal models from FE exports).
 
         Parameters
@@ -157,8 +161,9 @@ class FEModes:
                             "have no vertical motion on the deck")
         base = ModalModel(frequencies=self.frequencies[keep], damping_ratios=damping,
                           modal_masses=self.modal_masses[keep], positions=positions - x.min(),
-                          mode_shapes=grid, width=width, lanes=lanes, output_names=(),
-                          output_shapes=np.zeros((0, keep.size)), name=name)
+                          mode_shapes=grid, width=width, output_names=(),
+                          output_shapes=np.zeros((0, keep.size)), name=name,
+                          **({} if lanes is None else {"lanes": lanes}))
         if (outputs is None) == (output_nodes is None):
             raise ParameterError("give exactly one of outputs (name → position) and output_nodes "
                                  "(name → node number)")
@@ -225,7 +230,7 @@ def _antinode(grid):
     return flat[np.argmax(np.abs(flat), axis=0), np.arange(grid.shape[2])]
 
 
-def read_fe_modes(path, modal_table=None):
+def read_fe_modes(path: str | Path, modal_table: str | Path | None = None) -> FEModes:
     """Normal modes at FE nodes from a UFF file (15 + 55) or a CSV node table (+ modal table).
 
     Parameters
@@ -243,15 +248,15 @@ def read_fe_modes(path, modal_table=None):
     -------
     FEModes
     """
-    path = require_file(path, "modal")
-    if path.suffix.lower() in UFF_SUFFIXES:
+    source = require_file(path, "modal")
+    if source.suffix.lower() in UFF_SUFFIXES:
         if modal_table is not None:
             raise ParameterError("modal_table must be None for a UFF file (its data sets 55 hold "
                                  "the frequencies and modal masses)")
-        return _read_uff_modes(path)
+        return _read_uff_modes(source)
     if modal_table is None:
         raise ParameterError("modal_table must be given with a CSV node table")
-    return _read_csv_modes(path, modal_table)
+    return _read_csv_modes(source, modal_table)
 
 
 def _read_uff_modes(path):

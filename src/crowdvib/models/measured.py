@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from importlib import resources
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -46,7 +46,7 @@ HARMONIC_HALF_BAND = 0.2
 REPLAY_HARMONICS = 5
 
 
-def builtin_walking_forces():
+def builtin_walking_forces() -> tuple[tuple[str, ...], np.ndarray, float]:
     """The packaged walks: names, total vertical force [N] (n_walks, n_samples), sample rate [Hz]."""
     source = resources.files("crowdvib").joinpath("data", BUILTIN_FILE)
     with source.open("rb") as handle, np.load(handle) as data:
@@ -54,7 +54,8 @@ def builtin_walking_forces():
                     float(data["sample_rate"]))
 
 
-def step_frequency_and_dlfs(force, sample_rate, n_harmonics=3, window=30.0):
+def step_frequency_and_dlfs(force: ArrayLike, sample_rate: float, n_harmonics: int = 3,
+                            window: float = 30.0) -> tuple[float, np.ndarray]:
     """Step frequency [Hz] and DLFs α_1..n [-] of one force history from its Welch spectrum.
 
     α_k = sqrt(2 ∫ G_FF df) / F̄ over f within ±0.2 Hz of k·f_s, f_s the highest PSD peak in the
@@ -128,12 +129,12 @@ class MeasuredForce:
     needs a load PSD, which a replayed record does not have.
     """
 
-    records: tuple = None
+    records: tuple | None = None
     time_scale: bool = True
     first_harmonic: str = "measured"
     random_start: bool = True
-    forces: np.ndarray = field(default=None, repr=False)
-    sample_rate: float = None
+    forces: np.ndarray | None = field(default=None, repr=False)
+    sample_rate: float | None = None
     names: tuple = field(init=False, repr=False, compare=False)
     table: np.ndarray = field(init=False, repr=False, compare=False)
     record_step_frequency: np.ndarray = field(init=False, repr=False, compare=False)
@@ -211,7 +212,8 @@ class MeasuredForce:
             factor = ZivanovicForce.first_harmonic_dlf(replayed) / self.record_dlf1[record]
         else:
             factor = np.ones(n)
-        return ReplayDraws(record, offset, scale * self.sample_rate, factor, scale * record_step)
+        rate = cast(float, self.sample_rate)        # set by __post_init__
+        return ReplayDraws(record, offset, scale * rate, factor, scale * record_step)
 
     def time_history(self, time: ArrayLike, step_frequency: float, body_mass: float,
                      rng: int | np.random.Generator | None = None) -> np.ndarray:
@@ -237,7 +239,7 @@ class MeasuredForce:
                 * replay_value(self.table[draws.record[0]], position))
 
 
-def replay_value(row, position):
+def replay_value(row: np.ndarray, position: ArrayLike) -> np.ndarray:
     """Linear interpolation of a periodically continued table row at fractional sample ``position``.
 
     The numpy twin of the kernel's ``_replayed`` (response/_kernels.py); the tests hold them equal.

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import _kernels
 from .._validation import check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import JAM_DENSITY, Crowd
@@ -23,7 +24,6 @@ from ..models.damper import as_dampers
 from ..models.loading import STANDARD_GRAVITY, as_force_model
 from ..models.measured import REPLAY_HARMONICS
 from ..models.pedestrian import MSDModel
-from . import _kernels
 from .results import Simulation
 from .traffic import (Pedestrian, _check_duration, _check_structure, _seed_from, _walkers,
                       _with_dampers)
@@ -65,7 +65,8 @@ def _internal_substeps(structure, walkers, msd, sample_rate):
             force = float(np.max(walkers.omega[active])) / (2 * np.pi)
         replayed = walkers.replay.record >= 0          # measured forces: up to their 5th harmonic
         if replayed.any():
-            force = max(force, REPLAY_HARMONICS * float(np.max(walkers.replay.step_frequency[replayed])))
+            fastest = float(np.max(walkers.replay.step_frequency[replayed]))
+            force = max(force, REPLAY_HARMONICS * fastest)
     per_second = max(STEPS_PER_PERIOD * state, FORCE_STEPS_PER_PERIOD * force)
     return max(1, math.ceil(per_second / sample_rate - 1e-9))
 

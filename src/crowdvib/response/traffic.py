@@ -166,7 +166,7 @@ def _crowd_draws(structure, crowd, start, end, force, rng):
 
 
 def _replay_draws(force, step_frequency, rng):
-    """Measured-force replay per walker (models/measured.py); none (record −1, no draws) otherwise."""
+    """A MeasuredForce's replay draws per walker; none otherwise (record −1, nothing drawn)."""
     if isinstance(force, MeasuredForce):
         return force.sample_replay(step_frequency, rng)
     n = np.asarray(step_frequency).size
