@@ -9,6 +9,7 @@ anything but the read-only structure.
 import concurrent.futures
 import numbers
 from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -26,7 +27,7 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
                   duration: float | None = None, *, seeds: Sequence[int],
                   workers: int | None = None,
                   progress: Callable[[int, int], None] | None = None,
-                  **options) -> list[Simulation]:
+                  **options: Any) -> list[Simulation]:
     """One record per seed, run in parallel threads (docs: theory, Time stepping).
 
     Parameters
