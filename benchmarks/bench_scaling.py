@@ -68,58 +68,58 @@ def welch_cases():
     ]
 
 
+def welch_row(name, structure, crowd, msd, grid, window, lowpass, target, force):
+    """One row of the Welch table: numpy reference, dense rule, crowdvib (median ms)."""
+    model = SpectralModel(structure, crowd, grid, welch_window_length=window, lowpass=lowpass)
+    attached = model._attached(msd)
+    outputs = model.output_names
+
+    def reference():
+        return welch_expectation(structure, crowd, msd, grid, outputs, force, window)
+
+    functions = [lambda: model._dense_welch_psd(attached), lambda: model.psd_array(msd)]
+    if lowpass is None:                          # the numpy reference has no filter
+        functions.insert(0, reference)
+    times = interleaved(functions, repeat=5)
+    numpy_time = times[0] if lowpass is None else float("nan")
+    dense_time, new_time = times[-2:]
+    truth = reference() if lowpass is None else model._dense_welch_psd(attached)
+    error = (np.abs(model.psd_array(msd) - truth) / truth.max(axis=1, keepdims=True)).max()
+    print(f"{name:42s}{target:>9s}{numpy_time * 1e3:9.2f}{dense_time * 1e3:9.2f}"
+          f"{new_time * 1e3:8.2f}{numpy_time / new_time:8.1f}{dense_time / new_time:10.1f}"
+          f"{error:13.1e}  {load()}")
+
+
+def exact_row(name, structure, crowd, msd, grid, force):
+    """One row of the exact-PSD table: numpy reference against crowdvib (median ms)."""
+    model = SpectralModel(structure, crowd, grid)
+    outputs = model.output_names
+    numpy_time, new_time = interleaved(
+        [lambda: exact_psd(structure, crowd, msd, grid, outputs, force),
+         lambda: model.psd_array(msd)], repeat=5)
+    print(f"{name:42s} numpy {numpy_time * 1e3:8.2f}  crowdvib {new_time * 1e3:7.2f}"
+          f"  ratio {numpy_time / new_time:6.1f}  {load()}")
+
+
 def bench_welch():
     print("Welch-window model, one BLAS thread: median ms per evaluation")
     print(f"{'case':42s}{'target':>9s}{'numpy':>9s}{'dense':>9s}{'new':>8s}"
           f"{'np/new':>8s}{'dense/new':>10s}{'max|Δ|/peak':>13s}  load")
     force = ZivanovicForce()
     with threadpool_limits(1):
-        for name, structure, crowd, msd, grid, window, lowpass, target in welch_cases():
-            model = SpectralModel(structure, crowd, grid, welch_window_length=window,
-                                  lowpass=lowpass)
-            attached = model._attached(msd)
-            outputs = model.output_names
-            if lowpass is None:
-                def reference():
-                    return welch_expectation(structure, crowd, msd, grid, outputs, force, window)
-            else:
-                reference = None
-            functions = [lambda: model._dense_welch_psd(attached), lambda: model.psd_array(msd)]
-            if reference is not None:
-                functions.insert(0, reference)
-            times = interleaved(functions, repeat=5)
-            new = model.psd_array(msd)
-            if reference is not None:
-                numpy_time, dense_time, new_time = times
-                truth = reference()
-            else:
-                numpy_time = float("nan")
-                dense_time, new_time = times
-                truth = model._dense_welch_psd(attached)
-            error = (np.abs(new - truth) / truth.max(axis=1, keepdims=True)).max()
-            print(f"{name:42s}{target:>9s}{numpy_time * 1e3:9.2f}{dense_time * 1e3:9.2f}"
-                  f"{new_time * 1e3:8.2f}{numpy_time / new_time:8.1f}{dense_time / new_time:10.1f}"
-                  f"{error:13.1e}  {load()}")
+        for case in welch_cases():
+            welch_row(*case, force)
     print("(numpy: benchmarks/_numpy_reference.py, exact PSD at 16 points per bin by batched "
           "linalg.solve, then the kernel sum; dense: the rule crowdvib used before; the "
           "eeklo-like row is compared with dense, the numpy reference has no filter)")
     print()
     print("Exact PSD (no Welch smoothing), one BLAS thread: median ms per evaluation")
     paper = paper_example()
-    big = fourteen_mode_bridge()
     with threadpool_limits(1):
-        for name, structure, crowd, msd, grid in [
-                ("paper example, 601 f", paper.structure, paper.crowd, paper.msd,
-                 np.arange(0, 601) / 60.0),
-                ("14 modes x 2 outputs x 6000 f", big, Crowd.from_density(0.5), MSDModel(),
-                 np.linspace(0.0, 20.0, 6000))]:
-            model = SpectralModel(structure, crowd, grid)
-            outputs = model.output_names
-            numpy_time, new_time = interleaved(
-                [lambda: exact_psd(structure, crowd, msd, grid, outputs, force),
-                 lambda: model.psd_array(msd)], repeat=5)
-            print(f"{name:42s} numpy {numpy_time * 1e3:8.2f}  crowdvib {new_time * 1e3:7.2f}"
-                  f"  ratio {numpy_time / new_time:6.1f}  {load()}")
+        exact_row("paper example, 601 f", paper.structure, paper.crowd, paper.msd,
+                  np.arange(0, 601) / 60.0, force)
+        exact_row("14 modes x 2 outputs x 6000 f", fourteen_mode_bridge(),
+                  Crowd.from_density(0.5), MSDModel(), np.linspace(0.0, 20.0, 6000), force)
 
 
 def bench_simulate(records=4, seconds=300.0):

@@ -5,7 +5,6 @@ import sys
 from pathlib import Path
 
 from .. import __version__
-from .._threads import default_workers
 from .._files import write_json
 from ..reporting.report import provenance, write_report
 from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, dask_address,
@@ -43,7 +42,7 @@ def _resume_command(args):
     words = ["crowdvib", "sensitivity", str(args.case), "--out", str(args.out)]
     if args.scheduler is not None:
         words += ["--scheduler", args.scheduler]
-    elif args.workers != default_workers():
+    elif args.workers != 1:     # the results do not depend on it; said as given
         words += ["--workers", str(args.workers)]
     words += [flag for flag, given in (("--no-joint", args.no_joint),
                                        ("--no-record-length", args.no_record_length)) if given]

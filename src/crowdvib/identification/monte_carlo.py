@@ -9,23 +9,30 @@ each finished batch is kept in a :class:`~crowdvib.identification.tasks.TaskStor
 interrupted study resumes without simulating again what is done.
 """
 
+import concurrent.futures
 import importlib
 import json
 import numbers
+import os
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from .._files import _json_default
 from ..errors import CrowdvibError, ParameterError
+from ..models.crowd import Crowd
+from ..models.structure import ModalModel
 from ..response.batch import _check_seeds, simulate_many
+from ..response.results import Simulation
 from ..response.traffic import _check_duration
-from .tasks import run_tasks
+from .tasks import TaskStore, run_tasks
 
 __all__ = ["monte_carlo", "record_statistics"]
 
 
-def record_statistics(record):
+def record_statistics(record: Simulation) -> dict:
     """Default summary of a record: seed, walkers, and RMS and peak |a| per output [m/s²]."""
     acceleration = record.acceleration
     return {"seed": record.seed, "n_pedestrians": record.n_pedestrians,
@@ -75,8 +82,12 @@ def _resolve(name):
     return value
 
 
-def monte_carlo(structure, crowd, duration, *, seeds, summary=record_statistics, batch_size=10,
-                executor=None, store=None, progress=None, **options):
+def monte_carlo(structure: ModalModel, crowd: Crowd | None, duration: float, *,
+                seeds: Sequence[int], summary: Callable[[Simulation], dict] = record_statistics,
+                batch_size: int = 10, executor: concurrent.futures.Executor | None = None,
+                store: TaskStore | str | os.PathLike | None = None,
+                progress: Callable[[int, int], None] | None = None,
+                **options: Any) -> list[dict]:
     """Simulate one record per seed and reduce each with ``summary``, batch by batch.
 
     Parameters

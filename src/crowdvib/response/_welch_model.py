@@ -144,7 +144,9 @@ class CorrectedWelch:
         frequency = self.rule.frequency
         width = -poles.real / (2 * np.pi)
         centre = poles.imag / (2 * np.pi)
-        narrow = ((poles.imag > 0) & (width < self._narrow)
+        # A pole below 10 Taylor steps is no resonance of the walking band (an over-damped
+        # or slow pole; there w ∝ ω⁴ s vanishes) and its stencil would reach f < 0.
+        narrow = ((centre > 10 * TAYLOR_STEP) & (width < self._narrow)
                   & (centre > frequency[0] - self._reach) & (centre < frequency[-1] + self._reach))
         resolvent = 1.0 / (2j * np.pi * self.grid[:, np.newaxis] - poles)   # (n_grid, 2N)
         power = 2.0 * (resolvent @ beta.T).real                             # (n_grid, n_out)
