@@ -11,9 +11,13 @@ memory of the occupied mode, the expected PSD is the mixture
 of smeared-crowd PSDs, each with the crowd scaled by λ (load and added mass together). λ is a
 compound-Poisson variable whose cumulants follow from the mode shape (Campbell's theorem):
 κ_r(ψ) = d ∫ φ^{2r} dA. :class:`FluctuatingSpectralModel` evaluates the mixture with a Gauss
-quadrature built from these moments: a handful of :class:`~crowdvib.response.SpectralModel`
+quadrature of that law: a handful of :class:`~crowdvib.response.SpectralModel`
 instances, each used as a black box.
 """
+
+from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -27,7 +31,7 @@ from ..signals import ResponsePSD
 from .spectral import SpectralModel
 
 __all__ = ["FluctuatingSpectralModel", "occupancy_quadrature", "occupancy_cumulants",
-           "CROWD_MODELS"]
+           "occupancy_law", "dominant_mode", "spectral_model", "CROWD_MODELS"]
 
 #: Expected-PSD models of the crowd: the mean crowd, or the mixture over its occupancy.
 CROWD_MODELS = ("smeared", "fluctuating")
@@ -36,7 +40,8 @@ CROWD_MODELS = ("smeared", "fluctuating")
 _REFERENCE_MSD = MSDModel()
 
 
-def dominant_mode(structure, crowd, frequency, force=None, outputs=None):
+def dominant_mode(structure: ModalModel, crowd: Crowd, frequency: np.ndarray, force=None,
+                  outputs: Sequence[str] | None = None) -> int:
     """Index of the mode with the largest resonant response at the outputs within ``frequency``.
 
     Peak of mode j alone without HSI, Σ_o φ_oj² Ψ_jj s(f_j) / (4 ξ_j² m_j²) (acceleration PSD at
@@ -54,7 +59,8 @@ def dominant_mode(structure, crowd, frequency, force=None, outputs=None):
     return int(np.argmax(peak))
 
 
-def occupancy_cumulants(structure, density, mode, order=6):
+def occupancy_cumulants(structure: ModalModel, density: float, mode: int,
+                        order: int = 6) -> np.ndarray:
     """Cumulants κ_1 … κ_order of λ = ψ_jj/E[ψ_jj] for a Poisson crowd of ``density`` [-].
 
     A Poisson field of walkers of intensity d gives ψ = Σ_k φ_j²(x_k) the cumulants
@@ -79,7 +85,8 @@ _NODE_COUNTS = (3, 5, 7, 9, 13, 17, 25)
 _NODE_TOLERANCE = 5e-3
 
 
-def occupancy_law(structure, density, mode):
+def occupancy_law(structure: ModalModel, density: float,
+                  mode: int) -> tuple[np.ndarray, np.ndarray]:
     """The law of λ = ψ_jj/E[ψ_jj] on a grid → (λ values, probabilities).
 
     Its characteristic function is exact for a Poisson field of walkers,
@@ -99,7 +106,8 @@ def occupancy_law(structure, density, mode):
     return step * np.arange(_LAW_POINTS), probability / probability.sum()
 
 
-def _gauss_rule(values, probabilities, n_nodes):
+def _gauss_rule(values: np.ndarray, probabilities: np.ndarray,
+                n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
     """n-point Gauss rule of a discrete law: nodes and weights (E[g] ≈ Σ w_i g(x_i)).
 
     Lanczos on diag(x) from the vector √p (with full reorthogonalisation) gives the Jacobi matrix
@@ -127,7 +135,8 @@ def _gauss_rule(values, probabilities, n_nodes):
     return nodes, weights / weights.sum()
 
 
-def occupancy_quadrature(structure, crowd, mode, n_nodes):
+def occupancy_quadrature(structure: ModalModel, crowd: Crowd, mode: int,
+                         n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss nodes λ_i and weights w_i of the occupancy λ = ψ/ψ̄: E[g(λ)] ≈ Σ w_i g(λ_i)."""
     if n_nodes == 1 or crowd.density == 0:
         return np.ones(1), np.ones(1)
@@ -156,16 +165,17 @@ class FluctuatingSpectralModel:
         its λ.
     """
 
-    def __init__(self, structure, crowd, frequency, *, n_nodes=None, mode=None, **options):
+    def __init__(self, structure: ModalModel, crowd: Crowd, frequency, *,
+                 n_nodes: int | None = None, mode: int | None = None, **options) -> None:
         check_type("structure", structure, ModalModel)
         check_type("crowd", crowd, Crowd)
         if n_nodes is not None and (not isinstance(n_nodes, (int, np.integer))
                                     or not 1 <= n_nodes <= 40):
             raise ParameterError(f"n_nodes must be an integer from 1 to 40, got {n_nodes!r}")
         base = SpectralModel(structure, crowd, frequency, **options)
-        for name in ("structure", "crowd", "frequency", "force", "output_names",
-                     "welch_window_length", "lowpass"):
-            setattr(self, name, getattr(base, name))
+        self.structure, self.crowd, self.frequency = base.structure, base.crowd, base.frequency
+        self.force, self.output_names = base.force, base.output_names
+        self.welch_window_length, self.lowpass = base.welch_window_length, base.lowpass
         self.mode = (dominant_mode(structure, crowd, base.frequency, options.get("force"),
                                    base.output_names) if mode is None else int(mode))
         if crowd.density == 0 or n_nodes == 1:
@@ -185,17 +195,18 @@ class FluctuatingSpectralModel:
         current = rule(_NODE_COUNTS[0])
         for count in _NODE_COUNTS[1:]:
             finer = rule(count)
-            coarse, fine = (_mixture(*r[1:], _REFERENCE_MSD) for r in (current, finer))
+            coarse = _mixture(current[1], current[2], _REFERENCE_MSD)
+            fine = _mixture(finer[1], finer[2], _REFERENCE_MSD)
             if np.abs(coarse - fine).max() <= _NODE_TOLERANCE * fine.max():
                 break
             current = finer
         self.nodes, self.weights, self._models = current
 
-    def psd_array(self, msd=None):
+    def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
         """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
         return _mixture(self.weights, self._models, msd)
 
-    def psd(self, msd=None):
+    def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
         """Expected PSD at the outputs → :class:`ResponsePSD`."""
         return ResponsePSD(frequency=self.frequency, psd=self.psd_array(msd),
                            output_names=self.output_names,
@@ -211,7 +222,9 @@ def _mixture(weights, models, msd):
     return total
 
 
-def spectral_model(structure, crowd, frequency, *, crowd_model="smeared", **options):
+def spectral_model(structure: ModalModel, crowd: Crowd, frequency, *,
+                   crowd_model: str = "smeared",
+                   **options) -> SpectralModel | FluctuatingSpectralModel:
     """A :class:`SpectralModel` (``"smeared"``) or :class:`FluctuatingSpectralModel`."""
     if crowd_model not in CROWD_MODELS:
         raise ParameterError(f"crowd_model must be one of {list(CROWD_MODELS)}, got "
