@@ -126,11 +126,7 @@ def _estimate_case(case, out):
     estimate = estimate_hsi(measured, case.structure, crowd, free_mass_ratio=free_mass,
                             **options)
     found = estimate.msd
-    summary = estimate.to_dict()["estimate"]
-    say(f"  estimate f_h1 = {with_interval(found.frequency, interval_of(summary, 'frequency'), 'Hz')}"
-        f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
-        f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
-        f"J/J_noHSI = {estimate.relative_cost:.3g}")
+    _say_estimate(estimate)
     if case.expected:
         for key, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1")):
             if key in case.expected:
@@ -186,11 +182,8 @@ def _estimate_joint(case, out):
     estimate = estimate_hsi_joint([p[2] for p in parts], case.structure, [p[4] for p in parts],
                                   free_mass_ratio="mass_ratio" in est.free_parameters,
                                   **options)
-    found, summary = estimate.msd, estimate.to_dict()["estimate"]
-    say(f"  estimate f_h1 = {with_interval(found.frequency, interval_of(summary, 'frequency'), 'Hz')}"
-        f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
-        f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
-        f"J/J_noHSI = {estimate.relative_cost:.3g}")
+    found = estimate.msd
+    _say_estimate(estimate)
     labels = [f"{block.name} {name}" for block, record, *_ in parts
               for name in record.channel_names]
     names = unique_filenames(labels, prefix="psd_", suffix=".png")
@@ -223,6 +216,15 @@ def _estimate_joint(case, out):
             "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(),
             "records": records, "estimate": hsi["estimate"], "expected": dict(case.expected),
             "diagnostics": diagnostics, "figures": figures}
+
+
+def _say_estimate(estimate):
+    """One line: the estimate with its intervals and the relative misfit."""
+    found, summary = estimate.msd, estimate.to_dict()["estimate"]
+    say(f"  estimate f_h1 = {with_interval(found.frequency, interval_of(summary, 'frequency'), 'Hz')}"
+        f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
+        f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
+        f"J/J_noHSI = {estimate.relative_cost:.3g}")
 
 
 def _fitted_and_no_hsi(case, crowd, measured, lowpass, msd, outputs):
