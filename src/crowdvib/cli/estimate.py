@@ -122,7 +122,7 @@ def _estimate_case(case, out):
                                          else "no record length (record too short)"))
     crowd, step_result = case_crowd(case, record)
     free_mass = "mass_ratio" in est.free_parameters
-    options = dict(estimate_options(case), outputs=outputs)
+    options = dict(estimate_options(case), **estimate_extras(case), outputs=outputs)
     estimate = estimate_hsi(measured, case.structure, crowd, free_mass_ratio=free_mass,
                             **options)
     found = estimate.msd
@@ -178,7 +178,7 @@ def _estimate_joint(case, out):
         record, measured, lowpass = case_measurement(block)
         crowd, step_result = case_crowd(block, record)
         parts.append((block, record, measured, lowpass, crowd, step_result))
-    options = dict(estimate_options(case), outputs=est.outputs)
+    options = dict(estimate_options(case), **estimate_extras(case), outputs=est.outputs)
     estimate = estimate_hsi_joint([p[2] for p in parts], case.structure, [p[4] for p in parts],
                                   free_mass_ratio="mass_ratio" in est.free_parameters,
                                   **options)
@@ -247,4 +247,10 @@ def estimate_options(case):
                 starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
                 match_welch=est.match_welch, method=est.method,
                 interval=None if est.interval == "none" else est.interval, level=est.level,
-                crowd_model=est.crowd_model, n_boot=est.n_boot, rng=case.seed)
+                n_boot=est.n_boot, rng=case.seed)
+
+
+def estimate_extras(case):
+    """The [estimation] option only ``crowdvib estimate`` uses: the crowd model of the expected
+    PSD (the studies, map and sensitivity, compare with the paper's smeared model)."""
+    return dict(crowd_model=case.estimation.crowd_model)
