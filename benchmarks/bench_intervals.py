@@ -13,8 +13,9 @@ coverage of the truth by the 95 % profile interval per parameter, mean error wit
 interval, the standard deviation per record and the mean interval width, plus time per
 estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]``
 (density in persons/m², default the paper's 0.5; walking speed from Weidmann's relation).
-``python benchmarks/bench_intervals.py bootstrap [N] [density] [n_boot]`` checks the parametric
-bootstrap of least squares (percentile intervals, smeared model) on N Gaussian records.
+``python benchmarks/bench_intervals.py bootstrap [N] [density] [n_boot] [first]`` checks the
+parametric bootstrap of least squares (percentile intervals, smeared model) on N Gaussian records
+(seeds from ``first``).
 With the environment variable ``CROWDVIB_RECORD_CACHE`` set to a directory, the simulated
 records' Welch PSDs are kept there (one pickle per density and seed) and reused.
 """
@@ -45,10 +46,10 @@ def paper_crowd(density):
 MSD = MSDModel(TRUTH["frequency"], TRUTH["damping_ratio"], 0.95)
 
 
-def gaussian_records(n, crowd):
+def gaussian_records(n, crowd, first=0):
     frequency = record_frequencies(3600.0, 20.0)
     psd = response_psd(BRIDGE, crowd, frequency, msd=MSD).psd
-    for seed in range(n):
+    for seed in range(first, first + n):
         record = gaussian_record(psd, 20.0, rng=seed)
         yield welch_psd(record, 20.0, window_length=60.0, output_names=["midspan"]).band(0, 10)
 
@@ -76,17 +77,19 @@ def simulated_records(n, crowd):
         yield simulated_record(crowd, seed)
 
 
-def bootstrap(n=200, density=0.5, n_boot=100):
-    """Coverage of the least-squares percentile intervals on n Gaussian records."""
+def bootstrap(n=200, density=0.5, n_boot=100, first=0):
+    """Coverage of the least-squares percentile intervals on n Gaussian records (seeds
+    ``first`` … ``first + n − 1``, so that shards can run side by side)."""
     crowd = paper_crowd(density)
     found, started = [], time.perf_counter()
-    for seed, measured in enumerate(gaussian_records(n, crowd)):
+    for seed, measured in enumerate(gaussian_records(n, crowd, first), start=first):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", BoundWarning)
             estimate = estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0),
                                     interval="bootstrap", n_boot=n_boot, rng=10_000 + seed)
         found.append([(getattr(estimate.msd, name), *estimate.interval(name))
                       for name in TRUTH])
+        print("record", seed, found[-1], flush=True)
     print(f"gaussian records of the paper example at {density:g} P/m², n = {n}, least squares, "
           f"95 % parametric-bootstrap percentile intervals of {n_boot} replicates")
     _table({("least_squares", "bootstrap"): found}, n,
@@ -131,7 +134,7 @@ def main(kind="gaussian", n=40, density=0.5):
 
 
 if __name__ == "__main__" and sys.argv[1:2] == ["bootstrap"]:
-    bootstrap(*(f(a) for f, a in zip((int, float, int), sys.argv[2:])))
+    bootstrap(*(f(a) for f, a in zip((int, float, int, int), sys.argv[2:])))
 elif __name__ == "__main__":
     main(sys.argv[1] if len(sys.argv) > 1 else "gaussian",
          int(sys.argv[2]) if len(sys.argv) > 2 else 40,

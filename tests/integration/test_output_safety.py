@@ -181,7 +181,7 @@ def test_manifest_lists_every_file_with_size_and_digest(simulated):
     listed = {f["path"]: f for f in manifest["files"]}
     files = sorted(p.name for p in simulated.iterdir() if p.name != MANIFEST_NAME)
     assert sorted(listed) == files == ["psd.png", "record.npz", "report.html", "results.json",
-                                       "time_history.png"]
+                                       "time_history_midspan.png"]
     for name, entry in listed.items():
         assert entry["size"] == (simulated / name).stat().st_size
         assert entry["sha256"] == sha256_file(simulated / name)

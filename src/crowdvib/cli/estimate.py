@@ -122,15 +122,11 @@ def _estimate_case(case, out):
                                          else "no record length (record too short)"))
     crowd, step_result = case_crowd(case, record)
     free_mass = "mass_ratio" in est.free_parameters
-    options = dict(estimate_options(case), outputs=outputs)
+    options = dict(estimate_options(case), **estimate_extras(case), outputs=outputs)
     estimate = estimate_hsi(measured, case.structure, crowd, free_mass_ratio=free_mass,
                             **options)
     found = estimate.msd
-    summary = estimate.to_dict()["estimate"]
-    say(f"  estimate f_h1 = {with_interval(found.frequency, interval_of(summary, 'frequency'), 'Hz')}"
-        f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
-        f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
-        f"J/J_noHSI = {estimate.relative_cost:.3g}")
+    _say_estimate(estimate)
     if case.expected:
         for key, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1")):
             if key in case.expected:
@@ -181,15 +177,12 @@ def _estimate_joint(case, out):
         record, measured, lowpass = case_measurement(block)
         crowd, step_result = case_crowd(block, record)
         parts.append((block, record, measured, lowpass, crowd, step_result))
-    options = dict(estimate_options(case), outputs=est.outputs)
+    options = dict(estimate_options(case), **estimate_extras(case), outputs=est.outputs)
     estimate = estimate_hsi_joint([p[2] for p in parts], case.structure, [p[4] for p in parts],
                                   free_mass_ratio="mass_ratio" in est.free_parameters,
                                   **options)
-    found, summary = estimate.msd, estimate.to_dict()["estimate"]
-    say(f"  estimate f_h1 = {with_interval(found.frequency, interval_of(summary, 'frequency'), 'Hz')}"
-        f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
-        f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
-        f"J/J_noHSI = {estimate.relative_cost:.3g}")
+    found = estimate.msd
+    _say_estimate(estimate)
     labels = [f"{block.name} {name}" for block, record, *_ in parts
               for name in record.channel_names]
     names = unique_filenames(labels, prefix="psd_", suffix=".png")
@@ -224,6 +217,15 @@ def _estimate_joint(case, out):
             "diagnostics": diagnostics, "figures": figures}
 
 
+def _say_estimate(estimate):
+    """One line: the estimate with its intervals and the relative misfit."""
+    found, summary = estimate.msd, estimate.to_dict()["estimate"]
+    say(f"  estimate f_h1 = {with_interval(found.frequency, interval_of(summary, 'frequency'), 'Hz')}"
+        f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
+        f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
+        f"J/J_noHSI = {estimate.relative_cost:.3g}")
+
+
 def _fitted_and_no_hsi(case, crowd, measured, lowpass, msd, outputs):
     """The fitted and the no-HSI model PSDs as the estimator compared them."""
     from ..response.fluctuation import spectral_model
@@ -244,4 +246,10 @@ def estimate_options(case):
                 starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
                 match_welch=est.match_welch, method=est.method,
                 interval=None if est.interval == "none" else est.interval, level=est.level,
-                crowd_model=est.crowd_model, n_boot=est.n_boot, rng=case.seed)
+                n_boot=est.n_boot, rng=case.seed)
+
+
+def estimate_extras(case):
+    """The [estimation] option only ``crowdvib estimate`` uses: the crowd model of the expected
+    PSD (the studies, map and sensitivity, compare with the paper's smeared model)."""
+    return dict(crowd_model=case.estimation.crowd_model)

@@ -55,7 +55,7 @@ def run(args):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             estimate = estimate_hsi(measured, case.structure, crowd, **options)
-        for key in ("starts", "bounds", "interval", "level"):
+        for key in ("starts", "bounds", "interval", "level", "n_boot", "rng"):
             options.pop(key)
         started = time.perf_counter()
         landscape = objective_map(measured, case.structure, crowd,

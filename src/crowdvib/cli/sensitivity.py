@@ -84,7 +84,7 @@ def run(args):
     record, measured, lowpass = case_measurement(case)
     crowd, _ = case_crowd(case, record)
     options = estimate_options(case)
-    for key in ("interval", "level"):    # the study compares point estimates
+    for key in ("interval", "level", "n_boot", "rng"):    # the study compares point estimates
         options.pop(key)
     store = TaskStore(out / "tasks")
     done = len(store.keys())

@@ -11,14 +11,17 @@ Refitting every replicate from the estimate gives the bootstrap law of θ̂; the
 percentile interval.
 """
 
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..errors import ParameterError
 from ..signals.synthesis import gaussian_record
 from ..signals.welch import welch_psd
 
-__all__ = ["bootstrap_estimates"]
+__all__ = ["bootstrap_estimates", "percentile_interval"]
 
 #: Kernel reach of the Welch expectation beyond the band [bins of 1/T]: ordinates at the band
 #: edge see the record's PSD this far out (the spectral model uses 8).
@@ -60,7 +63,9 @@ class _Replicates:
         return np.maximum(replicate, _FLOOR * self.expected)
 
 
-def bootstrap_estimates(parts, theta, to_msd, lower, upper, occupancies, n_boot, rng):
+def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, to_msd: Callable,
+                        lower: np.ndarray, upper: np.ndarray, occupancies: Sequence,
+                        n_boot: int, rng: np.random.Generator) -> np.ndarray:
     """θ* of ``n_boot`` parametric-bootstrap replicates → array (n_boot, n_parameters).
 
     Parameters
@@ -98,9 +103,7 @@ def bootstrap_estimates(parts, theta, to_msd, lower, upper, occupancies, n_boot,
     return estimates
 
 
-def percentile_interval(samples, level):
+def percentile_interval(samples: np.ndarray, level: float) -> tuple[float, float]:
     """(low, high): the (1 − level)/2 and (1 + level)/2 quantiles of the replicates."""
-    if samples.shape[0] < 2:
-        raise ParameterError(f"n_boot must be >= 2 for a percentile interval, got "
-                             f"{samples.shape[0]}")
-    return tuple(float(v) for v in np.quantile(samples, [(1 - level) / 2, (1 + level) / 2]))
+    low, high = np.quantile(samples, [(1 - level) / 2, (1 + level) / 2])
+    return float(low), float(high)

@@ -193,12 +193,12 @@ class PSDObjective:
             self._model_inputs.setdefault("n_nodes", model.nodes.size)
         return model
 
-    def exact_model(self, frequency):
+    def exact_model(self, frequency: np.ndarray):
         """The forward model without the Welch kernel on another grid (same crowd, filter)."""
         inputs = dict(self._model_inputs, welch_window_length=None)
         return spectral_model(inputs.pop("structure"), self.model.crowd, frequency, **inputs)
 
-    def with_target(self, psd):
+    def with_target(self, psd: np.ndarray) -> "PSDObjective":
         """The same misfit for another measured PSD on the objective's bins (a bootstrap draw).
 
         ``psd`` has the shape of :attr:`target`; the normalisation follows it as it follows

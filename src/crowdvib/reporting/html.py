@@ -70,7 +70,7 @@ _QUANTITIES = {
     "starts": ("starting points (f_h1, ξ_h1[, μ_h1])", "Hz, -, -"),
     "mean_on_deck": ("mean number on the deck", "-"), "n_pedestrians": ("pedestrians", "-"),
     "time_step": ("time step", "s"), "peak": ("peak acceleration", "m/s²"),
-    "k4": ("exposure factor k4", "-"),
+    "k4": ("exposure factor k4", "-"), "n_boot": ("bootstrap refits", "-"),
 }
 
 

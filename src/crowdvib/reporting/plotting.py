@@ -5,11 +5,16 @@ Every function takes result objects and an optional ``ax``, labels axes with uni
 Axes and never calls ``plt.show()``; matplotlib is imported only when a plot is asked for.
 """
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .figure_base import (_DARK, _LIGHT, FigureAxes, _axes, _in_band, _panels, _positive,
                           figure_bytes, save_figure)
 from .study_plots import plot_estimation_errors, plot_objective_map, plot_parametric_ratios
+
+if TYPE_CHECKING:
+    from ..signals import ResponsePSD
 
 __all__ = ["FigureAxes", "plot_psd_comparison", "plot_psd_residuals", "plot_psd_convergence", "plot_load_psd",
            "plot_hsi_effect", "plot_frf", "plot_objective_map", "plot_estimation_errors",
@@ -69,7 +74,9 @@ def plot_psd_comparison(curves, *, output=None, band=None, analysis_band=None, l
     return ax
 
 
-def plot_psd_residuals(measured, fitted, *, output=None, band=None, ax=None, title=None):
+def plot_psd_residuals(measured: "ResponsePSD", fitted: "ResponsePSD", *,
+                       output: str | None = None, band: tuple | None = None, ax=None,
+                       title: str | None = None):
     """Relative residuals Ĝ/G − 1 of a fit, with the 95 % band of the Welch scatter.
 
     For a Welch estimate of ν equivalent degrees of freedom, Ĝ/G ~ χ²_ν/ν: residuals that stay

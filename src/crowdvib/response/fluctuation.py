@@ -11,12 +11,13 @@ memory of the occupied mode, the expected PSD is the mixture
 of smeared-crowd PSDs, each with the crowd scaled by λ (load and added mass together). λ is a
 compound-Poisson variable whose cumulants follow from the mode shape (Campbell's theorem):
 κ_r(ψ) = d ∫ φ^{2r} dA. :class:`FluctuatingSpectralModel` evaluates the mixture with a Gauss
-quadrature built from these moments: a handful of :class:`~crowdvib.response.SpectralModel`
+quadrature of that law: a handful of :class:`~crowdvib.response.SpectralModel`
 instances, each used as a black box.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -32,7 +33,7 @@ from ..signals import ResponsePSD
 from .spectral import SpectralModel
 
 __all__ = ["FluctuatingSpectralModel", "occupancy_quadrature", "occupancy_cumulants",
-           "CROWD_MODELS"]
+           "occupancy_law", "dominant_mode", "spectral_model", "CROWD_MODELS"]
 
 #: Expected-PSD models of the crowd: the mean crowd, or the mixture over its occupancy.
 CROWD_MODELS = ("smeared", "fluctuating")
@@ -41,7 +42,8 @@ CROWD_MODELS = ("smeared", "fluctuating")
 _REFERENCE_MSD = MSDModel()
 
 
-def dominant_mode(structure, crowd, frequency, force=None, outputs=None):
+def dominant_mode(structure: ModalModel, crowd: Crowd, frequency: np.ndarray, force=None,
+                  outputs: Sequence[str] | None = None) -> int:
     """Index of the mode with the largest resonant response at the outputs within ``frequency``.
 
     Peak of mode j alone without HSI, Σ_o φ_oj² Ψ_jj s(f_j) / (4 ξ_j² m_j²) (acceleration PSD at
@@ -59,7 +61,8 @@ def dominant_mode(structure, crowd, frequency, force=None, outputs=None):
     return int(np.argmax(peak))
 
 
-def occupancy_cumulants(structure, density, mode, order=6):
+def occupancy_cumulants(structure: ModalModel, density: float, mode: int,
+                        order: int = 6) -> np.ndarray:
     """Cumulants κ_1 … κ_order of λ = ψ_jj/E[ψ_jj] for a Poisson crowd of ``density`` [-].
 
     A Poisson field of walkers of intensity d gives ψ = Σ_k φ_j²(x_k) the cumulants
@@ -84,7 +87,8 @@ _NODE_COUNTS = (3, 5, 7, 9, 13, 17, 25)
 _NODE_TOLERANCE = 5e-3
 
 
-def occupancy_law(structure, density, mode):
+def occupancy_law(structure: ModalModel, density: float,
+                  mode: int) -> tuple[np.ndarray, np.ndarray]:
     """The law of λ = ψ_jj/E[ψ_jj] on a grid → (λ values, probabilities).
 
     Its characteristic function is exact for a Poisson field of walkers,
@@ -104,7 +108,8 @@ def occupancy_law(structure, density, mode):
     return step * np.arange(_LAW_POINTS), probability / probability.sum()
 
 
-def _gauss_rule(values, probabilities, n_nodes):
+def _gauss_rule(values: np.ndarray, probabilities: np.ndarray,
+                n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
     """n-point Gauss rule of a discrete law: nodes and weights (E[g] ≈ Σ w_i g(x_i)).
 
     Lanczos on diag(x) from the vector √p (with full reorthogonalisation) gives the Jacobi matrix
@@ -132,7 +137,8 @@ def _gauss_rule(values, probabilities, n_nodes):
     return nodes, weights / weights.sum()
 
 
-def occupancy_quadrature(structure, crowd, mode, n_nodes):
+def occupancy_quadrature(structure: ModalModel, crowd: Crowd, mode: int,
+                         n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss nodes λ_i and weights w_i of the occupancy λ = ψ/ψ̄: E[g(λ)] ≈ Σ w_i g(λ_i)."""
     if n_nodes == 1 or crowd.density == 0:
         return np.ones(1), np.ones(1)
@@ -191,7 +197,8 @@ class FluctuatingSpectralModel:
         current = rule(_NODE_COUNTS[0])
         for count in _NODE_COUNTS[1:]:
             finer = rule(count)
-            coarse, fine = (_mixture(r[1], r[2], _REFERENCE_MSD) for r in (current, finer))
+            coarse = _mixture(current[1], current[2], _REFERENCE_MSD)
+            fine = _mixture(finer[1], finer[2], _REFERENCE_MSD)
             if np.abs(coarse - fine).max() <= _NODE_TOLERANCE * fine.max():
                 break
             current = finer
@@ -217,7 +224,9 @@ def _mixture(weights, models, msd):
     return total
 
 
-def spectral_model(structure, crowd, frequency, *, crowd_model="smeared", **options):
+def spectral_model(structure: ModalModel, crowd: Crowd, frequency, *,
+                   crowd_model: str = "smeared",
+                   **options) -> SpectralModel | FluctuatingSpectralModel:
     """A :class:`SpectralModel` (``"smeared"``) or :class:`FluctuatingSpectralModel`."""
     if crowd_model not in CROWD_MODELS:
         raise ParameterError(f"crowd_model must be one of {list(CROWD_MODELS)}, got "

@@ -27,7 +27,7 @@ def record_frequencies(duration, sample_rate):
     return np.arange(n_samples // 2 + 1) * sample_rate / n_samples
 
 
-def gaussian_record(psd, sample_rate, rng=None, *, coherent=False):
+def gaussian_record(psd, sample_rate, rng=None, *, coherent: bool = False) -> np.ndarray:
     """Gaussian records of the one-sided PSDs ``psd`` (rows) → (n_rows, N).
 
     Parameters

@@ -1,0 +1,175 @@
+"""The result of an HSI estimate: the MSD, its misfit, its uncertainty and its diagnostics.
+
+docs: theory, The estimator; docs: theory, Statistical uncertainty of an estimate.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from scipy import stats
+
+from ..errors import ParameterError
+
+if TYPE_CHECKING:
+    from ..models.pedestrian import MSDModel
+
+__all__ = ["HSIEstimate"]
+
+
+@dataclass(frozen=True, eq=False)
+class HSIEstimate:
+    """Result of :func:`crowdvib.estimate_hsi` (paper Eq. 5 and 6).
+
+    Attributes
+    ----------
+    msd : MSDModel
+        The estimated mass-spring-damper model (f_h1 [Hz], ξ_h1 [-], μ_h1 [-]).
+    cost : float
+        The misfit at the estimate [-]: the Whittle deviance D(θ̂) for the likelihood, or
+        J(θ̂) = Σ_l γ_l ‖G̃_l − G_l(θ̂)‖² / ‖G̃_l‖² (paper Eq. 6) for least squares.
+    cost_no_hsi : float
+        The same objective for the structure without HSI (crowd as moving forces only) [-].
+    n_evaluations : int
+        Forward-model evaluations over all starting points.
+    success : bool
+        Whether the best start converged (``least_squares`` status > 0).
+    active_bounds : tuple of str
+        Parameters of the optimum that sit on a bound, e.g. ``("damping_ratio:upper",)``.
+    free_parameters : tuple of str
+        The estimated parameters.
+    bounds : dict
+        Parameter → (lower, upper).
+    band : tuple of float
+        Analysis band [Hz].
+    output_names : tuple of str
+    output_weights : ndarray
+        γ_l, normalised to sum 1.
+    starts : tuple of dict
+        Per starting point: ``start``, ``estimate``, ``cost``, ``n_evaluations``, ``status``.
+    message : str
+        The optimiser's message for the best start.
+    level_ratio : ndarray
+        Per output, measured over modelled variance in the band at the estimate [-]; far from 1
+        (beyond a factor ``LEVEL_RATIO_LIMIT``) the level itself is wrong (units, gain, channel).
+    method : str
+        The misfit: ``"least_squares"`` (paper Eq. 6) or ``"likelihood"`` (Whittle deviance).
+    covariance : ndarray, shape (n_free, n_free), or None
+        Sandwich covariance of the free parameters (order of ``free_parameters``), from the
+        Welch scatter of this one record (docs: theory, Statistical uncertainty of an estimate).
+    intervals : dict
+        Parameter → (low, high) profile interval at ``interval_level`` (empty if not computed).
+    interval_level : float
+        Confidence level of ``intervals``.
+    interval_on_bound : tuple of str
+        Interval ends that stopped at a search bound, e.g. ``("damping_ratio:upper",)``.
+    crowd_model : str
+        The expected-PSD model of the crowd: ``"smeared"`` or ``"fluctuating"``.
+    interval_method : str or None
+        How ``intervals`` were found: ``"profile"`` or ``"bootstrap"`` (None: not computed).
+    bootstrap_samples : ndarray, shape (n_boot, n_free), or None
+        The refitted parameters of the parametric-bootstrap replicates.
+    """
+
+    msd: MSDModel
+    cost: float
+    cost_no_hsi: float
+    n_evaluations: int
+    success: bool
+    active_bounds: tuple
+    free_parameters: tuple
+    bounds: dict
+    band: tuple
+    output_names: tuple
+    output_weights: np.ndarray
+    starts: tuple = field(default=())
+    message: str = ""
+    level_ratio: np.ndarray = None
+    method: str = "least_squares"
+    covariance: np.ndarray = None
+    intervals: dict = field(default_factory=dict)
+    interval_level: float = 0.95
+    interval_on_bound: tuple = ()
+    crowd_model: str = "smeared"
+    interval_method: str = None
+    bootstrap_samples: np.ndarray = None
+
+    @property
+    def relative_cost(self) -> float:
+        """J(θ̂)/J(no HSI) [-]: the paper's "residual relative to no HSI"."""
+        return self.cost / self.cost_no_hsi if self.cost_no_hsi > 0 else np.nan
+
+    @property
+    def standard_errors(self) -> dict[str, float]:
+        """Parameter → standard error from the sandwich covariance (units of the parameter)."""
+        if self.covariance is None:
+            return {}
+        return {name: float(np.sqrt(max(self.covariance[i, i], 0.0)))
+                for i, name in enumerate(self.free_parameters)}
+
+    @property
+    def correlation(self) -> np.ndarray | None:
+        """Correlation matrix of the free parameters [-], or None."""
+        if self.covariance is None:
+            return None
+        scale = np.sqrt(np.maximum(np.diag(self.covariance), 1e-300))
+        return self.covariance / np.outer(scale, scale)
+
+    def interval(self, parameter: str, level: float = 0.95) -> tuple[float, float]:
+        """Confidence interval (low, high) of a free parameter.
+
+        The profile interval when it was computed at this level, else the Wald interval
+        estimate ± z·SE from the sandwich covariance; both clipped to the search bounds.
+        """
+        if parameter not in self.free_parameters:
+            raise ParameterError(f"parameter must be one of {list(self.free_parameters)}, "
+                                 f"got {parameter!r}")
+        if not 0 < level < 1:
+            raise ParameterError(f"level must lie in (0, 1), got {level!r}")
+        if parameter in self.intervals and np.isclose(level, self.interval_level):
+            return tuple(self.intervals[parameter])
+        if self.covariance is None:
+            raise ParameterError("this estimate carries no covariance (interval=None)")
+        value = getattr(self.msd, parameter)
+        half = stats.norm.ppf(0.5 + level / 2) * self.standard_errors[parameter]
+        low, high = self.bounds[parameter]
+        return (max(value - half, low), min(value + half, high))
+
+    def __repr__(self):
+        parts = []
+        for name in self.free_parameters:
+            value = getattr(self.msd, name)
+            text = f"{name}={value:.4g}"
+            if name in self.intervals:
+                low, high = self.intervals[name]
+                text += f" [{low:.4g}, {high:.4g}]"
+            parts.append(text)
+        return (f"HSIEstimate({', '.join(parts)}, method={self.method!r}, "
+                f"J/J_noHSI={self.relative_cost:.3g})")
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict; the estimate sits under ``"estimate"`` with its interval."""
+        estimate = self.msd.to_dict()
+        if self.covariance is not None:
+            estimate["interval"] = {name: list(self.interval(name, self.interval_level))
+                                    for name in self.free_parameters}
+            estimate["interval"]["level"] = self.interval_level
+            estimate["interval"]["method"] = self.interval_method or "wald"
+            estimate["standard_error"] = self.standard_errors
+        return {
+            "estimate": estimate, "method": self.method, "crowd_model": self.crowd_model,
+            "correlation": None if self.covariance is None else self.correlation.tolist(),
+            "interval_on_bound": list(self.interval_on_bound),
+            "cost": self.cost, "cost_no_hsi": self.cost_no_hsi,
+            "relative_cost": self.relative_cost, "n_evaluations": self.n_evaluations,
+            "success": self.success, "active_bounds": list(self.active_bounds),
+            "free_parameters": list(self.free_parameters),
+            "bounds": {k: list(v) for k, v in self.bounds.items()},
+            "band": list(self.band), "output_names": list(self.output_names),
+            "output_weights": np.asarray(self.output_weights).tolist(),
+            "starts": [dict(s) for s in self.starts], "message": self.message,
+            "level_ratio": None if self.level_ratio is None else
+            np.asarray(self.level_ratio).tolist(),
+        }
