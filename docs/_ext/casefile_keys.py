@@ -14,7 +14,7 @@ from pathlib import Path
 #: Parser function → the case-file section its ``table`` argument is.
 SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd", "_msd": "hsi",
             "_measurement": "measurement", "_estimation": "estimation",
-            "_simulation": "simulation", "_outputs": "structure", "_design": "design",
+            "_simulation": "simulation", "_outputs": "structure", "_output_nodes": "structure", "_design": "design",
             "_design_damper": "design.damper",
             "_measurement_block": "measurement", "_measurements": "case"}
 #: Table accessor → the TOML type it accepts.
@@ -36,6 +36,10 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "estimation.weights": "one per entry of estimation.outputs, > 0",
          "crowd.walking_speed": "> 0; default from Weidmann's speed–density relation",
          "crowd.step_frequency_mean": "> 0; default from Bruno & Venuti's speed relation",
+         "structure.output_nodes": "a table output name = node number (FE exports; instead "
+                                   "of outputs)",
+         "structure.mode_shapes": "CSV of shapes along the walkway, or a CSV node table; left "
+                                  "out when modal_table is a UFF file (it holds the shapes)",
          "case.seed": "a non-negative integer", "case.name": "default: the file name",
          "design.codes": "codes among setra, hivoss, en1990, ukna",
          "design.site_factors.k1": "a number > 0 or a named choice (UK NA, NA.2.44.6)",

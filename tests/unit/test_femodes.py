@@ -148,3 +148,27 @@ def test_station_csv_refuses_fe_options(beam, tmp_path):
     with pytest.raises(ParameterError, match=r"\['along'\] apply to FE exports only"):
         read_modal_model(tmp_path / "modes.csv", tmp_path / "shapes.csv", width=WIDTH,
                          outputs={"m": 25.0}, along="x")
+
+
+def test_a_case_file_names_a_uff_export(beam, tmp_path):
+    # Issue 13: a case file may name an FE export instead of CSV tables; the model is the one
+    # read_modal_model gives for the same file (itself checked against the CSV route above).
+    from crowdvib import load_case
+
+    nodes = write_uff(tmp_path / "beam.uff", beam.positions, beam.mode_shapes[0], [MASS, MASS])
+    (tmp_path / "case.toml").write_text(
+        f'[structure]\nmodal_table = "beam.uff"\nwidth = {WIDTH}\n'
+        f'output_nodes = {{ midspan = {int(nodes[50])} }}\n'
+        '[crowd]\ndensity = 0.5\n')
+    case = load_case(tmp_path / "case.toml")
+    direct = read_modal_model(tmp_path / "beam.uff", width=WIDTH,
+                              output_nodes={"midspan": int(nodes[50])})
+    assert_same(case.structure, direct, tol=1e-12)
+    assert case.structure.output_names == ("midspan",)
+    # midspan node of a unity-scaled first sine mode: φ = 1 (closed form, UFF's 6 digits)
+    assert case.structure.output_shapes[0, 0] == pytest.approx(1.0, abs=1e-5)
+    (tmp_path / "bad.toml").write_text(
+        f'[structure]\nmodal_table = "beam.uff"\nwidth = {WIDTH}\n'
+        'output_nodes = { midspan = "x" }\n[crowd]\ndensity = 0.5\n')
+    with pytest.raises(ParameterError, match="structure.output_nodes must be a table"):
+        load_case(tmp_path / "bad.toml")

@@ -265,15 +265,31 @@ def _structure(table, path):
         else:
             outputs = _outputs(table, path, pairs=True)
             points = table.file("output_points", None)
-            structure = read_modal_model(table.file("modal_table"), table.file("mode_shapes"),
-                                         width=width, outputs=outputs, output_points=points,
-                                         name=name)
+            # An FE export (UFF 15 + 55) holds the shapes itself: mode_shapes is then left out.
+            fe = {key: value for key, value in (
+                ("output_nodes", _output_nodes(table)),
+                ("damping_ratios", table.numbers("damping_ratios", None))) if value is not None}
+            structure = read_modal_model(table.file("modal_table"),
+                                         table.file("mode_shapes", None), width=width,
+                                         outputs=outputs, output_points=points, name=name, **fe)
     except ParameterError as exc:
         if str(exc).startswith(path.name):
             raise
         raise wrap(path, "structure", exc) from None
     table.finish()
     return structure
+
+
+def _output_nodes(table):
+    """``output_nodes = { name = node number }`` of an FE export, or None."""
+    nodes = table.raw("output_nodes", None)
+    if nodes is None:
+        return None
+    if not isinstance(nodes, dict) or not all(
+            isinstance(v, int) and not isinstance(v, bool) for v in nodes.values()):
+        raise table.error("output_nodes", "must be a table output_name = node number (integer)",
+                          nodes)
+    return nodes
 
 
 def _crowd(table, path):
