@@ -142,10 +142,11 @@ def test_damaged_task_files_are_recomputed_with_a_warning_naming_them(tmp_path, 
 
 # ------------------------------------------------------------------------------ fault 4
 @pytest.fixture(scope="module")
-def reference(tmp_path_factory):
-    """The whole study (joint cases and record lengths) run once, uninterrupted, in-process."""
-    out = tmp_path_factory.mktemp("reference") / "study"
-    assert main(["sensitivity", str(CASE), "--out", str(out)]) == 0
+def uninterrupted(tmp_path_factory):
+    """The whole study (joint cases and record lengths) run once, uninterrupted, in-process
+    (``--workers 1``: the default is now one worker per physical core, on dask)."""
+    out = tmp_path_factory.mktemp("uninterrupted") / "study"
+    assert main(["sensitivity", str(CASE), "--out", str(out), "--workers", "1"]) == 0
     return _results(out)
 
 
@@ -182,7 +183,8 @@ def _survivors(group, wait=10.0):
 
 
 @pytest.mark.slow
-def test_parent_killed_five_times_then_resumed_equals_an_uninterrupted_run(tmp_path, reference):
+def test_parent_killed_five_times_then_resumed_equals_an_uninterrupted_run(tmp_path,
+                                                                          uninterrupted):
     # Fault 4: SIGKILL of the parent left both workers alive (10 minutes, ~180 MB each). Five
     # kills at seeded random moments (after the k-th task file, plus up to 0.3 s), each followed
     # by --resume: no worker survives a kill, no finished task is computed again, and the end
@@ -191,7 +193,8 @@ def test_parent_killed_five_times_then_resumed_equals_an_uninterrupted_run(tmp_p
     rng = np.random.default_rng(9)
     out = tmp_path / "study"
     out.mkdir()
-    total = sum(len(r) for r in (reference["sensitivity"]["cases"], reference["record_length"]))
+    total = sum(len(r) for r in (uninterrupted["sensitivity"]["cases"],
+                                 uninterrupted["record_length"]))
     targets = np.sort(rng.choice(np.arange(0, total - 10), size=5, replace=False))
     finished = {}
     for kill, target in enumerate(targets):
@@ -215,11 +218,11 @@ def test_parent_killed_five_times_then_resumed_equals_an_uninterrupted_run(tmp_p
     now = _task_files(out)
     assert len(now) == total
     assert {k: now[k] for k in finished} == finished
-    assert _results(out) == reference
+    assert _results(out) == uninterrupted
 
 
 @pytest.mark.slow
-def test_a_killed_worker_does_not_stop_the_study(tmp_path, reference):
+def test_a_killed_worker_does_not_stop_the_study(tmp_path, uninterrupted):
     # Fault 4: killing one worker of the local pool ended the study with BrokenProcessPool. Now
     # the nanny replaces the worker and the scheduler reruns its task elsewhere.
     psutil = pytest.importorskip("psutil")
@@ -235,13 +238,13 @@ def test_a_killed_worker_does_not_stop_the_study(tmp_path, reference):
     stdout, stderr = process.communicate(timeout=300)
     assert process.returncode == 0, stderr
     assert not workers[0].is_running()
-    assert _results(out) == reference
+    assert _results(out) == uninterrupted
     assert _survivors(process.pid) == []
 
 
 @pytest.mark.slow
 def test_ctrl_c_keeps_finished_tasks_prints_the_resume_command_and_exits_130(tmp_path,
-                                                                             reference):
+                                                                             uninterrupted):
     # Fault 4: Ctrl-C waited minutes, printed a traceback and dropped finished tasks. SIGINT goes
     # to the whole process group, as a terminal's Ctrl-C does.
     pytest.importorskip("distributed")
@@ -268,6 +271,6 @@ def test_ctrl_c_keeps_finished_tasks_prints_the_resume_command_and_exits_130(tmp
     resumed = subprocess.run([sys.executable, "-m", "crowdvib", *command[1:]], cwd=out.parent,
                              capture_output=True, text=True, timeout=300)
     assert resumed.returncode == 0, resumed.stderr
-    assert _results(out) == reference
+    assert _results(out) == uninterrupted
     now = _task_files(out)
     assert {k: now[k] for k in kept} == kept
