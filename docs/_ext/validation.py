@@ -20,7 +20,8 @@ from pathlib import Path
 from sphinx.util import logging
 
 #: Test directories that hold reference checks (collecting only these keeps the build quick).
-PATHS = ("tests/reference", "tests/design")
+PATHS = ("tests/reference", "tests/design", "tests/unit/test_femodes.py",
+         "tests/unit/test_measured_force.py")
 
 _logger = logging.getLogger(__name__)
 

@@ -54,15 +54,18 @@ def poles_from(props):
     return np.sort_complex(-z * w + 1j * w * np.sqrt(1 - z**2))
 
 
-def test_coupled_poles_match_direct_eigen_solve(paper_bridge, two_mode_bridge):
+def test_coupled_poles_match_direct_eigen_solve(paper_bridge, two_mode_bridge, reference):
     # Reference: scipy.linalg.eig of the hand-written 2-DOF (and 4-DOF) M, C, K.
     one = [TunedMassDamper(1000.0, 1.96, 0.08, 25.0)]
     two = [TunedMassDamper(600.0, 1.75, 0.06, 20.0), TunedMassDamper(500.0, 7.0, 0.1, 10.0)]
     for structure, dampers in ((paper_bridge, one), (two_mode_bridge, two)):
         ours = poles_from(effective_modal_properties(structure, dampers=dampers))
-        reference = direct_poles(structure, dampers)
+        direct = direct_poles(structure, dampers)
         assert ours.size == structure.n_modes + len(dampers)
-        np.testing.assert_allclose(ours, reference, rtol=1e-9)
+        np.testing.assert_allclose(ours, direct, rtol=1e-9)     # complex: damping too
+        reference(f"poles of {structure.n_modes} mode(s) with {len(dampers)} TMD(s) (|λ|)",
+                  np.abs(ours), np.abs(direct), rel=1e-9, unit="rad/s",
+                  source="scipy.linalg.eig of the hand-written M, C, K")
 
 
 def test_frf_with_dampers_matches_direct_solve(two_mode_bridge):
@@ -133,7 +136,7 @@ def fixed_points(mu, gamma, output):
 
 
 @pytest.mark.parametrize("mu", [0.02, 0.05, 0.1])
-def test_den_hartog_fixed_points(mu):
+def test_den_hartog_fixed_points(mu, reference):
     # Den Hartog, Mechanical Vibrations (1956), §3.3: with γ = 1/(1+μ) the two fixed points of
     # |X/X_st| have equal heights sqrt(1 + 2/μ), whatever the absorber damping.
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.0, 50e3)
@@ -149,7 +152,9 @@ def test_den_hartog_fixed_points(mu):
     heights = amplitude(tuned, f)
     other = TunedMassDamper(tuned.mass, tuned.frequency, 0.4, tuned.position)
     np.testing.assert_allclose(amplitude(other, f), heights, rtol=1e-9)   # really fixed
-    np.testing.assert_allclose(heights, np.sqrt(1 + 2 / mu), rtol=1e-9)
+    reference(f"Den Hartog fixed-point heights, μ = {mu}", heights,
+              np.full(2, np.sqrt(1 + 2 / mu)), rel=1e-9,
+              source="sqrt(1 + 2/μ) (Den Hartog, Mechanical Vibrations, 1956, §3.3)")
     # Den Hartog's ζ puts the maxima near (not exactly at) the fixed points: the peak of the
     # curve cannot be below them and, for μ <= 0.1, is within 2.1 % (0.7 % at μ = 0.05).
     peak = amplitude(tuned, np.linspace(1.5, 2.5, 100001)).max()

@@ -42,7 +42,7 @@ def ode_peak(frequency, amplitude, speed):
 
 @pytest.mark.parametrize("traffic_class", ["A", "B", "C", "D"])
 @pytest.mark.parametrize("frequency", [1.8, 2.3])
-def test_walkers_against_solve_ivp(traffic_class, frequency):
+def test_walkers_against_solve_ivp(traffic_class, frequency, reference):
     check = design_check(beam(frequency), "ukna", traffic_class=traffic_class)
     size = UKNA_CLASSES[traffic_class][0]
     # NA.2.44.4: F = F0 k(f) sqrt(1 + γ (N − 1)), F0 = 280 N at 1.7 m/s (Table NA.8);
@@ -52,23 +52,27 @@ def test_walkers_against_solve_ivp(traffic_class, frequency):
         1 + ukna_gamma(2 * np.pi * DAMPING, s_eff) * (size - 1))
     expected = ode_peak(frequency, force, 1.7)
     walkers = check.case_accelerations[check.cases.index("walkers"), 0]   # empty model
-    assert walkers[0, 0] == pytest.approx(expected, rel=0.01)
+    reference(f"UK NA walkers class {traffic_class} at {frequency} Hz: midspan peak", walkers[0, 0],
+              expected, rel=0.01, unit="m/s²",
+              source="scipy.integrate.solve_ivp (DOP853) of the moving pulsating force, NA.2.44.4")
     assert walkers[1, 0] == pytest.approx(expected * np.sin(np.pi / 4), rel=0.01)
     assert check.details["cases"]["walkers"]["group_size"] == size
 
 
-def test_joggers_against_solve_ivp():
+def test_joggers_against_solve_ivp(reference):
     check = design_check(beam(2.4), "ukna", traffic_class="D")
     s_eff = 2 * SPAN / np.pi / 0.634
     # Table NA.7 class D: 4 joggers; Table NA.8: F0 = 910 N at 3.0 m/s.
     force = 910.0 * ukna_k_factor(2.4, "joggers") * np.sqrt(
         1 + ukna_gamma(2 * np.pi * DAMPING, s_eff) * 3)
     joggers = check.case_accelerations[check.cases.index("joggers"), 0]
-    assert joggers[0, 0] == pytest.approx(ode_peak(2.4, force, 3.0), rel=0.01)
+    reference("UK NA joggers class D at 2.4 Hz: midspan peak", joggers[0, 0],
+              ode_peak(2.4, force, 3.0), rel=0.01, unit="m/s²",
+              source="scipy.integrate.solve_ivp (DOP853), NA.2.44.4")
 
 
 @pytest.mark.parametrize("traffic_class, density", [("B", 0.4), ("C", 0.8), ("D", 1.5)])
-def test_crowd_steady_state_closed_form(traffic_class, density):
+def test_crowd_steady_state_closed_form(traffic_class, density, reference):
     # NA.2.44.5: w = 1.8 (F0/A) k(f) sqrt(γ N / λ), N = ρA, γ = 0.23 δ/0.2, λ = 0.634 S_eff/S
     # = 2/π for the sine; resonant a = w B (2L/π) / (2 ξ M) at mid-span.
     check = design_check(beam(2.0), "ukna", traffic_class=traffic_class)
@@ -77,7 +81,8 @@ def test_crowd_steady_state_closed_form(traffic_class, density):
     w = 1.8 * 280.0 / area * ukna_k_factor(2.0) * np.sqrt(gamma * density * area / (2 / np.pi))
     expected = w * WIDTH * 2 * SPAN / np.pi / (2 * DAMPING * MASS)
     crowd = check.case_accelerations[check.cases.index("crowd"), 0]
-    assert crowd[0, 0] == pytest.approx(expected, rel=1e-5)
+    reference(f"UK NA crowd class {traffic_class}: steady-state midspan response", crowd[0, 0],
+              expected, rel=1e-5, unit="m/s²", source="closed form of NA.2.44.5 on a sine mode")
     assert check.density == density
 
 

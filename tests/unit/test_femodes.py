@@ -55,7 +55,7 @@ def assert_same(a, b, tol=1e-10):
     np.testing.assert_allclose(a.influence_matrix(0.5), b.influence_matrix(0.5), rtol=tol)
 
 
-def test_uff_reads_back_into_the_csv_routes_model(beam, tmp_path):
+def test_uff_reads_back_into_the_csv_routes_model(beam, tmp_path, reference):
     write_modal_model(beam, tmp_path / "modes.csv", tmp_path / "shapes.csv")
     csv_model = read_modal_model(tmp_path / "modes.csv", tmp_path / "shapes.csv", width=WIDTH,
                                  outputs={"midspan": 25.0})
@@ -64,7 +64,10 @@ def test_uff_reads_back_into_the_csv_routes_model(beam, tmp_path):
     assert_same(uff_model, csv_model)
     # and the closed form: Ψ_11 = d·∫∫φ² = 0.5 · 3 · 25 = 37.5 (docs: theory, paper example), to
     # the trapezoid rule on 51 stations and UFF's 6 digits
-    assert uff_model.influence_matrix(0.5)[0, 0] == pytest.approx(37.5, rel=1e-3)
+    reference("Ψ11 of a beam read from a UFF 15/55 export", uff_model.influence_matrix(0.5)[0, 0],
+              37.5, rel=1e-3, unit="persons",
+              source="closed form n/2 for a unity-scaled sine mode (docs: theory, The paper's "
+                     "numerical example); 6-digit UFF values, trapezoid rule")
 
 
 def test_mass_normalised_export_gets_the_engaged_modal_mass(beam, tmp_path):
