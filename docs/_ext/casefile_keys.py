@@ -1,4 +1,5 @@
-"""The case-file key reference, generated from the parser itself (crowdvib/io/casefile.py).
+"""The case-file key reference, generated from the parser itself (crowdvib/io/casefile.py and
+casedesign.py).
 
 Every key a case file may hold is read in the parser by a call such as
 ``table.number("window_length", 60.0, rule="positive")``. This extension reads those calls from
@@ -128,9 +129,22 @@ def _special(helper, node, prefixes, keys):
             keys[f"{prefix}.{name}"] = ("[lower, upper]", None, False, "0 < lower < upper")
 
 
-def write_reference(source_path, units, target):
-    """Write the reST reference of every key to ``target``."""
-    keys = parser_keys(Path(source_path).read_text(encoding="utf-8"))
+#: The modules whose functions read the case-file keys.
+PARSER_MODULES = ("crowdvib.io.casefile", "crowdvib.io.casedesign")
+
+
+def parser_sources():
+    """Paths of the parser modules' source files."""
+    import importlib
+
+    return [importlib.import_module(name).__file__ for name in PARSER_MODULES]
+
+
+def write_reference(source_paths, units, target):
+    """Write the reST reference of every key the parser modules read to ``target``."""
+    keys = {}
+    for path in [source_paths] if isinstance(source_paths, (str, Path)) else source_paths:
+        keys.update(parser_keys(Path(path).read_text(encoding="utf-8")))
     sections = {}
     for name, row in sorted(keys.items()):
         section, _, key = name.partition(".")
@@ -155,10 +169,9 @@ def write_reference(source_path, units, target):
 
 
 def _generate(app):
-    import crowdvib.io.casefile as casefile
     from crowdvib.reporting.html import _QUANTITIES
 
-    write_reference(casefile.__file__, _QUANTITIES,
+    write_reference(parser_sources(), _QUANTITIES,
                     Path(app.srcdir) / "generated" / "casefile_keys.rst")
 
 

@@ -52,6 +52,9 @@ from ._common import quote, reading
 from ._toml import Table, read_toml, wrap
 from .measurement import load_measurement
 from .modalfiles import read_modal_model, write_modal_model
+from .casedesign import _design
+from .casespecs import (DesignSpec, EstimationSpec, MeasurementBlock, MeasurementSpec,
+                        SimulationSpec, StepFrequencySpec)
 from .records import RECORD_FORMATS, _unit_key
 
 __all__ = ["Case", "MeasurementSpec", "MeasurementBlock", "EstimationSpec", "StepFrequencySpec",
@@ -60,106 +63,6 @@ __all__ = ["Case", "MeasurementSpec", "MeasurementBlock", "EstimationSpec", "Ste
            "paper_example_case"]
 
 # ------------------------------------------------------------------------------------- case
-@dataclass(frozen=True)
-class MeasurementSpec:
-    """How measured records are read and processed (the case file's ``[measurement]``).
-
-    Attributes
-    ----------
-    files : tuple of Path
-        Record files (channels of all files are merged; same length and sample rate).
-    format : str or None
-        Record format (default from each suffix).
-    channels : dict or None
-        Output name → channel name in the file(s); None keeps the file's names.
-    units : str or None
-        "m/s2" or "g"; None: as stored in the file, else m/s².
-    sample_rate : float or None
-        [Hz] for files without time stamps.
-    time_column : str
-    time_frame : None, (float, float) or "stationary"
-        Part of the record used [s].
-    lowpass_cutoff : float or None
-        Zero-phase Butterworth low-pass cut-off [Hz] (paper: 10 Hz); None = no filter.
-    lowpass_order : int
-    resample : float or None
-        New sample rate [Hz] (polyphase), applied after the time frame.
-    window_length : float
-        Welch segment length T [s].
-    overlap : float
-    detrend : str
-        "constant" (paper) or "linear".
-    """
-
-    files: tuple = ()
-    format: str = None
-    channels: dict = None
-    units: str = None
-    sample_rate: float = None
-    time_column: str = "time"
-    time_frame: object = None
-    lowpass_cutoff: float = 10.0
-    lowpass_order: int = 4
-    resample: float = None
-    window_length: float = 60.0
-    overlap: float = 0.5
-    detrend: str = "constant"
-
-
-@dataclass(frozen=True)
-class MeasurementBlock:
-    """One of several ``[[measurement]]`` blocks: a record with its own crowd (joint fit)."""
-
-    name: str
-    measurement: MeasurementSpec
-    crowd: Crowd
-
-
-@dataclass(frozen=True)
-class StepFrequencySpec:
-    """The step-frequency fit of ``[estimation.step_frequencies]`` (paper, Waalse Krook)."""
-
-    cutoff: float = 2.3
-    band: tuple = None
-    starts: tuple = None
-    bounds: dict = None
-    outputs: tuple = None
-    use_fitted: bool = True
-
-
-@dataclass(frozen=True)
-class EstimationSpec:
-    """The inverse problem of ``[estimation]`` (paper Eq. 5 and 6)."""
-
-    band: tuple = (0.0, 10.0)
-    outputs: tuple = None
-    output_weights: tuple = None
-    starts: tuple = None
-    bounds: dict = None
-    free_parameters: tuple = ("frequency", "damping_ratio")
-    match_welch: bool = True
-    convergence_norm: str = "2"
-    step_frequencies: StepFrequencySpec = None
-    method: str = "least_squares"
-    interval: str = "profile"
-    level: float = 0.95
-    crowd_model: str = "smeared"
-    n_boot: int = 200
-
-
-@dataclass(frozen=True)
-class SimulationSpec:
-    """Time-domain simulation of ``[simulation]`` (used by ``crowdvib simulate``)."""
-
-    duration: float = 600.0
-    sample_rate: float = 100.0
-    warm_up: float = 0.0
-    hsi: bool = True
-    record_sample_rate: float = None
-    formats: tuple = ("npz",)
-    dtype: str = "float64"
-
-
 @dataclass(frozen=True, eq=False)
 class Case:
     """A case file read and checked: the models and how to process and estimate."""
@@ -532,7 +435,7 @@ def _case(path, data):
         root.used.add("estimation")
     simulation = _simulation(root.table("simulation"), path)
     expected = _expected(root.table("expected"))
-    design = _design(root.table("design"), path) if root.has("design") else None
+    design = _design(root.table("design"), path, _msd) if root.has("design") else None
     root.finish()
     not_set = _not_set(root.defaulted | ({"estimation"} if not root.has("estimation") else set()))
     outputs = estimation.outputs or structure.output_names
@@ -578,118 +481,3 @@ def paper_example_case():
                 simulation=SimulationSpec(duration=3600.0, sample_rate=100.0, warm_up=200.0),
                 expected=example.msd.to_dict(), seed=20230101,
                 description="Van Nimmen & Van den Broeck (2023), numerical example")
-
-
-# ------------------------------------------------------------------------------------- [design]
-# The design checks of `crowdvib check` (issue 11), kept apart from the other sections.
-
-@dataclass(frozen=True)
-class DesignSpec:
-    """The design checks of ``[design]`` (used by ``crowdvib check``).
-
-    Attributes
-    ----------
-    codes : tuple of str
-        Codes of :func:`crowdvib.design.design_check` to check.
-    classes : dict
-        Code → traffic class ("TC3", "II", "B", …); a code without one takes ``density``.
-    density : float or None
-        Crowd density [persons/m²] overriding the classes' (and the checks' only one for codes
-        without a class).
-    comfort_class : str or None
-        Target comfort class of Sétra/HiVoSS (default CL2).
-    hsi : bool
-        Add the HSI model with ``msd``.
-    msd : MSDModel or None
-        ``[design.msd]``; None: the case's ``[hsi]``.
-    site_factors : dict
-        k1…k4 of the UK NA limit (numbers or named choices).
-    weighting : str or None
-        "Wb": running RMS of W_b-weighted accelerations where computed.
-    damper : dict or None
-        ``[design.damper]``: mass, frequency, damping_ratio, position[, lane], or mode and
-        mass_ratio (tuned with :func:`crowdvib.design.tune_damper`).
-    prediction : bool
-        Add the stochastic prediction of the case's ``[crowd]`` stream.
-    duration : float
-        Record length [s] of the prediction's expected peak.
-    """
-
-    codes: tuple
-    classes: dict = field(default_factory=dict)
-    density: float | None = None
-    comfort_class: str | None = None
-    hsi: bool = True
-    msd: MSDModel | None = None
-    site_factors: dict = field(default_factory=dict)
-    weighting: str | None = None
-    damper: dict | None = None
-    prediction: bool = True
-    duration: float = 600.0
-
-
-def _design(table, path):
-    from ..design.codes import CODES, COMFORT_CLASSES
-
-    codes = table.strings("codes")
-    for code in codes:
-        if code not in CODES:
-            raise table.error("codes", f"must list codes among {list(CODES)}", list(codes))
-    classes_table = table.table("classes")
-    classes = {"setra": classes_table.string("setra", None),
-               "hivoss": classes_table.string("hivoss", None),
-               "en1990": classes_table.string("en1990", None),
-               "ukna": classes_table.string("ukna", None)}
-    classes_table.finish()
-    factors_table = table.table("site_factors")
-    factors = {"k1": factors_table.raw("k1", None), "k2": factors_table.raw("k2", None),
-               "k3": factors_table.raw("k3", None), "k4": factors_table.raw("k4", None)}
-    for name, value in factors.items():
-        if value is not None and (isinstance(value, bool)
-                                  or not isinstance(value, (int, float, str))):
-            raise factors_table.error(name, "must be a number or a named choice", value)
-    factors = {name: value for name, value in factors.items() if value is not None}
-    factors_table.finish()
-    msd = None
-    if table.has("msd"):
-        msd_table = table.table("msd")              # the keys of [hsi]
-        msd = _msd(msd_table, path)
-    damper = _design_damper(table.table("damper"), path) if table.has("damper") else None
-    spec = DesignSpec(
-        codes=codes, classes={k: v for k, v in classes.items() if v is not None},
-        density=table.number("density", None, rule="positive"),
-        comfort_class=table.string("comfort_class", None,
-                                   choices=[name for name, _ in COMFORT_CLASSES[:-1]]),
-        hsi=table.boolean("hsi", True), msd=msd, site_factors=factors,
-        weighting=table.string("weighting", None, choices=("Wb",)), damper=damper,
-        prediction=table.boolean("prediction", True),
-        duration=table.number("duration", 600.0, rule="positive"))
-    table.finish()
-    try:                       # the checks' own validation, reported against the case file
-        from ..design.codes import ukna_limit
-
-        ukna_limit(factors)
-        for code, traffic_class in spec.classes.items():
-            if code not in codes:
-                raise ParameterError(f"classes.{code} is given but {code!r} is not in "
-                                     f"design.codes {list(codes)}")
-    except ParameterError as exc:
-        raise wrap(path, "design", exc) from None
-    return spec
-
-
-def _design_damper(table, path):
-    """``[design.damper]``: an explicit damper, or a mode and mass ratio to tune one for."""
-    if table.has("mode"):
-        mode = table.number("mode", rule="positive")
-        if int(mode) != mode:
-            raise table.error("mode", "must be an integer >= 1 (1 = the first mode)", mode)
-        damper = {"mode": int(mode), "mass_ratio": table.number("mass_ratio", rule="fraction")}
-    else:
-        damper = {"mass": table.number("mass", rule="positive"),
-                  "frequency": table.number("frequency", rule="positive"),
-                  "damping_ratio": table.number("damping_ratio", rule="fraction"),
-                  "position": table.number("position"),
-                  "lane": table.number("lane", None, rule="non_negative")}
-    table.finish()
-    return damper

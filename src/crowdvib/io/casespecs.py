@@ -1,0 +1,158 @@
+"""What a case file asks for, table by table, once read and checked: the specifications that
+:class:`crowdvib.io.casefile.Case` carries (the parsing is in :mod:`crowdvib.io.casefile`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..models.crowd import Crowd
+    from ..models.pedestrian import MSDModel
+
+__all__ = ["MeasurementSpec", "MeasurementBlock", "StepFrequencySpec", "EstimationSpec",
+           "SimulationSpec", "DesignSpec"]
+
+@dataclass(frozen=True)
+class MeasurementSpec:
+    """How measured records are read and processed (the case file's ``[measurement]``).
+
+    Attributes
+    ----------
+    files : tuple of Path
+        Record files (channels of all files are merged; same length and sample rate).
+    format : str or None
+        Record format (default from each suffix).
+    channels : dict or None
+        Output name → channel name in the file(s); None keeps the file's names.
+    units : str or None
+        "m/s2" or "g"; None: as stored in the file, else m/s².
+    sample_rate : float or None
+        [Hz] for files without time stamps.
+    time_column : str
+    time_frame : None, (float, float) or "stationary"
+        Part of the record used [s].
+    lowpass_cutoff : float or None
+        Zero-phase Butterworth low-pass cut-off [Hz] (paper: 10 Hz); None = no filter.
+    lowpass_order : int
+    resample : float or None
+        New sample rate [Hz] (polyphase), applied after the time frame.
+    window_length : float
+        Welch segment length T [s].
+    overlap : float
+    detrend : str
+        "constant" (paper) or "linear".
+    """
+
+    files: tuple = ()
+    format: str = None
+    channels: dict = None
+    units: str = None
+    sample_rate: float = None
+    time_column: str = "time"
+    time_frame: object = None
+    lowpass_cutoff: float = 10.0
+    lowpass_order: int = 4
+    resample: float = None
+    window_length: float = 60.0
+    overlap: float = 0.5
+    detrend: str = "constant"
+
+
+@dataclass(frozen=True)
+class MeasurementBlock:
+    """One of several ``[[measurement]]`` blocks: a record with its own crowd (joint fit)."""
+
+    name: str
+    measurement: MeasurementSpec
+    crowd: Crowd
+
+
+@dataclass(frozen=True)
+class StepFrequencySpec:
+    """The step-frequency fit of ``[estimation.step_frequencies]`` (paper, Waalse Krook)."""
+
+    cutoff: float = 2.3
+    band: tuple = None
+    starts: tuple = None
+    bounds: dict = None
+    outputs: tuple = None
+    use_fitted: bool = True
+
+
+@dataclass(frozen=True)
+class EstimationSpec:
+    """The inverse problem of ``[estimation]`` (paper Eq. 5 and 6)."""
+
+    band: tuple = (0.0, 10.0)
+    outputs: tuple = None
+    output_weights: tuple = None
+    starts: tuple = None
+    bounds: dict = None
+    free_parameters: tuple = ("frequency", "damping_ratio")
+    match_welch: bool = True
+    convergence_norm: str = "2"
+    step_frequencies: StepFrequencySpec = None
+    method: str = "least_squares"
+    interval: str = "profile"
+    level: float = 0.95
+    crowd_model: str = "smeared"
+    n_boot: int = 200
+
+
+@dataclass(frozen=True)
+class SimulationSpec:
+    """Time-domain simulation of ``[simulation]`` (used by ``crowdvib simulate``)."""
+
+    duration: float = 600.0
+    sample_rate: float = 100.0
+    warm_up: float = 0.0
+    hsi: bool = True
+    record_sample_rate: float = None
+    formats: tuple = ("npz",)
+    dtype: str = "float64"
+
+
+@dataclass(frozen=True)
+class DesignSpec:
+    """The design checks of ``[design]`` (used by ``crowdvib check``).
+
+    Attributes
+    ----------
+    codes : tuple of str
+        Codes of :func:`crowdvib.design.design_check` to check.
+    classes : dict
+        Code → traffic class ("TC3", "II", "B", …); a code without one takes ``density``.
+    density : float or None
+        Crowd density [persons/m²] overriding the classes' (and the checks' only one for codes
+        without a class).
+    comfort_class : str or None
+        Target comfort class of Sétra/HiVoSS (default CL2).
+    hsi : bool
+        Add the HSI model with ``msd``.
+    msd : MSDModel or None
+        ``[design.msd]``; None: the case's ``[hsi]``.
+    site_factors : dict
+        k1…k4 of the UK NA limit (numbers or named choices).
+    weighting : str or None
+        "Wb": running RMS of W_b-weighted accelerations where computed.
+    damper : dict or None
+        ``[design.damper]``: mass, frequency, damping_ratio, position[, lane], or mode and
+        mass_ratio (tuned with :func:`crowdvib.design.tune_damper`).
+    prediction : bool
+        Add the stochastic prediction of the case's ``[crowd]`` stream.
+    duration : float
+        Record length [s] of the prediction's expected peak.
+    """
+
+    codes: tuple
+    classes: dict = field(default_factory=dict)
+    density: float | None = None
+    comfort_class: str | None = None
+    hsi: bool = True
+    msd: MSDModel | None = None
+    site_factors: dict = field(default_factory=dict)
+    weighting: str | None = None
+    damper: dict | None = None
+    prediction: bool = True
+    duration: float = 600.0
