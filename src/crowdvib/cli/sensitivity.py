@@ -5,7 +5,7 @@ import sys
 from pathlib import Path
 
 from .. import __version__
-from .._files import write_json
+from .._files import require_file, write_json
 from ..reporting.report import provenance, write_report
 from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, dask_address,
                      finish_output, prepare_output, progress_printer, say, versions)
@@ -33,6 +33,10 @@ def add_arguments(parser):
                         help="only individual errors (skip the 2⁵ joint sign combinations)")
     parser.add_argument("--no-record-length", action="store_true",
                         help="skip re-estimating on shorter parts of the record")
+    parser.add_argument("--modes-from", type=Path, metavar="DIR", default=None,
+                        help="results directory of `crowdvib modes`: the frequency and damping "
+                             "error levels become 1 and 2 relative standard deviations of the "
+                             "least certain identified mode (instead of 1/5 %% and 10/30 %%)")
 
 
 def _resume_command(args):
@@ -46,7 +50,30 @@ def _resume_command(args):
         words += ["--workers", str(args.workers)]
     words += [flag for flag, given in (("--no-joint", args.no_joint),
                                        ("--no-record-length", args.no_record_length)) if given]
+    if args.modes_from is not None:
+        words += ["--modes-from", str(args.modes_from)]
     return shlex.join(words + ["--resume"])
+
+
+def _identified_levels(directory):
+    """Error levels from the results.json of ``crowdvib modes`` in ``directory``."""
+    import json
+
+    from ..errors import DataError
+    from ..identification.oma import identified_error_levels
+
+    path = require_file(Path(directory) / "results.json", "crowdvib modes results")
+    try:
+        results = json.loads(path.read_text(encoding="utf-8"))
+        modes = results["modes"] if results.get("command") == "modes" else None
+        columns = {key: [float(mode[key]) for mode in modes] for key in
+                   ("frequency", "frequency_std", "damping_ratio", "damping_std")}
+    except (ValueError, KeyError, TypeError, UnicodeDecodeError) as exc:
+        raise DataError(f"{path}: is not the results.json of `crowdvib modes` (a 'modes' list "
+                        f"with frequency, frequency_std, damping_ratio, damping_std): "
+                        f"{type(exc).__name__}: {exc}") from None
+    return identified_error_levels(columns["frequency"], columns["frequency_std"],
+                                   columns["damping_ratio"], columns["damping_std"])
 
 
 @contextlib.contextmanager
@@ -77,10 +104,16 @@ def run(args):
                                   record_length_study, study_executor)
 
     case = load_case(args.case)
+    levels = None if args.modes_from is None else _identified_levels(args.modes_from)
     stamp = provenance(case.path)
     out = prepare_output(args.out, force=args.force, resume=args.resume,
                          inputs=case_inputs(case), command="sensitivity", stores=_STORES)
     say(f"crowdvib sensitivity: {case.name} ({case.path.name})")
+    if levels is not None:
+        say(f"  error levels from {args.modes_from}: frequencies "
+            f"{', '.join(f'{v:.2%}' for v in levels['frequencies'])}, damping ratios "
+            f"{', '.join(f'{v:.1%}' for v in levels['damping_ratios'])} (1 and 2 σ of the least "
+            "certain identified mode)")
     record, measured, lowpass = case_measurement(case)
     crowd, _ = case_crowd(case, record)
     options = estimate_options(case)
@@ -93,8 +126,9 @@ def run(args):
     try:
         with _warnings_as_lines(), study_executor(args.workers, args.scheduler) as executor:
             study = modelling_error_study(
-                measured, case.structure, crowd, joint=not args.no_joint, executor=executor,
-                store=store, progress=progress_printer("estimations", unit="tasks"), **options)
+                measured, case.structure, crowd, levels=levels, joint=not args.no_joint,
+                executor=executor, store=store,
+                progress=progress_printer("estimations", unit="tasks"), **options)
             lengths = None
             if not args.no_record_length:
                 options.pop("band")

@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure, SubFigure
 
-__all__ = ["ModeIdentification", "ambient_response", "identify_modes"]
+__all__ = ["ModeIdentification", "ambient_response", "identified_error_levels", "identify_modes"]
 
 #: Stable poles closer than this relative frequency gap belong to one mode.
 CLUSTER_TOLERANCE = 0.01
@@ -146,20 +146,10 @@ class ModeIdentification:
 
     def error_levels(self, levels: Mapping[str, Sequence[float]] | None = None
                      ) -> dict[str, tuple[float, ...]]:
-        """Modelling-error levels for :func:`~crowdvib.identification.modelling_error_study`.
-
-        ε_f and ε_ξ from the identification instead of fixed percentages: one and two relative
-        standard deviations (σ_f/f, σ_ξ/ξ) of the least certain identified mode; the other
-        parameters keep ``levels`` (default the paper's ``PAPER_ERROR_LEVELS``).
-        """
-        from .studies import PAPER_ERROR_LEVELS
-
-        result = dict(PAPER_ERROR_LEVELS if levels is None else levels)
-        for name, relative in (("frequencies", self.frequency_std / self.frequencies),
-                               ("damping_ratios", self.damping_std / self.damping_ratios)):
-            worst = float(np.max(relative))
-            result[name] = (worst, 2 * worst)
-        return result
+        """Modelling-error levels for :func:`~crowdvib.identification.modelling_error_study`
+        from this identification (see :func:`identified_error_levels`)."""
+        return identified_error_levels(self.frequencies, self.frequency_std, self.damping_ratios,
+                                       self.damping_std, levels)
 
     def plot_stabilisation(self, ax: "Axes | None" = None) -> "Figure | SubFigure":
         """Stabilisation diagram: poles per model order, stable ones filled, modes marked."""
@@ -180,6 +170,33 @@ class ModeIdentification:
         ax.set_title("SSI-cov stabilisation diagram")
         ax.legend(loc="lower right")
         return ax.figure
+
+
+def identified_error_levels(frequencies: ArrayLike, frequency_std: ArrayLike,
+                            damping_ratios: ArrayLike, damping_std: ArrayLike,
+                            levels: Mapping[str, Sequence[float]] | None = None
+                            ) -> dict[str, tuple[float, ...]]:
+    """Modelling-error levels whose ε_f and ε_ξ come from an identification, not fixed percentages.
+
+    One and two relative standard deviations (σ_f/f, σ_ξ/ξ) of the least certain identified mode
+    (docs: theory, Operational modal analysis); the other parameters keep ``levels`` (default the
+    paper's ``PAPER_ERROR_LEVELS``).
+    """
+    from .studies import PAPER_ERROR_LEVELS
+
+    result = dict(PAPER_ERROR_LEVELS if levels is None else levels)
+    for name, value, std in (("frequencies", frequencies, frequency_std),
+                             ("damping_ratios", damping_ratios, damping_std)):
+        value = check_positive(name, np.asarray(value, dtype=float))
+        std = np.asarray(std, dtype=float)
+        if std.shape != value.shape or not np.all(np.isfinite(std) & (std >= 0)):
+            raise ParameterError(f"{name} standard deviations must be finite, >= 0 and one per "
+                                 f"mode ({value.size}), got {std.tolist()}")
+        worst = float(np.max(std / value))
+        if worst == 0:
+            raise ParameterError(f"{name} standard deviations are all 0: no error level from them")
+        result[name] = (worst, 2 * worst)
+    return result
 
 
 def _mac(a, b):
