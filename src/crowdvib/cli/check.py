@@ -16,16 +16,15 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import DESIGN_TABLES, case_inputs, say, say_verdict, staged_output, versions
+from .common import (DESIGN_TABLES, add_output_arguments, case_inputs, say, say_verdict,
+                     staged_output, versions)
 
 __all__ = ["add_arguments", "run", "verdict_rows"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("case", type=Path, help="case file (TOML) with a [design] table")
-    parser.add_argument("--out", type=Path, required=True, help="output directory")
-    parser.add_argument("--force", action="store_true",
-                        help="replace an existing output directory")
+    add_output_arguments(parser)
     parser.add_argument("--msd-from", type=Path, default=None, metavar="RESULTS",
                         help="results directory of `crowdvib estimate` (or demo, sensitivity): "
                              "its estimated MSD replaces the case's for the HSI model")

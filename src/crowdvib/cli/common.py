@@ -10,8 +10,10 @@ from tqdm import tqdm
 
 from .. import __version__
 
-__all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "say", "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output", "finish_output",
-           "staged_output", "versions", "warning_texts", "progress_printer"]
+__all__ = ["add_output_arguments", "ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "say",
+           "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output",
+           "finish_output", "staged_output", "versions", "warning_texts", "progress_printer"]
+
 
 def say(message=""):
     print(message, flush=True)
@@ -294,6 +296,13 @@ def positive_int(text):
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
     return value
+
+
+def add_output_arguments(parser):
+    """``--out DIR`` (required) and ``--force``, as every command that writes results takes them."""
+    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--force", action="store_true",
+                        help="replace an existing output directory")
 
 
 def add_workers_argument(parser):

@@ -7,14 +7,13 @@ from .. import __version__
 from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
 from ..reporting.text import interval_of, with_interval
-from .common import ESTIMATION_TABLES, case_inputs, say, say_verdict, staged_output, versions, warning_texts
+from .common import (ESTIMATION_TABLES, add_output_arguments, case_inputs, say, say_verdict,
+                     staged_output, versions, warning_texts)
 
 
 def add_arguments(parser):
     parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
-    parser.add_argument("--out", type=Path, required=True, help="output directory")
-    parser.add_argument("--force", action="store_true",
-                        help="replace an existing output directory")
+    add_output_arguments(parser)
 
 
 def run(args):
@@ -46,8 +45,8 @@ def case_measurement(case):
     The record keeps the outputs to be fitted (``estimation.outputs``, else every channel); the
     PSD is the Welch estimate of ``[measurement]`` after the zero-phase low-pass filter.
     """
-    from ..io.casefile import load_measurement
     from ..errors import ParameterError
+    from ..io.casefile import load_measurement
     from ..signals import LowPassFilter, welch_psd
 
     spec, est = case.measurement, case.estimation

@@ -9,8 +9,8 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import (ESTIMATION_TABLES, case_inputs, progress_printer, say, say_verdict, staged_output, versions,
-                     warning_texts)
+from .common import (ESTIMATION_TABLES, add_output_arguments, case_inputs, progress_printer, say,
+                     say_verdict, staged_output, versions, warning_texts)
 from .estimate import case_crowd, case_measurement, estimate_options
 
 
@@ -26,9 +26,7 @@ def grid(text):
 
 def add_arguments(parser):
     parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
-    parser.add_argument("--out", type=Path, required=True, help="output directory")
-    parser.add_argument("--force", action="store_true",
-                        help="replace an existing output directory")
+    add_output_arguments(parser)
     parser.add_argument("--frequencies", type=grid, default=np.linspace(1.0, 6.0, 51),
                         metavar="LOW:HIGH:N", help="grid of f_h1 [Hz] (default 1:6:51, paper)")
     parser.add_argument("--damping-ratios", type=grid, default=np.linspace(0.1, 0.8, 36),
@@ -39,10 +37,10 @@ def add_arguments(parser):
 def run(args):
     import warnings
 
-    from ..io.casefile import load_case
     from ..identification.estimation import estimate_hsi
-    from ..reporting.plotting import plot_objective_map, save_figure
     from ..identification.landscape import objective_map
+    from ..io.casefile import load_case
+    from ..reporting.plotting import plot_objective_map, save_figure
 
     case = load_case(args.case)
     stamp = provenance(case.path)

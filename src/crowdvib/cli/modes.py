@@ -33,14 +33,12 @@ from pathlib import Path
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import write_report
-from .common import say, say_verdict, staged_output, versions
+from .common import add_output_arguments, say, say_verdict, staged_output, versions
 
 
 def add_arguments(parser):
     parser.add_argument("ambient", type=Path, help="ambient-test file (TOML)")
-    parser.add_argument("--out", type=Path, required=True, help="output directory")
-    parser.add_argument("--force", action="store_true",
-                        help="replace an existing output directory")
+    add_output_arguments(parser)
 
 
 def read_ambient(path):

@@ -6,16 +6,14 @@ from pathlib import Path
 from .. import __version__
 from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
-from .common import (SIMULATION_TABLES, case_inputs, progress_printer, record_formats, say, say_if_compiling,
-                     say_verdict, staged_output, versions)
+from .common import (SIMULATION_TABLES, add_output_arguments, case_inputs, progress_printer,
+                     record_formats, say, say_if_compiling, say_verdict, staged_output, versions)
 
 
 def add_arguments(parser):
     parser.add_argument("case", type=Path, nargs="?", default=None,
                         help="case file (TOML); default the embedded paper example")
-    parser.add_argument("--out", type=Path, required=True, help="output directory")
-    parser.add_argument("--force", action="store_true",
-                        help="replace an existing output directory")
+    add_output_arguments(parser)
     parser.add_argument("--duration-s", type=float, default=None,
                         help="record length [s] (default the case's simulation.duration)")
     parser.add_argument("--sample-rate", type=float, default=None,
@@ -31,10 +29,10 @@ def add_arguments(parser):
 
 def run(args):
     from ..io.casefile import load_case, paper_example_case
-    from ..reporting.plotting import plot_psd_comparison, plot_time_history, save_figure
     from ..io.records import RECORD_FORMATS, Record, write_record
-    from ..signals import resample, welch_psd
+    from ..reporting.plotting import plot_psd_comparison, plot_time_history, save_figure
     from ..response.simulation import simulate
+    from ..signals import resample, welch_psd
 
     case = paper_example_case() if args.case is None else load_case(args.case)
     spec = case.simulation

@@ -10,7 +10,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import require_file  # noqa: F401 (the readers import it from here)
 from ..errors import CrowdvibError, DataError, ParameterError
 
 # Time stamps whose step differs from the median step by more than this fraction are non-uniform;

@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DataError, ParameterError
-from ._common import named_file, quote, require_file
+from .._files import require_file
+from ._common import named_file, quote
 
 __all__ = ["Table", "REQUIRED", "read_toml", "wrap"]
 

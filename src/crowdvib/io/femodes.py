@@ -20,7 +20,8 @@ from scipy import interpolate
 from .._validation import check_damping_ratio, check_positive
 from ..errors import DataError, DataWarning, ParameterError
 from ..models.structure import ModalModel
-from ._common import quote, reading, require_file
+from .._files import require_file
+from ._common import quote, reading
 
 __all__ = ["UFF_SUFFIXES", "FEModes", "read_fe_modes"]
 

@@ -20,7 +20,8 @@ import numpy as np
 
 from ..errors import DataError, ParameterError
 from ..models.structure import ModalModel
-from ._common import quote, reading, require_file
+from .._files import require_file
+from ._common import quote, reading
 
 __all__ = ["read_modal_model", "write_modal_model"]
 

@@ -29,7 +29,8 @@ import numpy as np
 from .._validation import check_positive
 from ..errors import DataError, DataWarning, ParameterError
 from ..models.loading import STANDARD_GRAVITY
-from ._common import quote, reading, require_file, sample_rate_from_time, where
+from .._files import require_file
+from ._common import quote, reading, sample_rate_from_time, where
 from .formats import READERS, WRITERS
 
 __all__ = ["Record", "read_record", "write_record", "check_record", "merge_records",
