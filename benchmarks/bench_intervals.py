@@ -11,7 +11,8 @@ Both estimators (paper least squares, Whittle likelihood), each with the smeared
 fluctuating crowd model of the expected PSD, are run on the same records. Prints a table:
 coverage of the truth by the 95 % profile interval per parameter, mean error with its 95 %
 interval, the standard deviation per record and the mean interval width, plus time per
-estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]``
+estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]
+[paper|free]`` (``free``: the likelihood with the step-frequency distribution fitted too)
 (density in persons/m², default the paper's 0.5; walking speed from Weidmann's relation).
 ``python benchmarks/bench_intervals.py bootstrap [N] [density] [n_boot] [first]`` checks the
 parametric bootstrap of least squares (percentile intervals, smeared model) on N Gaussian records
@@ -92,14 +93,15 @@ def bootstrap(n=200, density=0.5, n_boot=100, first=0):
         print("record", seed, found[-1], flush=True)
     print(f"gaussian records of the paper example at {density:g} P/m², n = {n}, least squares, "
           f"95 % parametric-bootstrap percentile intervals of {n_boot} replicates")
-    _table({("least_squares", "bootstrap"): found}, n,
-           {("least_squares", "bootstrap"): time.perf_counter() - started})
+    key = ("least_squares", "bootstrap", False)
+    _table({key: found}, n, {key: time.perf_counter() - started})
 
 
 def _table(rows, n, seconds):
     print(f"{'method':14s}{'crowd':12s}{'parameter':15s}{'coverage':>9s}{'mean error':>24s}"
           f"{'std/record':>12s}{'mean width':>12s}{'s/estimate':>11s}")
-    for (method, model), found in rows.items():
+    for (method, model, free), found in rows.items():
+        model = model + (" +f_s" if free else "")
         found = np.array(found)                     # (n, parameters, (value, low, high))
         for p, (name, truth) in enumerate(TRUTH.items()):
             value, low, high = found[:, p, 0], found[:, p, 1], found[:, p, 2]
@@ -109,28 +111,38 @@ def _table(rows, n, seconds):
             print(f"{method:14s}{model:12s}{name:15s}{covered:9.1%}"
                   f"{f'{error.mean():+.2%} [{error.mean() - half:+.2%}, {error.mean() + half:+.2%}]':>24s}"
                   f"{error.std(ddof=1):12.2%}{np.mean(high - low) / truth:12.2%}"
-                  f"{seconds[method, model] / n:11.2f}")
+                  f"{seconds[method, model.split()[0], free] / n:11.2f}")
 
 
-def main(kind="gaussian", n=40, density=0.5):
+#: The estimators compared: (method, crowd model, step frequencies fitted too).
+ESTIMATORS = {"paper": [(method, model, False) for model in ("smeared", "fluctuating")
+                        for method in ("least_squares", "likelihood")],
+              "free": [("likelihood", "fluctuating", True)]}
+
+
+def main(kind="gaussian", n=40, density=0.5, estimators="paper"):
     crowd = paper_crowd(density)
     records = {"gaussian": gaussian_records, "simulated": simulated_records}[kind](n, crowd)
-    rows = {(method, model): [] for model in ("smeared", "fluctuating")
-            for method in ("least_squares", "likelihood")}
+    rows = {key: [] for key in ESTIMATORS[estimators]}
     seconds = {key: 0.0 for key in rows}
     for measured in records:
-        for (method, model), found in rows.items():
+        for (method, model, free), found in rows.items():
             started = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", BoundWarning)
                 estimate = estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0), method=method,
-                                        crowd_model=model)
-            seconds[method, model] += time.perf_counter() - started
+                                        crowd_model=model, free_step_frequencies=free)
+            seconds[method, model, free] += time.perf_counter() - started
             found.append([(getattr(estimate.msd, name), *estimate.interval(name))
                           for name in TRUTH])
     print(f"{kind} records of the paper example at {density:g} P/m², n = {n}, "
           "95 % profile intervals")
     _table(rows, n, seconds)
+    cache = os.environ.get("CROWDVIB_RECORD_CACHE")
+    if cache:   # the estimates themselves, for other summaries of the same records
+        name = f"estimates_{kind}_d{density:g}_n{n}_{estimators}.pkl"
+        with open(os.path.join(cache, name), "wb") as handle:
+            pickle.dump({key: np.array(found) for key, found in rows.items()}, handle)
 
 
 if __name__ == "__main__" and sys.argv[1:2] == ["bootstrap"]:
@@ -138,4 +150,5 @@ if __name__ == "__main__" and sys.argv[1:2] == ["bootstrap"]:
 elif __name__ == "__main__":
     main(sys.argv[1] if len(sys.argv) > 1 else "gaussian",
          int(sys.argv[2]) if len(sys.argv) > 2 else 40,
-         float(sys.argv[3]) if len(sys.argv) > 3 else 0.5)
+         float(sys.argv[3]) if len(sys.argv) > 3 else 0.5,
+         sys.argv[4] if len(sys.argv) > 4 else "paper")

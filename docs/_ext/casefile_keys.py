@@ -33,7 +33,9 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "estimation.band": "lower < upper, lower >= 0",
          "estimation.outputs": "names of structure outputs (default all record channels)",
          "estimation.free_parameters": "[\"frequency\", \"damping_ratio\"], optionally "
-                                       "\"mass_ratio\"",
+                                       "\"mass_ratio\", optionally both "
+                                       "\"step_frequency_mean\" and \"step_frequency_std\" "
+                                       "(one record)",
          "estimation.weights": "one per entry of estimation.outputs, > 0",
          "crowd.walking_speed": "> 0; default from Weidmann's speed–density relation",
          "crowd.step_frequency_mean": "> 0; default from Bruno & Venuti's speed relation",

@@ -157,3 +157,25 @@ def test_record_in_g_declared_as_m_s2_is_named_on_the_terminal(tmp_path, capsys)
     assert "PlausibilityWarning" in captured.err and "record in g read as m/s²" in captured.err
     verdict = captured.out[captured.out.index("verdict"):]
     assert "check before use" in verdict and "record in g read as m/s²" in verdict
+
+
+def test_estimate_fits_the_step_frequencies_when_asked(tmp_path, capsys):
+    # docs: theory, Step frequencies fitted with the MSD: the case file frees (μ_fs, σ_fs);
+    # the command prints them with their intervals and results.json holds them.
+    case = _small_case(tmp_path)
+    text = case.read_text().replace(
+        "band = [0.0, 10.0]         # [Hz] (paper)",
+        'band = [0.0, 10.0]\nmethod = "likelihood"\nfree_parameters = ["frequency", '
+        '"damping_ratio", "step_frequency_mean", "step_frequency_std"]')
+    case.write_text(text)
+    sim = tmp_path / "sim"
+    assert main(["simulate", str(case), "--out", str(sim), "--seed", "7"]) == 0
+    shutil.copy(sim / "record.npz", tmp_path / "rec.npz")
+    out = tmp_path / "est"
+    assert main(["estimate", str(case), "--out", str(out)]) == 0
+    assert "step frequencies fitted with the MSD: N(1." in capsys.readouterr().out
+    estimate = json.loads((out / "results.json").read_text())["estimate"]
+    # The paper example's crowd walks at N(1.89, 0.175) Hz (paper); 5 minutes pin μ_fs to ~1 %.
+    assert estimate["step_frequency_mean"] == pytest.approx(1.89, rel=0.03)
+    low, high = estimate["interval"]["step_frequency_mean"]
+    assert low < estimate["step_frequency_mean"] < high

@@ -72,6 +72,9 @@ def test_error_names_file_key_rule_and_value(tmp_path):
     ("[estimation]\nband = [0, 10]\nmethod = \"whittle\"", r"estimation.method must be one of"),
     ("[estimation]\nband = [0, 10]\nlevel = 95",
      r"estimation.level must lie in \(0, 1\) \(a fraction, not percent\), got 95"),
+    ("[estimation]\nband = [0, 10]\n"
+     "free_parameters = [\"frequency\", \"damping_ratio\", \"step_frequency_mean\"]",
+     r"estimation.free_parameters must be .* optionally both \"step_frequency_mean\" and"),
 ])
 def test_bad_values_point_at_the_key(tmp_path, extra, message):
     with pytest.raises(ParameterError, match=r"eeklo_like.toml: .*" + message):
@@ -211,3 +214,13 @@ def test_estimation_method_and_interval_keys(tmp_path):
     defaults = load_case(write_case(tmp_path, name="plain.toml")).estimation
     assert (defaults.method, defaults.interval, defaults.level) == ("least_squares", "profile",
                                                                     0.95)
+
+
+def test_step_frequencies_can_be_fitted_with_the_msd(tmp_path):
+    # docs: theory, Step frequencies fitted with the MSD — both crowd parameters or neither.
+    case = load_case(write_case(tmp_path, extra=(
+        "[estimation]\nband = [0, 10]\nmethod = \"likelihood\"\nfree_parameters = "
+        "[\"frequency\", \"damping_ratio\", \"step_frequency_mean\", \"step_frequency_std\"]\n"
+        "[estimation.bounds]\nstep_frequency_mean = [1.5, 2.5]")))
+    assert "step_frequency_std" in case.estimation.free_parameters
+    assert case.estimation.bounds == {"step_frequency_mean": (1.5, 2.5)}

@@ -13,7 +13,8 @@ import pytest
 
 from crowdvib import (ModalModel, ParameterError, PlausibilityWarning, ResponsePSD, ZivanovicForce,
                       estimate_hsi, response_psd)
-from crowdvib.identification.estimation import LEVEL_RATIO_LIMIT, PSDObjective
+from crowdvib.identification.diagnostics import LEVEL_RATIO_LIMIT
+from crowdvib.identification.objective import PSDObjective
 from crowdvib.models.loading import STANDARD_GRAVITY
 from crowdvib.signals import synthetic_welch_psd
 

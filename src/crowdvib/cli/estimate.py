@@ -123,9 +123,16 @@ def _estimate_case(case, out):
     free_mass = "mass_ratio" in est.free_parameters
     options = dict(estimate_options(case), **estimate_extras(case), outputs=outputs)
     estimate = estimate_hsi(measured, case.structure, crowd, free_mass_ratio=free_mass,
+                            free_step_frequencies="step_frequency_mean" in est.free_parameters,
                             **options)
     found = estimate.msd
     _say_estimate(estimate)
+    if estimate.crowd is not None:
+        crowd = estimate.crowd              # the fitted step frequencies from here on
+        summary = estimate.to_dict()["estimate"]
+        say("           step frequencies fitted with the MSD: N(" + ", ".join(
+            with_interval(getattr(crowd, key), interval_of(summary, key), "Hz")
+            for key in ("step_frequency_mean", "step_frequency_std")) + ")")
     if case.expected:
         for key, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1")):
             if key in case.expected:

@@ -63,7 +63,7 @@ class _Replicates:
         return np.maximum(replicate, _FLOOR * self.expected)
 
 
-def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, to_msd: Callable,
+def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, state: Callable,
                         lower: np.ndarray, upper: np.ndarray, occupancies: Sequence,
                         n_boot: int, rng: np.random.Generator) -> np.ndarray:
     """θ* of ``n_boot`` parametric-bootstrap replicates → array (n_boot, n_parameters).
@@ -76,8 +76,8 @@ def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, to_msd: Calla
     theta : ndarray
         The estimate (free parameters), the model the replicates are drawn from and the start
         of every refit.
-    to_msd : callable
-        θ → MSDModel.
+    state : callable
+        θ → (MSDModel, (μ_fs, σ_fs) or None when the step frequencies are held).
     lower, upper : ndarray
         Search bounds.
     occupancies : list
@@ -86,7 +86,7 @@ def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, to_msd: Calla
         Number of replicates.
     rng : numpy.random.Generator
     """
-    msd = to_msd(theta)
+    msd, _ = state(theta)       # each objective's model is already the fitted crowd's
     draws = [_Replicates(objective, measured, msd, occupancy)
              for (objective, measured), occupancy in zip(parts, occupancies)]
     start = np.clip(theta, lower + 1e-3 * (upper - lower), upper - 1e-3 * (upper - lower))
@@ -95,8 +95,8 @@ def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, to_msd: Calla
         objectives = [d.objective.with_target(d.draw(rng)) for d in draws]
 
         def residuals(values, objectives=objectives):
-            candidate = to_msd(values)
-            return np.concatenate([o.residuals(candidate) for o in objectives])
+            candidate, steps = state(values)
+            return np.concatenate([o.residuals(candidate, steps=steps) for o in objectives])
 
         estimates[b] = least_squares(residuals, start, method="trf", bounds=(lower, upper),
                                      x_scale="jac").x

@@ -9,7 +9,6 @@ r_{l,k} = sqrt(γ_l w_k) (G̃_l(f_k) − G_l(f_k; θ)) / ‖G̃_l‖₂ has Σ r
 
 from __future__ import annotations
 
-import copy
 import logging
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -20,12 +19,11 @@ from numpy.typing import ArrayLike
 from scipy.optimize import least_squares
 
 from .._validation import as_float_array
-from ..errors import (BoundWarning, ConvergenceWarning, EstimationError,
-                      IdentifiabilityWarning, ParameterError, PlausibilityWarning)
-from ..models.loading import STANDARD_GRAVITY
+from ..errors import BoundWarning, EstimationError, ParameterError, PlausibilityWarning
 from ..models.pedestrian import MSDModel
 from ..signals.welch import welch_bin_correlation
 from .bootstrap import bootstrap_estimates, percentile_interval
+from .diagnostics import _check_identifiability, _check_level, _diagnose
 from .objective import PSDObjective
 from .result import HSIEstimate
 from .uncertainty import profile_interval, sandwich_covariance, score_variance
@@ -52,17 +50,11 @@ DEFAULT_STARTS = ((1.5, 0.6), (5.0, 0.15), (2.2, 0.2), (4.0, 0.7))
 DEFAULT_BOUNDS = {"frequency": (1e-3, 10.0), "damping_ratio": (1e-3, 1.0),
                   "mass_ratio": (1e-3, 0.999)}
 _PARAMETERS = ("frequency", "damping_ratio", "mass_ratio")
-# A parameter within this fraction of its bound's range of the bound counts as on it.
-_BOUND_TOLERANCE = 1e-4
-#: Measured over modelled band variance beyond which (either way) the level itself is in doubt:
-#: at a sound optimum the two agree within the Welch scatter and the modelling errors (a few
-#: tens of per cent); a unit or gain mix-up is a factor of ~100 or more.
-LEVEL_RATIO_LIMIT = 3.0
-#: Unit mix-ups tried when the level is in doubt: factor on the measured PSD → likely cause.
-_UNIT_MIXUPS = ((STANDARD_GRAVITY**2, "a record in g read as m/s²"),
-                (STANDARD_GRAVITY**-2, "a record in m/s² declared as g"),
-                (1e-6, "a record in mm/s² read as m/s²"),
-                (1e6, "a record in m/s² declared as mm/s²"))
+#: Search bounds of (μ_fs, σ_fs) [Hz]: normal walking lies well inside 1–3 Hz, and a spread below
+#: 0.01 Hz or above 0.6 Hz is not a crowd (the paper's values are 0.13–0.19 Hz).
+DEFAULT_STEP_FREQUENCY_BOUNDS = {"step_frequency_mean": (1.0, 3.0),
+                                 "step_frequency_std": (0.01, 0.6)}
+STEP_PARAMETERS = ("step_frequency_mean", "step_frequency_std")
 
 
 def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
@@ -72,6 +64,7 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
                  starts: Sequence[Sequence[float]] | None = None,
                  bounds: Mapping[str, tuple[float, float]] | None = None,
                  mass_ratio: float = 0.95, free_mass_ratio: bool = False,
+                 free_step_frequencies: bool = False,
                  force: ForceModel | None = None, match_welch: bool = True,
                  method: str = "least_squares", interval: str = "profile", level: float = 0.95,
                  crowd_model: str = "smeared", n_boot: int = 200,
@@ -105,6 +98,13 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         μ_h1 when it is held fixed (paper: 0.95).
     free_mass_ratio : bool
         Estimate μ_h1 too.
+    free_step_frequencies : bool
+        Estimate the crowd's step-frequency distribution N(μ_fs, σ_fs) with the MSD, from the
+        whole band (docs: theory, Step frequencies fitted with the MSD); ``crowd`` gives the
+        starting values, ``bounds`` may hold ``step_frequency_mean`` and ``step_frequency_std``.
+        The likelihood needs it unless the crowd is known to a fraction of a per cent: it weighs
+        the flanks of the load spectrum, where a 1 % error in μ_fs moves ξ_h1 by 25–30 % with
+        the distribution held fixed (paper example; least squares: 1 %).
     force : ZivanovicForce or YoungForce, optional
         Walking force model (default Živanović 2007).
     match_welch : bool
@@ -149,13 +149,22 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     ConvergenceWarning
         When no start converged.
     """
-    objective = PSDObjective(measured, structure, crowd, band=band, force=force,
-                             outputs=outputs, output_weights=output_weights,
-                             frequency_weights=frequency_weights, match_welch=match_welch,
-                             method=method, crowd_model=crowd_model)
-    return _estimate([(objective, measured)], structure, starts=starts, bounds=bounds,
-                     mass_ratio=mass_ratio, free_mass_ratio=free_mass_ratio, method=method,
-                     interval=interval, level=level, n_boot=n_boot, rng=rng)
+    def objective(crowd):
+        return PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
+                            output_weights=output_weights, frequency_weights=frequency_weights,
+                            match_welch=match_welch, method=method, crowd_model=crowd_model)
+
+    options = dict(starts=starts, bounds=bounds, mass_ratio=mass_ratio,
+                   free_mass_ratio=free_mass_ratio, method=method, level=level, n_boot=n_boot,
+                   rng=rng, free_step_frequencies=free_step_frequencies)
+    if free_step_frequencies and method == "likelihood":
+        # The likelihood's bins are chosen from the crowd's model (within its dynamic range), so
+        # a first fit from the given crowd is followed by the fit on the bins of the fitted
+        # crowd: the answer then does not depend on the starting guess.
+        first = _estimate([(objective(crowd), measured)], structure, **dict(
+            options, interval=None))
+        crowd = first.crowd
+    return _estimate([(objective(crowd), measured)], structure, interval=interval, **options)
 
 
 def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalModel,
@@ -217,8 +226,8 @@ class _Stacked:
     def evaluations(self):
         return sum(o.evaluations for o in self.objectives)
 
-    def residuals(self, msd):
-        return np.concatenate([o.residuals(msd) for o in self.objectives])
+    def residuals(self, msd, steps=None):
+        return np.concatenate([o.residuals(msd, steps=steps) for o in self.objectives])
 
     def cost(self, msd):
         r = self.residuals(msd)
@@ -229,7 +238,7 @@ INTERVALS = ("profile", "wald", "bootstrap", None)
 
 
 def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, method,
-              interval, level, n_boot=200, rng=None):
+              interval, level, n_boot=200, rng=None, free_step_frequencies=False):
     """The estimate from one or several (objective, measured PSD) records (estimate_hsi)."""
     MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
     if interval not in INTERVALS:
@@ -241,8 +250,10 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         raise ParameterError(f"level must lie in (0, 1), got {level!r}")
     for note in structure.implausibilities():
         warnings.warn(f"structure: {note}", PlausibilityWarning, stacklevel=3)
-    names = _PARAMETERS if free_mass_ratio else _PARAMETERS[:2]
-    limits = _merge_bounds(bounds, DEFAULT_BOUNDS)
+    names = (_PARAMETERS if free_mass_ratio else _PARAMETERS[:2]) + (
+        STEP_PARAMETERS if free_step_frequencies else ())
+    limits = _merge_bounds(bounds, dict(DEFAULT_BOUNDS, **(
+        DEFAULT_STEP_FREQUENCY_BOUNDS if free_step_frequencies else {})))
     if limits["mass_ratio"][1] >= 1:
         raise ParameterError(f"bounds['mass_ratio'] must stay below 1, got {limits['mass_ratio']}")
     lower = np.array([limits[n][0] for n in names])
@@ -253,11 +264,18 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         return MSDModel(frequency=values["frequency"], damping_ratio=values["damping_ratio"],
                         mass_ratio=values.get("mass_ratio", mass_ratio))
 
-    points = _starting_points(starts, names, mass_ratio, lower, upper)
+    def state(theta):
+        """θ → (MSD, (μ_fs, σ_fs) or None): what the misfit is evaluated at."""
+        return to_msd(theta), (tuple(theta[-2:]) if free_step_frequencies else None)
+
+    crowd = parts[0][0].model.crowd
+    tail = {"mass_ratio": mass_ratio, "step_frequency_mean": crowd.step_frequency_mean,
+            "step_frequency_std": crowd.step_frequency_std}
+    points = _starting_points(starts, names, tail, lower, upper)
 
     def fit(objective):
-        return _multistart(lambda theta: objective.residuals(to_msd(theta)), points, lower, upper,
-                           objective)
+        return _multistart(lambda theta: objective.residuals(*state(theta)), points, lower,
+                           upper, objective)
 
     for objective, _ in parts:
         absurd = objective.level_ratio(None)
@@ -267,9 +285,17 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
                 f"over the band (no unit or gain mix-up goes further), got measured/model "
                 f"variance {', '.join(f'{v:.3g}' for v in absurd)} for outputs "
                 f"{list(objective.output_names)}")
+    if free_step_frequencies and len(parts) > 1:
+        raise ParameterError("free_step_frequencies is for one record: in a joint fit each "
+                             "record has its own crowd (fit each one's step frequencies first)")
     stacked = _Stacked([objective for objective, _ in parts])
     best, runs = fit(stacked)
-    msd = to_msd(best.x)
+    msd, steps = state(best.x)
+    if steps is not None:
+        # From here on the objective's own model is the fitted crowd's (levels, the crowd-size
+        # term, the bootstrap's replicates); profiles still move (μ_fs, σ_fs) through θ.
+        for objective, _ in parts:
+            objective.model = objective.model_for(steps)
     active, success, table = _diagnose(best, runs, names, lower, upper,
                                        "the optimum sits on a bound", "check the model inputs",
                                        stacklevel=4)
@@ -284,7 +310,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         variance, hessian, occupancies = 0.0, 0.0, []
         for objective, measured in parts:      # independent records: information adds
             modelled = objective.modelled(msd)
-            gradient = _model_gradient(objective, best.x, to_msd, lower, upper)
+            gradient = _model_gradient(objective, best.x, state, lower, upper)
             q, curvature = objective.score_terms(modelled, gradient)
             occupancies.append(_occupancy(objective, msd, measured))
             variance = variance + score_variance(
@@ -294,7 +320,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         covariance = sandwich_covariance(variance, hessian)
         _check_identifiability(names, covariance)
         if interval == "bootstrap":
-            samples = bootstrap_estimates(parts, best.x, to_msd, lower, upper, occupancies,
+            samples = bootstrap_estimates(parts, best.x, state, lower, upper, occupancies,
                                           n_boot, np.random.default_rng(rng))
             intervals = {name: percentile_interval(samples[:, i], level)
                          for i, name in enumerate(names)}
@@ -302,7 +328,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
             ends = []
             for i, name in enumerate(names):
                 intervals[name], hit = profile_interval(
-                    lambda theta: stacked.residuals(to_msd(theta)), best.x, i, lower, upper,
+                    lambda theta: stacked.residuals(*state(theta)), best.x, i, lower, upper,
                     covariance, hessian, level)
                 ends += [f"{name}:{side}" for side, h in zip(("lower", "upper"), hit) if h]
             on_bound = tuple(ends)
@@ -324,26 +350,8 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         starts=table, message=str(best.message), level_ratio=np.concatenate(ratios),
         method=method, covariance=covariance, intervals=intervals, interval_level=level,
         interval_on_bound=on_bound, crowd_model=parts[0][0].crowd_model,
-        interval_method=interval if intervals else None, bootstrap_samples=samples)
-
-
-#: |correlation| of two estimated parameters above which the data do not tell them apart.
-IDENTIFIABILITY_CORRELATION = 0.99
-
-
-def _check_identifiability(names, covariance):
-    """Warn when two parameters are so correlated that the record cannot separate them."""
-    scale = np.sqrt(np.maximum(np.diag(covariance), 1e-300))
-    correlation = covariance / np.outer(scale, scale)
-    pairs = [f"{names[i]}–{names[j]} {correlation[i, j]:+.3f}"
-             for i in range(len(names)) for j in range(i + 1, len(names))
-             if abs(correlation[i, j]) > IDENTIFIABILITY_CORRELATION]
-    if pairs:
-        hint = ("hold mass_ratio fixed (the paper uses 0.95) or fit several records with "
-                "different crowds together" if "mass_ratio" in names else "add data")
-        warnings.warn(f"the data do not determine {', '.join(names)} separately (correlation "
-                      f"{'; '.join(pairs)}, beyond ±{IDENTIFIABILITY_CORRELATION:g}): {hint}",
-                      IdentifiabilityWarning, stacklevel=4)
+        interval_method=interval if intervals else None, bootstrap_samples=samples,
+        crowd=parts[0][0].model.crowd if steps is not None else None)
 
 
 def _occupancy(objective, msd, measured):
@@ -368,7 +376,7 @@ def _occupancy(objective, msd, measured):
     return gradient, 1.0 / crossings
 
 
-def _model_gradient(objective, theta, to_msd, lower, upper):
+def _model_gradient(objective, theta, state, lower, upper):
     """∂G/∂θ at θ by central differences (one-sided at a bound), shape (L, K, n_parameters)."""
     columns = []
     for i in range(theta.size):
@@ -376,45 +384,10 @@ def _model_gradient(objective, theta, to_msd, lower, upper):
         up, down = theta.copy(), theta.copy()
         up[i] = min(theta[i] + step, upper[i])
         down[i] = max(theta[i] - step, lower[i])
-        columns.append((objective.modelled(to_msd(up)) - objective.modelled(to_msd(down)))
-                       / (up[i] - down[i]))
+        (msd_up, steps_up), (msd_down, steps_down) = state(up), state(down)
+        columns.append((objective.modelled(msd_up, steps=steps_up)
+                        - objective.modelled(msd_down, steps=steps_down)) / (up[i] - down[i]))
     return np.stack(columns, axis=-1)
-
-
-def _check_level(objective, ratio, cost, fit, to_msd):
-    """Warn when the measured level disagrees with the fitted model's, naming the likely cause.
-
-    Each unit mix-up of ``_UNIT_MIXUPS`` is tried by fitting the rescaled data again; one that
-    makes the level consistent and fits ten times better is named in the warning (the estimate
-    itself is left as it is: the user must correct the input).
-    """
-    off = (ratio > LEVEL_RATIO_LIMIT) | (ratio < 1 / LEVEL_RATIO_LIMIT)
-    if not off.any():
-        return
-    where = ", ".join(f"{name!r}: {value:.3g}" for name, value, bad in
-                      zip(objective.output_names, ratio, off) if bad)
-    hint = "check the units, the sensor gain and the channel mapping"
-    found = []
-    for factor, cause in _UNIT_MIXUPS:
-        rescaled = copy.copy(objective)
-        rescaled.level = objective.level * factor
-        best, _ = fit(rescaled)
-        msd = to_msd(best.x)
-        ratios = rescaled.level_ratio(msd)
-        if np.all((ratios <= LEVEL_RATIO_LIMIT) & (ratios >= 1 / LEVEL_RATIO_LIMIT)):
-            found.append((2 * best.cost, cause, msd))
-    if found:
-        rescaled_cost, cause, msd = min(found, key=lambda item: item[0])
-        # Named only when it explains the data: a consistent level AND a fit ten times better
-        # (a mere gain error can come within the level limit after a wrong rescaling).
-        if rescaled_cost < 0.1 * cost:
-            hint = (f"{cause}? Rescaled so, the data fit with a misfit of {rescaled_cost:.3g} "
-                    f"instead of {cost:.3g} and give f_h1 = {msd.frequency:.3g} Hz, "
-                    f"ξ_h1 = {msd.damping_ratio:.3g}")
-    warnings.warn(
-        f"the measured PSD level over the band is not the fitted model's (measured/model "
-        f"variance {where}; a consistent level lies within a factor {LEVEL_RATIO_LIMIT:g}), so "
-        f"the estimate is not to be trusted: {hint}", PlausibilityWarning, stacklevel=4)
 
 
 def _merge_bounds(bounds, defaults):
@@ -452,39 +425,22 @@ def _multistart(residuals, points, lower, upper, objective):
     return best, runs
 
 
-def _diagnose(best, runs, names, lower, upper, what, hint, stacklevel=3):
-    """Active bounds and convergence of the best run (warned about), and the per-start table.
+def _starting_points(starts, names, tail, lower, upper):
+    """Starting points as arrays strictly inside the bounds (trf needs interior points).
 
-    The warnings point at the caller of the public estimator: ``stacklevel`` frames up from here
-    (3 when the public function calls this directly).
+    A start shorter than ``names`` is completed from ``tail`` (name → value: the held μ_h1,
+    the crowd's step frequencies), so that (f_h1, ξ_h1) starts serve every parametrisation.
     """
-    span = upper - lower
-    active = tuple(
-        f"{name}:{side}" for name, x, lo, hi, width in zip(names, best.x, lower, upper, span)
-        for side, hit in (("lower", x - lo <= _BOUND_TOLERANCE * width),
-                          ("upper", hi - x <= _BOUND_TOLERANCE * width)) if hit)
-    if active:
-        warnings.warn(f"{what} ({', '.join(active)}): widen the bounds or {hint}", BoundWarning,
-                      stacklevel=stacklevel)
-    success = best.status > 0
-    if not success:
-        warnings.warn(f"least_squares did not converge: {best.message}", ConvergenceWarning,
-                      stacklevel=stacklevel)
-    table = tuple({"start": [float(v) for v in start], "estimate": [float(v) for v in r.x],
-                   "cost": float(2 * r.cost), "n_evaluations": int(n), "status": int(r.status)}
-                  for r, start, n in runs)
-    return active, success, table
-
-
-def _starting_points(starts, names, mass_ratio, lower, upper):
-    """Starting points as arrays strictly inside the bounds (trf needs interior points)."""
     if starts is None:
-        starts = [s + ((mass_ratio,) if len(names) == 3 else ()) for s in DEFAULT_STARTS]
+        starts = DEFAULT_STARTS
     points = []
     for start in starts:
         start = as_float_array("starts", start, ndim=1)
-        if start.size == 2 and len(names) == 3:
-            start = np.append(start, mass_ratio)
+        if start.size == 3 and tail is not None and "mass_ratio" not in names:
+            raise ParameterError(f"starts must hold (f_h1, ξ_h1) with μ_h1 held fixed, got "
+                                 f"{start.tolist()}")
+        if 2 <= start.size < len(names) and tail is not None:
+            start = np.append(start, [tail[name] for name in names[start.size:]])
         if start.size != len(names):
             raise ParameterError(
                 f"starts must hold {len(names)} values {names}, got {start.tolist()}")

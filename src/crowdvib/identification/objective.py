@@ -12,6 +12,7 @@ Two misfits share one interface, a residual vector r(θ) with Σ r² the objecti
 """
 
 import copy
+import dataclasses
 
 import numpy as np
 
@@ -193,6 +194,22 @@ class PSDObjective:
             self._model_inputs.setdefault("n_nodes", model.nodes.size)
         return model
 
+    def model_for(self, steps):
+        """The forward model with the crowd's step frequencies N(μ_fs, σ_fs), ``steps`` = (μ_fs, σ_fs) [Hz].
+
+        For an estimate that fits the step-frequency distribution with the MSD: the last model
+        is kept, so the evaluations of one optimiser step (which share μ_fs, σ_fs when only the
+        MSD moves) build it once.
+        """
+        key = (float(steps[0]), float(steps[1]))
+        if getattr(self, "_steps_model", (None,))[0] != key:
+            crowd = dataclasses.replace(self.model.crowd, step_frequency_mean=key[0],
+                                        step_frequency_std=key[1])
+            self._steps_model = (key, self.model.with_step_frequencies(crowd)
+                                 if hasattr(self.model, "with_step_frequencies")
+                                 else self.spectral_model(crowd))
+        return self._steps_model[1]
+
     def exact_model(self, frequency: np.ndarray):
         """The forward model without the Welch kernel on another grid (same crowd, filter)."""
         inputs = dict(self._model_inputs, welch_window_length=None)
@@ -213,13 +230,14 @@ class PSDObjective:
                                           / np.linalg.norm(other._target, axis=1))[:, np.newaxis]
         return other
 
-    def residuals(self, msd, *, model=None):
+    def residuals(self, msd, *, model=None, steps=None):
         """Residual vector r (Σ r² = J) for an MSD model, or for no HSI with ``msd=None``.
 
-        ``model`` replaces the objective's own forward model (e.g. one for another crowd).
+        ``model`` replaces the objective's own forward model (e.g. one for another crowd);
+        ``steps`` = (μ_fs, σ_fs) uses :meth:`model_for` those step frequencies.
         """
         self.evaluations += 1
-        modelled = self.modelled(msd, model=model)
+        modelled = self.modelled(msd, model=model, steps=steps)
         if self.method == "least_squares":
             return ((self._target - modelled) * self._scale).ravel()
         # x − 1 − ln x ≥ 0 (clipped: round-off near x = 1 can make it −1e−16); a model ordinate
@@ -228,8 +246,10 @@ class PSDObjective:
         deviance = np.maximum(x - 1.0 - np.log(x), 0.0)
         return (np.sign(x - 1.0) * np.sqrt(deviance * self._scale)).ravel()
 
-    def modelled(self, msd, *, model=None):
+    def modelled(self, msd, *, model=None, steps=None):
         """The model PSD in the objective's normalised units (each output over its level)."""
+        if steps is not None:
+            model = self.model_for(steps)
         return (self.model if model is None else model).psd_array(msd) / self.level[:, np.newaxis]
 
     def score_terms(self, modelled, gradient):

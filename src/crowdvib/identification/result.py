@@ -14,6 +14,7 @@ from scipy import stats
 from ..errors import ParameterError
 
 if TYPE_CHECKING:
+    from ..models.crowd import Crowd
     from ..models.pedestrian import MSDModel
 
 __all__ = ["HSIEstimate"]
@@ -71,6 +72,9 @@ class HSIEstimate:
         How ``intervals`` were found: ``"profile"`` or ``"bootstrap"`` (None: not computed).
     bootstrap_samples : ndarray, shape (n_boot, n_free), or None
         The refitted parameters of the parametric-bootstrap replicates.
+    crowd : Crowd or None
+        With ``free_step_frequencies``, the crowd with the fitted step-frequency distribution
+        (``step_frequency_mean`` μ_fs, ``step_frequency_std`` σ_fs [Hz]); else None.
     """
 
     msd: MSDModel
@@ -95,6 +99,15 @@ class HSIEstimate:
     crowd_model: str = "smeared"
     interval_method: str = None
     bootstrap_samples: np.ndarray = None
+    crowd: Crowd | None = None
+
+    def value(self, parameter: str) -> float:
+        """The estimated value of a free parameter (an MSD's or the fitted crowd's) [its unit]."""
+        if parameter not in self.free_parameters:
+            raise ParameterError(f"parameter must be one of {list(self.free_parameters)}, "
+                                 f"got {parameter!r}")
+        source = self.msd if hasattr(self.msd, parameter) else self.crowd
+        return float(getattr(source, parameter))
 
     @property
     def relative_cost(self) -> float:
@@ -123,16 +136,13 @@ class HSIEstimate:
         The profile interval when it was computed at this level, else the Wald interval
         estimate ± z·SE from the sandwich covariance; both clipped to the search bounds.
         """
-        if parameter not in self.free_parameters:
-            raise ParameterError(f"parameter must be one of {list(self.free_parameters)}, "
-                                 f"got {parameter!r}")
+        value = self.value(parameter)
         if not 0 < level < 1:
             raise ParameterError(f"level must lie in (0, 1), got {level!r}")
         if parameter in self.intervals and np.isclose(level, self.interval_level):
             return tuple(self.intervals[parameter])
         if self.covariance is None:
             raise ParameterError("this estimate carries no covariance (interval=None)")
-        value = getattr(self.msd, parameter)
         half = stats.norm.ppf(0.5 + level / 2) * self.standard_errors[parameter]
         low, high = self.bounds[parameter]
         return (max(value - half, low), min(value + half, high))
@@ -140,7 +150,7 @@ class HSIEstimate:
     def __repr__(self):
         parts = []
         for name in self.free_parameters:
-            value = getattr(self.msd, name)
+            value = self.value(name)
             text = f"{name}={value:.4g}"
             if name in self.intervals:
                 low, high = self.intervals[name]
@@ -152,6 +162,9 @@ class HSIEstimate:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict; the estimate sits under ``"estimate"`` with its interval."""
         estimate = self.msd.to_dict()
+        if self.crowd is not None:
+            estimate.update(step_frequency_mean=self.crowd.step_frequency_mean,
+                            step_frequency_std=self.crowd.step_frequency_std)
         if self.covariance is not None:
             estimate["interval"] = {name: list(self.interval(name, self.interval_level))
                                     for name in self.free_parameters}

@@ -14,7 +14,9 @@ import numpy as np
 from .._validation import check_positive
 from ..errors import ParameterError
 from ..signals.spectrum import ResponsePSD
-from .estimation import PSDObjective, _diagnose, _merge_bounds, _multistart, _starting_points
+from .diagnostics import _diagnose
+from .estimation import (DEFAULT_STEP_FREQUENCY_BOUNDS, STEP_PARAMETERS, PSDObjective,
+                         _merge_bounds, _multistart, _starting_points)
 
 if TYPE_CHECKING:
     from .._typing import ForceModel
@@ -23,11 +25,6 @@ if TYPE_CHECKING:
 
 __all__ = ["estimate_step_frequencies", "StepFrequencyEstimate", "DEFAULT_STEP_FREQUENCY_BOUNDS"]
 
-#: Search bounds of (μ_fs, σ_fs) [Hz]: normal walking lies well inside 1–3 Hz, and a spread below
-#: 0.01 Hz or above 0.6 Hz is not a crowd (the paper's values are 0.13–0.19 Hz).
-DEFAULT_STEP_FREQUENCY_BOUNDS = {"step_frequency_mean": (1.0, 3.0),
-                                 "step_frequency_std": (0.01, 0.6)}
-_STEP_PARAMETERS = ("step_frequency_mean", "step_frequency_std")
 
 
 @dataclass(frozen=True, eq=False)
@@ -142,11 +139,11 @@ def estimate_step_frequencies(measured: ResponsePSD, structure: ModalModel, crow
     objective = PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                              output_weights=output_weights, match_welch=match_welch)
     limits = _merge_bounds(bounds, DEFAULT_STEP_FREQUENCY_BOUNDS)
-    lower = np.array([limits[n][0] for n in _STEP_PARAMETERS])
-    upper = np.array([limits[n][1] for n in _STEP_PARAMETERS])
+    lower = np.array([limits[n][0] for n in STEP_PARAMETERS])
+    upper = np.array([limits[n][1] for n in STEP_PARAMETERS])
     if starts is None:
         starts = [(crowd.step_frequency_mean, crowd.step_frequency_std), (1.6, 0.1), (2.0, 0.25)]
-    points = _starting_points(starts, _STEP_PARAMETERS, None, lower, upper)
+    points = _starting_points(starts, STEP_PARAMETERS, None, lower, upper)
 
     def to_crowd(theta):
         return replace(crowd, step_frequency_mean=float(theta[0]),
@@ -157,13 +154,13 @@ def estimate_step_frequencies(measured: ResponsePSD, structure: ModalModel, crow
         return objective.residuals(None, model=objective.spectral_model(to_crowd(theta)))
 
     best, runs = _multistart(residuals, points, lower, upper, objective)
-    active, success, table = _diagnose(best, runs, _STEP_PARAMETERS, lower, upper,
+    active, success, table = _diagnose(best, runs, STEP_PARAMETERS, lower, upper,
                                        "the step-frequency optimum sits on a bound",
                                        "check the band and cut-off")
     return StepFrequencyEstimate(
         crowd=to_crowd(best.x), cost=float(2 * best.cost),
         cost_initial=float(np.sum(objective.residuals(None) ** 2)),
         n_evaluations=sum(n for _, _, n in runs), success=success, active_bounds=active,
-        bounds={n: (float(lo), float(hi)) for n, lo, hi in zip(_STEP_PARAMETERS, lower, upper)},
+        bounds={n: (float(lo), float(hi)) for n, lo, hi in zip(STEP_PARAMETERS, lower, upper)},
         band=objective.band, cutoff=cutoff, output_names=objective.output_names, starts=table,
         message=str(best.message))

@@ -329,12 +329,16 @@ def _estimation(table, path):
         raise table.error("weights", "must give one weight per entry of estimation.outputs",
                           weights.tolist())
     free = table.strings("free_parameters", ("frequency", "damping_ratio"))
-    if set(free) not in ({"frequency", "damping_ratio"},
-                         {"frequency", "damping_ratio", "mass_ratio"}):
+    steps = {"step_frequency_mean", "step_frequency_std"}
+    if set(free) - steps not in ({"frequency", "damping_ratio"},
+                                 {"frequency", "damping_ratio", "mass_ratio"}) \
+            or len(set(free) & steps) == 1:
         raise table.error("free_parameters", "must be [\"frequency\", \"damping_ratio\"] with "
-                          "optionally \"mass_ratio\"", list(free))
+                          "optionally \"mass_ratio\" and optionally both \"step_frequency_mean\" "
+                          "and \"step_frequency_std\"", list(free))
     starts = _starts(table, "starts", (2, 3))
-    bounds = _bounds(table.table("bounds"), ("frequency", "damping_ratio", "mass_ratio"))
+    bounds = _bounds(table.table("bounds"), ("frequency", "damping_ratio", "mass_ratio",
+                                             *sorted(steps)))
     step = None
     if table.has("step_frequencies"):
         sub = table.table("step_frequencies")
@@ -443,6 +447,11 @@ def _case(path, data):
         structure.output_index(outputs)
     except ParameterError as exc:
         raise ParameterError(f"{path.name}: estimation.{exc}") from None
+    if len(records) > 1 and "step_frequency_mean" in estimation.free_parameters:
+        raise ParameterError(f"{path.name}: estimation.free_parameters must not hold the step "
+                             "frequencies in a joint fit of several [[measurement]] blocks (each "
+                             "record has its own crowd: fit its step frequencies first, "
+                             "[estimation.step_frequencies])")
     for spec in [block.measurement for block in records] or [measurement]:
         if spec.channels is not None:
             try:

@@ -29,7 +29,11 @@ RELATIVE_COST_LEVEL = 0.10
 
 _PARAMETERS = (("frequency", Markup("f<sub>h1</sub>"), "Hz"),
                ("damping_ratio", Markup("ξ<sub>h1</sub>"), "-"),
-               ("mass_ratio", Markup("μ<sub>h1</sub>"), "-"))
+               ("mass_ratio", Markup("μ<sub>h1</sub>"), "-"),
+               # fitted with the MSD when the case frees them (docs: theory, Step frequencies
+               # fitted with the MSD)
+               ("step_frequency_mean", Markup("μ<sub>fs</sub>"), "Hz"),
+               ("step_frequency_std", Markup("σ<sub>fs</sub>"), "Hz"))
 _RELATIVE = Markup("J/J<sub>noHSI</sub>")
 
 

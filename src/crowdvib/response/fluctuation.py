@@ -17,6 +17,7 @@ instances, each used as a black box.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 from typing import Any
 
@@ -175,6 +176,7 @@ class FluctuatingSpectralModel:
                                     or not 1 <= n_nodes <= 40):
             raise ParameterError(f"n_nodes must be an integer from 1 to 40, got {n_nodes!r}")
         base = SpectralModel(structure, crowd, frequency, **options)
+        self._options = options
         self.structure, self.crowd, self.frequency = base.structure, base.crowd, base.frequency
         self.force, self.output_names = base.force, base.output_names
         self.welch_window_length, self.lowpass = base.welch_window_length, base.lowpass
@@ -203,6 +205,24 @@ class FluctuatingSpectralModel:
                 break
             current = finer
         self.nodes, self.weights, self._models = current
+
+    def with_step_frequencies(self, crowd: Crowd) -> "FluctuatingSpectralModel":
+        """The same mixture for a crowd that differs only in its step-frequency distribution.
+
+        The occupancy law, hence the nodes and weights, depends on the density and the mode
+        shape alone: it is kept, and only the smeared models are built again (an estimate that
+        fits μ_fs and σ_fs builds hundreds of these).
+        """
+        check_type("crowd", crowd, Crowd)
+        if crowd.density != self.crowd.density:
+            raise ParameterError(f"crowd.density must stay {self.crowd.density:g} P/m² (the "
+                                 f"occupancy law is kept), got {crowd.density:g}")
+        other = copy.copy(self)
+        other.crowd = crowd
+        other._models = [SpectralModel(model.structure, crowd.with_density(model.crowd.density),
+                                       model.frequency, **self._options)
+                         for model in self._models]
+        return other
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
         """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
