@@ -1,0 +1,71 @@
+"""Where the fluctuating model misses the simulated resonance: the same density at other speeds.
+
+At a fixed density the occupancy law of a Poisson crowd does not depend on the walking speed,
+but the occupancy changes faster when the walkers walk faster. Simulated one-hour records of the
+paper example at 0.25 P/m² (true MSD, seeds 1…N), mean Welch PSD over the fluctuating model's
+expected PSD per band, ± one standard error of the mean (docs: theory, The fluctuating crowd,
+Evidence). ``--no-hsi`` simulates without the MSDs (a time-invariant bridge).
+
+    python benchmarks/bench_walking_speed.py SPEED [N] [--no-hsi]
+
+With ``CROWDVIB_RECORD_CACHE`` set, the records' Welch PSDs are kept there and reused.
+"""
+
+import os
+import pickle
+import sys
+
+import numpy as np
+
+from crowdvib import Crowd, LowPassFilter, simulate, welch_psd
+from crowdvib.response import FluctuatingSpectralModel
+
+sys.path.insert(0, os.path.dirname(__file__))
+from bench_intervals import BRIDGE, MSD, paper_crowd  # noqa: E402  (the same example)
+
+BANDS = ((0.3, 1.0), (1.5, 1.8), (1.8, 1.9), (1.9, 2.05), (2.05, 2.3), (3.5, 6.0))
+
+
+def record(crowd, seed, msd):
+    cache = os.environ.get("CROWDVIB_RECORD_CACHE")
+    tag = "" if msd is not None else "_nohsi"
+    path = cache and os.path.join(cache, f"v{crowd.walking_speed:g}{tag}_s{seed}.pkl")
+    if path and os.path.exists(path):
+        with open(path, "rb") as handle:
+            return pickle.load(handle)
+    # Warm-up: three crossings, so the deck holds its stationary crowd at any speed.
+    warm_up = max(100.0, 3 * BRIDGE.length / crowd.walking_speed)
+    simulated = simulate(BRIDGE, crowd, 3600.0, msd=msd, rng=seed, warm_up=warm_up,
+                         sample_rate=100.0)
+    psd = welch_psd(simulated.acceleration, 100.0, window_length=60.0,
+                    output_names=simulated.output_names,
+                    lowpass=LowPassFilter(10.0, 4, 100.0)).band(0, 10)
+    if path:
+        with open(path, "wb") as handle:
+            pickle.dump(psd, handle)
+    return psd
+
+
+def main(speed, n=30, hsi=True):
+    base = paper_crowd(0.25)
+    crowd = Crowd(density=0.25, walking_speed=speed, step_frequency_mean=base.step_frequency_mean,
+                  step_frequency_std=base.step_frequency_std, body_mass=base.body_mass)
+    msd = MSD if hsi else None
+    psds = [record(crowd, seed, msd) for seed in range(1, n + 1)]
+    frequency = psds[0].frequency
+    values = np.array([p.psd[0] for p in psds])
+    mean, error = values.mean(axis=0), values.std(axis=0, ddof=1) / np.sqrt(n)
+    model = FluctuatingSpectralModel(BRIDGE, crowd, frequency, welch_window_length=60.0,
+                                     lowpass=psds[0].lowpass).psd_array(msd)[0]
+    print(f"0.25 P/m², walking speed {speed:g} m/s, {n} one-hour records, "
+          f"{'with' if hsi else 'without'} HSI: mean simulated / fluctuating model")
+    for low, high in BANDS:
+        k = (frequency >= low) & (frequency < high)
+        print(f"  {low:4.2f}–{high:4.2f} Hz  {mean[k].sum() / model[k].sum():.4f} ± "
+              f"{np.sqrt((error[k] ** 2).sum()) / model[k].sum():.4f}")
+
+
+if __name__ == "__main__":
+    arguments = [a for a in sys.argv[1:] if a != "--no-hsi"]
+    main(float(arguments[0]), int(arguments[1]) if len(arguments) > 1 else 30,
+         hsi="--no-hsi" not in sys.argv)
