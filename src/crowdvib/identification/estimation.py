@@ -24,11 +24,10 @@ from ..errors import (BoundWarning, ConvergenceWarning, EstimationError,
                       IdentifiabilityWarning, ParameterError, PlausibilityWarning)
 from ..models.loading import STANDARD_GRAVITY
 from ..models.pedestrian import MSDModel
-from ..signals.welch import welch_bin_correlation
 from .bootstrap import bootstrap_estimates, percentile_interval
 from .objective import PSDObjective
 from .result import HSIEstimate
-from .uncertainty import profile_interval, sandwich_covariance, score_variance
+from .uncertainty import profile_interval, sandwich_covariance
 
 if TYPE_CHECKING:
     from .._typing import ForceModel, Seed
@@ -283,14 +282,11 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     if interval is not None and all(measured.n_windows for _, measured in parts):
         variance, hessian, occupancies = 0.0, 0.0, []
         for objective, measured in parts:      # independent records: information adds
-            modelled = objective.modelled(msd)
             gradient = _model_gradient(objective, best.x, to_msd, lower, upper)
-            q, curvature = objective.score_terms(modelled, gradient)
             occupancies.append(_occupancy(objective, msd, measured))
-            variance = variance + score_variance(
-                q, modelled * np.sqrt(objective.dispersion), objective.degrees_of_freedom,
-                welch_bin_correlation(objective.n_windows), occupancy=occupancies[-1])
-            hessian = hessian + curvature
+            part, curvature = objective.information(objective.modelled(msd), gradient,
+                                                    occupancies[-1])
+            variance, hessian = variance + part, hessian + curvature
         covariance = sandwich_covariance(variance, hessian)
         _check_identifiability(names, covariance)
         if interval == "bootstrap":
@@ -363,8 +359,8 @@ def _occupancy(objective, msd, measured):
     step = 1e-3
     up = objective.spectral_model(crowd.with_density(crowd.density * (1 + step)))
     down = objective.spectral_model(crowd.with_density(crowd.density * (1 - step)))
-    gradient = ((up.psd_array(msd) - down.psd_array(msd)) / (2 * step)
-                / objective.level[:, np.newaxis])
+    gradient = (objective.modelled(msd, model=up)
+                - objective.modelled(msd, model=down)) / (2 * step)
     return gradient, 1.0 / crossings
 
 
