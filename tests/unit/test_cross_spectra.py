@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from crowdvib import (FluctuatingSpectralModel, ModalModel, MSDModel, ParameterError,
-                      ResponsePSD, SpectralModel, welch_psd)
+from crowdvib import (DataError, FluctuatingSpectralModel, ModalModel, MSDModel,
+                      ParameterError, ResponsePSD, SpectralModel, welch_psd)
 from crowdvib.io.casefile import load_case
 from crowdvib.response._welch_model import cross_power_coefficients, power_coefficients
 from crowdvib.signals.synthesis import gaussian_cross_record, record_frequencies
@@ -128,6 +128,11 @@ def test_response_psd_keeps_its_cross_spectra_through_select_and_band():
                                              r"n_frequencies\) = \(3, 3, 101\)"):
         dataclasses.replace(measured, cross=measured.cross[:2])
     assert isinstance(dataclasses.replace(measured, cross=None), ResponsePSD)
+    broken = measured.cross.copy()
+    broken[0, 1, 7] = np.nan
+    with pytest.raises(DataError, match=r"cross-spectra must be finite, got a non-finite entry "
+                                        r"at 0.35 Hz \(index 7\)"):
+        dataclasses.replace(measured, cross=broken).check_measured()
 
 
 def test_gaussian_cross_records_have_the_requested_cross_spectral_matrix():

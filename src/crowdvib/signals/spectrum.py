@@ -97,13 +97,18 @@ class ResponsePSD:
             object.__setattr__(self, "cross", frozen_array(cross, dtype=complex))
 
     def check_measured(self) -> ResponsePSD:
-        """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values."""
+        """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values (or its
+        cross-spectra non-finite ones)."""
         for row, name in zip(self.psd, self.output_names):
             bad = np.flatnonzero(~np.isfinite(row) | (row < 0))
             if bad.size:
                 raise DataError(
                     f"measured PSD of output {name!r} must be finite and >= 0, got {row[bad[0]]} "
                     f"at {self.frequency[bad[0]]:g} Hz (index {bad[0]})")
+        if self.cross is not None and not np.all(np.isfinite(self.cross)):
+            column = int(np.argwhere(~np.isfinite(self.cross))[0, -1])
+            raise DataError(f"measured cross-spectra must be finite, got a non-finite entry at "
+                            f"{self.frequency[column]:g} Hz (index {column})")
         return self
 
     def select(self, names: str | Sequence[str]) -> ResponsePSD:
