@@ -76,16 +76,12 @@ def test_wishart_intervals_cover_a_partly_coherent_pair_and_are_narrower():
     # binomial chance of fewer is 1 %). The per-output sum's sandwich takes the pair as fully
     # coherent, too cautious here: its intervals are wider than the Wishart's, and, as it
     # ignores the cross-spectra, it scatters more from record to record.
-    case = load_case(EXAMPLES / "eeklo_like.toml")
-    outputs = ("main_span", "main_quarter")
-    structure = case.structure.replace(output_names=outputs,
-                                       output_shapes=case.structure.shapes_at(
-                                           np.array([48.0, 37.5])))
+    structure, crowd, outputs = _eeklo_quarter()
     found = {"wishart": [], "sum": []}
-    for measured in _records(structure, case.crowd, outputs, 25.0, range(40)):
+    for measured in _records(structure, crowd, outputs, 25.0, range(40)):
         for name, data in (("wishart", measured),
                            ("sum", dataclasses.replace(measured, cross=None))):
-            estimate = _estimate(data, structure, case.crowd, (2.5, 8.0))
+            estimate = _estimate(data, structure, crowd, (2.5, 8.0))
             found[name].append([(getattr(estimate.msd, p), *estimate.interval(p))
                                 for p in TRUTH])
     found = {name: np.array(rows) for name, rows in found.items()}   # (40, parameter, 3)
@@ -113,3 +109,52 @@ def test_wishart_bootstrap_scatter_matches_its_sandwich():
     for i, name in enumerate(estimate.free_parameters):
         assert samples[:, i].std(ddof=1) == pytest.approx(profile.standard_errors[name],
                                                           rel=0.25)
+
+
+def _eeklo_quarter():
+    """Eeklo-like bridge with outputs at the centre and the quarter of the main span."""
+    case = load_case(EXAMPLES / "eeklo_like.toml")
+    outputs = ("main_span", "main_quarter")
+    structure = case.structure.replace(
+        output_names=outputs, output_shapes=case.structure.shapes_at(np.array([48.0, 37.5])))
+    return structure, case.crowd, outputs
+
+
+@pytest.mark.slow
+def test_wishart_score_variance_matches_its_scatter_over_records():
+    # Reference: the empirical covariance of the score g = ∂D/∂θ at the truth over 120 Gaussian
+    # records (central differences of the deviance), against the sandwich's Var(g) with the
+    # bin correlation ρ(d) of overlapped Hann segments. Eeklo-like main and side span: both
+    # principal directions are kept in most bins, so the off-diagonal coordinates count. A variance
+    # from 120 draws is within ±26 % (2σ of √(2/119)); without the bin correlation the
+    # prediction is about half as large (docs: theory, Sandwich covariance), which must fail.
+    from crowdvib.identification import PSDObjective
+    from crowdvib.signals.welch import welch_bin_correlation
+
+    case = load_case(EXAMPLES / "eeklo_like.toml")
+    structure, crowd, outputs = case.structure, case.crowd, ("main_span", "side_span")
+    step = np.array([1e-4 * 3.0, 1e-4 * 0.3])
+    scores, predicted = [], None
+    for measured in _records(structure, crowd, outputs, 25.0, range(100, 220)):
+        objective = PSDObjective(measured, structure, crowd, band=(2.5, 8.0), method="likelihood")
+        points = [MSDModel(3.0 + s * step[0] * (i == 0), 0.3 + s * step[1] * (i == 1), 0.95)
+                  for i in range(2) for s in (1, -1)]
+        costs = [objective.cost(m) for m in points]
+        scores.append([(costs[0] - costs[1]) / (2 * step[0]),
+                       (costs[2] - costs[3]) / (2 * step[1])])
+        if predicted is None:
+            assert objective.wishart.keep.all(axis=1).mean() > 0.5
+            modelled = objective.modelled(MSD)
+            gradient = np.stack([(objective.modelled(points[2 * i])
+                                  - objective.modelled(points[2 * i + 1])) / (2 * step[i])
+                                 for i in range(2)], axis=-1)
+            ones = np.ones(objective.frequency.size)
+            rho = welch_bin_correlation(objective.n_windows)
+            predicted = objective.wishart.information(modelled, gradient,
+                                                      objective.degrees_of_freedom, rho, ones)[0]
+            independent = objective.wishart.information(modelled, gradient,
+                                                        objective.degrees_of_freedom, (1.0,),
+                                                        ones)[0]
+    empirical = np.cov(np.array(scores).T)
+    np.testing.assert_allclose(np.diag(empirical), np.diag(predicted), rtol=0.26)
+    assert np.all(np.diag(independent) < 0.75 * np.diag(empirical))

@@ -118,7 +118,8 @@ def test_score_variance_matches_a_monte_carlo_of_the_complex_wishart_law():
     scores = np.array(scores)
     np.testing.assert_allclose(np.cov(scores.T), variance, rtol=0.08, atol=0.03 *
                                np.abs(variance).max())
-    np.testing.assert_allclose(variance, 2 * hessian, rtol=1e-10)
+    # Exact up to the 1e-10 ridge of the factor that whitens the variance.
+    np.testing.assert_allclose(variance, 2 * hessian, rtol=1e-8)
 
 
 def test_independent_score_rows_add_their_variances():

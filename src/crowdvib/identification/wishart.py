@@ -122,13 +122,18 @@ class WishartTerms:
                     occupancy=None):
         """Score variance and expected Hessian of D about the fitted model (sandwich parts).
 
-        The score is g = Σ_k tr(A_k (Ŝ_k − S_k)) with A_k = −s_k S⁻¹ ∂S S⁻¹ and the expected
-        Hessian H = Σ_k s_k tr(S⁻¹ ∂_p S S⁻¹ ∂_q S). Writing Ŝ − S = C E Cᴴ (C C^H = S), the
-        whitened E has independent entries of variance 1/n = 2/ν, so
-        tr(A ΔŜ) = tr(B E) with B = Cᴴ A C = −s C⁻¹ ∂S C⁻ᴴ, whose real coordinates
+        On the kept directions the score is g = Σ_k tr(A_k (Ŝ_k − S_k)) with
+        A_k = −s_k S⁻¹ ∂S S⁻¹ and the expected Hessian H = Σ_k s_k tr(S⁻¹ ∂_p S S⁻¹ ∂_q S).
+        Writing Ŝ − S = C E Cᴴ (C Cᴴ = S), the whitened E has independent entries of
+        variance 1/n = 2/ν, so tr(A ΔŜ) = tr(B E) with B = Cᴴ A C, whose real coordinates
         (:func:`_components`) are independent score terms; neighbouring bins correlate each
         coordinate by ρ(d) as they do the ordinates of one output
         (:func:`~crowdvib.identification.uncertainty.score_variance`, ``coherent=False``).
+        For that, E must mean the same at neighbouring bins: A is taken back to the outputs'
+        coordinates (the principal directions' phases and order change from bin to bin) and
+        C is the Cholesky factor of the full model matrix there, which varies smoothly with f
+        (a ridge of 1e-10 of its trace lets a rank-deficient S be factored; B is confined to the
+        kept directions, so it changes B by as little).
 
         Parameters
         ----------
@@ -150,23 +155,35 @@ class WishartTerms:
         variance, hessian : ndarray, shape (n_parameters, n_parameters)
         """
         factor, _ = self._whitened(model)
+        inverse = np.linalg.inv(factor @ np.conj(np.swapaxes(factor, 1, 2)))   # S_r⁻¹
 
-        def whiten(derivative):
-            """C⁻¹ Uᴴ ∂S U C⁻ᴴ on the kept directions, (K, p, p)."""
-            reduced = _mask_identity(self.project(derivative), self.keep, 0.0)
-            half = np.linalg.solve(factor, reduced)
+        def reduced(derivative):
+            return _mask_identity(self.project(derivative), self.keep, 0.0)
+
+        def whiten(matrices):
+            half = np.linalg.solve(factor, matrices)
             return np.linalg.solve(factor, np.conj(np.swapaxes(half, 1, 2)))
 
-        parameters = [whiten(gradient[..., i]) for i in range(gradient.shape[-1])]
-        coordinates = np.stack([_components(b) for b in parameters], axis=-1)   # (p², K, P)
-        hessian = np.einsum("ck,ckp,ckq->pq", np.broadcast_to(self.scale, coordinates.shape[:2]),
-                            coordinates, coordinates)
-        q = -self.scale[:, np.newaxis] * coordinates
-        shift = None
+        derivatives = [reduced(gradient[..., i]) for i in range(gradient.shape[-1])]
+        # H from the whitened derivatives C⁻¹ ∂S C⁻ᴴ: tr(S⁻¹∂_pS S⁻¹∂_qS) = c(W_p)·c(W_q).
+        whitened = np.stack([_components(whiten(d)) for d in derivatives], axis=-1)
+        hessian = np.einsum("k,ckp,ckq->pq", self.scale, whitened, whitened)
+        # A_k on the kept directions, taken back to the outputs' coordinates: U A Uᴴ.
+        scores = [-self.scale[:, np.newaxis, np.newaxis] * (inverse @ d @ inverse)
+                  for d in derivatives]
+        adjoint = np.conj(np.swapaxes(self.basis, 1, 2))
+        full = np.moveaxis(model, -1, 0)
+        ridge = 1e-10 * np.trace(full, axis1=1, axis2=2).real / full.shape[-1]
+        smooth = np.linalg.cholesky(full + ridge[:, np.newaxis, np.newaxis] * np.eye(full.shape[-1]))
+        q = np.stack([_components(np.conj(np.swapaxes(smooth, 1, 2)) @ self.basis @ a @ adjoint
+                                  @ smooth) for a in scores], axis=-1)           # (p², K, P)
+        spread = np.broadcast_to(np.sqrt(dispersion), q.shape[:2])
+        variance = score_variance(q, spread, degrees_of_freedom, correlation, coherent=False)
         if occupancy is not None:
+            # A crowd larger than its mean moves every matrix along ∂S/∂ln n: the score moves
+            # by Σ_k tr(A_k ∂S_k/∂ln n) (docs: theory, Sandwich covariance).
             derivative, relative_variance = occupancy
-            shift = (_components(whiten(derivative)), relative_variance)
-        spread = np.broadcast_to(np.sqrt(dispersion), coordinates.shape[:2])
-        variance = score_variance(q, spread, degrees_of_freedom, correlation, occupancy=shift,
-                                  coherent=False)
+            along = reduced(derivative)
+            shift = np.array([np.einsum("kij,kji->", a, along).real for a in scores])
+            variance = variance + relative_variance * np.outer(shift, shift)
         return variance, hessian
