@@ -24,7 +24,8 @@ Cases (truth f_h1 = 3.0 Hz, ξ_h1 = 0.30, μ_h1 = 0.95):
 Prints, per case and estimator, the coverage of the truth by the 95 % profile interval, the mean
 error with its 95 % interval, the standard deviation per record, the mean interval width (all
 relative to the truth) and the time per estimate. Usage:
-``python benchmarks/bench_wishart.py [paper|beam3|eeklo|eeklo_quarter] [N] [first seed]``.
+``python benchmarks/bench_wishart.py [paper|beam3|eeklo|eeklo_quarter] [N] [first seed]``;
+``python benchmarks/bench_wishart.py timing`` times one estimate per case and estimator.
 """
 
 import dataclasses
@@ -97,7 +98,30 @@ def main(name="paper", n=200, first=0):
     _table(rows, n, seconds)
 
 
-if __name__ == "__main__":
+def timing(repeats=5):
+    """Median time per estimate (profile intervals) of each estimator on one record per case,
+    the estimators interleaved within every repeat."""
+    print(f"time per estimate with 95 % profile intervals, median of {repeats} interleaved "
+          f"repeats; load {os.getloadavg()[0]:.2f}")
+    for name in ("paper", "eeklo_quarter", "eeklo"):
+        structure, crowd, _, band, _, _ = case(name)
+        inputs = variants(next(records(name, 1, first=1000)))
+        seconds = {method: [] for method in inputs}
+        for _ in range(repeats):
+            for method, data in inputs.items():
+                started = time.perf_counter()
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", BoundWarning)
+                    estimate_hsi(data, structure, crowd, band=band, method="likelihood")
+                seconds[method].append(time.perf_counter() - started)
+        print(f"{name:14s}" + "".join(f"{method:>12s} {np.median(values):6.2f} s"
+                                      for method, values in seconds.items()))
+    print(f"load {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__" and sys.argv[1:2] == ["timing"]:
+    timing()
+elif __name__ == "__main__":
     main(sys.argv[1] if len(sys.argv) > 1 else "paper",
          int(sys.argv[2]) if len(sys.argv) > 2 else 200,
          int(sys.argv[3]) if len(sys.argv) > 3 else 0)
