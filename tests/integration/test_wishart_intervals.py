@@ -98,17 +98,21 @@ def test_wishart_intervals_cover_a_partly_coherent_pair_and_are_narrower():
 def test_wishart_bootstrap_scatter_matches_its_sandwich():
     # The parametric bootstrap of the Wishart likelihood draws two-output records from the
     # fitted model's cross-spectral matrix; its scatter must agree with the sandwich standard
-    # errors, an independent derivation (40 replicates: a standard deviation within ±25 %,
-    # about 2σ of its sampling error √(1/78) = 11 %).
-    bridge, crowd = _paper_pair()
-    measured = next(_records(bridge, crowd, ("midspan", "quarter"), 60.0, [5]))
-    estimate = _estimate(measured, bridge, crowd, (0.0, 10.0), interval="bootstrap", n_boot=40,
-                         rng=3)
+    # errors, an independent derivation (100 replicates: a standard deviation within ±25 %,
+    # over 3σ of its sampling error √(1/198) = 7 %). Eeklo-like main and side span: both
+    # principal directions are kept in most bins, so the replicates' cross-spectra count.
+    case = load_case(EXAMPLES / "eeklo_like.toml")
+    structure, crowd, outputs = case.structure, case.crowd, ("main_span", "side_span")
+    measured = next(_records(structure, crowd, outputs, 25.0, [7]))
+    estimate = _estimate(measured, structure, crowd, (2.5, 8.0), interval="bootstrap",
+                         n_boot=100, rng=3)
     samples = estimate.bootstrap_samples
-    profile = _estimate(measured, bridge, crowd, (0.0, 10.0), interval="wald")
+    wald = _estimate(measured, structure, crowd, (2.5, 8.0), interval="wald")
     for i, name in enumerate(estimate.free_parameters):
-        assert samples[:, i].std(ddof=1) == pytest.approx(profile.standard_errors[name],
-                                                          rel=0.25)
+        assert samples[:, i].std(ddof=1) == pytest.approx(wald.standard_errors[name], rel=0.25)
+    again = _estimate(measured, structure, crowd, (2.5, 8.0), interval="bootstrap", n_boot=20,
+                      rng=3)
+    np.testing.assert_array_equal(again.bootstrap_samples, samples[:20])
 
 
 def _eeklo_quarter():
