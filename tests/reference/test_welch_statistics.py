@@ -80,3 +80,37 @@ def test_measured_dispersion_is_one_for_a_gaussian_record_and_more_for_a_changin
     # The band and output selections carry it along.
     part = changing.band(1.0, 2.0).select(["ch1"])
     assert part.dispersion.shape == part.psd.shape == (1, 61)
+
+
+def test_welch_cross_matrices_of_noise_scatter_as_complex_wishart(reference):
+    # The premises of the two-output likelihood (docs: theory, The likelihood of several
+    # outputs): Welch cross-spectral matrices of Gaussian records, whitened by their expectation
+    # (E = C⁻¹ Ŝ C⁻ᴴ − I, C Cᴴ = S), have diagonal entries of variance 1/n = 2/ν and
+    # off-diagonal real and imaginary parts of variance 1/ν (complex Wishart with n = ν/2,
+    # Yuen, Katafygiotis & Beck 2002), and each coordinate correlates with its neighbour one bin
+    # away by ρ(1), as one output's ordinates do. Two white outputs with coherence 0.64.
+    from crowdvib.signals.synthesis import gaussian_cross_record
+
+    sample_rate, duration, window = 20.0, 1200.0, 20.0
+    frequency = record_frequencies(duration, sample_rate)
+    cross = np.array([[1.0, 0.8 * np.exp(0.6j)], [0.8 * np.exp(-0.6j), 1.0]])
+    factor = np.linalg.cholesky(cross)
+    whitened = []
+    for seed in range(40):
+        records = gaussian_cross_record(np.repeat(cross[..., np.newaxis], frequency.size, -1),
+                                        sample_rate, rng=100 + seed)
+        measured = welch_psd(records, sample_rate, window_length=window, cross=True)
+        inner = np.moveaxis(measured.cross[..., 5:-5], -1, 0)
+        half = np.linalg.solve(factor, inner)
+        whitened.append(np.linalg.solve(factor, np.conj(np.swapaxes(half, 1, 2))) - np.eye(2))
+    whitened = np.array(whitened)                                    # (records, bins, 2, 2)
+    dof = welch_degrees_of_freedom(measured.n_windows)
+    coordinates = {"diagonal": whitened[..., 0, 0].real, "Re off-diagonal": whitened[..., 0, 1].real,
+                   "Im off-diagonal": whitened[..., 0, 1].imag}
+    expected = {"diagonal": 2 / dof, "Re off-diagonal": 1 / dof, "Im off-diagonal": 1 / dof}
+    rho = welch_bin_correlation(measured.n_windows)
+    for name, values in coordinates.items():
+        reference(f"variance of whitened Welch cross-matrix entries: {name}", values.var(),
+                  expected[name], rel=0.06, source="complex Wishart with n = ν/2 [YKB02]")
+        lagged = np.mean(values[:, :-1] * values[:, 1:]) / values.var()
+        assert lagged == pytest.approx(rho[1], abs=0.04)

@@ -8,7 +8,10 @@ measurement. Its deviation from the model is then widened by the record's measur
 φ (the scatter its own segments show beyond a Gaussian record) and shifted by a draw of the
 crowd size N of the record (relative variance 1/N), the two terms the sandwich covariance has.
 Refitting every replicate from the estimate gives the bootstrap law of θ̂; the interval is its
-percentile interval.
+percentile interval. For the Wishart likelihood of several outputs the replicate is the Welch
+cross-spectral matrix of a multi-output Gaussian record with the fitted model's matrix
+(:func:`crowdvib.signals.synthesis.gaussian_cross_record`), widened by the outputs' mean
+dispersion and kept positive definite.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..signals.synthesis import gaussian_record
+from ..signals.synthesis import gaussian_cross_record, gaussian_record
 from ..signals.welch import welch_psd
 
 __all__ = ["bootstrap_estimates", "percentile_interval"]
@@ -44,23 +47,58 @@ class _Replicates:
         self.sample_rate = per_window / window
         n_samples = per_window * (self.n_windows + 1) // 2
         self.grid = np.arange(n_samples // 2 + 1) * self.sample_rate / n_samples
-        self.exact = objective.exact_model(self.grid).psd_array(msd)
+        # The Wishart likelihood draws the cross-spectral matrix, with the records' coherence
+        # (docs: theory, The likelihood of several outputs); otherwise fully coherent PSDs.
+        self.cross = objective.wishart is not None
+        exact = objective.exact_model(self.grid)
+        self.exact = exact.cross_psd_array(msd) if self.cross else exact.psd_array(msd)
         self.window = window
         self.index = np.rint(objective.frequency * window).astype(int)
-        self.expected = objective.model.psd_array(msd)          # Welch expectation on the bins
-        self.spread = np.sqrt(objective.dispersion)
+        # Welch expectation on the bins, and the level that undoes the objective's normalisation
+        self.expected = (objective.model.cross_psd_array(msd) if self.cross
+                         else objective.model.psd_array(msd))
+        level = objective.level
+        self.level = (np.sqrt(np.outer(level, level))[..., np.newaxis] if self.cross
+                      else level[:, np.newaxis])
+        self.spread = np.sqrt(objective.dispersion.mean(axis=0) if self.cross
+                              else objective.dispersion)
         self.occupancy = occupancy
 
     def draw(self, rng):
-        record = gaussian_record(self.exact, self.sample_rate, rng=rng, coherent=True)
-        gaussian = welch_psd(record, self.sample_rate, window_length=self.window).psd
-        gaussian = gaussian[:, self.index]
+        if self.cross:
+            record = gaussian_cross_record(self.exact, self.sample_rate, rng=rng)
+            gaussian = welch_psd(record, self.sample_rate, window_length=self.window,
+                                 cross=True).cross[..., self.index]
+        else:
+            record = gaussian_record(self.exact, self.sample_rate, rng=rng, coherent=True)
+            gaussian = welch_psd(record, self.sample_rate, window_length=self.window).psd
+            gaussian = gaussian[:, self.index]
         replicate = self.expected + self.spread * (gaussian - self.expected)
         if self.occupancy is not None:
             gradient, variance = self.occupancy
             replicate = replicate + (rng.standard_normal() * np.sqrt(variance) * gradient
-                                     * self.objective.level[:, np.newaxis])
+                                     * self.level)
+        if self.cross:
+            return _floor_matrices(replicate, self.expected)
         return np.maximum(replicate, _FLOOR * self.expected)
+
+
+def _floor_matrices(replicate, expected):
+    """Hermitian replicates (p, p, K) kept positive definite: whitened by the expectation
+    (C⁻¹ R C⁻ᴴ, C Cᴴ = E), their eigenvalues are held above ``_FLOOR``, as one ordinate is held
+    above ``_FLOOR`` times its expectation. A tiny ridge (1e-9 of the trace) lets a singular
+    expectation (one mode: rank 1) be whitened; the lift it allows there is of that size."""
+    matrices, model = np.moveaxis(replicate, -1, 0), np.moveaxis(expected, -1, 0)
+    ridge = 1e-9 * np.trace(model, axis1=1, axis2=2).real / model.shape[-1]
+    factor = np.linalg.cholesky(model + ridge[:, np.newaxis, np.newaxis] * np.eye(model.shape[-1]))
+    half = np.linalg.solve(factor, matrices)
+    whitened = np.linalg.solve(factor, np.conj(np.swapaxes(half, 1, 2)))
+    relative, basis = np.linalg.eigh(whitened)
+    if np.all(relative >= _FLOOR):
+        return replicate
+    whitened = (basis * np.maximum(relative, _FLOOR)[:, np.newaxis, :]) @ np.conj(
+        np.swapaxes(basis, 1, 2))
+    return np.moveaxis(factor @ whitened @ np.conj(np.swapaxes(factor, 1, 2)), 0, -1)
 
 
 def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, state: Callable,

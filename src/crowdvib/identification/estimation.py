@@ -21,12 +21,11 @@ from scipy.optimize import least_squares
 from .._validation import as_float_array
 from ..errors import BoundWarning, EstimationError, ParameterError, PlausibilityWarning
 from ..models.pedestrian import MSDModel
-from ..signals.welch import welch_bin_correlation
 from .bootstrap import bootstrap_estimates, percentile_interval
 from .diagnostics import _check_identifiability, _check_level, _diagnose
 from .objective import PSDObjective
 from .result import HSIEstimate
-from .uncertainty import profile_interval, sandwich_covariance, score_variance
+from .uncertainty import profile_interval, sandwich_covariance
 
 if TYPE_CHECKING:
     from .._typing import ForceModel, Seed
@@ -116,7 +115,9 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         squares reads the fluctuating crowd as +8 % damping, and it scatters less; but it is
         several times more sensitive to an error in the crowd's mean step frequency (±5 % moves
         ξ_h1 by −77/+274 % against −12/−13 % on the paper example), so least squares stays the
-        default while the crowd model is assumed, not measured.
+        default while the crowd model is assumed, not measured. A record with cross-spectra
+        (``welch_psd(..., cross=True)``) and two or more outputs gets the complex-Wishart
+        likelihood of its cross-spectral matrix (docs: theory, The likelihood of several outputs).
     interval : {"profile", "wald", "bootstrap", None}
         Statistical uncertainty from this record's Welch scatter: sandwich covariance with
         profile intervals (default), the covariance only (Wald intervals), the covariance with
@@ -273,9 +274,13 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
             "step_frequency_std": crowd.step_frequency_std}
     points = _starting_points(starts, names, tail, lower, upper)
 
+    def misfit(target, theta):
+        msd, steps = state(theta)
+        return target.residuals(msd, steps=steps)
+
     def fit(objective):
-        return _multistart(lambda theta: objective.residuals(*state(theta)), points, lower,
-                           upper, objective)
+        return _multistart(lambda theta: misfit(objective, theta), points, lower, upper,
+                           objective)
 
     for objective, _ in parts:
         absurd = objective.level_ratio(None)
@@ -309,14 +314,11 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     if interval is not None and all(measured.n_windows for _, measured in parts):
         variance, hessian, occupancies = 0.0, 0.0, []
         for objective, measured in parts:      # independent records: information adds
-            modelled = objective.modelled(msd)
             gradient = _model_gradient(objective, best.x, state, lower, upper)
-            q, curvature = objective.score_terms(modelled, gradient)
             occupancies.append(_occupancy(objective, msd, measured))
-            variance = variance + score_variance(
-                q, modelled * np.sqrt(objective.dispersion), objective.degrees_of_freedom,
-                welch_bin_correlation(objective.n_windows), occupancy=occupancies[-1])
-            hessian = hessian + curvature
+            part, curvature = objective.information(objective.modelled(msd), gradient,
+                                                    occupancies[-1])
+            variance, hessian = variance + part, hessian + curvature
         covariance = sandwich_covariance(variance, hessian)
         _check_identifiability(names, covariance)
         if interval == "bootstrap":
@@ -328,7 +330,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
             ends = []
             for i, name in enumerate(names):
                 intervals[name], hit = profile_interval(
-                    lambda theta: stacked.residuals(*state(theta)), best.x, i, lower, upper,
+                    lambda theta: misfit(stacked, theta), best.x, i, lower, upper,
                     covariance, hessian, level)
                 ends += [f"{name}:{side}" for side, h in zip(("lower", "upper"), hit) if h]
             on_bound = tuple(ends)
@@ -371,8 +373,8 @@ def _occupancy(objective, msd, measured):
     step = 1e-3
     up = objective.spectral_model(crowd.with_density(crowd.density * (1 + step)))
     down = objective.spectral_model(crowd.with_density(crowd.density * (1 - step)))
-    gradient = ((up.psd_array(msd) - down.psd_array(msd)) / (2 * step)
-                / objective.level[:, np.newaxis])
+    gradient = (objective.modelled(msd, model=up)
+                - objective.modelled(msd, model=down)) / (2 * step)
     return gradient, 1.0 / crossings
 
 

@@ -9,6 +9,9 @@ Two misfits share one interface, a residual vector r(θ) with Σ r² the objecti
   r_{l,k} = sign(x − 1) sqrt(L γ_l w_k ν (x − 1 − ln x)). Neighbouring bins and coherent outputs
   are not independent: the composite likelihood keeps the estimate consistent, and
   :mod:`crowdvib.identification.uncertainty` corrects its curvature (sandwich) for the intervals.
+  When the record carries its cross-spectral matrix (``welch_psd(..., cross=True)``) and two or
+  more outputs are fitted, the likelihood is the complex-Wishart deviance of that matrix
+  instead (:mod:`crowdvib.identification.wishart`): coherent outputs then count once.
 """
 
 import copy
@@ -22,7 +25,9 @@ from ..models.crowd import Crowd
 from ..models.structure import ModalModel
 from ..response.fluctuation import spectral_model
 from ..signals.spectrum import ResponsePSD
-from ..signals.welch import welch_degrees_of_freedom
+from ..signals.welch import welch_bin_correlation, welch_degrees_of_freedom
+from .uncertainty import score_variance
+from .wishart import WishartTerms
 
 __all__ = ["PSDObjective", "METHODS"]
 
@@ -84,7 +89,10 @@ class PSDObjective:
         (docs: theory, What a Welch estimate sees: the expectation kernel); only when ``measured.window_length`` is known.
     method : {"least_squares", "likelihood"}
         The misfit (module docstring). The likelihood leaves out the 0 Hz bin, whose ordinate
-        is not a χ²_ν variable (and is removed by detrending).
+        is not a χ²_ν variable (and is removed by detrending). With ``measured.cross`` and two
+        or more outputs it is the complex-Wishart likelihood of the cross-spectral matrix
+        (which weighs the outputs by their statistics: no ``output_weights`` then); drop the
+        cross-spectra (``dataclasses.replace(measured, cross=None)``) for the per-output sum.
     crowd_model : {"smeared", "fluctuating"}
         The expected PSD of the mean crowd, or the mixture over the Poisson crowd's fluctuating
         occupancy (docs: theory, The fluctuating crowd).
@@ -112,6 +120,14 @@ class PSDObjective:
         self.frequency = measured.frequency[keep]
         selected = measured.select(outputs)
         self.target = selected.psd[:, keep]
+        self.wishart = None
+        cross = (selected.cross[..., keep] if method == "likelihood" and len(outputs) >= 2
+                 and selected.cross is not None else None)
+        if cross is not None and output_weights is not None:
+            raise ParameterError(
+                "output_weights must be None for the Wishart likelihood of a record with "
+                "cross-spectra (it weighs the outputs by their own statistics), got "
+                f"{output_weights!r}; drop the cross-spectra for a weighted per-output sum")
         # Measured scatter of the ordinates over their χ² value (1: a stationary Gaussian record).
         self.dispersion = (np.ones_like(self.target) if selected.dispersion is None
                            else selected.dispersion[:, keep])
@@ -153,8 +169,18 @@ class PSDObjective:
         self.crowd_model = crowd_model
         self.model = self.spectral_model(crowd)
         if method == "likelihood":
-            self._likelihood_bins(outputs)
+            use = self._likelihood_bins(outputs)
+            if cross is not None:
+                self._wishart_terms(cross[..., use])
         self.evaluations = 0
+
+    def _wishart_terms(self, cross):
+        """Set up the Wishart deviance of the measured cross-spectral matrix (its bins)."""
+        # The normalisation D Ŝ D, D = diag(level^-1/2), leaves the deviance unchanged.
+        norm = np.sqrt(np.outer(self.level, self.level))[..., np.newaxis]
+        reference = self.model.cross_psd_array(None) / norm
+        self.wishart = WishartTerms(cross / norm, reference, self._scale[0],
+                                    LIKELIHOOD_DYNAMIC_RANGE)
 
     def _likelihood_bins(self, outputs):
         """Keep the bins the likelihood can use: within ``LIKELIHOOD_DYNAMIC_RANGE`` of the peak.
@@ -183,6 +209,7 @@ class PSDObjective:
             raise ParameterError(
                 f"measured PSD of output {outputs[row]!r} must be > 0 where the likelihood "
                 f"uses it, got 0 at {self.frequency[column]:g} Hz")
+        return use
 
     def spectral_model(self, crowd):
         """The forward model on the band grid for another crowd (same structure, filter, window)."""
@@ -219,8 +246,19 @@ class PSDObjective:
         """The same misfit for another measured PSD on the objective's bins (a bootstrap draw).
 
         ``psd`` has the shape of :attr:`target`; the normalisation follows it as it follows
-        the measured PSD (each output over its peak; least squares over its norm).
+        the measured PSD (each output over its peak; least squares over its norm). For the
+        Wishart likelihood ``psd`` is a cross-spectral matrix (p, p, K), normalised by the
+        objective's own levels (the deviance does not depend on them).
         """
+        if self.wishart is not None:
+            other = copy.copy(self)
+            cross = np.asarray(psd, dtype=complex)
+            other.target = np.einsum("aak->ak", cross).real
+            other._target = other.target / self.level[:, np.newaxis]
+            other.wishart = copy.copy(self.wishart)
+            other.wishart.set_target(cross / np.sqrt(np.outer(self.level, self.level))[
+                ..., np.newaxis])
+            return other
         other = copy.copy(self)
         other.target = np.asarray(psd, dtype=float)
         other.level = other.target.max(axis=1)
@@ -238,6 +276,8 @@ class PSDObjective:
         """
         self.evaluations += 1
         modelled = self.modelled(msd, model=model, steps=steps)
+        if self.wishart is not None:
+            return self.wishart.residuals(modelled)
         if self.method == "least_squares":
             return ((self._target - modelled) * self._scale).ravel()
         # x − 1 − ln x ≥ 0 (clipped: round-off near x = 1 can make it −1e−16); a model ordinate
@@ -247,10 +287,43 @@ class PSDObjective:
         return (np.sign(x - 1.0) * np.sqrt(deviance * self._scale)).ravel()
 
     def modelled(self, msd, *, model=None, steps=None):
-        """The model PSD in the objective's normalised units (each output over its level)."""
+        """The model PSD in the objective's normalised units (each output over its level), or
+        for the Wishart likelihood the cross-spectral matrix (p, p, K), S_ab over
+        sqrt(level_a level_b). ``steps`` = (μ_fs, σ_fs) uses :meth:`model_for` them."""
         if steps is not None:
             model = self.model_for(steps)
-        return (self.model if model is None else model).psd_array(msd) / self.level[:, np.newaxis]
+        model = self.model if model is None else model
+        if self.wishart is not None:
+            return model.cross_psd_array(msd) / np.sqrt(np.outer(self.level, self.level))[
+                ..., np.newaxis]
+        return model.psd_array(msd) / self.level[:, np.newaxis]
+
+    def information(self, modelled, gradient, occupancy=None):
+        """Score variance Var(g) and expected Hessian H of S = Σ r² about the fitted model:
+        the two parts of the sandwich H⁻¹ Var(g) H⁻¹ (docs: theory, Sandwich covariance).
+
+        Parameters
+        ----------
+        modelled : ndarray
+            :meth:`modelled` at θ̂.
+        gradient : ndarray
+            Its derivatives, the parameters on a last axis.
+        occupancy : (ndarray, float), optional
+            ∂(modelled)/∂ln n and the relative variance of the record's crowd size.
+
+        Returns
+        -------
+        variance, hessian : ndarray, shape (n_parameters, n_parameters)
+        """
+        correlation = welch_bin_correlation(self.n_windows)
+        if self.wishart is not None:
+            return self.wishart.information(modelled, gradient, self.degrees_of_freedom,
+                                            correlation, self.dispersion.mean(axis=0),
+                                            occupancy)
+        q, hessian = self.score_terms(modelled, gradient)
+        variance = score_variance(q, modelled * np.sqrt(self.dispersion),
+                                  self.degrees_of_freedom, correlation, occupancy=occupancy)
+        return variance, hessian
 
     def score_terms(self, modelled, gradient):
         """Linearised score and curvature of S = Σ r² about a model PSD.
@@ -287,7 +360,8 @@ class PSDObjective:
         model disagree on the level itself (units, gain, channel), which no MSD can fix.
         """
         with np.errstate(divide="ignore"):
-            return self._target.sum(axis=1) / self.modelled(msd).sum(axis=1)
+            return self._target.sum(axis=1) / (self.model.psd_array(msd).sum(axis=1)
+                                               / self.level)
 
     def cost(self, msd):
         """J(θ) of paper Eq. (6), or the deviance D(θ) for the likelihood [-]."""

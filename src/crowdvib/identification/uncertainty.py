@@ -30,7 +30,8 @@ from scipy import optimize, stats
 __all__ = ["score_variance", "sandwich_covariance", "profile_interval"]
 
 
-def score_variance(q, spread, degrees_of_freedom, correlation, *, occupancy=None):
+def score_variance(q, spread, degrees_of_freedom, correlation, *, occupancy=None,
+                   coherent=True):
     """Var(g) of the score of one record's misfit (module docstring); the sandwich is
     H⁻¹ Var(g) H⁻¹, with Var(g) and H summed over independent records.
 
@@ -48,17 +49,26 @@ def score_variance(q, spread, degrees_of_freedom, correlation, *, occupancy=None
     occupancy : (ndarray, float), optional
         ∂G/∂ln n (shape of ``spread``) and the relative variance of the record's crowd size n:
         a crowd that happened to be larger than its mean shifts every ordinate together.
+    coherent : bool
+        True: the rows of ``q`` are outputs whose errors share one ε per bin (fully coherent).
+        False: the rows are independent score terms (the whitened coordinates of the Wishart
+        likelihood, :mod:`crowdvib.identification.wishart`), each correlated across bins by ρ.
 
     Returns
     -------
     ndarray, shape (n_parameters, n_parameters)
     """
-    v = np.einsum("lkp,lk->kp", q, spread)        # coherent outputs: one ε per bin
-    variance = v.T @ v
-    for lag, rho in enumerate(np.asarray(correlation)[1:], start=1):
-        if lag < v.shape[0]:
-            cross = v[:-lag].T @ v[lag:]
-            variance = variance + rho * (cross + cross.T)
+    if coherent:
+        terms = np.einsum("lkp,lk->kp", q, spread)[np.newaxis]   # one ε per bin
+    else:
+        terms = q * spread[..., np.newaxis]                         # one ε per row and bin
+    variance = 0.0
+    for v in terms:
+        variance = variance + v.T @ v
+        for lag, rho in enumerate(np.asarray(correlation)[1:], start=1):
+            if lag < v.shape[0]:
+                cross = v[:-lag].T @ v[lag:]
+                variance = variance + rho * (cross + cross.T)
     variance = 2.0 / degrees_of_freedom * variance
     if occupancy is not None:
         gradient, relative_variance = occupancy

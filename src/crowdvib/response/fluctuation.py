@@ -228,6 +228,12 @@ class FluctuatingSpectralModel:
         """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
         return _mixture(self.weights, self._models, msd)
 
+    def cross_psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
+        """Expected cross-spectral matrix, shape (n_outputs, n_outputs, n_frequencies): the
+        same mixture Σ_i w_i S(f; λ_i d), each term linear in the occupancy state's record
+        (docs: theory, The cross-spectral matrix)."""
+        return _mixture(self.weights, self._models, msd, cross=True)
+
     def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
         """Expected PSD at the outputs → :class:`ResponsePSD`."""
         return ResponsePSD(frequency=self.frequency, psd=self.psd_array(msd),
@@ -236,11 +242,14 @@ class FluctuatingSpectralModel:
                            source="model")
 
 
-def _mixture(weights, models, msd):
-    """Σ_i w_i G_i(f; msd)."""
-    total = weights[0] * models[0].psd_array(msd)
+def _mixture(weights, models, msd, cross=False):
+    """Σ_i w_i G_i(f; msd), or Σ_i w_i S_i(f; msd) with ``cross``."""
+    def term(model):
+        return model.cross_psd_array(msd) if cross else model.psd_array(msd)
+
+    total = weights[0] * term(models[0])
     for weight, model in zip(weights[1:], models[1:]):
-        total += weight * model.psd_array(msd)
+        total += weight * term(model)
     return total
 
 

@@ -147,9 +147,18 @@ class SpectralModel:
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
         """PSD [(m/s²)²/Hz] as an array of shape (n_outputs, n_frequencies)."""
+        return self._expected(msd, cross=False)
+
+    def cross_psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
+        """Cross-spectral matrix S_ab(f) = E[X_a conj(X_b)] [(m/s²)²/Hz] of the outputs, shape
+        (n_outputs, n_outputs, n_frequencies), Hermitian in (a, b), its diagonal the PSD
+        (docs: theory, The cross-spectral matrix); with the same Welch kernel and filter."""
+        return self._expected(msd, cross=True)
+
+    def _expected(self, msd, cross):
         attached = self._attached(msd)
         if self._welch is None:
-            return self._exact_psd(self._grid, attached)
+            return self._exact_psd(self._grid, attached, cross)
         grid = self._welch.grid
         probe = grid[np.unique(np.linspace(0, grid.size - 1, 5).astype(int))]
         expansion = _pole_residue(self.structure, attached, self._load_factor, self._shapes,
@@ -157,11 +166,12 @@ class SpectralModel:
         # A nearly defective state matrix, or an undamped pole (ξ = 0 and no HSI: the closed
         # form needs Re λ < 0): the dense rule instead.
         if expansion is None or not np.all(expansion[0].real < 0):
-            return self._dense_welch_psd(attached)
-        return self._welch.psd(*expansion)
+            return self._dense_welch_psd(attached, cross)
+        return self._welch.cross(*expansion) if cross else self._welch.psd(*expansion)
 
-    def _exact_psd(self, grid, attached):
-        """The exact PSD (no Welch smoothing) on a model grid, shape (n_outputs, n_f)."""
+    def _exact_psd(self, grid, attached, cross=False):
+        """The exact PSD (no Welch smoothing) on a model grid, shape (n_outputs, n_f), or the
+        cross-spectral matrix, shape (n_outputs, n_outputs, n_f)."""
         frequency, weight, diagonal = grid
         if not attached:
             # Φ_o H with H diagonal: no solve needed.
@@ -175,15 +185,21 @@ class SpectralModel:
             if projected is None:
                 projected = _direct_projection(diagonal, attached, frequency, self._shapes,
                                                self._load_factor)
+        if cross:
+            return np.einsum("fak,fbk->abf", projected, projected.conj()) * weight
         return (np.abs(projected) ** 2).sum(axis=-1).T * weight
 
-    def _dense_welch_psd(self, attached):
+    def _dense_welch_psd(self, attached, cross=False):
         """Reference Welch expectation: the exact PSD at 16 points per bin, rectangle rule."""
         if self._dense is None:
             rule = WelchRule(self.frequency, self.welch_window_length, DENSE_POINTS_PER_BIN)
             self._dense = (rule, self._model_grid(rule.grid))
         rule, grid = self._dense
-        return rule.apply(self._exact_psd(grid, attached))
+        exact = self._exact_psd(grid, attached, cross)
+        if not cross:
+            return rule.apply(exact)
+        size = exact.shape[0]
+        return rule.apply(exact.reshape(size * size, -1)).reshape(size, size, -1)
 
     def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
         """PSD at the outputs → :class:`ResponsePSD`."""

@@ -51,6 +51,11 @@ class ResponsePSD:
         χ²_ν variance (2/ν)·G² of a stationary Gaussian record [-]: about 1 where the record
         behaves so, above where the crowd's occupancy changes or the response is not Gaussian
         (docs: theory, Statistical uncertainty of an estimate). None when unknown.
+    cross : ndarray of complex, shape (n_outputs, n_outputs, n_frequencies), or None
+        Cross-spectral matrix S_ab(f) = E[X_a conj(X_b)] [(m/s²)²/Hz] (one-sided, Hermitian in
+        a, b, its diagonal ``psd``), kept when the estimate was asked for it
+        (``welch_psd(..., cross=True)``); the likelihood of several outputs then uses it
+        (docs: theory, The cross-spectral matrix). None otherwise.
     """
 
     frequency: np.ndarray
@@ -62,6 +67,7 @@ class ResponsePSD:
     source: str = "model"
     unit: str = "(m/s²)²/Hz"
     dispersion: np.ndarray | None = None
+    cross: np.ndarray | None = None
 
     def __post_init__(self):
         frequency = as_float_array("frequency", self.frequency, ndim=1)
@@ -82,15 +88,27 @@ class ResponsePSD:
                 raise ParameterError(f"dispersion must have the shape of psd {psd.shape}, got "
                                      f"{dispersion.shape}")
             object.__setattr__(self, "dispersion", frozen_array(dispersion))
+        if self.cross is not None:
+            cross = np.array(self.cross, dtype=complex)
+            if cross.shape != (len(names), len(names), frequency.size):
+                raise ParameterError(
+                    f"cross must have shape (n_outputs, n_outputs, n_frequencies) = "
+                    f"({len(names)}, {len(names)}, {frequency.size}), got {cross.shape}")
+            object.__setattr__(self, "cross", frozen_array(cross, dtype=complex))
 
     def check_measured(self) -> ResponsePSD:
-        """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values."""
+        """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values (or its
+        cross-spectra non-finite ones)."""
         for row, name in zip(self.psd, self.output_names):
             bad = np.flatnonzero(~np.isfinite(row) | (row < 0))
             if bad.size:
                 raise DataError(
                     f"measured PSD of output {name!r} must be finite and >= 0, got {row[bad[0]]} "
                     f"at {self.frequency[bad[0]]:g} Hz (index {bad[0]})")
+        if self.cross is not None and not np.all(np.isfinite(self.cross)):
+            column = int(np.argwhere(~np.isfinite(self.cross))[0, -1])
+            raise DataError(f"measured cross-spectra must be finite, got a non-finite entry at "
+                            f"{self.frequency[column]:g} Hz (index {column})")
         return self
 
     def select(self, names: str | Sequence[str]) -> ResponsePSD:
@@ -98,14 +116,16 @@ class ResponsePSD:
         rows = name_indices(names, self.output_names)
         return self._with(psd=self.psd[rows],
                           output_names=tuple(self.output_names[i] for i in rows),
-                          dispersion=None if self.dispersion is None else self.dispersion[rows])
+                          dispersion=None if self.dispersion is None else self.dispersion[rows],
+                          cross=None if self.cross is None else self.cross[np.ix_(rows, rows)])
 
     def band(self, lower: float, upper: float) -> ResponsePSD:
         """The PSDs restricted to lower <= f <= upper [Hz]."""
         keep = (self.frequency >= lower) & (self.frequency <= upper)
         return self._with(frequency=self.frequency[keep], psd=self.psd[:, keep],
                           dispersion=None if self.dispersion is None
-                          else self.dispersion[:, keep])
+                          else self.dispersion[:, keep],
+                          cross=None if self.cross is None else self.cross[..., keep])
 
     def variance(self, lower: float = 0.0, upper: float = np.inf) -> np.ndarray:
         """Band variance ∫ G df over [lower, upper] per output [(m/s²)²], trapezoid rule."""
@@ -124,7 +144,7 @@ class ResponsePSD:
         fields = dict(frequency=self.frequency, psd=self.psd, output_names=self.output_names,
                       window_length=self.window_length, n_windows=self.n_windows,
                       lowpass=self.lowpass, source=self.source, unit=self.unit,
-                      dispersion=self.dispersion)
+                      dispersion=self.dispersion, cross=self.cross)
         fields.update(changes)
         return ResponsePSD(**fields)
 
@@ -144,8 +164,12 @@ class ResponsePSD:
                 f"{f[0]:g}–{f[-1]:g} Hz{welch}, source={self.source!r})")
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict of the PSD and its metadata."""
-        return {"frequency": self.frequency.tolist(), "psd": self.psd.tolist(),
-                "output_names": list(self.output_names), "window_length": self.window_length,
-                "n_windows": self.n_windows, "source": self.source, "unit": self.unit,
-                "lowpass": None if self.lowpass is None else self.lowpass.to_dict()}
+        """JSON-ready dict of the PSD and its metadata (``"cross"`` as its real and imaginary
+        parts, only when the PSD carries cross-spectra)."""
+        fields = {"frequency": self.frequency.tolist(), "psd": self.psd.tolist(),
+                  "output_names": list(self.output_names), "window_length": self.window_length,
+                  "n_windows": self.n_windows, "source": self.source, "unit": self.unit,
+                  "lowpass": None if self.lowpass is None else self.lowpass.to_dict()}
+        if self.cross is not None:
+            fields["cross"] = {"real": self.cross.real.tolist(), "imag": self.cross.imag.tolist()}
+        return fields

@@ -123,7 +123,7 @@ def segment_periodograms(data, sample_rate, segment, overlap):
 
 def welch_psd(signals: ArrayLike, sample_rate: float, *, window_length: float,
               overlap: float = 0.5, output_names: Sequence[str] | None = None,
-              lowpass: LowPassFilter | None = None) -> ResponsePSD:
+              lowpass: LowPassFilter | None = None, cross: bool = False) -> ResponsePSD:
     """One-sided Welch PSD of acceleration records → :class:`ResponsePSD` (docs: theory, Welch PSDs, filters and convergence).
 
     Hann window of length T, constant detrend per segment, ``scaling='density'``: the result
@@ -144,6 +144,10 @@ def welch_psd(signals: ArrayLike, sample_rate: float, *, window_length: float,
     lowpass : LowPassFilter, optional
         Applied (zero-phase) before the PSD and recorded in the result, so a model can apply the
         same filter.
+    cross : bool
+        Also keep the cross-spectral matrix S_ab = mean over segments of X_a conj(X_b), with the
+        same window, detrend and scaling (``ResponsePSD.cross``; docs: theory, The
+        cross-spectral matrix): what the likelihood of several coherent outputs needs.
     """
     data = as_float_array("signals", signals)
     data = np.atleast_2d(data)
@@ -174,7 +178,29 @@ def welch_psd(signals: ArrayLike, sample_rate: float, *, window_length: float,
     return ResponsePSD(frequency=frequency, psd=psd, output_names=names,
                        window_length=segment / sample_rate, n_windows=n_windows,
                        lowpass=lowpass, source="welch",
-                       dispersion=_dispersion(periodograms, psd, overlap))
+                       dispersion=_dispersion(periodograms, psd, overlap),
+                       cross=_cross_spectra(data, sample_rate, segment, overlap, psd)
+                       if cross else None)
+
+
+def _cross_spectra(data, sample_rate, segment, overlap, psd):
+    """The Welch cross-spectral matrix, shape (n_channels, n_channels, n_frequencies).
+
+    scipy's complex spectrogram with density scaling holds Z with |Z|² the two-sided periodogram;
+    the one-sided density doubles every bin but 0 Hz and (for an even segment) the Nyquist bin,
+    as ``welch`` does. The diagonal is set to ``psd`` itself (equal up to round-off).
+    """
+    frequency, _, spectra = _signal.spectrogram(
+        data, fs=sample_rate, window="hann", nperseg=segment, noverlap=int(segment * overlap),
+        detrend="constant", return_onesided=True, scaling="density", mode="complex", axis=-1)
+    factor = np.full(frequency.size, 2.0)
+    factor[0] = 1.0
+    if segment % 2 == 0:
+        factor[-1] = 1.0
+    cross = np.einsum("afs,bfs->abf", spectra, spectra.conj()) * (factor / spectra.shape[-1])
+    index = np.arange(data.shape[0])
+    cross[index, index] = psd
+    return cross
 
 
 #: Segment lags over which the periodograms of a record are taken as correlated (the Hann
