@@ -63,8 +63,13 @@ def case_measurement(case):
          f"{record.duration:g} s at {record.sample_rate:g} Hz")
     lowpass = (None if spec.lowpass_cutoff is None else
                LowPassFilter(spec.lowpass_cutoff, spec.lowpass_order, record.sample_rate))
+    # Several outputs fitted by the likelihood: keep the cross-spectra, so that the estimator
+    # uses their complex-Wishart likelihood (docs: theory, The likelihood of several outputs),
+    # which weighs coherent outputs once; it takes no output weights.
+    cross = est.method == "likelihood" and len(outputs) > 1 and est.output_weights is None
     measured = welch_psd(record.data, record.sample_rate, window_length=spec.window_length,
-                         overlap=spec.overlap, output_names=outputs, lowpass=lowpass)
+                         overlap=spec.overlap, output_names=outputs, lowpass=lowpass,
+                         cross=cross)
     return record, measured, lowpass
 
 
@@ -108,6 +113,9 @@ def _estimate_case(case, out):
     say(f"crowdvib estimate: {case.name} ({case.path.name})")
     record, measured, lowpass = case_measurement(case)
     outputs = record.channel_names
+    if measured.cross is not None:
+        say(f"  likelihood of the {len(outputs)} outputs' cross-spectral matrix (complex "
+            "Wishart: coherent outputs count once)")
     convergence = psd_convergence(record.data, record.sample_rate,
                                   window_length=spec.window_length, band=est.band,
                                   norm=est.convergence_norm, overlap=spec.overlap,
