@@ -9,10 +9,16 @@ The kernel advances the coupled system
     M(t) = M_s + Σ_k m_h0 φ_k φ_kᵀ,
     m_h1 ü_k = −k_h1 (u_k − φ_kᵀz) − c_h1 (u̇_k − φ_kᵀż)
 
-with classical fixed-step RK4. Only the pedestrians on the deck ("active slots") are integrated.
-The RK4 stages sit at t, t + h/2 (twice) and t + h, so mode-shape rows, forces and the factored
-mass matrix are evaluated at three instants per step and the one at t + h is reused as the next
-step's t.
+with classical fixed-step RK4. Only the pedestrians on the deck ("active slots") are integrated,
+kept as contiguous arrays in slot order (:mod:`._slots`; docs: theory, Walkers on the deck as
+arrays) so that the per-walker loops vectorise. The RK4 stages sit at t, t + h/2 (twice) and
+t + h, so mode-shape rows, forces and the factored mass matrix are evaluated at three instants per
+step and the one at t + h is reused as the next step's t.
+
+Sums over the walkers (the modal force Σ φ_k g_k and the added mass Σ m_h0 φ_k φ_kᵀ) are the only
+reductions; they may be reassociated (``fastmath={"reassoc"}``) so that they vectorise too. The
+order of the partial sums then depends only on the number of walkers on the deck, never on the
+data, the chunking or the thread, so a run is reproducible bit for bit.
 """
 
 import math
@@ -20,80 +26,47 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["advance", "cholesky_mass"]
+from ._slots import (ARRIVAL, DAMPING, LANE, LANE_WEIGHT, OPTIONS, PEDESTRIAN, SEGMENT, SPRUNG,
+                     STATIC, STIFFNESS, T_OFF, UNSPRUNG, VELOCITY, X_START, harmonic_forces,
+                     leave, locate, replayed, replayed_forces, shape_rows)
+
+__all__ = ["advance", "mass_factor"]
+
+# Sums over walkers: reassociation lets LLVM split them into SIMD partial sums.
+_REDUCTION = dict(OPTIONS, fastmath={"reassoc"})
 
 
-
-@njit(cache=True)
-def _locate(x, positions):
-    """Segment s with positions[s] <= x <= positions[s + 1] (clipped to the walkway)."""
-    s = np.searchsorted(positions, x) - 1
-    if s < 0:
-        s = 0
-    if s > positions.size - 2:
-        s = positions.size - 2
-    return s
+@njit(**_REDUCTION)
+def _project(phi, g, n_active, out):
+    """out[j] += Σ_slot φ[j, slot] g[slot] (modal force of the walkers)."""
+    for j in range(phi.shape[0]):
+        acc = 0.0
+        for slot in range(n_active):
+            acc += phi[j, slot] * g[slot]
+        out[j] += acc
 
 
-@njit(cache=True)
-def _shape_row(x, s, lane_low, lane_weight, shapes, positions, inverse_spacing, out, row):
-    """Mode-shape row φ(x, y) into ``out[row]`` by linear interpolation; 0 off the walkway.
-
-    On a uniform station grid (``inverse_spacing`` = 1/Δx > 0) the segment is computed directly;
-    otherwise ``s``, the segment found last time, is walked to x — walkers move monotonically, so
-    that is O(1) too. Returns the segment for next time. (``out`` and ``row`` rather than a view
-    ``out[row]``: a view per call costs reference counting in the innermost loop.)
-    """
-    n_positions = positions.size
-    n_modes = out.shape[1]
-    if x < positions[0] or x > positions[n_positions - 1]:
-        for j in range(n_modes):
-            out[row, j] = 0.0
-        return s
-    if inverse_spacing > 0.0:
-        a = (x - positions[0]) * inverse_spacing
-        s = int(a)
-        if s > n_positions - 2:
-            s = n_positions - 2
-        a -= s
-    else:
-        while s < n_positions - 2 and x > positions[s + 1]:
-            s += 1
-        while s > 0 and x < positions[s]:
-            s -= 1
-        a = (x - positions[s]) / (positions[s + 1] - positions[s])
-    if lane_weight == 0.0:
-        for j in range(n_modes):
-            out[row, j] = shapes[lane_low, s, j] + a * (shapes[lane_low, s + 1, j]
-                                                         - shapes[lane_low, s, j])
-    else:
-        lane_high = lane_low + 1
-        for j in range(n_modes):
-            low = shapes[lane_low, s, j] + a * (shapes[lane_low, s + 1, j] - shapes[lane_low, s, j])
-            high = shapes[lane_high, s, j] + a * (shapes[lane_high, s + 1, j]
-                                                  - shapes[lane_high, s, j])
-            out[row, j] = low + lane_weight * (high - low)
-    return s
-
-
-@njit(cache=True)
-def cholesky_mass(modal_masses, phi, unsprung, active, n_active, factor):
-    """Lower Cholesky factor of M = diag(m_j) + Σ_slots m_h0 φ φᵀ, in place into ``factor``."""
+@njit(**_REDUCTION)
+def _added_mass(modal_masses, phi, slots, n_active, weighted, factor):
+    """Lower triangle of M = diag(m_j) + Σ_slots m_h0 φ φᵀ into ``factor`` (upper set to 0)."""
     n_modes = modal_masses.size
     for i in range(n_modes):
-        for j in range(n_modes):
+        for slot in range(n_active):
+            weighted[slot] = slots[UNSPRUNG, slot] * phi[i, slot]
+        for j in range(i + 1):
+            acc = 0.0
+            for slot in range(n_active):
+                acc += weighted[slot] * phi[j, slot]
+            factor[i, j] = acc
+        factor[i, i] += modal_masses[i]
+        for j in range(i + 1, n_modes):
             factor[i, j] = 0.0
-        factor[i, i] = modal_masses[i]
-    for slot in range(n_active):
-        m = unsprung[active[slot]]
-        if m == 0.0:
-            continue
-        for i in range(n_modes):
-            mi = m * phi[slot, i]
-            if mi == 0.0:
-                continue
-            for j in range(i + 1):
-                factor[i, j] += mi * phi[slot, j]
+
+
+@njit(**OPTIONS)
+def _cholesky(factor):
+    """Lower Cholesky factor of the symmetric matrix held in the lower triangle, in place."""
+    n_modes = factor.shape[0]
     for j in range(n_modes):
         d = factor[j, j]
         for p in range(j):
@@ -107,7 +80,14 @@ def cholesky_mass(modal_masses, phi, unsprung, active, n_active, factor):
             factor[i, j] = v / d
 
 
-@njit(cache=True)
+@njit(**OPTIONS)
+def mass_factor(modal_masses, phi, slots, n_active, weighted, factor):
+    """Lower Cholesky factor of M = diag(m_j) + Σ_slots m_h0 φ φᵀ, in place into ``factor``."""
+    _added_mass(modal_masses, phi, slots, n_active, weighted, factor)
+    _cholesky(factor)
+
+
+@njit(**OPTIONS)
 def _solve(factor, rhs, out):
     """Solve L Lᵀ out = rhs for the lower factor L."""
     n = rhs.size
@@ -123,91 +103,158 @@ def _solve(factor, rhs, out):
         out[i] = v / factor[i, i]
 
 
-@njit(cache=True)
-def _accelerations(z, zd, u, ud, phi, force, n_active, active, sprung, stiffness, damping,
-                   modal_damping, modal_stiffness, factor, hsi, rhs, zdd, udd):
-    """Structural (z̈) and sprung-mass (ü) accelerations at one RK4 stage (docs: theory, Equations of motion)."""
-    n_modes = z.size
-    for j in range(n_modes):
-        rhs[j] = -modal_damping[j] * zd[j] - modal_stiffness[j] * z[j]
+@njit(**OPTIONS)
+def _contact(z, zd, u, ud, phi, force, n_active, slots, dz, dzd, udd, g):
+    """Per slot: the MSD acceleration ü and the force on the deck g = p + contact force."""
     for slot in range(n_active):
-        f = force[slot]
-        if hsi:
-            k = active[slot]
-            dz = 0.0
-            dzd = 0.0
-            for j in range(n_modes):
-                dz += phi[slot, j] * z[j]
-                dzd += phi[slot, j] * zd[j]
-            contact = stiffness[k] * (u[slot] - dz) + damping[k] * (ud[slot] - dzd)
-            udd[slot] = -contact / sprung[k]
-            f += contact
-        if f != 0.0:
-            for j in range(n_modes):
-                rhs[j] += phi[slot, j] * f
+        dz[slot] = 0.0
+        dzd[slot] = 0.0
+    for j in range(z.size):
+        zj = z[j]
+        zdj = zd[j]
+        for slot in range(n_active):
+            dz[slot] += phi[j, slot] * zj
+            dzd[slot] += phi[j, slot] * zdj
+    for slot in range(n_active):
+        contact = (slots[STIFFNESS, slot] * (u[slot] - dz[slot])
+                   + slots[DAMPING, slot] * (ud[slot] - dzd[slot]))
+        udd[slot] = -contact / slots[SPRUNG, slot]
+        g[slot] = force[slot] + contact
+
+
+@njit(**OPTIONS)
+def _stage(z, zd, u, ud, phi, force, load, n_active, slots, hsi, modal_damping, modal_stiffness,
+           factor, dz, dzd, g, rhs, zdd, udd):
+    """Structural (z̈) and sprung-mass (ü) accelerations at one RK4 stage (docs: theory, Equations of motion).
+
+    Without HSI the walkers only load the deck: ``load`` = Σ φ p at the stage time, computed once.
+    """
+    for j in range(z.size):
+        rhs[j] = -modal_damping[j] * zd[j] - modal_stiffness[j] * z[j]
+    if hsi:
+        _contact(z, zd, u, ud, phi, force, n_active, slots, dz, dzd, udd, g)
+        _project(phi, g, n_active, rhs)
+    else:
+        for j in range(z.size):
+            rhs[j] += load[j]
     _solve(factor, rhs, zdd)
 
 
-# --- Measured-force replay (table look-up), kept apart from the harmonic path ---------------
-# ``replay`` = (record, offset, speed, weight, table): per pedestrian k the table row record[k]
-# (-1: no replay, the harmonic sum alone), the start offset[k] [table samples] at the arrival time,
-# speed[k] [table samples per second] and weight[k] [N] (s_k W_k); table[r] holds F_r/F̄_r − 1.
-# The force is weight · table[r](offset + speed (t − t_k)), periodically continued and linearly
-# interpolated (docs: theory, Measured walking forces); models/measured.py ``replay_value`` is
-# the numpy twin. Harmonic-only runs pass record = -1 everywhere and add nothing: bit-identical.
+@njit(**OPTIONS)
+def _stage_state(n, x, xd, b_pos, b_vel, scale, inner, out, outd):
+    """RK4 stage state: out = x + scale (ẋ + inner · b_pos), outd = ẋ + scale · b_vel."""
+    for i in range(n):
+        out[i] = x[i] + scale * (xd[i] + inner * b_pos[i])
+        outd[i] = xd[i] + scale * b_vel[i]
 
 
-@njit(cache=True)
-def _replayed(k, elapsed, replay):
-    """Replayed dynamic force [N] of pedestrian k at ``elapsed`` = t − t_k [s]."""
-    record, offset, speed, weight, table = replay
-    n = table.shape[1]
-    position = offset[k] + speed[k] * elapsed
-    position -= n * math.floor(position / n)
-    low = int(position)
-    if low > n - 1:
-        low = n - 1
-    high = low + 1 if low + 1 < n else 0
-    row = record[k]
-    return weight[k] * (table[row, low] + (position - low) * (table[row, high] - table[row, low]))
+@njit(**OPTIONS)
+def _rk4_update(n, h, x, xd, b1, b2, b3, b4):
+    """x += h ẋ + h²/6 (b1 + b2 + b3), ẋ += h/6 (b1 + 2 b2 + 2 b3 + b4)."""
+    sixth = h / 6.0
+    for i in range(n):
+        x[i] += h * xd[i] + h * sixth * (b1[i] + b2[i] + b3[i])
+        xd[i] += sixth * (b1[i] + 2.0 * b2[i] + 2.0 * b3[i] + b4[i])
+
+
+@njit(**OPTIONS)
+def _enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_low, lane_weight,
+           unsprung, sprung, stiffness, damping, static, amplitude, omega, phase, two_cos, replay,
+           table, positions, inverse_spacing, n_lanes, slots, index, segment, cell, frac,
+           phi, u, ud, force, wave_now, wave_prev, wave_cos):
+    """Pedestrian k takes ``slot`` at time t: its constants copied in, its MSD at rest on the deck."""
+    slots[X_START, slot] = x_start[k]
+    slots[VELOCITY, slot] = velocity[k]
+    slots[ARRIVAL, slot] = t_arrival[k]
+    slots[T_OFF, slot] = t_off[k]
+    slots[STIFFNESS, slot] = stiffness[k]
+    slots[DAMPING, slot] = damping[k]
+    slots[SPRUNG, slot] = sprung[k]
+    slots[UNSPRUNG, slot] = unsprung[k]
+    slots[STATIC, slot] = static[k]
+    slots[LANE_WEIGHT, slot] = lane_weight[k]
+    index[PEDESTRIAN, slot] = k
+    index[LANE, slot] = lane_low[k]
+    elapsed = t - t_arrival[k]
+    segment[slot] = locate(x_start[k] + velocity[k] * elapsed, positions)
+    shape_rows(slot, slot + 1, t, slots, index, table, positions, inverse_spacing, n_lanes,
+               segment, segment, cell, frac, phi)
+    dz = 0.0
+    dzd = 0.0
+    for j in range(z.size):
+        dz += phi[j, slot] * z[j]
+        dzd += phi[j, slot] * zd[j]
+    u[slot] = dz
+    ud[slot] = dzd
+    p = static[k]
+    for c in range(amplitude.shape[1]):
+        angle = omega[k, c] * elapsed + phase[k, c]
+        wave_now[c, slot] = amplitude[k, c] * math.sin(angle)
+        wave_prev[c, slot] = amplitude[k, c] * math.sin(angle - omega[k, c] * half)
+        wave_cos[c, slot] = two_cos[k, c]
+        p += wave_now[c, slot]
+    if replay[0][k] >= 0:
+        p += replayed(k, elapsed, replay)
+    force[slot] = p
 
 
 # nogil: simulate_many runs several records at once, one thread each, on their own state.
-@njit(cache=True, nogil=True)
+@njit(**OPTIONS)
 def advance(first_step, n_steps, substeps, h,
-            modal_masses, modal_damping, modal_stiffness, shapes, positions, inverse_spacing,
-            output_shapes,
+            modal_masses, modal_damping, modal_stiffness, table, positions, inverse_spacing,
+            n_lanes, output_shapes,
             t_on, t_off, t_arrival, x_start, velocity, lane_low, lane_weight,
             unsprung, sprung, stiffness, damping, static, amplitude, omega, phase,
             two_cos, replay, hsi, added_mass,
-            counters, active, z, zd, u, ud, seg, phi_now, force_now, wave_now, wave_prev, factor_now,
-            acceleration, modal_load, record_load, n_on_deck):
+            counters, slots, index, z, zd, u, ud, phi_now, force_now, wave_now, wave_prev,
+            wave_cos, factor_now, acceleration, modal_load, record_load, n_on_deck):
     """Advance the coupled system by ``n_steps`` RK4 steps of length ``h`` [s].
 
     Global step n starts at t = n·h; ``first_step`` is the global index of the first step.
     Output sample i is taken at step n = i·substeps (n >= 0) from the first RK4 stage, so the
     accelerations ü_o = φ_oᵀ z̈ come from the equation of motion, not from differences.
 
+    ``table`` is the mode-shape table of :func:`._slots.shape_table` (``n_lanes`` lanes); the
+    per-pedestrian arrays (t_on … two_cos, ``replay``) are read only when a walker enters.
+
     State carried between calls (so chunks reproduce a single call bit for bit):
-    ``counters`` = [next pedestrian to enter, number of active slots], ``active`` (pedestrian
-    index per slot, in order of entry), z, ż, u, u̇, the segment per slot, φ and the walking force
-    at the current time per slot, the force components W α_c sin(ω_c (t − t_k) + θ_c) per slot at
-    t and t − h/2 (advanced by the Chebyshev recurrence, ``two_cos`` = 2 cos(ω_c h/2): no sine
-    in the loop), and the Cholesky factor of the mass matrix at the current time. A pedestrian
-    with ``replay[0][k] >= 0`` adds a replayed measured force (``_replayed``) to that sum.
+    ``counters`` = [next pedestrian to enter, number of active slots], the slot tables ``slots``
+    and ``index`` (:mod:`._slots`), z, ż, u, u̇, φ (mode, slot) and the walking force at the
+    current time per slot, the force components W α_c sin(ω_c (t − t_k) + θ_c) (component,
+    slot) at t and t − h/2 with their 2 cos(ω_c h/2) (``wave_cos``), and the Cholesky factor of
+    the mass matrix at the current time. A pedestrian with ``replay[0][k] >= 0`` adds a replayed
+    measured force (``_slots.replayed``) to that sum.
     """
-    replay_record = replay[0]
     n_modes = z.size
-    n_components = amplitude.shape[1]
     n_pedestrians = t_on.size
     n_outputs = output_shapes.shape[0]
     n_samples = n_on_deck.size
-    capacity = active.size
+    capacity = slots.shape[1]
+    replaying = False
+    for k in range(n_pedestrians):
+        if replay[0][k] >= 0:
+            replaying = True
+            break
+    segment = index[SEGMENT]
 
-    phi_mid = np.zeros((capacity, n_modes))
-    phi_end = np.zeros((capacity, n_modes))
+    phi_mid = np.zeros((n_modes, capacity))
+    phi_end = np.zeros((n_modes, capacity))
     force_mid = np.zeros(capacity)
     force_end = np.zeros(capacity)
+    us = np.zeros(capacity)
+    uds = np.zeros(capacity)
+    b1 = np.zeros(capacity)
+    b2 = np.zeros(capacity)
+    b3 = np.zeros(capacity)
+    b4 = np.zeros(capacity)
+    dz = np.zeros(capacity)
+    dzd = np.zeros(capacity)
+    g = np.zeros(capacity)
+    frac = np.zeros(capacity)
+    weighted = np.zeros(capacity)
+    cell = np.zeros(capacity, dtype=np.int64)
+    segment_mid = np.zeros(capacity, dtype=np.int64)
+    keep = np.zeros(capacity, dtype=np.int64)
     factor_mid = np.zeros((n_modes, n_modes))
     factor_end = np.zeros((n_modes, n_modes))
     zs = np.zeros(n_modes)
@@ -217,12 +264,9 @@ def advance(first_step, n_steps, substeps, h,
     a2 = np.zeros(n_modes)
     a3 = np.zeros(n_modes)
     a4 = np.zeros(n_modes)
-    us = np.zeros(capacity)
-    uds = np.zeros(capacity)
-    b1 = np.zeros(capacity)
-    b2 = np.zeros(capacity)
-    b3 = np.zeros(capacity)
-    b4 = np.zeros(capacity)
+    load_now = np.zeros(n_modes)
+    load_mid = np.zeros(n_modes)
+    load_end = np.zeros(n_modes)
     half = 0.5 * h
 
     for step in range(n_steps):
@@ -232,27 +276,12 @@ def advance(first_step, n_steps, substeps, h,
         t_end = (n + 1) * h
         next_pedestrian = counters[0]
         n_active = counters[1]
-        changed = False
 
         # Pedestrians who have walked off leave; order of the others is kept (shift down).
-        slot = 0
-        while slot < n_active:
-            if t >= t_off[active[slot]]:
-                for s in range(slot, n_active - 1):
-                    active[s] = active[s + 1]
-                    u[s] = u[s + 1]
-                    ud[s] = ud[s + 1]
-                    seg[s] = seg[s + 1]
-                    force_now[s] = force_now[s + 1]
-                    for j in range(n_modes):
-                        phi_now[s, j] = phi_now[s + 1, j]
-                    for c in range(n_components):
-                        wave_now[s, c] = wave_now[s + 1, c]
-                        wave_prev[s, c] = wave_prev[s + 1, c]
-                n_active -= 1
-                changed = True
-            else:
-                slot += 1
+        before = n_active
+        n_active = leave(t, n_active, slots, index, phi_now, wave_now, wave_prev, wave_cos, u, ud,
+                         force_now, keep)
+        changed = n_active != before
 
         # Newcomers enter at the end of the list, their MSD at rest relative to the deck.
         while next_pedestrian < n_pedestrians and t_on[next_pedestrian] <= t:
@@ -260,132 +289,89 @@ def advance(first_step, n_steps, substeps, h,
             next_pedestrian += 1
             if t >= t_off[k]:
                 continue
-            slot = n_active
+            _enter(k, t, half, n_active, z, zd, t_off, t_arrival, x_start, velocity, lane_low,
+                   lane_weight, unsprung, sprung, stiffness, damping, static, amplitude, omega,
+                   phase, two_cos, replay, table, positions, inverse_spacing, n_lanes, slots,
+                   index, segment, cell, frac, phi_now, u, ud, force_now, wave_now, wave_prev,
+                   wave_cos)
             n_active += 1
             changed = True
-            active[slot] = k
-            elapsed = t - t_arrival[k]
-            x = x_start[k] + velocity[k] * elapsed
-            seg[slot] = _shape_row(x, _locate(x, positions), lane_low[k], lane_weight[k],
-                                   shapes, positions, inverse_spacing, phi_now, slot)
-            dz = 0.0
-            dzd = 0.0
-            for j in range(n_modes):
-                dz += phi_now[slot, j] * z[j]
-                dzd += phi_now[slot, j] * zd[j]
-            u[slot] = dz
-            ud[slot] = dzd
-            p = static[k]
-            for c in range(n_components):
-                angle = omega[k, c] * elapsed + phase[k, c]
-                wave_now[slot, c] = amplitude[k, c] * math.sin(angle)
-                wave_prev[slot, c] = amplitude[k, c] * math.sin(angle - omega[k, c] * half)
-                p += wave_now[slot, c]
-            if replay_record[k] >= 0:
-                p += _replayed(k, elapsed, replay)
-            force_now[slot] = p
 
         if changed and added_mass:
-            cholesky_mass(modal_masses, phi_now, unsprung, active, n_active, factor_now)
+            mass_factor(modal_masses, phi_now, slots, n_active, weighted, factor_now)
 
-        # Shapes and forces at t + h/2 and t + h; the force components advance by ω_c h/2 twice.
-        for slot in range(n_active):
-            k = active[slot]
-            s = _shape_row(x_start[k] + velocity[k] * (t_mid - t_arrival[k]), seg[slot],
-                           lane_low[k], lane_weight[k], shapes, positions, inverse_spacing, phi_mid,
-                           slot)
-            seg[slot] = _shape_row(x_start[k] + velocity[k] * (t_end - t_arrival[k]), s,
-                                   lane_low[k], lane_weight[k], shapes, positions, inverse_spacing,
-                                   phi_end, slot)
-            p_mid = static[k]
-            p_end = static[k]
-            for c in range(n_components):
-                # sin(θ + δ) = 2 cos δ · sin θ − sin(θ − δ), δ = ω_c h/2 (Chebyshev recurrence)
-                y_mid = two_cos[k, c] * wave_now[slot, c] - wave_prev[slot, c]
-                y_end = two_cos[k, c] * y_mid - wave_now[slot, c]
-                p_mid += y_mid
-                p_end += y_end
-                wave_prev[slot, c] = y_mid
-                wave_now[slot, c] = y_end
-            if replay_record[k] >= 0:
-                p_mid += _replayed(k, t_mid - t_arrival[k], replay)
-                p_end += _replayed(k, t_end - t_arrival[k], replay)
-            force_mid[slot] = p_mid
-            force_end[slot] = p_end
+        # Shapes and forces at t + h/2 and t + h.
+        shape_rows(0, n_active, t_mid, slots, index, table, positions, inverse_spacing, n_lanes,
+                   segment, segment_mid, cell, frac, phi_mid)
+        shape_rows(0, n_active, t_end, slots, index, table, positions, inverse_spacing, n_lanes,
+                   segment_mid, segment, cell, frac, phi_end)
+        harmonic_forces(n_active, slots, wave_now, wave_prev, wave_cos, force_mid, force_end)
+        if replaying:
+            replayed_forces(n_active, t_mid, t_end, slots, index, replay, force_mid, force_end)
         if added_mass:
-            cholesky_mass(modal_masses, phi_mid, unsprung, active, n_active, factor_mid)
-            cholesky_mass(modal_masses, phi_end, unsprung, active, n_active, factor_end)
+            mass_factor(modal_masses, phi_mid, slots, n_active, weighted, factor_mid)
+            mass_factor(modal_masses, phi_end, slots, n_active, weighted, factor_end)
         else:
             # Constant mass matrix: the factor never changes.
             for i in range(n_modes):
                 for j in range(n_modes):
                     factor_mid[i, j] = factor_now[i, j]
                     factor_end[i, j] = factor_now[i, j]
+        sample = n >= 0 and n % substeps == 0 and n // substeps < n_samples
+        if not hsi or (sample and record_load):
+            load_now[:] = 0.0
+            _project(phi_now, force_now, n_active, load_now)
+        if not hsi:
+            # Moving forces only: the modal load at each stage time is summed once.
+            load_mid[:] = 0.0
+            load_end[:] = 0.0
+            _project(phi_mid, force_mid, n_active, load_mid)
+            _project(phi_end, force_end, n_active, load_end)
 
         # RK4 on (z, ż, u, u̇); the velocity stages are written out.
-        _accelerations(z, zd, u, ud, phi_now, force_now, n_active, active, sprung, stiffness,
-                       damping, modal_damping, modal_stiffness, factor_now, hsi, rhs, a1, b1)
+        _stage(z, zd, u, ud, phi_now, force_now, load_now, n_active, slots, hsi, modal_damping,
+               modal_stiffness, factor_now, dz, dzd, g, rhs, a1, b1)
 
-        if n >= 0 and n % substeps == 0:
+        if sample:
             i = n // substeps
-            if i < n_samples:
-                for o in range(n_outputs):
-                    acc = 0.0
-                    for j in range(n_modes):
-                        acc += output_shapes[o, j] * a1[j]
-                    acceleration[o, i] = acc
-                n_on_deck[i] = n_active
-                if record_load:
-                    for j in range(n_modes):
-                        q = 0.0
-                        for slot in range(n_active):
-                            q += phi_now[slot, j] * force_now[slot]
-                        modal_load[j, i] = q
+            for o in range(n_outputs):
+                acc = 0.0
+                for j in range(n_modes):
+                    acc += output_shapes[o, j] * a1[j]
+                acceleration[o, i] = acc
+            n_on_deck[i] = n_active
+            if record_load:
+                for j in range(n_modes):
+                    modal_load[j, i] = load_now[j]
 
-        for j in range(n_modes):
-            zs[j] = z[j] + half * zd[j]
-            zds[j] = zd[j] + half * a1[j]
+        _stage_state(n_modes, z, zd, a1, a1, half, 0.0, zs, zds)
         if hsi:
-            for slot in range(n_active):
-                us[slot] = u[slot] + half * ud[slot]
-                uds[slot] = ud[slot] + half * b1[slot]
-        _accelerations(zs, zds, us, uds, phi_mid, force_mid, n_active, active, sprung, stiffness,
-                       damping, modal_damping, modal_stiffness, factor_mid, hsi, rhs, a2, b2)
+            _stage_state(n_active, u, ud, b1, b1, half, 0.0, us, uds)
+        _stage(zs, zds, us, uds, phi_mid, force_mid, load_mid, n_active, slots, hsi,
+               modal_damping, modal_stiffness, factor_mid, dz, dzd, g, rhs, a2, b2)
 
-        for j in range(n_modes):
-            zs[j] = z[j] + half * (zd[j] + half * a1[j])
-            zds[j] = zd[j] + half * a2[j]
+        _stage_state(n_modes, z, zd, a1, a2, half, half, zs, zds)
         if hsi:
-            for slot in range(n_active):
-                us[slot] = u[slot] + half * (ud[slot] + half * b1[slot])
-                uds[slot] = ud[slot] + half * b2[slot]
-        _accelerations(zs, zds, us, uds, phi_mid, force_mid, n_active, active, sprung, stiffness,
-                       damping, modal_damping, modal_stiffness, factor_mid, hsi, rhs, a3, b3)
+            _stage_state(n_active, u, ud, b1, b2, half, half, us, uds)
+        _stage(zs, zds, us, uds, phi_mid, force_mid, load_mid, n_active, slots, hsi,
+               modal_damping, modal_stiffness, factor_mid, dz, dzd, g, rhs, a3, b3)
 
-        for j in range(n_modes):
-            zs[j] = z[j] + h * (zd[j] + half * a2[j])
-            zds[j] = zd[j] + h * a3[j]
+        _stage_state(n_modes, z, zd, a2, a3, h, half, zs, zds)
         if hsi:
-            for slot in range(n_active):
-                us[slot] = u[slot] + h * (ud[slot] + half * b2[slot])
-                uds[slot] = ud[slot] + h * b3[slot]
-        _accelerations(zs, zds, us, uds, phi_end, force_end, n_active, active, sprung, stiffness,
-                       damping, modal_damping, modal_stiffness, factor_end, hsi, rhs, a4, b4)
+            _stage_state(n_active, u, ud, b2, b3, h, half, us, uds)
+        _stage(zs, zds, us, uds, phi_end, force_end, load_end, n_active, slots, hsi,
+               modal_damping, modal_stiffness, factor_end, dz, dzd, g, rhs, a4, b4)
 
-        sixth = h / 6.0
-        for j in range(n_modes):
-            z[j] += h * zd[j] + h * sixth * (a1[j] + a2[j] + a3[j])
-            zd[j] += sixth * (a1[j] + 2.0 * a2[j] + 2.0 * a3[j] + a4[j])
+        _rk4_update(n_modes, h, z, zd, a1, a2, a3, a4)
         if hsi:
-            for slot in range(n_active):
-                u[slot] += h * ud[slot] + h * sixth * (b1[slot] + b2[slot] + b3[slot])
-                ud[slot] += sixth * (b1[slot] + 2.0 * b2[slot] + 2.0 * b3[slot] + b4[slot])
+            _rk4_update(n_active, h, u, ud, b1, b2, b3, b4)
 
         # The end of this step is the start of the next.
+        for j in range(n_modes):
+            for slot in range(n_active):
+                phi_now[j, slot] = phi_end[j, slot]
         for slot in range(n_active):
             force_now[slot] = force_end[slot]
-            for j in range(n_modes):
-                phi_now[slot, j] = phi_end[slot, j]
         if added_mass:
             for i in range(n_modes):
                 for j in range(n_modes):

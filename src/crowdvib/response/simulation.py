@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import _kernels
+from . import _kernels, _slots
 from .._validation import check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import JAM_DENSITY, Crowd
@@ -146,21 +146,25 @@ class _Integrator:
         self.two_cos = 2.0 * np.cos(self.omega * self.h / 2)
         self.replay = _replay_arguments(walkers, force_table)
         n_components = self.amplitude.shape[1]
-        # state
+        # The mode-shape table of the kernel, (mode, lane · station) with two zero lanes.
+        self.table = _slots.shape_table(self.shapes)
+        self.n_lanes = self.shapes.shape[0]
+        # state: the walkers on the deck in slot order (docs: theory, Walkers on the deck as arrays)
         self.counters = np.zeros(2, dtype=np.int64)
-        self.active = np.zeros(capacity, dtype=np.int64)
+        self.slots = np.zeros((_slots.N_FIELDS, capacity))
+        self.index = np.zeros((_slots.N_INDICES, capacity), dtype=np.int64)
         self.z = np.zeros(n_modes)
         self.zd = np.zeros(n_modes)
         self.u = np.zeros(capacity)
         self.ud = np.zeros(capacity)
-        self.seg = np.zeros(capacity, dtype=np.int64)
-        self.phi_now = np.zeros((capacity, n_modes))
+        self.phi = np.zeros((n_modes, capacity))
         self.force_now = np.zeros(capacity)
-        self.wave_now = np.zeros((capacity, n_components))
-        self.wave_prev = np.zeros((capacity, n_components))
+        self.wave_now = np.zeros((n_components, capacity))
+        self.wave_prev = np.zeros((n_components, capacity))
+        self.wave_cos = np.zeros((n_components, capacity))
         self.factor_now = np.zeros((n_modes, n_modes))
-        _kernels.cholesky_mass(self.modal_masses, self.phi_now, self.unsprung, self.active, 0,
-                               self.factor_now)
+        _kernels.mass_factor(self.modal_masses, self.phi, self.slots, 0, np.zeros(capacity),
+                             self.factor_now)
         # records
         self.acceleration = np.zeros((structure.n_outputs, n_samples))
         self.record_modal_load = bool(record_modal_load)
@@ -172,14 +176,14 @@ class _Integrator:
         w = self.walkers
         _kernels.advance(
             self.step, n_steps, self.substeps, self.h,
-            self.modal_masses, self.modal_damping, self.modal_stiffness, self.shapes,
-            self.positions, self.inverse_spacing, self.output_shapes,
+            self.modal_masses, self.modal_damping, self.modal_stiffness, self.table,
+            self.positions, self.inverse_spacing, self.n_lanes, self.output_shapes,
             w.t_on, w.t_off, w.arrival, w.x_start, w.velocity, self.lane_low, self.lane_weight,
             self.unsprung, self.sprung, self.stiffness, self.damping, self.static,
             self.amplitude, self.omega, w.phase, self.two_cos, self.replay, self.hsi,
             self.added_mass,
-            self.counters, self.active, self.z, self.zd, self.u, self.ud, self.seg,
-            self.phi_now, self.force_now, self.wave_now, self.wave_prev, self.factor_now,
+            self.counters, self.slots, self.index, self.z, self.zd, self.u, self.ud, self.phi,
+            self.force_now, self.wave_now, self.wave_prev, self.wave_cos, self.factor_now,
             self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck)
         self.step += n_steps
 
@@ -191,6 +195,16 @@ class _Integrator:
     @property
     def n_active(self):
         return int(self.counters[1])
+
+    @property
+    def active(self):
+        """Pedestrian index per slot (slots 0 … n_active − 1 are on the deck)."""
+        return self.index[_slots.PEDESTRIAN]
+
+    @property
+    def phi_now(self):
+        """Mode-shape row per slot at the current time, (slot, mode) (a view)."""
+        return self.phi.T
 
 
 def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
