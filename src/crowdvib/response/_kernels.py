@@ -13,12 +13,12 @@ with classical fixed-step RK4. Only the pedestrians on the deck ("active slots")
 kept as contiguous arrays in slot order (:mod:`._slots`; docs: theory, Walkers on the deck as
 arrays) so that the per-walker loops vectorise. The RK4 stages sit at t, t + h/2 (twice) and
 t + h, so mode-shape rows, forces and the factored mass matrix are evaluated at three instants per
-step and the one at t + h is reused as the next step's t.
+step (NOW, MID, END) and the one at t + h is reused as the next step's t.
 
 Sums over the walkers (the modal force Σ φ_k g_k and the added mass Σ m_h0 φ_k φ_kᵀ) are the only
-reductions; they may be reassociated (``fastmath={"reassoc"}``) so that they vectorise too. The
-order of the partial sums then depends only on the number of walkers on the deck, never on the
-data, the chunking or the thread, so a run is reproducible bit for bit.
+reductions; the functions holding them may reassociate (``fastmath={"reassoc"}``) so that they
+vectorise too. The order of the partial sums then depends only on the number of walkers on the
+deck, never on the data, the chunking or the thread, so a run is reproducible bit for bit.
 """
 
 import math
@@ -26,141 +26,219 @@ import math
 import numpy as np
 from numba import njit
 
-from ._slots import (ARRIVAL, DAMPING, LANE, LANE_WEIGHT, OPTIONS, PEDESTRIAN, SEGMENT, SPRUNG,
-                     STATIC, STIFFNESS, T_OFF, UNSPRUNG, VELOCITY, X_START, harmonic_forces,
-                     leave, locate, replayed, replayed_forces, shape_rows)
+from ._slots import (ARRIVAL, DAMPING, END, INLINE, LANE, LANE_WEIGHT, MID, NOW, OPTIONS,
+                     PEDESTRIAN, SEGMENT, SPRUNG, STATIC, STIFFNESS, T_OFF, UNSPRUNG, VELOCITY,
+                     X_START, cells_uniform, cells_walk, count_leaving, gather, gather_lanes,
+                     harmonic_forces, leave, locate, replayed, replayed_forces, rows_uniform,
+                     rows_uniform_lanes)
 
-__all__ = ["advance", "mass_factor"]
+__all__ = ["advance", "mass_factors"]
 
 # Sums over walkers: reassociation lets LLVM split them into SIMD partial sums.
 _REDUCTION = dict(OPTIONS, fastmath={"reassoc"})
+# Rows of the stage-derivative arrays a (modes) and b (MSDs): the four RK4 stages, then a row of
+# zeros for the stage at t (which takes no increment).
+REST = 4
+
+
+@njit(**INLINE)
+def _solve(factor, instant, x, row):
+    """Solve L Lᵀ y = x[row] for the lower factor L = factor[instant], in place (x[row] = y)."""
+    n = x.shape[1]
+    for i in range(n):
+        v = x[row, i]
+        for p in range(i):
+            v -= factor[instant, i, p] * x[row, p]
+        x[row, i] = v / factor[instant, i, i]
+    for r in range(n):
+        i = n - 1 - r
+        v = x[row, i]
+        for p in range(i + 1, n):
+            v -= factor[instant, p, i] * x[row, p]
+        x[row, i] = v / factor[instant, i, i]
 
 
 @njit(**_REDUCTION)
-def _project(phi, g, n_active, out):
-    """out[j] += Σ_slot φ[j, slot] g[slot] (modal force of the walkers)."""
-    for j in range(phi.shape[0]):
-        acc = 0.0
-        for slot in range(n_active):
-            acc += phi[j, slot] * g[slot]
-        out[j] += acc
+def mass_factors(modal_masses, phi, slots, n_active, first, weighted, factor):
+    """Lower Cholesky factors of M = diag(m_j) + Σ_slots m_h0 φ φᵀ at instants first … END.
 
-
-@njit(**_REDUCTION)
-def _added_mass(modal_masses, phi, slots, n_active, weighted, factor):
-    """Lower triangle of M = diag(m_j) + Σ_slots m_h0 φ φᵀ into ``factor`` (upper set to 0)."""
+    ``factor[instant]`` (upper triangle 0) from ``phi[instant]``.
+    """
     n_modes = modal_masses.size
-    for i in range(n_modes):
-        for slot in range(n_active):
-            weighted[slot] = slots[UNSPRUNG, slot] * phi[i, slot]
-        for j in range(i + 1):
+    for instant in range(first, END + 1):
+        for i in range(n_modes):
+            for slot in range(n_active):
+                weighted[slot] = slots[UNSPRUNG, slot] * phi[instant, i, slot]
+            for j in range(i + 1):
+                acc = 0.0
+                for slot in range(n_active):
+                    acc += weighted[slot] * phi[instant, j, slot]
+                factor[instant, i, j] = acc
+            factor[instant, i, i] += modal_masses[i]
+            for j in range(i + 1, n_modes):
+                factor[instant, i, j] = 0.0
+        for j in range(n_modes):
+            d = factor[instant, j, j]
+            for p in range(j):
+                d -= factor[instant, j, p] * factor[instant, j, p]
+            d = math.sqrt(d)
+            factor[instant, j, j] = d
+            for i in range(j + 1, n_modes):
+                v = factor[instant, i, j]
+                for p in range(j):
+                    v -= factor[instant, i, p] * factor[instant, j, p]
+                factor[instant, i, j] = v / d
+
+
+@njit(**_REDUCTION)
+def _modal_loads(phi, force, n_active, first, last, load):
+    """load[instant, j] = Σ_slot φ[instant, j, slot] p[instant, slot] for instants first … last."""
+    for instant in range(first, last + 1):
+        for j in range(phi.shape[1]):
             acc = 0.0
             for slot in range(n_active):
-                acc += weighted[slot] * phi[j, slot]
-            factor[i, j] = acc
-        factor[i, i] += modal_masses[i]
-        for j in range(i + 1, n_modes):
-            factor[i, j] = 0.0
+                acc += phi[instant, j, slot] * force[instant, slot]
+            load[instant, j] = acc
 
 
-@njit(**OPTIONS)
-def _cholesky(factor):
-    """Lower Cholesky factor of the symmetric matrix held in the lower triangle, in place."""
-    n_modes = factor.shape[0]
-    for j in range(n_modes):
-        d = factor[j, j]
-        for p in range(j):
-            d -= factor[j, p] * factor[j, p]
-        d = math.sqrt(d)
-        factor[j, j] = d
-        for i in range(j + 1, n_modes):
-            v = factor[i, j]
-            for p in range(j):
-                v -= factor[i, p] * factor[j, p]
-            factor[i, j] = v / d
-
-
-@njit(**OPTIONS)
-def mass_factor(modal_masses, phi, slots, n_active, weighted, factor):
-    """Lower Cholesky factor of M = diag(m_j) + Σ_slots m_h0 φ φᵀ, in place into ``factor``."""
-    _added_mass(modal_masses, phi, slots, n_active, weighted, factor)
-    _cholesky(factor)
-
-
-@njit(**OPTIONS)
-def _solve(factor, rhs, out):
-    """Solve L Lᵀ out = rhs for the lower factor L."""
-    n = rhs.size
-    for i in range(n):
-        v = rhs[i]
-        for p in range(i):
-            v -= factor[i, p] * out[p]
-        out[i] = v / factor[i, i]
-    for i in range(n - 1, -1, -1):
-        v = out[i]
-        for p in range(i + 1, n):
-            v -= factor[p, i] * out[p]
-        out[i] = v / factor[i, i]
-
-
-@njit(**OPTIONS)
-def _contact(z, zd, u, ud, phi, force, n_active, slots, dz, dzd, udd, g):
-    """Per slot: the MSD acceleration ü and the force on the deck g = p + contact force."""
-    for slot in range(n_active):
-        dz[slot] = 0.0
-        dzd[slot] = 0.0
+@njit(**INLINE)
+def _modal_stage(stage, instant, pos, vel, scale, inner, z, zd, modal_damping, modal_stiffness,
+                 load, a, zs, zds):
+    """Modal stage state zs = z + scale (ż + inner · a[pos]), żs = ż + scale · a[vel], and
+    a[stage] = −C żs − K zs + load[instant] (the walkers' modal load, or 0 with HSI)."""
     for j in range(z.size):
-        zj = z[j]
-        zdj = zd[j]
-        for slot in range(n_active):
-            dz[slot] += phi[j, slot] * zj
-            dzd[slot] += phi[j, slot] * zdj
-    for slot in range(n_active):
-        contact = (slots[STIFFNESS, slot] * (u[slot] - dz[slot])
-                   + slots[DAMPING, slot] * (ud[slot] - dzd[slot]))
-        udd[slot] = -contact / slots[SPRUNG, slot]
-        g[slot] = force[slot] + contact
+        zs[j] = z[j] + scale * (zd[j] + inner * a[pos, j])
+        zds[j] = zd[j] + scale * a[vel, j]
+        a[stage, j] = (-modal_damping[j] * zds[j] - modal_stiffness[j] * zs[j]
+                       + load[instant, j])
 
 
-@njit(**OPTIONS)
-def _stage(z, zd, u, ud, phi, force, load, n_active, slots, hsi, modal_damping, modal_stiffness,
-           factor, dz, dzd, g, rhs, zdd, udd):
-    """Structural (z̈) and sprung-mass (ü) accelerations at one RK4 stage (docs: theory, Equations of motion).
+@njit(**INLINE)
+def _stage_plan(stage, h):
+    """Instant, rows (pos, vel) of the previous derivatives, scale and inner of an RK4 stage.
 
-    Without HSI the walkers only load the deck: ``load`` = Σ φ p at the stage time, computed once.
+    The stage state is x + scale (ẋ + inner · d[pos]), ẋ + scale · d[vel] (d = a for the modes,
+    b for the MSDs): t (from the zero row REST), t + h/2 twice, t + h.
     """
-    for j in range(z.size):
-        rhs[j] = -modal_damping[j] * zd[j] - modal_stiffness[j] * z[j]
-    if hsi:
-        _contact(z, zd, u, ud, phi, force, n_active, slots, dz, dzd, udd, g)
-        _project(phi, g, n_active, rhs)
-    else:
-        for j in range(z.size):
-            rhs[j] += load[j]
-    _solve(factor, rhs, zdd)
+    half = 0.5 * h
+    if stage == 0:
+        return NOW, REST, REST, 0.0, 0.0
+    if stage == 1:
+        return MID, 0, 0, half, 0.0
+    if stage == 2:
+        return MID, 0, 1, half, half
+    return END, 1, 2, h, half
 
 
-@njit(**OPTIONS)
-def _stage_state(n, x, xd, b_pos, b_vel, scale, inner, out, outd):
-    """RK4 stage state: out = x + scale (ẋ + inner · b_pos), outd = ẋ + scale · b_vel."""
-    for i in range(n):
-        out[i] = x[i] + scale * (xd[i] + inner * b_pos[i])
-        outd[i] = xd[i] + scale * b_vel[i]
-
-
-@njit(**OPTIONS)
-def _rk4_update(n, h, x, xd, b1, b2, b3, b4):
-    """x += h ẋ + h²/6 (b1 + b2 + b3), ẋ += h/6 (b1 + 2 b2 + 2 b3 + b4)."""
+@njit(**INLINE)
+def _rk4_update(h, z, zd, a, n_msd, u, ud, b):
+    """x += h ẋ + h²/6 (d1 + d2 + d3), ẋ += h/6 (d1 + 2 d2 + 2 d3 + d4) for the modes (d = a)
+    and ``n_msd`` MSDs (d = b)."""
     sixth = h / 6.0
-    for i in range(n):
-        x[i] += h * xd[i] + h * sixth * (b1[i] + b2[i] + b3[i])
-        xd[i] += sixth * (b1[i] + 2.0 * b2[i] + 2.0 * b3[i] + b4[i])
+    for j in range(z.size):
+        z[j] += h * zd[j] + h * sixth * (a[0, j] + a[1, j] + a[2, j])
+        zd[j] += sixth * (a[0, j] + 2.0 * a[1, j] + 2.0 * a[2, j] + a[3, j])
+    for slot in range(n_msd):
+        u[slot] += h * ud[slot] + h * sixth * (b[0, slot] + b[1, slot] + b[2, slot])
+        ud[slot] += sixth * (b[0, slot] + 2.0 * b[1, slot] + 2.0 * b[2, slot] + b[3, slot])
+
+
+@njit(**OPTIONS)
+def next_instant(phi, force, factor, n_active):
+    """The shape rows, forces and mass factor at t + h become those at t (the next step's)."""
+    for j in range(phi.shape[1]):
+        for slot in range(n_active):
+            phi[NOW, j, slot] = phi[END, j, slot]
+    for slot in range(n_active):
+        force[NOW, slot] = force[END, slot]
+    for i in range(factor.shape[1]):
+        for j in range(factor.shape[2]):
+            factor[NOW, i, j] = factor[END, i, j]
+
+
+# One RK4 step per call (the four stages and the update): a call passes every array as a
+# structure of its fields, which costs more than a stage's loops when few walkers are on the deck.
+
+@njit(**_REDUCTION)
+def step_forces(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
+                modal_stiffness, load, zs, zds):
+    """One RK4 step of moving forces only (no HSI): a[stage] = z̈ (docs: theory, Equations of motion)."""
+    for stage in range(4):
+        instant, pos, vel, scale, inner = _stage_plan(stage, h)
+        _modal_stage(stage, instant, pos, vel, scale, inner, z, zd, modal_damping,
+                     modal_stiffness, load, a, zs, zds)
+        _solve(factor, instant, a, stage)
+    _rk4_update(h, z, zd, a, 0, u, ud, b)
+
+
+@njit(**_REDUCTION)
+def step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping, modal_stiffness,
+             load, zs, zds, slots, dz, dzd, g):
+    """One RK4 step with HSI: a[stage] = z̈ and b[stage] = ü (docs: theory, Equations of motion).
+
+    Per stage and slot, with the MSD's stage state formed on the fly: the contact force
+    k_h1 (u − φᵀz) + c_h1 (u̇ − φᵀż), ü = −contact/m_h1 and the force on the deck
+    g = p + contact; then Σ φ g and the solve with the mass factor at the stage's instant.
+    """
+    n_modes = z.size
+    for stage in range(4):
+        instant, pos, vel, scale, inner = _stage_plan(stage, h)
+        _modal_stage(stage, instant, pos, vel, scale, inner, z, zd, modal_damping,
+                     modal_stiffness, load, a, zs, zds)
+        for slot in range(n_active):
+            dz[slot] = 0.0
+            dzd[slot] = 0.0
+        for j in range(n_modes):
+            zj = zs[j]
+            zdj = zds[j]
+            for slot in range(n_active):
+                dz[slot] += phi[instant, j, slot] * zj
+                dzd[slot] += phi[instant, j, slot] * zdj
+        for slot in range(n_active):
+            us = u[slot] + scale * (ud[slot] + inner * b[pos, slot])
+            uds = ud[slot] + scale * b[vel, slot]
+            contact = (slots[STIFFNESS, slot] * (us - dz[slot])
+                       + slots[DAMPING, slot] * (uds - dzd[slot]))
+            b[stage, slot] = -contact / slots[SPRUNG, slot]
+            g[slot] = force[instant, slot] + contact
+        for j in range(n_modes):
+            acc = 0.0
+            for slot in range(n_active):
+                acc += phi[instant, j, slot] * g[slot]
+            a[stage, j] += acc
+        _solve(factor, instant, a, stage)
+    _rk4_update(h, z, zd, a, n_active, u, ud, b)
+
+
+@njit(**_REDUCTION)
+def step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
+                      modal_stiffness, load, zs, zds, slots):
+    """:func:`step_msd` for one mode (the common footbridge case): the same arithmetic, one pass
+    over the walkers per stage."""
+    for stage in range(4):
+        instant, pos, vel, scale, inner = _stage_plan(stage, h)
+        _modal_stage(stage, instant, pos, vel, scale, inner, z, zd, modal_damping,
+                     modal_stiffness, load, a, zs, zds)
+        z0 = zs[0]
+        zd0 = zds[0]
+        acc = 0.0
+        for slot in range(n_active):
+            p = phi[instant, 0, slot]
+            us = u[slot] + scale * (ud[slot] + inner * b[pos, slot])
+            uds = ud[slot] + scale * b[vel, slot]
+            contact = (slots[STIFFNESS, slot] * (us - p * z0)
+                       + slots[DAMPING, slot] * (uds - p * zd0))
+            b[stage, slot] = -contact / slots[SPRUNG, slot]
+            acc += p * (force[instant, slot] + contact)
+        a[stage, 0] += acc
+        _solve(factor, instant, a, stage)
+    _rk4_update(h, z, zd, a, n_active, u, ud, b)
 
 
 @njit(**OPTIONS)
 def _enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_low, lane_weight,
            unsprung, sprung, stiffness, damping, static, amplitude, omega, phase, two_cos, replay,
-           table, positions, inverse_spacing, n_lanes, slots, index, segment, cell, frac,
+           table, positions, inverse_spacing, n_lanes, slots, index, cell, frac,
            phi, u, ud, force, wave_now, wave_prev, wave_cos):
     """Pedestrian k takes ``slot`` at time t: its constants copied in, its MSD at rest on the deck."""
     slots[X_START, slot] = x_start[k]
@@ -176,14 +254,23 @@ def _enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_lo
     index[PEDESTRIAN, slot] = k
     index[LANE, slot] = lane_low[k]
     elapsed = t - t_arrival[k]
-    segment[slot] = locate(x_start[k] + velocity[k] * elapsed, positions)
-    shape_rows(slot, slot + 1, t, slots, index, table, positions, inverse_spacing, n_lanes,
-               segment, segment, cell, frac, phi)
+    index[SEGMENT, slot] = locate(x_start[k] + velocity[k] * elapsed, positions)
+    if inverse_spacing > 0.0:
+        cells_uniform(slot, slot + 1, t, slots, index, positions, inverse_spacing, n_lanes, cell,
+                      frac)
+    else:
+        segment = index[SEGMENT]
+        cells_walk(slot, slot + 1, t, slots, index, positions, n_lanes, segment, segment, cell,
+                   frac)
+    if n_lanes > 1:
+        gather_lanes(slot, slot + 1, cell, frac, slots, table, positions.size, phi, NOW)
+    else:
+        gather(slot, slot + 1, cell, frac, table, phi, NOW)
     dz = 0.0
     dzd = 0.0
     for j in range(z.size):
-        dz += phi[j, slot] * z[j]
-        dzd += phi[j, slot] * zd[j]
+        dz += phi[NOW, j, slot] * z[j]
+        dzd += phi[NOW, j, slot] * zd[j]
     u[slot] = dz
     ud[slot] = dzd
     p = static[k]
@@ -195,7 +282,7 @@ def _enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_lo
         p += wave_now[c, slot]
     if replay[0][k] >= 0:
         p += replayed(k, elapsed, replay)
-    force[slot] = p
+    force[NOW, slot] = p
 
 
 # nogil: simulate_many runs several records at once, one thread each, on their own state.
@@ -206,8 +293,8 @@ def advance(first_step, n_steps, substeps, h,
             t_on, t_off, t_arrival, x_start, velocity, lane_low, lane_weight,
             unsprung, sprung, stiffness, damping, static, amplitude, omega, phase,
             two_cos, replay, hsi, added_mass,
-            counters, slots, index, z, zd, u, ud, phi_now, force_now, wave_now, wave_prev,
-            wave_cos, factor_now, acceleration, modal_load, record_load, n_on_deck):
+            counters, slots, index, z, zd, u, ud, phi, force, wave_now, wave_prev, wave_cos,
+            factor, acceleration, modal_load, record_load, n_on_deck):
     """Advance the coupled system by ``n_steps`` RK4 steps of length ``h`` [s].
 
     Global step n starts at t = n·h; ``first_step`` is the global index of the first step.
@@ -219,11 +306,12 @@ def advance(first_step, n_steps, substeps, h,
 
     State carried between calls (so chunks reproduce a single call bit for bit):
     ``counters`` = [next pedestrian to enter, number of active slots], the slot tables ``slots``
-    and ``index`` (:mod:`._slots`), z, ż, u, u̇, φ (mode, slot) and the walking force at the
-    current time per slot, the force components W α_c sin(ω_c (t − t_k) + θ_c) (component,
-    slot) at t and t − h/2 with their 2 cos(ω_c h/2) (``wave_cos``), and the Cholesky factor of
-    the mass matrix at the current time. A pedestrian with ``replay[0][k] >= 0`` adds a replayed
-    measured force (``_slots.replayed``) to that sum.
+    and ``index`` (:mod:`._slots`), z, ż, u, u̇, φ and the walking force at t
+    (``phi[NOW]``, ``force[NOW]``; the other instants are scratch), the force components
+    W α_c sin(ω_c (t − t_k) + θ_c) (component, slot) at t and t − h/2 with their
+    2 cos(ω_c h/2) (``wave_cos``; an even number of rows, the last one zero if need be), and the
+    Cholesky factor of the mass matrix at t (``factor[NOW]``). A pedestrian with
+    ``replay[0][k] >= 0`` adds a replayed measured force (``_slots.replayed``) to that sum.
     """
     n_modes = z.size
     n_pedestrians = t_on.size
@@ -235,18 +323,16 @@ def advance(first_step, n_steps, substeps, h,
         if replay[0][k] >= 0:
             replaying = True
             break
+    uniform = inverse_spacing > 0.0
+    one_mode = n_modes == 1
     segment = index[SEGMENT]
 
-    phi_mid = np.zeros((n_modes, capacity))
-    phi_end = np.zeros((n_modes, capacity))
-    force_mid = np.zeros(capacity)
-    force_end = np.zeros(capacity)
-    us = np.zeros(capacity)
-    uds = np.zeros(capacity)
-    b1 = np.zeros(capacity)
-    b2 = np.zeros(capacity)
-    b3 = np.zeros(capacity)
-    b4 = np.zeros(capacity)
+    a = np.zeros((REST + 1, n_modes))
+    b = np.zeros((REST + 1, capacity))
+    load = np.zeros((3, n_modes))
+    recorded = np.zeros((3, n_modes))
+    zs = np.zeros(n_modes)
+    zds = np.zeros(n_modes)
     dz = np.zeros(capacity)
     dzd = np.zeros(capacity)
     g = np.zeros(capacity)
@@ -255,18 +341,6 @@ def advance(first_step, n_steps, substeps, h,
     cell = np.zeros(capacity, dtype=np.int64)
     segment_mid = np.zeros(capacity, dtype=np.int64)
     keep = np.zeros(capacity, dtype=np.int64)
-    factor_mid = np.zeros((n_modes, n_modes))
-    factor_end = np.zeros((n_modes, n_modes))
-    zs = np.zeros(n_modes)
-    zds = np.zeros(n_modes)
-    rhs = np.zeros(n_modes)
-    a1 = np.zeros(n_modes)
-    a2 = np.zeros(n_modes)
-    a3 = np.zeros(n_modes)
-    a4 = np.zeros(n_modes)
-    load_now = np.zeros(n_modes)
-    load_mid = np.zeros(n_modes)
-    load_end = np.zeros(n_modes)
     half = 0.5 * h
 
     for step in range(n_steps):
@@ -278,10 +352,11 @@ def advance(first_step, n_steps, substeps, h,
         n_active = counters[1]
 
         # Pedestrians who have walked off leave; order of the others is kept (shift down).
-        before = n_active
-        n_active = leave(t, n_active, slots, index, phi_now, wave_now, wave_prev, wave_cos, u, ud,
-                         force_now, keep)
-        changed = n_active != before
+        changed = False
+        if count_leaving(t, n_active, slots) > 0:
+            n_active = leave(t, n_active, slots, index, phi, force, wave_now, wave_prev, wave_cos,
+                             u, ud, keep)
+            changed = True
 
         # Newcomers enter at the end of the list, their MSD at rest relative to the deck.
         while next_pedestrian < n_pedestrians and t_on[next_pedestrian] <= t:
@@ -289,92 +364,67 @@ def advance(first_step, n_steps, substeps, h,
             next_pedestrian += 1
             if t >= t_off[k]:
                 continue
+            if n_active == capacity:
+                raise RuntimeError("simulation kernel: more walkers on the deck than slots")
             _enter(k, t, half, n_active, z, zd, t_off, t_arrival, x_start, velocity, lane_low,
                    lane_weight, unsprung, sprung, stiffness, damping, static, amplitude, omega,
                    phase, two_cos, replay, table, positions, inverse_spacing, n_lanes, slots,
-                   index, segment, cell, frac, phi_now, u, ud, force_now, wave_now, wave_prev,
-                   wave_cos)
+                   index, cell, frac, phi, u, ud, force, wave_now, wave_prev, wave_cos)
             n_active += 1
             changed = True
 
-        if changed and added_mass:
-            mass_factor(modal_masses, phi_now, slots, n_active, weighted, factor_now)
-
         # Shapes and forces at t + h/2 and t + h.
-        shape_rows(0, n_active, t_mid, slots, index, table, positions, inverse_spacing, n_lanes,
-                   segment, segment_mid, cell, frac, phi_mid)
-        shape_rows(0, n_active, t_end, slots, index, table, positions, inverse_spacing, n_lanes,
-                   segment_mid, segment, cell, frac, phi_end)
-        harmonic_forces(n_active, slots, wave_now, wave_prev, wave_cos, force_mid, force_end)
-        if replaying:
-            replayed_forces(n_active, t_mid, t_end, slots, index, replay, force_mid, force_end)
-        if added_mass:
-            mass_factor(modal_masses, phi_mid, slots, n_active, weighted, factor_mid)
-            mass_factor(modal_masses, phi_end, slots, n_active, weighted, factor_end)
+        if uniform and n_lanes == 1:
+            rows_uniform(n_active, t_mid, t_end, slots, index, positions, inverse_spacing, table,
+                         cell, frac, phi)
+        elif uniform:
+            rows_uniform_lanes(n_active, t_mid, t_end, slots, index, positions, inverse_spacing,
+                               n_lanes, table, cell, frac, phi)
         else:
-            # Constant mass matrix: the factor never changes.
-            for i in range(n_modes):
-                for j in range(n_modes):
-                    factor_mid[i, j] = factor_now[i, j]
-                    factor_end[i, j] = factor_now[i, j]
+            cells_walk(0, n_active, t_mid, slots, index, positions, n_lanes, segment, segment_mid,
+                       cell, frac)
+            gather_lanes(0, n_active, cell, frac, slots, table, positions.size, phi, MID)
+            cells_walk(0, n_active, t_end, slots, index, positions, n_lanes, segment_mid, segment,
+                       cell, frac)
+            gather_lanes(0, n_active, cell, frac, slots, table, positions.size, phi, END)
+        harmonic_forces(n_active, slots, wave_now, wave_prev, wave_cos, force)
+        if replaying:
+            replayed_forces(n_active, t_mid, t_end, slots, index, replay, force)
+        # The mass matrix and its factor at t + h/2 and t + h (and at t after a change).
+        if added_mass:
+            mass_factors(modal_masses, phi, slots, n_active, NOW if changed else MID, weighted,
+                         factor)
         sample = n >= 0 and n % substeps == 0 and n // substeps < n_samples
-        if not hsi or (sample and record_load):
-            load_now[:] = 0.0
-            _project(phi_now, force_now, n_active, load_now)
+        if sample and record_load:
+            _modal_loads(phi, force, n_active, NOW, NOW, recorded)
         if not hsi:
-            # Moving forces only: the modal load at each stage time is summed once.
-            load_mid[:] = 0.0
-            load_end[:] = 0.0
-            _project(phi_mid, force_mid, n_active, load_mid)
-            _project(phi_end, force_end, n_active, load_end)
+            # Moving forces only: the modal load at each instant is summed once.
+            _modal_loads(phi, force, n_active, NOW, END, load)
 
-        # RK4 on (z, ż, u, u̇); the velocity stages are written out.
-        _stage(z, zd, u, ud, phi_now, force_now, load_now, n_active, slots, hsi, modal_damping,
-               modal_stiffness, factor_now, dz, dzd, g, rhs, a1, b1)
+        # RK4 on (z, ż, u, u̇); the accelerations of the stage at t are a[0].
+        if not hsi:
+            step_forces(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
+                        modal_stiffness, load, zs, zds)
+        elif one_mode:
+            step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active,
+                              modal_damping, modal_stiffness, load, zs, zds, slots)
+        else:
+            step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
+                     modal_stiffness, load, zs, zds, slots, dz, dzd, g)
 
         if sample:
             i = n // substeps
             for o in range(n_outputs):
                 acc = 0.0
                 for j in range(n_modes):
-                    acc += output_shapes[o, j] * a1[j]
+                    acc += output_shapes[o, j] * a[0, j]
                 acceleration[o, i] = acc
             n_on_deck[i] = n_active
             if record_load:
                 for j in range(n_modes):
-                    modal_load[j, i] = load_now[j]
-
-        _stage_state(n_modes, z, zd, a1, a1, half, 0.0, zs, zds)
-        if hsi:
-            _stage_state(n_active, u, ud, b1, b1, half, 0.0, us, uds)
-        _stage(zs, zds, us, uds, phi_mid, force_mid, load_mid, n_active, slots, hsi,
-               modal_damping, modal_stiffness, factor_mid, dz, dzd, g, rhs, a2, b2)
-
-        _stage_state(n_modes, z, zd, a1, a2, half, half, zs, zds)
-        if hsi:
-            _stage_state(n_active, u, ud, b1, b2, half, half, us, uds)
-        _stage(zs, zds, us, uds, phi_mid, force_mid, load_mid, n_active, slots, hsi,
-               modal_damping, modal_stiffness, factor_mid, dz, dzd, g, rhs, a3, b3)
-
-        _stage_state(n_modes, z, zd, a2, a3, h, half, zs, zds)
-        if hsi:
-            _stage_state(n_active, u, ud, b2, b3, h, half, us, uds)
-        _stage(zs, zds, us, uds, phi_end, force_end, load_end, n_active, slots, hsi,
-               modal_damping, modal_stiffness, factor_end, dz, dzd, g, rhs, a4, b4)
-
-        _rk4_update(n_modes, h, z, zd, a1, a2, a3, a4)
-        if hsi:
-            _rk4_update(n_active, h, u, ud, b1, b2, b3, b4)
+                    modal_load[j, i] = recorded[NOW, j]
 
         # The end of this step is the start of the next.
-        for j in range(n_modes):
-            for slot in range(n_active):
-                phi_now[j, slot] = phi_end[j, slot]
-        for slot in range(n_active):
-            force_now[slot] = force_end[slot]
-        if added_mass:
-            for i in range(n_modes):
-                for j in range(n_modes):
-                    factor_now[i, j] = factor_end[i, j]
+        next_instant(phi, force, factor, n_active)
         counters[0] = next_pedestrian
         counters[1] = n_active

@@ -9,12 +9,18 @@ deck lives in *slot order*, slots 0 … n_active − 1 contiguous:
   from the per-pedestrian arrays when the walker enters;
 * ``index[PEDESTRIAN | LANE | SEGMENT, slot]`` — its pedestrian number, first lane, and the
   segment of the station grid it was on last (non-uniform grids only);
-* ``phi[j, slot]`` (mode, slot), ``wave[c, slot]`` (force component, slot), ``u``, ``u̇``, force.
+* ``phi[instant, j, slot]`` and ``force[instant, slot]`` at the three instants of an RK4 step
+  (NOW = t, MID = t + h/2, END = t + h); ``wave[c, slot]`` (force component, slot); u, u̇.
 
 A walker who leaves is removed by shifting the later slots down (their order is kept, so the sums
 over slots run in order of entry). The loops over slots then read consecutive memory with no
 branch and no indirect index, and LLVM vectorises them; only the look-up of the mode-shape table
-(a gather) stays scalar. Inputs are trusted, as in ``_kernels``.
+(a gather) stays scalar.
+
+Every function the step loop calls is a leaf with no branch around its loops: numba passes arrays
+to a call with reference counting (atomic operations) unless it can prove them unneeded, and a
+call inside, a branch or an early return defeats that proof. Inputs are trusted, as in
+``_kernels``.
 """
 
 import math
@@ -29,9 +35,41 @@ N_FIELDS = 10
 # Rows of ``index`` (int64, (N_INDICES, capacity)).
 PEDESTRIAN, LANE, SEGMENT = range(3)
 N_INDICES = 3
+# The instants of an RK4 step (first axis of phi, force and the mass factors).
+NOW, MID, END = range(3)
 
 # error_model="numpy": a division never raises, so no branch in a vectorised loop.
 OPTIONS = {"cache": True, "nogil": True, "error_model": "numpy"}
+# Inlined into the caller by numba (part of its leaf; it takes the caller's fastmath flags).
+INLINE = dict(OPTIONS, inline="always")
+
+
+def slot_capacity(t_on, t_off):
+    """Slots enough for the most walkers ever on the deck at once, padded for the cache.
+
+    A walker is integrated at step t when t_on <= t < t_off, so at most the largest number of
+    half-open intervals [t_on, t_off) sharing a point, which is reached at some t_on. The row
+    length is rounded up to whole 64-byte lines, and kept off multiples of 4 KiB, where the rows
+    of an (n, capacity) array would all fall in the same cache sets.
+    """
+    if t_on.size == 0:
+        return 8
+    on = np.sort(t_on)
+    off = np.sort(t_off)
+    most = int(np.max(np.searchsorted(on, on, side="right") - np.searchsorted(off, on, side="right")))
+    capacity = 8 * (max(most, 1) // 8 + 1)
+    if capacity % 512 == 0:
+        capacity += 8
+    return capacity
+
+
+def aligned_zeros(shape, dtype=np.float64):
+    """Zeros whose first element sits on a 64-byte boundary (a cache line, an AVX-512 vector)."""
+    itemsize = np.dtype(dtype).itemsize
+    size = int(np.prod(shape))
+    raw = np.zeros(size * itemsize + 64, dtype=np.uint8)
+    start = -raw.ctypes.data % 64
+    return raw[start:start + size * itemsize].view(dtype).reshape(shape)
 
 
 def shape_table(shapes):
@@ -54,8 +92,8 @@ def locate(x, positions):
     return min(max(s, 0), positions.size - 2)
 
 
-@njit(**OPTIONS)
-def cells_uniform(start, stop, t, slots, index, positions, inverse_spacing, n_lanes, cell, frac):
+@njit(**INLINE)
+def _cells_uniform(start, stop, t, slots, index, positions, inverse_spacing, n_lanes, cell, frac):
     """Table column and fraction of each slot's point at time t, on a uniform station grid.
 
     The segment is s = ⌊(x − x₀)/Δx⌋ (at most the last); off the walkway the zero lane, fraction 0.
@@ -77,7 +115,7 @@ def cells_uniform(start, stop, t, slots, index, positions, inverse_spacing, n_la
 @njit(**OPTIONS)
 def cells_walk(start, stop, t, slots, index, positions, n_lanes, segment_in, segment_out, cell,
                frac):
-    """As :func:`cells_uniform` on any grid: the segment ``segment_in`` is walked to x.
+    """As the uniform-grid cells on any grid: the segment ``segment_in`` is walked to x.
 
     Walkers move monotonically, so that is O(1) per step. Off the walkway the segment is kept.
     """
@@ -101,57 +139,94 @@ def cells_walk(start, stop, t, slots, index, positions, n_lanes, segment_in, seg
         frac[slot] = (x - positions[s]) / (positions[s + 1] - positions[s])
 
 
-@njit(**OPTIONS)
-def gather_rows(start, stop, cell, frac, slots, table, n_positions, two_lanes, out):
-    """Mode-shape rows φ[j, slot] by linear interpolation in x (and across lanes) from the table."""
-    n_modes = out.shape[0]
-    if two_lanes:
-        for j in range(n_modes):
-            for slot in range(start, stop):
-                c = cell[slot]
-                a = frac[slot]
-                low = table[j, c] + a * (table[j, c + 1] - table[j, c])
-                c += n_positions
-                high = table[j, c] + a * (table[j, c + 1] - table[j, c])
-                out[j, slot] = low + slots[LANE_WEIGHT, slot] * (high - low)
-    else:
-        for j in range(n_modes):
-            for slot in range(start, stop):
-                c = cell[slot]
-                out[j, slot] = table[j, c] + frac[slot] * (table[j, c + 1] - table[j, c])
+@njit(**INLINE)
+def _gather(start, stop, cell, frac, table, phi, instant):
+    """Mode-shape rows φ[instant, j, slot] by linear interpolation in x from the table (one lane)."""
+    for j in range(phi.shape[1]):
+        for slot in range(start, stop):
+            c = cell[slot]
+            phi[instant, j, slot] = table[j, c] + frac[slot] * (table[j, c + 1] - table[j, c])
+
+
+@njit(**INLINE)
+def _gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instant):
+    """As :func:`_gather`, then linearly across the two lanes either side of the walker."""
+    for j in range(phi.shape[1]):
+        for slot in range(start, stop):
+            c = cell[slot]
+            a = frac[slot]
+            low = table[j, c] + a * (table[j, c + 1] - table[j, c])
+            c += n_positions
+            high = table[j, c] + a * (table[j, c + 1] - table[j, c])
+            phi[instant, j, slot] = low + slots[LANE_WEIGHT, slot] * (high - low)
 
 
 @njit(**OPTIONS)
-def shape_rows(start, stop, t, slots, index, table, positions, inverse_spacing, n_lanes,
-               segment_in, segment_out, cell, frac, out):
-    """Mode-shape rows of slots start … stop − 1 at time t into ``out[:, slot]``."""
-    if inverse_spacing > 0.0:
-        cells_uniform(start, stop, t, slots, index, positions, inverse_spacing, n_lanes, cell, frac)
-    else:
-        cells_walk(start, stop, t, slots, index, positions, n_lanes, segment_in, segment_out,
-                   cell, frac)
-    gather_rows(start, stop, cell, frac, slots, table, positions.size, n_lanes > 1, out)
+def gather(start, stop, cell, frac, table, phi, instant):
+    """:func:`_gather` as a call of its own."""
+    _gather(start, stop, cell, frac, table, phi, instant)
 
 
 @njit(**OPTIONS)
-def harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force_mid, force_end):
+def gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instant):
+    """:func:`_gather_lanes` as a call of its own."""
+    _gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instant)
+
+
+@njit(**OPTIONS)
+def cells_uniform(start, stop, t, slots, index, positions, inverse_spacing, n_lanes, cell, frac):
+    """:func:`_cells_uniform` as a call of its own."""
+    _cells_uniform(start, stop, t, slots, index, positions, inverse_spacing, n_lanes, cell, frac)
+
+
+@njit(**OPTIONS)
+def rows_uniform(n_active, t_mid, t_end, slots, index, positions, inverse_spacing, table, cell,
+                 frac, phi):
+    """Shape rows at t + h/2 and t + h on a uniform grid with one lane, in one call."""
+    _cells_uniform(0, n_active, t_mid, slots, index, positions, inverse_spacing, 1, cell, frac)
+    _gather(0, n_active, cell, frac, table, phi, MID)
+    _cells_uniform(0, n_active, t_end, slots, index, positions, inverse_spacing, 1, cell, frac)
+    _gather(0, n_active, cell, frac, table, phi, END)
+
+
+@njit(**OPTIONS)
+def rows_uniform_lanes(n_active, t_mid, t_end, slots, index, positions, inverse_spacing, n_lanes,
+                       table, cell, frac, phi):
+    """Shape rows at t + h/2 and t + h on a uniform grid across lanes, in one call."""
+    n_positions = positions.size
+    _cells_uniform(0, n_active, t_mid, slots, index, positions, inverse_spacing, n_lanes, cell,
+                   frac)
+    _gather_lanes(0, n_active, cell, frac, slots, table, n_positions, phi, MID)
+    _cells_uniform(0, n_active, t_end, slots, index, positions, inverse_spacing, n_lanes, cell,
+                   frac)
+    _gather_lanes(0, n_active, cell, frac, slots, table, n_positions, phi, END)
+
+
+@njit(**OPTIONS)
+def harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force):
     """Walking forces at t + h/2 and t + h; the components advance by δ = ω_c h/2 twice.
 
     sin(θ + δ) = 2 cos δ · sin θ − sin(θ − δ) (Chebyshev recurrence): no sine in the loop. The sum
-    over components runs in component order, the static weight first.
+    over components runs in component order, the static weight first, two components per pass
+    (half the read-modify-writes of the sums, same order); an odd count ends on a zero component.
     """
     for slot in range(n_active):
-        force_mid[slot] = slots[STATIC, slot]
-        force_end[slot] = slots[STATIC, slot]
-    for c in range(wave_now.shape[0]):
+        force[MID, slot] = slots[STATIC, slot]
+        force[END, slot] = slots[STATIC, slot]
+    for c in range(0, wave_now.shape[0], 2):
         for slot in range(n_active):
             now = wave_now[c, slot]
-            y_mid = two_cos[c, slot] * now - wave_prev[c, slot]
-            y_end = two_cos[c, slot] * y_mid - now
-            force_mid[slot] += y_mid
-            force_end[slot] += y_end
-            wave_prev[c, slot] = y_mid
-            wave_now[c, slot] = y_end
+            mid = two_cos[c, slot] * now - wave_prev[c, slot]
+            end = two_cos[c, slot] * mid - now
+            wave_prev[c, slot] = mid
+            wave_now[c, slot] = end
+            now2 = wave_now[c + 1, slot]
+            mid2 = two_cos[c + 1, slot] * now2 - wave_prev[c + 1, slot]
+            end2 = two_cos[c + 1, slot] * mid2 - now2
+            wave_prev[c + 1, slot] = mid2
+            wave_now[c + 1, slot] = end2
+            force[MID, slot] = (force[MID, slot] + mid) + mid2
+            force[END, slot] = (force[END, slot] + end) + end2
 
 
 # --- Measured-force replay (table look-up), kept apart from the harmonic path ---------------
@@ -179,38 +254,45 @@ def replayed(k, elapsed, replay):
 
 
 @njit(**OPTIONS)
-def replayed_forces(n_active, t_mid, t_end, slots, index, replay, force_mid, force_end):
+def replayed_forces(n_active, t_mid, t_end, slots, index, replay, force):
     """Add the replayed measured forces at t + h/2 and t + h (walkers with a record only)."""
     record = replay[0]
     for slot in range(n_active):
         k = index[PEDESTRIAN, slot]
         if record[k] >= 0:
-            force_mid[slot] += replayed(k, t_mid - slots[ARRIVAL, slot], replay)
-            force_end[slot] += replayed(k, t_end - slots[ARRIVAL, slot], replay)
+            force[MID, slot] += replayed(k, t_mid - slots[ARRIVAL, slot], replay)
+            force[END, slot] += replayed(k, t_end - slots[ARRIVAL, slot], replay)
 
 
 @njit(**OPTIONS)
-def leave(t, n_active, slots, index, phi, wave_now, wave_prev, two_cos, u, ud, force, keep):
-    """Remove the walkers with t >= t_off; the others shift down in order. Returns n_active."""
+def count_leaving(t, n_active, slots):
+    """Number of walkers on the deck with t >= t_off (they leave at this step)."""
     leaving = 0
     for slot in range(n_active):
         leaving += t >= slots[T_OFF, slot]
-    if leaving == 0:
-        return n_active
+    return leaving
+
+
+@njit(**OPTIONS)
+def leave(t, n_active, slots, index, phi, force, wave_now, wave_prev, two_cos, u, ud, keep):
+    """Remove the walkers with t >= t_off; the others shift down in order. Returns n_active.
+
+    Only the state at t (phi[NOW], force[NOW]) is kept; the other instants are recomputed.
+    """
     kept = 0
     for slot in range(n_active):
         if t < slots[T_OFF, slot]:
             keep[kept] = slot
             kept += 1
     # keep[i] >= i and increasing: an in-place forward copy is safe.
-    for array in (slots, phi, wave_now, wave_prev, two_cos):
+    for array in (slots, phi[NOW], wave_now, wave_prev, two_cos):
         for row in range(array.shape[0]):
             for i in range(kept):
                 array[row, i] = array[row, keep[i]]
     for row in range(index.shape[0]):
         for i in range(kept):
             index[row, i] = index[row, keep[i]]
-    for array in (u, ud, force):
+    for array in (u, ud, force[NOW]):
         for i in range(kept):
             array[i] = array[keep[i]]
     return kept

@@ -96,7 +96,6 @@ class _Integrator:
         self.step = first_step
         n_modes = structure.n_modes
         n = walkers.size
-        capacity = max(n, 1)
         self.hsi = msd is not None
         mass = walkers.body_mass
         if self.hsi:
@@ -145,26 +144,30 @@ class _Integrator:
         self.omega = np.ascontiguousarray(walkers.omega)
         self.two_cos = 2.0 * np.cos(self.omega * self.h / 2)
         self.replay = _replay_arguments(walkers, force_table)
-        n_components = self.amplitude.shape[1]
+        # Force components in pairs (the kernel advances two per pass): a zero one if odd.
+        n_components = self.amplitude.shape[1] + self.amplitude.shape[1] % 2
         # The mode-shape table of the kernel, (mode, lane · station) with two zero lanes.
         self.table = _slots.shape_table(self.shapes)
         self.n_lanes = self.shapes.shape[0]
-        # state: the walkers on the deck in slot order (docs: theory, Walkers on the deck as arrays)
+        # state: the walkers on the deck in slot order (docs: theory, Walkers on the deck as
+        # arrays); shapes, forces and mass factors at the instants t, t + h/2, t + h.
         self.counters = np.zeros(2, dtype=np.int64)
-        self.slots = np.zeros((_slots.N_FIELDS, capacity))
-        self.index = np.zeros((_slots.N_INDICES, capacity), dtype=np.int64)
+        capacity = _slots.slot_capacity(walkers.t_on, walkers.t_off)
+        zeros = _slots.aligned_zeros
+        self.slots = zeros((_slots.N_FIELDS, capacity))
+        self.index = zeros((_slots.N_INDICES, capacity), dtype=np.int64)
         self.z = np.zeros(n_modes)
         self.zd = np.zeros(n_modes)
-        self.u = np.zeros(capacity)
-        self.ud = np.zeros(capacity)
-        self.phi = np.zeros((n_modes, capacity))
-        self.force_now = np.zeros(capacity)
-        self.wave_now = np.zeros((n_components, capacity))
-        self.wave_prev = np.zeros((n_components, capacity))
-        self.wave_cos = np.zeros((n_components, capacity))
-        self.factor_now = np.zeros((n_modes, n_modes))
-        _kernels.mass_factor(self.modal_masses, self.phi, self.slots, 0, np.zeros(capacity),
-                             self.factor_now)
+        self.u = zeros(capacity)
+        self.ud = zeros(capacity)
+        self.phi = zeros((3, n_modes, capacity))
+        self.force = zeros((3, capacity))
+        self.wave_now = zeros((n_components, capacity))
+        self.wave_prev = zeros((n_components, capacity))
+        self.wave_cos = zeros((n_components, capacity))
+        self.factor = np.zeros((3, n_modes, n_modes))
+        _kernels.mass_factors(self.modal_masses, self.phi, self.slots, 0, _slots.NOW,
+                              np.zeros(capacity), self.factor)
         # records
         self.acceleration = np.zeros((structure.n_outputs, n_samples))
         self.record_modal_load = bool(record_modal_load)
@@ -183,7 +186,7 @@ class _Integrator:
             self.amplitude, self.omega, w.phase, self.two_cos, self.replay, self.hsi,
             self.added_mass,
             self.counters, self.slots, self.index, self.z, self.zd, self.u, self.ud, self.phi,
-            self.force_now, self.wave_now, self.wave_prev, self.wave_cos, self.factor_now,
+            self.force, self.wave_now, self.wave_prev, self.wave_cos, self.factor,
             self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck)
         self.step += n_steps
 
@@ -204,7 +207,7 @@ class _Integrator:
     @property
     def phi_now(self):
         """Mode-shape row per slot at the current time, (slot, mode) (a view)."""
-        return self.phi.T
+        return self.phi[_slots.NOW].T
 
 
 def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
