@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from ._slots import (ARRIVAL, DAMPING, END, INLINE, LANE, LANE_WEIGHT, MID, NOW, OPTIONS,
-                     PEDESTRIAN, SEGMENT, SPRUNG, STATIC, STIFFNESS, T_OFF, UNSPRUNG, VELOCITY,
+                     INV_SPRUNG, PEDESTRIAN, SEGMENT, STATIC, STIFFNESS, T_OFF, UNSPRUNG, VELOCITY,
                      X_START, cells_uniform, cells_walk, count_leaving, gather, gather_lanes,
                      harmonic_forces, leave, locate, replayed, replayed_forces, rows_uniform,
                      rows_uniform_lanes)
@@ -177,7 +177,7 @@ def step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
     """One RK4 step with HSI: a[stage] = z̈ and b[stage] = ü (docs: theory, Equations of motion).
 
     Per stage and slot, with the MSD's stage state formed on the fly: the contact force
-    k_h1 (u − φᵀz) + c_h1 (u̇ − φᵀż), ü = −contact/m_h1 and the force on the deck
+    k_h1 (u − φᵀz) + c_h1 (u̇ − φᵀż), ü = −contact · (1/m_h1) and the force on the deck
     g = p + contact; then Σ φ g and the solve with the mass factor at the stage's instant.
     """
     n_modes = z.size
@@ -199,7 +199,7 @@ def step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
             uds = ud[slot] + scale * b[vel, slot]
             contact = (slots[STIFFNESS, slot] * (us - dz[slot])
                        + slots[DAMPING, slot] * (uds - dzd[slot]))
-            b[stage, slot] = -contact / slots[SPRUNG, slot]
+            b[stage, slot] = -contact * slots[INV_SPRUNG, slot]
             g[slot] = force[instant, slot] + contact
         for j in range(n_modes):
             acc = 0.0
@@ -228,7 +228,7 @@ def step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal
             uds = ud[slot] + scale * b[vel, slot]
             contact = (slots[STIFFNESS, slot] * (us - p * z0)
                        + slots[DAMPING, slot] * (uds - p * zd0))
-            b[stage, slot] = -contact / slots[SPRUNG, slot]
+            b[stage, slot] = -contact * slots[INV_SPRUNG, slot]
             acc += p * (force[instant, slot] + contact)
         a[stage, 0] += acc
         _solve(factor, instant, a, stage)
@@ -247,7 +247,7 @@ def _enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_lo
     slots[T_OFF, slot] = t_off[k]
     slots[STIFFNESS, slot] = stiffness[k]
     slots[DAMPING, slot] = damping[k]
-    slots[SPRUNG, slot] = sprung[k]
+    slots[INV_SPRUNG, slot] = 1.0 / sprung[k]
     slots[UNSPRUNG, slot] = unsprung[k]
     slots[STATIC, slot] = static[k]
     slots[LANE_WEIGHT, slot] = lane_weight[k]
@@ -262,10 +262,11 @@ def _enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_lo
         segment = index[SEGMENT]
         cells_walk(slot, slot + 1, t, slots, index, positions, n_lanes, segment, segment, cell,
                    frac)
+    now = np.int64(NOW)                 # not a literal: a literal compiles a version of its own
     if n_lanes > 1:
-        gather_lanes(slot, slot + 1, cell, frac, slots, table, positions.size, phi, NOW)
+        gather_lanes(slot, slot + 1, cell, frac, slots, table, positions.size, phi, now)
     else:
-        gather(slot, slot + 1, cell, frac, table, phi, NOW)
+        gather(slot, slot + 1, cell, frac, table, phi, now)
     dz = 0.0
     dzd = 0.0
     for j in range(z.size):
@@ -326,6 +327,11 @@ def advance(first_step, n_steps, substeps, h,
     uniform = inverse_spacing > 0.0
     one_mode = n_modes == 1
     segment = index[SEGMENT]
+    # Plain int64 arguments: a literal constant in a call compiles a version of its own.
+    first_slot = np.int64(0)
+    now = np.int64(NOW)
+    mid = np.int64(MID)
+    end = np.int64(END)
 
     a = np.zeros((REST + 1, n_modes))
     b = np.zeros((REST + 1, capacity))
@@ -381,12 +387,12 @@ def advance(first_step, n_steps, substeps, h,
             rows_uniform_lanes(n_active, t_mid, t_end, slots, index, positions, inverse_spacing,
                                n_lanes, table, cell, frac, phi)
         else:
-            cells_walk(0, n_active, t_mid, slots, index, positions, n_lanes, segment, segment_mid,
-                       cell, frac)
-            gather_lanes(0, n_active, cell, frac, slots, table, positions.size, phi, MID)
-            cells_walk(0, n_active, t_end, slots, index, positions, n_lanes, segment_mid, segment,
-                       cell, frac)
-            gather_lanes(0, n_active, cell, frac, slots, table, positions.size, phi, END)
+            cells_walk(first_slot, n_active, t_mid, slots, index, positions, n_lanes, segment,
+                       segment_mid, cell, frac)
+            gather_lanes(first_slot, n_active, cell, frac, slots, table, positions.size, phi, mid)
+            cells_walk(first_slot, n_active, t_end, slots, index, positions, n_lanes, segment_mid,
+                       segment, cell, frac)
+            gather_lanes(first_slot, n_active, cell, frac, slots, table, positions.size, phi, end)
         harmonic_forces(n_active, slots, wave_now, wave_prev, wave_cos, force)
         if replaying:
             replayed_forces(n_active, t_mid, t_end, slots, index, replay, force)
@@ -396,10 +402,10 @@ def advance(first_step, n_steps, substeps, h,
                          factor)
         sample = n >= 0 and n % substeps == 0 and n // substeps < n_samples
         if sample and record_load:
-            _modal_loads(phi, force, n_active, NOW, NOW, recorded)
+            _modal_loads(phi, force, n_active, now, now, recorded)
         if not hsi:
             # Moving forces only: the modal load at each instant is summed once.
-            _modal_loads(phi, force, n_active, NOW, END, load)
+            _modal_loads(phi, force, n_active, now, end, load)
 
         # RK4 on (z, ż, u, u̇); the accelerations of the stage at t are a[0].
         if not hsi:

@@ -5,7 +5,7 @@ so that the loops over walkers vectorise (SIMD). Everything a step needs about t
 deck lives in *slot order*, slots 0 … n_active − 1 contiguous:
 
 * ``slots[FIELD, slot]`` — the constants of the walker in that slot (position at arrival, signed
-  speed, arrival and leaving times, k_h1, c_h1, m_h1, m_h0, static weight, lane weight), copied
+  speed, arrival and leaving times, k_h1, c_h1, 1/m_h1, m_h0, static weight, lane weight), copied
   from the per-pedestrian arrays when the walker enters;
 * ``index[PEDESTRIAN | LANE | SEGMENT, slot]`` — its pedestrian number, first lane, and the
   segment of the station grid it was on last (non-uniform grids only);
@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit
 
 # Rows of ``slots`` (float64, (N_FIELDS, capacity)).
-X_START, VELOCITY, ARRIVAL, T_OFF, STIFFNESS, DAMPING, SPRUNG, UNSPRUNG, STATIC, LANE_WEIGHT = \
+X_START, VELOCITY, ARRIVAL, T_OFF, STIFFNESS, DAMPING, INV_SPRUNG, UNSPRUNG, STATIC, LANE_WEIGHT = \
     range(10)
 N_FIELDS = 10
 # Rows of ``index`` (int64, (N_INDICES, capacity)).
@@ -87,9 +87,16 @@ def shape_table(shapes):
 
 @njit(**OPTIONS)
 def locate(x, positions):
-    """Segment s with positions[s] <= x <= positions[s + 1] (clipped to the walkway)."""
-    s = np.searchsorted(positions, x) - 1
-    return min(max(s, 0), positions.size - 2)
+    """Segment s with positions[s] <= x <= positions[s + 1] (clipped to the walkway), by bisection."""
+    low = 0
+    high = positions.size - 2
+    while low < high:
+        middle = (low + high + 1) // 2
+        if positions[middle] <= x:
+            low = middle
+        else:
+            high = middle - 1
+    return low
 
 
 @njit(**INLINE)
