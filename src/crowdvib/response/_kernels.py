@@ -28,7 +28,7 @@ from numba import njit
 
 from ._slots import (ARRIVAL, DAMPING, END, INLINE, LANE, LANE_WEIGHT, MID, NOW, OPTIONS,
                      INV_SPRUNG, PEDESTRIAN, SEGMENT, STATIC, STIFFNESS, T_OFF, UNSPRUNG, VELOCITY,
-                     X_START, cells_uniform, cells_walk, count_leaving, gather, gather_lanes,
+                     X_START, cells_walk, count_leaving, gather_lanes,
                      harmonic_forces, leave, locate, replayed, replayed_forces, rows_uniform,
                      rows_uniform_lanes)
 
@@ -238,8 +238,8 @@ def step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal
 @njit(**OPTIONS)
 def _enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_low, lane_weight,
            unsprung, sprung, stiffness, damping, static, amplitude, omega, phase, two_cos, replay,
-           table, positions, inverse_spacing, n_lanes, slots, index, cell, frac,
-           phi, u, ud, force, wave_now, wave_prev, wave_cos):
+           table, positions, inverse_spacing, n_lanes, slots, index, phi, u, ud, force, wave_now,
+           wave_prev, wave_cos):
     """Pedestrian k takes ``slot`` at time t: its constants copied in, its MSD at rest on the deck."""
     slots[X_START, slot] = x_start[k]
     slots[VELOCITY, slot] = velocity[k]
@@ -254,19 +254,27 @@ def _enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_lo
     index[PEDESTRIAN, slot] = k
     index[LANE, slot] = lane_low[k]
     elapsed = t - t_arrival[k]
-    index[SEGMENT, slot] = locate(x_start[k] + velocity[k] * elapsed, positions)
+    # The shape row at t: the arithmetic of _slots' cells and gathers, for one walker.
+    x = x_start[k] + velocity[k] * elapsed
+    n_positions = positions.size
+    s = locate(x, positions)
+    index[SEGMENT, slot] = s
+    on = (x >= positions[0]) & (x <= positions[n_positions - 1])
     if inverse_spacing > 0.0:
-        cells_uniform(slot, slot + 1, t, slots, index, positions, inverse_spacing, n_lanes, cell,
-                      frac)
+        a = (x - positions[0]) * inverse_spacing
+        s = min(max(int(a), 0), n_positions - 2)
+        a -= s
     else:
-        segment = index[SEGMENT]
-        cells_walk(slot, slot + 1, t, slots, index, positions, n_lanes, segment, segment, cell,
-                   frac)
-    now = np.int64(NOW)                 # not a literal: a literal compiles a version of its own
-    if n_lanes > 1:
-        gather_lanes(slot, slot + 1, cell, frac, slots, table, positions.size, phi, now)
-    else:
-        gather(slot, slot + 1, cell, frac, table, phi, now)
+        a = (x - positions[s]) / (positions[s + 1] - positions[s])
+    c = lane_low[k] * n_positions + s if on else n_lanes * n_positions
+    a = a if on else 0.0
+    for j in range(z.size):
+        low = table[j, c] + a * (table[j, c + 1] - table[j, c])
+        if n_lanes > 1:                 # (one lane: the weight is 0, the same value)
+            high = (table[j, c + n_positions]
+                    + a * (table[j, c + n_positions + 1] - table[j, c + n_positions]))
+            low = low + lane_weight[k] * (high - low)
+        phi[NOW, j, slot] = low
     dz = 0.0
     dzd = 0.0
     for j in range(z.size):
@@ -375,7 +383,7 @@ def advance(first_step, n_steps, substeps, h,
             _enter(k, t, half, n_active, z, zd, t_off, t_arrival, x_start, velocity, lane_low,
                    lane_weight, unsprung, sprung, stiffness, damping, static, amplitude, omega,
                    phase, two_cos, replay, table, positions, inverse_spacing, n_lanes, slots,
-                   index, cell, frac, phi, u, ud, force, wave_now, wave_prev, wave_cos)
+                   index, phi, u, ud, force, wave_now, wave_prev, wave_cos)
             n_active += 1
             changed = True
 

@@ -169,21 +169,9 @@ def _gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, insta
 
 
 @njit(**OPTIONS)
-def gather(start, stop, cell, frac, table, phi, instant):
-    """:func:`_gather` as a call of its own."""
-    _gather(start, stop, cell, frac, table, phi, instant)
-
-
-@njit(**OPTIONS)
 def gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instant):
     """:func:`_gather_lanes` as a call of its own."""
     _gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instant)
-
-
-@njit(**OPTIONS)
-def cells_uniform(start, stop, t, slots, index, positions, inverse_spacing, n_lanes, cell, frac):
-    """:func:`_cells_uniform` as a call of its own."""
-    _cells_uniform(start, stop, t, slots, index, positions, inverse_spacing, n_lanes, cell, frac)
 
 
 @njit(**OPTIONS)
