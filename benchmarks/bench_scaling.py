@@ -27,7 +27,7 @@ from _numpy_reference import exact_psd, simulate_rk4, welch_expectation
 from bench_spectral import fourteen_mode_bridge
 from threadpoolctl import threadpool_limits
 
-from crowdvib import Crowd, MSDModel, SpectralModel, simulate, simulate_many
+from crowdvib import Crowd, ModalModel, MSDModel, SpectralModel, simulate, simulate_many
 from crowdvib.io.casefile import load_case
 from crowdvib.models.examples import paper_example
 from crowdvib.models.loading import ZivanovicForce
@@ -167,6 +167,21 @@ def bench_kernel(seconds=300.0):
     kernel_row("no HSI", case, None, seconds, 20.0)
     print("(µs/walker-step: wall time of simulate() over the walkers on the deck summed over the "
           "RK4 steps; numpy: benchmarks/_numpy_reference.py simulate_rk4, same walkers)")
+    print()
+    print("Modes: the paper's deck and crowd with HSI, n modes at 2–12 Hz (h = 5 ms), 120 s records")
+    print(f"{'modes':>6s}{'µs/walker-step':>16s}{'ms/s':>8s}  load")
+    for n_modes in (1, 4, 14, 50):
+        bridge = ModalModel.simply_supported_beam(50.0, 3.0, np.linspace(2.0, 12.0, n_modes), 0.005,
+                                                  50e3, n_modes=n_modes)
+        simulate(bridge, case.crowd, 2.0, msd=case.msd, rng=0)
+        timings, steps = [], []
+        for seed in range(3):
+            started = time.perf_counter()
+            record = simulate(bridge, case.crowd, 120.0, msd=case.msd, rng=seed)
+            timings.append(time.perf_counter() - started)
+            steps.append(walker_steps(record))
+        per_step = statistics.median(t / s for t, s in zip(timings, steps)) * 1e6
+        print(f"{n_modes:6d}{per_step:16.4f}{1e3 * statistics.median(timings) / 120.0:8.3f}  {load()}")
 
 
 def bench_simulate(records=4, seconds=300.0):

@@ -69,11 +69,30 @@ def mass_factors(modal_masses, phi, slots, n_active, first, weighted, factor):
         for i in range(n_modes):
             for slot in range(n_active):
                 weighted[slot] = slots[UNSPRUNG, slot] * phi[instant, i, slot]
-            for j in range(i + 1):
+            # Four columns per pass over the walkers (fewer passes for many modes).
+            j = 0
+            while j + 3 <= i:
+                acc0 = 0.0
+                acc1 = 0.0
+                acc2 = 0.0
+                acc3 = 0.0
+                for slot in range(n_active):
+                    w = weighted[slot]
+                    acc0 += w * phi[instant, j, slot]
+                    acc1 += w * phi[instant, j + 1, slot]
+                    acc2 += w * phi[instant, j + 2, slot]
+                    acc3 += w * phi[instant, j + 3, slot]
+                factor[instant, i, j] = acc0
+                factor[instant, i, j + 1] = acc1
+                factor[instant, i, j + 2] = acc2
+                factor[instant, i, j + 3] = acc3
+                j += 4
+            while j <= i:
                 acc = 0.0
                 for slot in range(n_active):
                     acc += weighted[slot] * phi[instant, j, slot]
                 factor[instant, i, j] = acc
+                j += 1
             factor[instant, i, i] += modal_masses[i]
             for j in range(i + 1, n_modes):
                 factor[instant, i, j] = 0.0
@@ -156,6 +175,35 @@ def next_instant(phi, force, factor, n_active):
             factor[NOW, i, j] = factor[END, i, j]
 
 
+@njit(**INLINE)
+def _project(phi, instant, g, n_active, a, stage):
+    """a[stage, j] += Σ_slot φ[instant, j, slot] g[slot], four modes per pass over the walkers."""
+    n_modes = phi.shape[1]
+    j = 0
+    while j + 3 < n_modes:
+        acc0 = 0.0
+        acc1 = 0.0
+        acc2 = 0.0
+        acc3 = 0.0
+        for slot in range(n_active):
+            gs = g[slot]
+            acc0 += phi[instant, j, slot] * gs
+            acc1 += phi[instant, j + 1, slot] * gs
+            acc2 += phi[instant, j + 2, slot] * gs
+            acc3 += phi[instant, j + 3, slot] * gs
+        a[stage, j] += acc0
+        a[stage, j + 1] += acc1
+        a[stage, j + 2] += acc2
+        a[stage, j + 3] += acc3
+        j += 4
+    while j < n_modes:
+        acc = 0.0
+        for slot in range(n_active):
+            acc += phi[instant, j, slot] * g[slot]
+        a[stage, j] += acc
+        j += 1
+
+
 # One RK4 step per call (the four stages and the update): a call passes every array as a
 # structure of its fields, which costs more than a stage's loops when few walkers are on the deck.
 
@@ -188,12 +236,22 @@ def step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
         for slot in range(n_active):
             dz[slot] = 0.0
             dzd[slot] = 0.0
-        for j in range(n_modes):
-            zj = zs[j]
-            zdj = zds[j]
+        j = 0
+        while j + 1 < n_modes:           # two modes per pass, the same order of the sums
+            z0 = zs[j]
+            z1 = zs[j + 1]
+            zd0 = zds[j]
+            zd1 = zds[j + 1]
             for slot in range(n_active):
-                dz[slot] += phi[instant, j, slot] * zj
-                dzd[slot] += phi[instant, j, slot] * zdj
+                p0 = phi[instant, j, slot]
+                p1 = phi[instant, j + 1, slot]
+                dz[slot] = (dz[slot] + p0 * z0) + p1 * z1
+                dzd[slot] = (dzd[slot] + p0 * zd0) + p1 * zd1
+            j += 2
+        if j < n_modes:
+            for slot in range(n_active):
+                dz[slot] += phi[instant, j, slot] * zs[j]
+                dzd[slot] += phi[instant, j, slot] * zds[j]
         for slot in range(n_active):
             us = u[slot] + scale * (ud[slot] + inner * b[pos, slot])
             uds = ud[slot] + scale * b[vel, slot]
@@ -201,11 +259,7 @@ def step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
                        + slots[DAMPING, slot] * (uds - dzd[slot]))
             b[stage, slot] = -contact * slots[INV_SPRUNG, slot]
             g[slot] = force[instant, slot] + contact
-        for j in range(n_modes):
-            acc = 0.0
-            for slot in range(n_active):
-                acc += phi[instant, j, slot] * g[slot]
-            a[stage, j] += acc
+        _project(phi, instant, g, n_active, a, stage)
         _solve(factor, instant, a, stage)
     _rk4_update(h, z, zd, a, n_active, u, ud, b)
 
