@@ -26,11 +26,9 @@ import math
 import numpy as np
 from numba import njit
 
-from ._slots import (ARRIVAL, DAMPING, END, INLINE, LANE, LANE_WEIGHT, MID, NOW, OPTIONS,
-                     INV_SPRUNG, PEDESTRIAN, SEGMENT, STATIC, STIFFNESS, T_OFF, UNSPRUNG, VELOCITY,
-                     X_START, cells_walk, count_leaving, gather_lanes,
-                     harmonic_forces, leave, locate, replayed, replayed_forces, rows_uniform,
-                     rows_uniform_lanes)
+from ._slots import (END, INLINE, MID, NOW, OPTIONS, SEGMENT, STIFFNESS, DAMPING, INV_SPRUNG,
+                     UNSPRUNG, cells_walk, count_leaving, enter, gather_lanes, harmonic_forces,
+                     leave, replayed_forces, rows_uniform, rows_uniform_lanes)
 
 __all__ = ["advance", "mass_factors"]
 
@@ -289,65 +287,6 @@ def step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal
     _rk4_update(h, z, zd, a, n_active, u, ud, b)
 
 
-@njit(**OPTIONS)
-def _enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_low, lane_weight,
-           unsprung, sprung, stiffness, damping, static, amplitude, omega, phase, two_cos, replay,
-           table, positions, inverse_spacing, n_lanes, slots, index, phi, u, ud, force, wave_now,
-           wave_prev, wave_cos):
-    """Pedestrian k takes ``slot`` at time t: its constants copied in, its MSD at rest on the deck."""
-    slots[X_START, slot] = x_start[k]
-    slots[VELOCITY, slot] = velocity[k]
-    slots[ARRIVAL, slot] = t_arrival[k]
-    slots[T_OFF, slot] = t_off[k]
-    slots[STIFFNESS, slot] = stiffness[k]
-    slots[DAMPING, slot] = damping[k]
-    slots[INV_SPRUNG, slot] = 1.0 / sprung[k]
-    slots[UNSPRUNG, slot] = unsprung[k]
-    slots[STATIC, slot] = static[k]
-    slots[LANE_WEIGHT, slot] = lane_weight[k]
-    index[PEDESTRIAN, slot] = k
-    index[LANE, slot] = lane_low[k]
-    elapsed = t - t_arrival[k]
-    # The shape row at t: the arithmetic of _slots' cells and gathers, for one walker.
-    x = x_start[k] + velocity[k] * elapsed
-    n_positions = positions.size
-    s = locate(x, positions)
-    index[SEGMENT, slot] = s
-    on = (x >= positions[0]) & (x <= positions[n_positions - 1])
-    if inverse_spacing > 0.0:
-        a = (x - positions[0]) * inverse_spacing
-        s = min(max(int(a), 0), n_positions - 2)
-        a -= s
-    else:
-        a = (x - positions[s]) / (positions[s + 1] - positions[s])
-    c = lane_low[k] * n_positions + s if on else n_lanes * n_positions
-    a = a if on else 0.0
-    for j in range(z.size):
-        low = table[j, c] + a * (table[j, c + 1] - table[j, c])
-        if n_lanes > 1:                 # (one lane: the weight is 0, the same value)
-            high = (table[j, c + n_positions]
-                    + a * (table[j, c + n_positions + 1] - table[j, c + n_positions]))
-            low = low + lane_weight[k] * (high - low)
-        phi[NOW, j, slot] = low
-    dz = 0.0
-    dzd = 0.0
-    for j in range(z.size):
-        dz += phi[NOW, j, slot] * z[j]
-        dzd += phi[NOW, j, slot] * zd[j]
-    u[slot] = dz
-    ud[slot] = dzd
-    p = static[k]
-    for c in range(amplitude.shape[1]):
-        angle = omega[k, c] * elapsed + phase[k, c]
-        wave_now[c, slot] = amplitude[k, c] * math.sin(angle)
-        wave_prev[c, slot] = amplitude[k, c] * math.sin(angle - omega[k, c] * half)
-        wave_cos[c, slot] = two_cos[k, c]
-        p += wave_now[c, slot]
-    if replay[0][k] >= 0:
-        p += replayed(k, elapsed, replay)
-    force[NOW, slot] = p
-
-
 # nogil: simulate_many runs several records at once, one thread each, on their own state.
 @njit(**OPTIONS)
 def advance(first_step, n_steps, substeps, h,
@@ -434,10 +373,10 @@ def advance(first_step, n_steps, substeps, h,
                 continue
             if n_active == capacity:
                 raise RuntimeError("simulation kernel: more walkers on the deck than slots")
-            _enter(k, t, half, n_active, z, zd, t_off, t_arrival, x_start, velocity, lane_low,
-                   lane_weight, unsprung, sprung, stiffness, damping, static, amplitude, omega,
-                   phase, two_cos, replay, table, positions, inverse_spacing, n_lanes, slots,
-                   index, phi, u, ud, force, wave_now, wave_prev, wave_cos)
+            enter(k, t, half, n_active, z, zd, t_off, t_arrival, x_start, velocity, lane_low,
+                  lane_weight, unsprung, sprung, stiffness, damping, static, amplitude, omega,
+                  phase, two_cos, replay, table, positions, inverse_spacing, n_lanes, slots,
+                  index, phi, u, ud, force, wave_now, wave_prev, wave_cos)
             n_active += 1
             changed = True
 

@@ -260,6 +260,65 @@ def replayed_forces(n_active, t_mid, t_end, slots, index, replay, force):
 
 
 @njit(**OPTIONS)
+def enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_low, lane_weight,
+           unsprung, sprung, stiffness, damping, static, amplitude, omega, phase, two_cos, replay,
+           table, positions, inverse_spacing, n_lanes, slots, index, phi, u, ud, force, wave_now,
+           wave_prev, wave_cos):
+    """Pedestrian k takes ``slot`` at time t: its constants copied in, its MSD at rest on the deck."""
+    slots[X_START, slot] = x_start[k]
+    slots[VELOCITY, slot] = velocity[k]
+    slots[ARRIVAL, slot] = t_arrival[k]
+    slots[T_OFF, slot] = t_off[k]
+    slots[STIFFNESS, slot] = stiffness[k]
+    slots[DAMPING, slot] = damping[k]
+    slots[INV_SPRUNG, slot] = 1.0 / sprung[k]
+    slots[UNSPRUNG, slot] = unsprung[k]
+    slots[STATIC, slot] = static[k]
+    slots[LANE_WEIGHT, slot] = lane_weight[k]
+    index[PEDESTRIAN, slot] = k
+    index[LANE, slot] = lane_low[k]
+    elapsed = t - t_arrival[k]
+    # The shape row at t: the arithmetic of the cells and gathers above, for one walker.
+    x = x_start[k] + velocity[k] * elapsed
+    n_positions = positions.size
+    s = locate(x, positions)
+    index[SEGMENT, slot] = s
+    on = (x >= positions[0]) & (x <= positions[n_positions - 1])
+    if inverse_spacing > 0.0:
+        a = (x - positions[0]) * inverse_spacing
+        s = min(max(int(a), 0), n_positions - 2)
+        a -= s
+    else:
+        a = (x - positions[s]) / (positions[s + 1] - positions[s])
+    c = lane_low[k] * n_positions + s if on else n_lanes * n_positions
+    a = a if on else 0.0
+    for j in range(z.size):
+        low = table[j, c] + a * (table[j, c + 1] - table[j, c])
+        if n_lanes > 1:                 # (one lane: the weight is 0, the same value)
+            high = (table[j, c + n_positions]
+                    + a * (table[j, c + n_positions + 1] - table[j, c + n_positions]))
+            low = low + lane_weight[k] * (high - low)
+        phi[NOW, j, slot] = low
+    dz = 0.0
+    dzd = 0.0
+    for j in range(z.size):
+        dz += phi[NOW, j, slot] * z[j]
+        dzd += phi[NOW, j, slot] * zd[j]
+    u[slot] = dz
+    ud[slot] = dzd
+    p = static[k]
+    for c in range(amplitude.shape[1]):
+        angle = omega[k, c] * elapsed + phase[k, c]
+        wave_now[c, slot] = amplitude[k, c] * math.sin(angle)
+        wave_prev[c, slot] = amplitude[k, c] * math.sin(angle - omega[k, c] * half)
+        wave_cos[c, slot] = two_cos[k, c]
+        p += wave_now[c, slot]
+    if replay[0][k] >= 0:
+        p += replayed(k, elapsed, replay)
+    force[NOW, slot] = p
+
+
+@njit(**OPTIONS)
 def count_leaving(t, n_active, slots):
     """Number of walkers on the deck with t >= t_off (they leave at this step)."""
     leaving = 0
