@@ -80,6 +80,21 @@ def _replay_arguments(walkers, table):
             np.ascontiguousarray(draws.speed), np.ascontiguousarray(weight), table)
 
 
+def _uniform_spacing(positions):
+    """1/Δx when the stations are evenly spaced (the kernel then finds a segment by one
+    multiplication), else 0."""
+    spacing = np.diff(positions)
+    uniform = np.all(np.abs(spacing - spacing.mean()) <= 1e-12 * spacing.mean())
+    return 1.0 / spacing.mean() if uniform else 0.0
+
+
+def kernel_for(structure, hsi):
+    """The compiled kernel that runs ``structure`` with (``hsi``) or without MSDs."""
+    return _kernels.entry_point(hsi, structure.n_modes,
+                                _uniform_spacing(structure.positions) > 0.0,
+                                structure.lanes.size)
+
+
 class _Integrator:
     """The state of one run between kernel calls: a chunk boundary changes nothing.
 
@@ -123,10 +138,7 @@ class _Integrator:
         self.modal_stiffness = structure.modal_masses * omega_n**2
         self.shapes = np.ascontiguousarray(structure.mode_shapes)
         self.positions = np.ascontiguousarray(structure.positions)
-        spacing = np.diff(self.positions)
-        # Uniform stations: the kernel finds the segment by one multiplication.
-        uniform = np.all(np.abs(spacing - spacing.mean()) <= 1e-12 * spacing.mean())
-        self.inverse_spacing = 1.0 / spacing.mean() if uniform else 0.0
+        self.inverse_spacing = _uniform_spacing(self.positions)
         self.output_shapes = np.ascontiguousarray(structure.output_shapes)
         lanes = structure.lanes
         if lanes.size == 1:
@@ -173,21 +185,22 @@ class _Integrator:
         self.record_modal_load = bool(record_modal_load)
         self.modal_load = np.zeros((n_modes, n_samples if record_modal_load else 0))
         self.n_on_deck = np.zeros(n_samples, dtype=np.int64)
+        # The compiled kernel for this kind of run (each kind compiles on first use).
+        self.kernel = kernel_for(structure, self.hsi)
 
     def advance(self, n_steps):
         """Integrate ``n_steps`` internal steps from the current state."""
         w = self.walkers
-        _kernels.advance(
-            self.step, n_steps, self.substeps, self.h,
-            self.modal_masses, self.modal_damping, self.modal_stiffness, self.table,
-            self.positions, self.inverse_spacing, self.n_lanes, self.output_shapes,
-            w.t_on, w.t_off, w.arrival, w.x_start, w.velocity, self.lane_low, self.lane_weight,
-            self.unsprung, self.sprung, self.stiffness, self.damping, self.static,
-            self.amplitude, self.omega, w.phase, self.two_cos, self.replay, self.hsi,
-            self.added_mass,
-            self.counters, self.slots, self.index, self.z, self.zd, self.u, self.ud, self.phi,
-            self.force, self.wave_now, self.wave_prev, self.wave_cos, self.factor,
-            self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck)
+        structure = (self.modal_masses, self.modal_damping, self.modal_stiffness, self.table,
+                     self.positions, self.inverse_spacing, self.n_lanes, self.output_shapes)
+        walkers = (w.t_on, w.t_off, w.arrival, w.x_start, w.velocity, self.lane_low,
+                   self.lane_weight, self.unsprung, self.sprung, self.stiffness, self.damping,
+                   self.static, self.amplitude, self.omega, w.phase, self.two_cos, self.replay,
+                   self.added_mass)
+        state = (self.counters, self.slots, self.index, self.z, self.zd, self.u, self.ud,
+                 self.phi, self.force, self.wave_now, self.wave_prev, self.wave_cos, self.factor)
+        records = (self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck)
+        self.kernel(self.step, n_steps, self.substeps, self.h, structure, walkers, state, records)
         self.step += n_steps
 
     @property
