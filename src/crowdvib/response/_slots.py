@@ -17,10 +17,11 @@ over slots run in order of entry). The loops over slots then read consecutive me
 branch and no indirect index, and LLVM vectorises them; only the look-up of the mode-shape table
 (a gather) stays scalar.
 
-Every function the step loop calls is a leaf with no branch around its loops: numba passes arrays
-to a call with reference counting (atomic operations) unless it can prove them unneeded, and a
-call inside, a branch or an early return defeats that proof. Inputs are trusted, as in
-``_kernels``.
+The functions the step loop calls at every step are leaves with no branch around their loops:
+numba passes arrays to a call with reference counting (atomic operations) unless it can prove them
+unneeded, and a call inside, a branch or an early return defeats that proof. (Helpers marked
+``INLINE`` are merged into their caller by numba and do not count as calls.) Inputs are trusted,
+as in ``_kernels``.
 """
 
 import math
