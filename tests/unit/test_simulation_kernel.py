@@ -106,3 +106,18 @@ def test_slot_capacity_covers_the_most_walkers_at_once():
     capacity = _slots.slot_capacity(t_on, t_off)
     assert most < capacity <= most + 16
     assert capacity % 8 == 0 and capacity % 512 != 0
+
+
+def test_chunks_reproduce_one_call_on_the_general_path():
+    # Reference: the same run in one kernel call (the documented contract of chunk_duration,
+    # here for two modes, two lanes and non-uniform stations, whose sums over the walkers are
+    # split into vector partial sums: their order must not depend on the chunking).
+    bridge = _two_lane_bridge(np.union1d(np.linspace(0.0, 40.0, 21), [2.5, 17.0, 33.3]))
+    crowd = Crowd(density=0.4, walking_speed=1.3, step_frequency_mean=1.9,
+                  step_frequency_std=0.15, body_mass=70.0)
+    options = {"msd": MSDModel(3.0, 0.3, 0.9), "rng": 11, "record_modal_load": True}
+    whole = simulate(bridge, crowd, 40.0, chunk_duration=100.0, **options)
+    chunked = simulate(bridge, crowd, 40.0, chunk_duration=0.37, **options)
+    np.testing.assert_array_equal(chunked.acceleration, whole.acceleration)
+    np.testing.assert_array_equal(chunked.modal_load, whole.modal_load)
+    assert np.abs(whole.acceleration).max() > 0
