@@ -137,13 +137,15 @@ def kernel_row(name, case, msd, seconds, reference_seconds):
         return simulate(case.structure, case.crowd, seconds, msd=msd, rng=seed)
 
     run(0)                                                  # compile or load the cache
-    timings, steps = [], []
+    timings, cpu, steps = [], [], []
     for seed in range(5):
-        started = time.perf_counter()
+        started, cpu_started = time.perf_counter(), time.process_time()
         record = run(seed)
         timings.append(time.perf_counter() - started)
+        cpu.append(time.process_time() - cpu_started)
         steps.append(walker_steps(record))
     ours = statistics.median(t / s for t, s in zip(timings, steps)) * 1e6
+    ours_cpu = statistics.median(t / s for t, s in zip(cpu, steps)) * 1e6
     integrator, n_samples, *_ = _prepare(case.structure, case.crowd, reference_seconds, None, msd,
                                          None, 100.0, 7, False, False, 0.0)
     started = time.perf_counter()
@@ -153,20 +155,22 @@ def kernel_row(name, case, msd, seconds, reference_seconds):
     numpy_us = numpy_time / walker_steps(record) * 1e6
     error = np.abs(record.acceleration - expected).max() / np.abs(expected).max()
     on_deck = statistics.mean(s / (seconds * 100.0) for s in steps)
-    print(f"{name:28s}{on_deck:9.0f}{ours:12.4f}{1e3 * statistics.median(timings) / seconds:11.3f}"
-          f"{numpy_us:10.3f}{numpy_us / ours:8.0f}{error:12.1e}  {load()}")
+    print(f"{name:28s}{on_deck:9.0f}{ours:10.4f}{ours_cpu:10.4f}"
+          f"{1e3 * statistics.median(timings) / seconds:8.3f}{numpy_us:10.3f}{numpy_us / ours:8.0f}"
+          f"{error:12.1e}  {load()}")
 
 
 def bench_kernel(seconds=300.0):
     case = paper_example()
     print(f"Simulation kernel, one thread, paper example ({seconds:g} s records, median of 5; "
           "numpy: 20 s)")
-    print(f"{'case':28s}{'on deck':>9s}{'µs/walker-step':>15s}{'ms/s':>8s}{'numpy µs':>10s}"
-          f"{'ratio':>8s}{'max|Δ|/peak':>12s}  load")
+    print(f"{'case':28s}{'on deck':>9s}{'µs wall':>10s}{'µs CPU':>10s}{'ms/s':>8s}"
+          f"{'numpy µs':>10s}{'ratio':>8s}{'max|Δ|/peak':>12s}  load")
     kernel_row("HSI (target <= 0.05 µs)", case, case.msd, seconds, 20.0)
     kernel_row("no HSI", case, None, seconds, 20.0)
-    print("(µs/walker-step: wall time of simulate() over the walkers on the deck summed over the "
-          "RK4 steps; numpy: benchmarks/_numpy_reference.py simulate_rk4, same walkers)")
+    print("(µs per walker-step: wall and CPU time of simulate() over the walkers on the deck "
+          "summed over the RK4 steps; ms/s: wall per simulated second; numpy: wall µs of "
+          "benchmarks/_numpy_reference.py simulate_rk4 on the same walkers, ratio numpy/ours)")
     print()
     print("Modes: the paper's deck and crowd with HSI, n modes at 2–12 Hz (h = 5 ms), 120 s records")
     print(f"{'modes':>6s}{'µs/walker-step':>16s}{'ms/s':>8s}  load")
