@@ -1,13 +1,16 @@
 """Speed and scaling (issue 14). Prints tables; asserts nothing.
 
-    python benchmarks/bench_scaling.py [welch|simulate|all] [--records N] [--seconds S]
+    python benchmarks/bench_scaling.py [welch|kernel|simulate|all] [--records N] [--seconds S]
 
 * Welch-window spectral model on one core (BLAS limited to one thread): crowdvib's evaluation
   (4 points per bin, narrow peaks in closed form) against the dense 16-points-per-bin rule it
   replaced and against a plain-numpy reference (benchmarks/_numpy_reference.py), with the
   largest difference relative to the peak.
-* simulate_many: records of the paper example in 1 and 2 threads, and the extrapolated time of
-  100 one-hour records.
+* The simulation kernel on one core: µs per walker-step (walkers on the deck × RK4 steps) for the
+  paper example, with and without HSI, against the plain-numpy RK4 of _numpy_reference.py (same
+  walkers; the largest difference of the two records relative to the peak is printed).
+* simulate_many: records of the paper example in 1 and 2 threads, records per second, and the
+  extrapolated time of 100 one-hour records.
 
 Timings are medians of interleaved repeats (the machine may be shared); the load average
 (``os.getloadavg``) is printed beside every figure.
@@ -20,14 +23,15 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _numpy_reference import exact_psd, welch_expectation
+from _numpy_reference import exact_psd, simulate_rk4, welch_expectation
 from bench_spectral import fourteen_mode_bridge
 from threadpoolctl import threadpool_limits
 
-from crowdvib import Crowd, MSDModel, SpectralModel, simulate_many
+from crowdvib import Crowd, ModalModel, MSDModel, SpectralModel, simulate, simulate_many
 from crowdvib.io.casefile import load_case
 from crowdvib.models.examples import paper_example
 from crowdvib.models.loading import ZivanovicForce
+from crowdvib.response.simulation import _prepare
 from crowdvib.signals import LowPassFilter
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -122,6 +126,68 @@ def bench_welch():
                   Crowd.from_density(0.5), MSDModel(), np.linspace(0.0, 20.0, 6000), force)
 
 
+def walker_steps(record):
+    """Walkers on the deck summed over the internal steps of a record (sampled at the outputs)."""
+    return float(record.n_on_deck.sum()) * round(1 / (record.time_step * record.sample_rate))
+
+
+def kernel_row(name, case, msd, seconds, reference_seconds):
+    """µs per walker-step of simulate and of the plain-numpy RK4 on the same walkers."""
+    def run(seed):
+        return simulate(case.structure, case.crowd, seconds, msd=msd, rng=seed)
+
+    run(0)                                                  # compile or load the cache
+    timings, cpu, steps = [], [], []
+    for seed in range(5):
+        started, cpu_started = time.perf_counter(), time.process_time()
+        record = run(seed)
+        timings.append(time.perf_counter() - started)
+        cpu.append(time.process_time() - cpu_started)
+        steps.append(walker_steps(record))
+    ours = statistics.median(t / s for t, s in zip(timings, steps)) * 1e6
+    ours_cpu = statistics.median(t / s for t, s in zip(cpu, steps)) * 1e6
+    integrator, n_samples, *_ = _prepare(case.structure, case.crowd, reference_seconds, None, msd,
+                                         None, 100.0, 7, False, False, 0.0)
+    started = time.perf_counter()
+    expected = simulate_rk4(integrator, n_samples * integrator.substeps)
+    numpy_time = time.perf_counter() - started
+    record = simulate(case.structure, case.crowd, reference_seconds, msd=msd, rng=7)
+    numpy_us = numpy_time / walker_steps(record) * 1e6
+    error = np.abs(record.acceleration - expected).max() / np.abs(expected).max()
+    on_deck = statistics.mean(s / (seconds * 100.0) for s in steps)
+    print(f"{name:28s}{on_deck:9.0f}{ours:10.4f}{ours_cpu:10.4f}"
+          f"{1e3 * statistics.median(timings) / seconds:8.3f}{numpy_us:10.3f}{numpy_us / ours:8.0f}"
+          f"{error:12.1e}  {load()}")
+
+
+def bench_kernel(seconds=300.0):
+    case = paper_example()
+    print(f"Simulation kernel, one thread, paper example ({seconds:g} s records, median of 5; "
+          "numpy: 20 s)")
+    print(f"{'case':28s}{'on deck':>9s}{'µs wall':>10s}{'µs CPU':>10s}{'ms/s':>8s}"
+          f"{'numpy µs':>10s}{'ratio':>8s}{'max|Δ|/peak':>12s}  load")
+    kernel_row("HSI (target <= 0.05 µs)", case, case.msd, seconds, 20.0)
+    kernel_row("no HSI", case, None, seconds, 20.0)
+    print("(µs per walker-step: wall and CPU time of simulate() over the walkers on the deck "
+          "summed over the RK4 steps; ms/s: wall per simulated second; numpy: wall µs of "
+          "benchmarks/_numpy_reference.py simulate_rk4 on the same walkers, ratio numpy/ours)")
+    print()
+    print("Modes: the paper's deck and crowd with HSI, n modes at 2–12 Hz (h = 5 ms), 120 s records")
+    print(f"{'modes':>6s}{'µs/walker-step':>16s}{'ms/s':>8s}  load")
+    for n_modes in (1, 4, 14, 50):
+        bridge = ModalModel.simply_supported_beam(50.0, 3.0, np.linspace(2.0, 12.0, n_modes), 0.005,
+                                                  50e3, n_modes=n_modes)
+        simulate(bridge, case.crowd, 2.0, msd=case.msd, rng=0)
+        timings, steps = [], []
+        for seed in range(3):
+            started = time.perf_counter()
+            record = simulate(bridge, case.crowd, 120.0, msd=case.msd, rng=seed)
+            timings.append(time.perf_counter() - started)
+            steps.append(walker_steps(record))
+        per_step = statistics.median(t / s for t, s in zip(timings, steps)) * 1e6
+        print(f"{n_modes:6d}{per_step:16.4f}{1e3 * statistics.median(timings) / 120.0:8.3f}  {load()}")
+
+
 def bench_simulate(records=4, seconds=300.0):
     case = paper_example()
     seeds = list(range(records))
@@ -140,7 +206,8 @@ def bench_simulate(records=4, seconds=300.0):
     print(f"simulate_many, paper example with HSI: {records} records x {seconds:g} s "
           f"(median of 3 interleaved rounds)")
     print(f"{'threads':>8s}{'wall [s]':>10s}{'CPU [s]':>9s}{'CPU/wall':>9s}"
-          f"{'wall ms/record-s':>18s}{'CPU ms/record-s':>17s}{'speed-up':>10s}  loads of the rounds")
+          f"{'wall ms/record-s':>18s}{'CPU ms/record-s':>17s}{'records/s':>10s}"
+          f"{'speed-up':>10s}  loads of the rounds")
     base = None
     for threads, rows in rounds.items():
         wall = statistics.median(r[0] for r in rows)
@@ -148,7 +215,7 @@ def bench_simulate(records=4, seconds=300.0):
         base = base or wall
         print(f"{threads:8d}{wall:10.2f}{cpu:9.2f}{cpu / wall:9.2f}"
               f"{1e3 * wall / (records * seconds):18.3f}{1e3 * cpu / (records * seconds):17.3f}"
-              f"{base / wall:10.2f}  {'; '.join(r[2] for r in rows)}")
+              f"{records / wall:10.3f}{base / wall:10.2f}  {'; '.join(r[2] for r in rows)}")
     best = min(statistics.median(r[0] for r in rows) for rows in rounds.values())
     cpu = min(statistics.median(r[1] for r in rows) for rows in rounds.values())
     print(f"extrapolated (not measured): 100 one-hour records ≈ "
@@ -163,6 +230,9 @@ def main(argv):
     print(f"crowdvib benchmarks, issue 14 ({os.cpu_count()} CPUs, {load()})")
     if what in ("welch", "all"):
         bench_welch()
+        print()
+    if what in ("kernel", "all"):
+        bench_kernel()
         print()
     if what in ("simulate", "all"):
         bench_simulate(records, seconds)

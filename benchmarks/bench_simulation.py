@@ -20,7 +20,7 @@ from bench_spectral import fourteen_mode_bridge
 
 import crowdvib.response.simulation
 from crowdvib import Crowd, MSDModel, simulate
-from crowdvib.response._kernels import advance
+from crowdvib.response.simulation import kernel_for
 from crowdvib.models.examples import paper_example
 
 
@@ -60,7 +60,7 @@ def main():
     started = time.perf_counter()
     simulate(case.structure, case.crowd, 1.0, msd=case.msd, rng=0)
     first_call = time.perf_counter() - started
-    stats = advance.stats
+    stats = kernel_for(case.structure, True).stats
     rows = [("JIT compile (fresh process, empty cache)", f"{compile_time:.2f} s", "1 s simulated"),
             ("first call (JIT compile or cache load)", f"{first_call:.2f} s",
              f"cache hits {sum(stats.cache_hits.values())}, "

@@ -44,5 +44,8 @@ def test_explicit_pedestrians_and_progress():
 
 
 def test_the_kernel_releases_the_gil():
-    # What lets records run side by side: numba compiles advance with nogil=True.
-    assert _kernels.advance.targetoptions.get("nogil") is True
+    # What lets records run side by side: numba compiles every entry point of the kernel (one
+    # per kind of run) with nogil=True.
+    assert len(_kernels.ENTRY_POINTS) == 6
+    assert all(kernel.targetoptions.get("nogil") is True
+               for kernel in _kernels.ENTRY_POINTS.values())

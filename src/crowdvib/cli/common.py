@@ -260,18 +260,21 @@ def progress_printer(label, unit="s", offset=0.0):
     return progress
 
 
-def say_if_compiling():
+def say_if_compiling(structure, hsi):
     """Tell the user when the simulation kernel is about to be compiled (first run only).
 
-    numba caches the compiled kernel beside its source (``cache=True``); with no cache index there
-    and nothing compiled in this process, the first call compiles for ~10 s, which must not look
-    like a hang.
+    numba caches the compiled kernel beside its source (``cache=True``), one per kind of run
+    (with or without HSI, one or several modes, station grid); with no cache index there for the
+    kind ``structure`` and ``hsi`` need and nothing compiled in this process, the first call
+    compiles for a while, which must not look like a hang.
     """
     from ..response import _kernels
+    from ..response.simulation import kernel_for
 
+    kernel = kernel_for(structure, hsi)
     cache = Path(_kernels.__file__).parent / "__pycache__"
-    if not _kernels.advance.signatures and not list(cache.glob("_kernels.advance-*.nbi")):
-        say("  compiling the simulation kernel (first run only, about 10 s) …")
+    if not kernel.signatures and not list(cache.glob(f"_kernels.{kernel.__name__}-*.nbi")):
+        say("  compiling the simulation kernel (first run of this kind only, some 10–30 s) …")
 
 
 def say_verdict(directory):

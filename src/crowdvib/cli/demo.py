@@ -64,7 +64,7 @@ def run(args):
         # The deck is populated at t = 0; the warm-up lets the 0.5 %-damped mode forget its
         # initial rest (5/(ξω) ≈ 80 s), as docs: theory, Time domain against spectral model discards its first 100 s.
         warm_up = 100.0
-        say_if_compiling()
+        say_if_compiling(structure, truth is not None)
         record = simulate(structure, crowd, args.duration_s, msd=truth,
                           sample_rate=sample_rate, rng=args.seed, warm_up=warm_up,
                           progress=progress_printer(f"simulated (after {warm_up:g} s warm-up)",

@@ -48,7 +48,7 @@ def run(args):
     with staged_output(args.out, args.force, command="simulate",
                        inputs=case_inputs(case)) as staging:
         started = time.perf_counter()
-        say_if_compiling()
+        say_if_compiling(case.structure, msd is not None)
         simulation = simulate(case.structure, case.crowd, duration, msd=msd,
                               sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up,
                               progress=progress_printer(

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import _kernels
+from . import _kernels, _slots
 from .._validation import check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import JAM_DENSITY, Crowd
@@ -80,6 +80,21 @@ def _replay_arguments(walkers, table):
             np.ascontiguousarray(draws.speed), np.ascontiguousarray(weight), table)
 
 
+def _uniform_spacing(positions):
+    """1/Δx when the stations are evenly spaced (the kernel then finds a segment by one
+    multiplication), else 0."""
+    spacing = np.diff(positions)
+    uniform = np.all(np.abs(spacing - spacing.mean()) <= 1e-12 * spacing.mean())
+    return 1.0 / spacing.mean() if uniform else 0.0
+
+
+def kernel_for(structure, hsi):
+    """The compiled kernel that runs ``structure`` with (``hsi``) or without MSDs."""
+    return _kernels.entry_point(hsi, structure.n_modes,
+                                _uniform_spacing(structure.positions) > 0.0,
+                                structure.lanes.size)
+
+
 class _Integrator:
     """The state of one run between kernel calls: a chunk boundary changes nothing.
 
@@ -96,7 +111,6 @@ class _Integrator:
         self.step = first_step
         n_modes = structure.n_modes
         n = walkers.size
-        capacity = max(n, 1)
         self.hsi = msd is not None
         mass = walkers.body_mass
         if self.hsi:
@@ -124,10 +138,7 @@ class _Integrator:
         self.modal_stiffness = structure.modal_masses * omega_n**2
         self.shapes = np.ascontiguousarray(structure.mode_shapes)
         self.positions = np.ascontiguousarray(structure.positions)
-        spacing = np.diff(self.positions)
-        # Uniform stations: the kernel finds the segment by one multiplication.
-        uniform = np.all(np.abs(spacing - spacing.mean()) <= 1e-12 * spacing.mean())
-        self.inverse_spacing = 1.0 / spacing.mean() if uniform else 0.0
+        self.inverse_spacing = _uniform_spacing(self.positions)
         self.output_shapes = np.ascontiguousarray(structure.output_shapes)
         lanes = structure.lanes
         if lanes.size == 1:
@@ -145,42 +156,51 @@ class _Integrator:
         self.omega = np.ascontiguousarray(walkers.omega)
         self.two_cos = 2.0 * np.cos(self.omega * self.h / 2)
         self.replay = _replay_arguments(walkers, force_table)
-        n_components = self.amplitude.shape[1]
-        # state
+        # Force components in pairs (the kernel advances two per pass): a zero one if odd.
+        n_components = self.amplitude.shape[1] + self.amplitude.shape[1] % 2
+        # The mode-shape table of the kernel, (mode, lane · station) with two zero lanes.
+        self.table = _slots.shape_table(self.shapes)
+        self.n_lanes = self.shapes.shape[0]
+        # state: the walkers on the deck in slot order (docs: theory, Walkers on the deck as
+        # arrays); shapes, forces and mass factors at the instants t, t + h/2, t + h.
         self.counters = np.zeros(2, dtype=np.int64)
-        self.active = np.zeros(capacity, dtype=np.int64)
+        capacity = _slots.slot_capacity(walkers.t_on, walkers.t_off)
+        zeros = _slots.aligned_zeros
+        self.slots = zeros((_slots.N_FIELDS, capacity))
+        self.index = zeros((_slots.N_INDICES, capacity), dtype=np.int64)
         self.z = np.zeros(n_modes)
         self.zd = np.zeros(n_modes)
-        self.u = np.zeros(capacity)
-        self.ud = np.zeros(capacity)
-        self.seg = np.zeros(capacity, dtype=np.int64)
-        self.phi_now = np.zeros((capacity, n_modes))
-        self.force_now = np.zeros(capacity)
-        self.wave_now = np.zeros((capacity, n_components))
-        self.wave_prev = np.zeros((capacity, n_components))
-        self.factor_now = np.zeros((n_modes, n_modes))
-        _kernels.cholesky_mass(self.modal_masses, self.phi_now, self.unsprung, self.active, 0,
-                               self.factor_now)
+        self.u = zeros(capacity)
+        self.ud = zeros(capacity)
+        self.phi = zeros((3, n_modes, capacity))
+        self.force = zeros((3, capacity))
+        self.wave_now = zeros((n_components, capacity))
+        self.wave_prev = zeros((n_components, capacity))
+        self.wave_cos = zeros((n_components, capacity))
+        self.factor = np.zeros((3, n_modes, n_modes))
+        _kernels.mass_factors(self.modal_masses, self.phi, self.slots, 0, _slots.NOW,
+                              np.zeros(capacity), self.factor)
         # records
         self.acceleration = np.zeros((structure.n_outputs, n_samples))
         self.record_modal_load = bool(record_modal_load)
         self.modal_load = np.zeros((n_modes, n_samples if record_modal_load else 0))
         self.n_on_deck = np.zeros(n_samples, dtype=np.int64)
+        # The compiled kernel for this kind of run (each kind compiles on first use).
+        self.kernel = kernel_for(structure, self.hsi)
 
     def advance(self, n_steps):
         """Integrate ``n_steps`` internal steps from the current state."""
         w = self.walkers
-        _kernels.advance(
-            self.step, n_steps, self.substeps, self.h,
-            self.modal_masses, self.modal_damping, self.modal_stiffness, self.shapes,
-            self.positions, self.inverse_spacing, self.output_shapes,
-            w.t_on, w.t_off, w.arrival, w.x_start, w.velocity, self.lane_low, self.lane_weight,
-            self.unsprung, self.sprung, self.stiffness, self.damping, self.static,
-            self.amplitude, self.omega, w.phase, self.two_cos, self.replay, self.hsi,
-            self.added_mass,
-            self.counters, self.active, self.z, self.zd, self.u, self.ud, self.seg,
-            self.phi_now, self.force_now, self.wave_now, self.wave_prev, self.factor_now,
-            self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck)
+        structure = (self.modal_masses, self.modal_damping, self.modal_stiffness, self.table,
+                     self.positions, self.inverse_spacing, self.n_lanes, self.output_shapes)
+        walkers = (w.t_on, w.t_off, w.arrival, w.x_start, w.velocity, self.lane_low,
+                   self.lane_weight, self.unsprung, self.sprung, self.stiffness, self.damping,
+                   self.static, self.amplitude, self.omega, w.phase, self.two_cos, self.replay,
+                   self.added_mass)
+        state = (self.counters, self.slots, self.index, self.z, self.zd, self.u, self.ud,
+                 self.phi, self.force, self.wave_now, self.wave_prev, self.wave_cos, self.factor)
+        records = (self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck)
+        self.kernel(self.step, n_steps, self.substeps, self.h, structure, walkers, state, records)
         self.step += n_steps
 
     @property
@@ -191,6 +211,16 @@ class _Integrator:
     @property
     def n_active(self):
         return int(self.counters[1])
+
+    @property
+    def active(self):
+        """Pedestrian index per slot (slots 0 … n_active − 1 are on the deck)."""
+        return self.index[_slots.PEDESTRIAN]
+
+    @property
+    def phi_now(self):
+        """Mode-shape row per slot at the current time, (slot, mode) (a view)."""
+        return self.phi[_slots.NOW].T
 
 
 def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
