@@ -309,7 +309,9 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
         Output sample rate [Hz]; its Nyquist frequency must exceed the highest mode.
     rng : None, int or numpy.random.Generator
         Seed of the run. None draws a seed from OS entropy; a Generator gives one draw. The seed
-        used is returned in ``Simulation.seed``: the same seed gives a bit-identical record.
+        used is returned in ``Simulation.seed``: the same seed gives a bit-identical record on
+        the same computer (on a processor of another vector width the sums over walkers run in
+        another order, and records agree to round-off).
     progress : callable, optional
         Called as ``progress(done_seconds, total_seconds)`` [s of simulated time, warm-up
         included] after each chunk.
