@@ -338,7 +338,7 @@ def _estimation(table, path):
                           "and \"step_frequency_std\"", list(free))
     starts = _starts(table, "starts", (2, 3))
     bounds = _bounds(table.table("bounds"), ("frequency", "damping_ratio", "mass_ratio",
-                                             *sorted(steps)))
+                                             "step_frequency_mean", "step_frequency_std"))
     step = None
     if table.has("step_frequencies"):
         sub = table.table("step_frequencies")
