@@ -143,11 +143,11 @@ def pyoma2(n=3):
         values, vectors = amplitude(matrix)
         return values**2, vectors
 
-    def run(record, nxseg, squared):
+    def run(record, nxseg, squared, method="per"):
         fdd.SD_svalsvec = power if squared else amplitude
         try:
             setup = SingleSetup(record.T, fs=SAMPLE_RATE)
-            algorithm = EFDD(name="efdd", nxseg=nxseg)
+            algorithm = EFDD(name="efdd", nxseg=nxseg, method_SD=method)
             setup.add_algorithms(algorithm)
             with contextlib.redirect_stderr(io.StringIO()):
                 setup.run_by_name("efdd")
@@ -161,6 +161,7 @@ def pyoma2(n=3):
         record = ambient_record(bridge(), seed)
         rows = {"pyOMA2 EFDD, defaults (nxseg 1024)": run(record, 1024, False),
                 "pyOMA2 EFDD, nxseg 4096": run(record, 4096, False),
+                "pyOMA2 EFDD, method_SD='cor', nxseg 4096": run(record, 4096, False, "cor"),
                 "pyOMA2 EFDD, bell squared, nxseg 1024": run(record, 1024, True),
                 "pyOMA2 EFDD, bell squared, nxseg 4096": run(record, 4096, True),
                 "crowdvib EFDD": identify_modes(record, SAMPLE_RATE, n_modes=3,

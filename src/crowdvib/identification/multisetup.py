@@ -3,7 +3,7 @@ setups).
 
 A bridge with more measurement points than sensors is measured in setups: some reference sensors
 stay in place, the others rove. Each setup is identified on its own (its shapes have an arbitrary
-scale); the shapes are then merged by post-separate estimation re-scaling (PoSER [DR11]_): every
+scale); the shapes are then merged by post-separate estimation re-scaling (PoSER-like, [DLM13]_): every
 setup's shape is scaled by the least-squares factor that best maps its reference components onto
 those of an anchor setup, and the rescaled rovers are stacked under the averaged references.
 Frequencies and damping ratios are the inverse-variance weighted means over the setups.
