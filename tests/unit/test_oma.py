@@ -162,6 +162,19 @@ def test_modal_model_from_fe_pairing_and_from_stated_masses(identified):
         modes.modal_model()
 
 
+def test_efdd_with_one_sensor(ambient):
+    # One sensor: every MAC is 1, so the bells stop halfway (geometric mean) between the modes
+    # (docs: theory, EFDD step 3); the sensor at 12.5 m sees all three modes.
+    modes = identify_modes(ambient[:1], SAMPLE_RATE, n_modes=3, frequency_band=(1.0, 9.0),
+                           method="efdd")
+    np.testing.assert_allclose(modes.frequencies, FREQUENCIES, rtol=0.005)
+    np.testing.assert_allclose(modes.damping_ratios, DAMPING, rtol=0.20)
+    targets = modes.poles["targets"]                      # the peaks picked on s₁
+    middles = np.sqrt(targets[1:] * targets[:-1])
+    bells = np.array(modes.poles["bells"])
+    assert np.all(bells[:-1, 1] <= middles) and np.all(bells[1:, 0] >= middles)
+
+
 @pytest.mark.parametrize("call, pattern", [
     (lambda: identify_modes(np.zeros((2, 50)), 20.0), r"signals must have shape"),
     (lambda: identify_modes(np.zeros((2, 500)), 20.0, method="fdd"),

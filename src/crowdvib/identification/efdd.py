@@ -8,7 +8,7 @@ lightly damped mode; see the theory page). Steps:
 2. its singular value decomposition at every line: the first singular value s₁(f) and vector
    u₁(f);
 3. per mode, the peak of s₁ and the SDOF bell: the contiguous lines around it whose u₁ has a MAC
-   >= ``mac_threshold`` with the peak's;
+   >= ``mac_threshold`` with the peak's, and no further than halfway to the neighbouring modes;
 4. the bell's inverse FFT: the mode's correlation function, divided by the Hann window's lag
    window (the leakage of the Welch estimate, exact in expectation);
 5. the damped frequency from the zero crossings, the decay rate from the logarithm of the
@@ -98,15 +98,17 @@ def _mac_rows(rows, reference):
     return num / (np.sum(np.abs(rows) ** 2, axis=1) * np.vdot(reference, reference).real)
 
 
-def _one_mode(spectra, lines, values, vectors, target, mac_threshold):
-    """(f, ξ, shape, (bell start, end) [Hz]) of the mode whose peak is nearest ``target``."""
+def _one_mode(spectra, lines, values, vectors, target, mac_threshold, limits):
+    """(f, ξ, shape, (bell start, end) [Hz]) of the mode whose peak is nearest ``target``; the
+    bell stays within ``limits`` [Hz] (halfway to the neighbouring modes)."""
     frequency = spectra.frequency[lines]
     near = np.flatnonzero(np.abs(frequency - target) <= SEARCH_WIDTH * target)
     if near.size == 0:
         raise EstimationError(f"no spectral line within {SEARCH_WIDTH:.0%} of {target:g} Hz")
     peak = near[np.argmax(values[near, 0])]
     shape = vectors[peak]
-    different = np.flatnonzero(_mac_rows(vectors, shape) < mac_threshold)
+    different = np.flatnonzero((_mac_rows(vectors, shape) < mac_threshold)
+                               | (frequency < limits[0]) | (frequency > limits[1]))
     below, above = different[different < peak], different[different > peak]
     low = below[-1] + 1 if below.size else 0                 # the bell: lines low … high − 1
     high = above[0] if above.size else vectors.shape[0]
@@ -197,10 +199,14 @@ def efdd_modes(data, sample_rate, names, low, high, *, n_modes=None, frequencies
     groups = len(spectra.groups)
     widen = stats.t.ppf(0.975, groups - 1) / stats.norm.ppf(0.975)
     rows = []
+    middles = np.sqrt(targets[1:] * targets[:-1]) if targets.size > 1 else np.zeros(0)
+    edges = np.concatenate([[0.0], np.sort(middles), [np.inf]])
     for target in targets:
+        above = np.searchsorted(edges, target)
+        limits = (edges[above - 1], edges[above])
         try:
             f, xi, shape, bell = _one_mode(spectra, all_lines, values, vectors, target,
-                                           mac_threshold)
+                                           mac_threshold, limits)
             # jackknife over groups, on the lines of the bell and the peak search only
             first = np.searchsorted(spectra.frequency, min(bell[0], f * (1 - SEARCH_WIDTH)))
             last = np.searchsorted(spectra.frequency, max(bell[1], f * (1 + SEARCH_WIDTH)),
@@ -209,7 +215,8 @@ def efdd_modes(data, sample_rate, names, low, high, *, n_modes=None, frequencies
             replicates = []
             for g in range(groups):
                 v, u = _first_singular(spectra.matrix(lines, leave_out=g))
-                replicates.append(_one_mode(spectra, lines, v, u, f, mac_threshold)[:2])
+                replicates.append(_one_mode(spectra, lines, v, u, f, mac_threshold,
+                                            limits)[:2])
         except EstimationError:
             if not drop_failed:
                 raise
@@ -227,4 +234,5 @@ def efdd_modes(data, sample_rate, names, low, high, *, n_modes=None, frequencies
                      else np.zeros((data.shape[0], 0))),
         sensor_names=names, sample_rate=sample_rate, method="efdd",
         poles={"frequency": spectra.frequency, "singular_values": values,
-               "bells": [r[5] for r in rows], "segment_length": length, "groups": groups})
+               "bells": [r[5] for r in rows], "targets": targets, "segment_length": length,
+               "groups": groups})

@@ -57,8 +57,9 @@ class ModeIdentification:
     poles : dict
         SSI-cov, the stabilisation diagram: ``frequency``, ``damping`` and ``stable`` arrays of
         shape (n_poles, n_orders), and ``orders``. EFDD, the spectrum: ``frequency`` and
-        ``singular_values`` (n_frequencies, n_sensors) and per mode its ``bells`` (first, last
-        frequency [Hz] of the SDOF bell). Empty for several setups (see ``setups``).
+        ``singular_values`` (n_frequencies, n_sensors), the peaks searched (``targets`` [Hz])
+        and per mode its ``bells`` (first, last frequency [Hz] of the SDOF bell). Empty for
+        several setups (see ``setups``).
     method : str
         ``"ssi-cov"`` or ``"efdd"``.
     cross_check : ModeCrossCheck or None
