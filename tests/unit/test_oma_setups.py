@@ -153,3 +153,19 @@ def test_modes_cli_merges_setups(tmp_path):
     assert len(results["setups"]) == 2
     assert "stabilisation_setup2.png" in results["figures"]
     assert "<h3>Setups</h3>" in (out / "report.html").read_text(encoding="utf-8")
+
+
+def test_modes_cli_several_records_need_their_references(tmp_path, capsys):
+    data = np.zeros((2, 200))
+    for k in range(2):
+        write_record(Record(data, SAMPLE_RATE, ["ref", "a"]), tmp_path / f"s{k}.csv")
+    (tmp_path / "ambient.toml").write_text(
+        '[[record]]\nfile = "s0.csv"\n[[record]]\nfile = "s1.csv"\n')
+    assert main(["modes", str(tmp_path / "ambient.toml"), "--out", str(tmp_path / "o")]) == 1
+    assert ("identification.reference_channels is required with several [[record]] blocks"
+            in capsys.readouterr().err)
+    (tmp_path / "ambient.toml").write_text(
+        '[[record]]\nfile = "s0.csv"\n[[record]]\nfile = "s1.csv"\n'
+        '[identification]\nreference_channels = ["r"]\n')
+    assert main(["modes", str(tmp_path / "ambient.toml"), "--out", str(tmp_path / "o")]) == 1
+    assert "record 1 lacks ['r']" in capsys.readouterr().err
