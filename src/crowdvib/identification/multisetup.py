@@ -123,7 +123,7 @@ def _merged_names(setups, references):
     roving sensors; a roving name used in several setups gets " (setup N)"."""
     rovers = [[(i, n) for i, n in enumerate(setup.sensor_names) if i not in set(ref)]
               for setup, ref in zip(setups, references)]
-    count: dict[str, int] = {}
+    count = {}
     for row in rovers:
         for _, n in row:
             count[n] = count.get(n, 0) + 1
