@@ -6,13 +6,21 @@ The ambient file (TOML, paths relative to it)::
 
     [record]                        # read_record: CSV, NPZ, MAT or UFF 58
     file = "ambient.csv"
-    channels = ["s1", "s2", "s3"]   # optional: the sensors, in order (default all channels)
+    channels = ["s1", "s2", "s3"]   # optional: the sensors, in order (default all channels), or
+                                    #   a table sensor = "channel in file" (renames them)
     sample_rate = 50.0              # optional: for a CSV without a time column [Hz]
 
-    [identification]                # identify_modes (SSI-cov, pyOMA2)
+    # several setups instead: one [[record]] block per setup (same keys), and
+    # identification.reference_channels naming the sensors that stay in place
+
+    [identification]                # identify_modes
+    method = "ssi-cov"              # optional: "ssi-cov" (pyOMA2) or "efdd"
+    cross_check = true              # optional: run the other method too and compare
     n_modes = 3                     # optional (default every consistently stable mode)
     frequency_band = [1.0, 9.0]     # optional [Hz]
-    max_order = 40                  # optional
+    max_order = 40                  # optional (SSI-cov)
+    segment_length = 2048           # optional (EFDD, samples)
+    reference_channels = ["ref"]    # several setups: the channels every record shares
 
     [modal_model]                   # optional: the ModalModel to write (OMA gives no masses)
     fe_model = "bridge.uff"         #   an FE export (UFF 15 + 55) whose output_nodes are the
@@ -21,9 +29,14 @@ The ambient file (TOML, paths relative to it)::
     # walkway = [0.0, 50.0]         #   and the walkway's ends [m] (coarse shapes)
     width = 3.0                     #   walkway width [m]
 
+With several setups the sensors are the first record's, then the other records' roving
+channels (a name used in several records gets " (setup N)"); ``sensor_positions`` follow that
+order. ``--cross-check`` on the command line is ``cross_check = true``.
+
 Writes ``modes.csv`` (f, ξ and their standard deviations per mode), ``mode_shapes.csv`` (at the
-sensors), ``stabilisation.png``, the modal-model CSV files when ``[modal_model]`` is given,
-``results.json`` and ``report.html``.
+sensors), ``cross_check.csv`` (with the cross-check), the stabilisation diagram (SSI-cov) or
+singular values (EFDD) per setup and method, the modal-model CSV files when ``[modal_model]`` is
+given, ``results.json`` and ``report.html``. Modes the two methods disagree on are warnings.
 """
 
 import csv
@@ -38,28 +51,67 @@ from .common import add_output_arguments, say, say_verdict, staged_output, versi
 
 def add_arguments(parser):
     parser.add_argument("ambient", type=Path, help="ambient-test file (TOML)")
+    parser.add_argument("--cross-check", action="store_true",
+                        help="also identify with the other method (EFDD for SSI-cov, and back) "
+                             "and compare the modes")
     add_output_arguments(parser)
 
 
-def read_ambient(path):
-    """The ambient file's record, identification options and modal-model table (checked)."""
-    from ..io._toml import Table, read_toml
+def _records(root):
+    """One ``[record]`` table, or several ``[[record]]`` blocks (setups)."""
+    from ..io._toml import Table
     from ..io.records import read_record
+
+    blocks = root.raw("record")
+    tables = ([Table(b, f"record[{i}]", root.path) for i, b in enumerate(blocks, start=1)]
+              if isinstance(blocks, list) else [root.table("record", required=True)])
+    if not tables:
+        raise root.error("record", "must hold at least one [[record]] block", blocks)
+    records = []
+    for table in tables:
+        channels = table.raw("channels", None)
+        if channels is not None and not isinstance(channels, dict):
+            channels = table.strings("channels", None)
+        elif channels is not None and not all(isinstance(v, str) for v in channels.values()):
+            raise table.error("channels", "must be a list of channels or a table sensor = "
+                                          "\"channel in file\"", channels)
+        records.append(read_record(table.file("file"), channels=channels,
+                                   sample_rate=table.number("sample_rate", None,
+                                                            rule="positive")))
+        table.finish()
+    return records
+
+
+def read_ambient(path):
+    """The ambient file's records (one per setup), identification options and modal-model
+    table (checked)."""
+    from ..io._toml import Table, read_toml
 
     path = Path(path)
     root = Table(read_toml(path), "", path)
     name = root.string("name", path.stem)
-    record_table = root.table("record", required=True)
-    record = read_record(record_table.file("file"),
-                         channels=record_table.strings("channels", None),
-                         sample_rate=record_table.number("sample_rate", None, rule="positive"))
-    record_table.finish()
+    records = _records(root)
     ident = root.table("identification")
     n_modes = ident.number("n_modes", None, rule="positive")
+    segment = ident.number("segment_length", None, rule="positive")
     options = {"n_modes": None if n_modes is None else int(n_modes),
                "frequency_band": ident.pair("frequency_band", None),
-               "max_order": int(ident.number("max_order", 40.0, rule="positive"))}
+               "max_order": int(ident.number("max_order", 40.0, rule="positive")),
+               "method": ident.string("method", "ssi-cov", choices=("ssi-cov", "efdd")),
+               "cross_check": ident.boolean("cross_check", False),
+               "segment_length": None if segment is None else int(segment)}
+    references = ident.strings("reference_channels", None)
+    if len(records) > 1:
+        if references is None:
+            raise ident.error("reference_channels", "is required with several [[record]] "
+                                                    "blocks (the channels they share)", None)
+        options["reference_sensors"] = _reference_rows(records, references, ident)
+    elif references is not None:
+        raise ident.error("reference_channels", "needs several [[record]] blocks", references)
     ident.finish()
+    if len({r.sample_rate for r in records}) > 1:
+        raise root.error("record", "blocks must share one sample rate",
+                         [r.sample_rate for r in records])
     model = root.table("modal_model")
     spec = None
     if model.data:
@@ -71,7 +123,18 @@ def read_ambient(path):
                 "walkway": model.pair("walkway", None)}
         model.finish()
     root.finish()
-    return name, record, options, spec
+    return name, records, options, spec
+
+
+def _reference_rows(records, references, table):
+    rows = []
+    for s, record in enumerate(records, start=1):
+        missing = [c for c in references if c not in record.channel_names]
+        if missing:
+            raise table.error("reference_channels", f"must name channels of every record; "
+                                                    f"record {s} lacks {missing}", references)
+        rows.append([record.channel_names.index(c) for c in references])
+    return rows
 
 
 def _output_nodes(table):
@@ -94,49 +157,85 @@ def _modal_model(modes, spec):
                              walkway=spec["walkway"], width=spec["width"])
 
 
+def _write_csv(path, header, rows):
+    with open(path, "w", encoding="utf-8", newline="") as handle:
+        writer = csv.writer(handle, lineterminator="\n")
+        writer.writerow(header)
+        writer.writerows(rows)
+
+
+def _figures(modes, staging):
+    """Stabilisation diagram / singular values of every setup and method."""
+    from ..reporting.plotting import save_figure
+
+    setups = modes.setups or (modes,)
+    names = []
+    for s, setup in enumerate(setups, start=1):
+        suffix = f"_setup{s}" if len(setups) > 1 else ""
+        for identification in filter(None, (setup, setup.cross_check and
+                                            setup.cross_check.other)):
+            stem = "singular_values" if identification.method == "efdd" else "stabilisation"
+            if identification.poles:
+                names.append(save_figure(identification.plot_stabilisation(),
+                                         staging / f"{stem}{suffix}.png").name)
+    return names
+
+
+def _cross_check_rows(check):
+    def cell(v):
+        return "" if v != v else f"{v:.10g}"                      # NaN: not found
+
+    return [[f"mode_{j + 1}", check.method, *(cell(getattr(check, k)[j]) for k in (
+        "frequencies", "frequency_std", "damping_ratios", "damping_std", "frequency_difference",
+        "damping_difference", "frequency_z", "damping_z", "mac")), str(bool(check.agree[j]))]
+            for j in range(check.agree.size)]
+
+
 def run(args):
     from ..identification.oma import identify_modes
     from ..io.modalfiles import write_modal_model
-    from ..reporting.plotting import save_figure
 
-    name, record, options, spec = read_ambient(args.ambient)
-    say(f"crowdvib modes: {name}, {record.n_channels} sensor(s), {record.duration:g} s at "
-        f"{record.sample_rate:g} Hz")
+    name, records, options, spec = read_ambient(args.ambient)
+    options["cross_check"] = options["cross_check"] or args.cross_check
+    several = len(records) > 1
+    say(f"crowdvib modes: {name}, {len(records)} setup(s), "
+        f"{sum(r.n_channels for r in records)} channel(s), "
+        f"{sum(r.duration for r in records):g} s at {records[0].sample_rate:g} Hz "
+        f"({options['method']}{', cross-checked' if options['cross_check'] else ''})")
     with staged_output(args.out, args.force, command="modes",
                        inputs=[("the ambient file", args.ambient)]) as staging:
         started = time.perf_counter()
-        modes = identify_modes(record.data, record.sample_rate,
-                               sensor_names=record.channel_names, **options)
+        modes = identify_modes([r.data for r in records] if several else records[0].data,
+                               records[0].sample_rate,
+                               sensor_names=([r.channel_names for r in records] if several
+                                             else records[0].channel_names), **options)
         elapsed = time.perf_counter() - started
-        with open(staging / "modes.csv", "w", encoding="utf-8", newline="") as handle:
-            writer = csv.writer(handle, lineterminator="\n")
-            writer.writerow(["mode", "frequency", "frequency_std", "damping_ratio",
-                             "damping_std"])
-            for j in range(modes.n_modes):
-                writer.writerow([f"mode_{j + 1}", f"{modes.frequencies[j]:.10g}",
-                                 f"{modes.frequency_std[j]:.10g}",
-                                 f"{modes.damping_ratios[j]:.10g}",
-                                 f"{modes.damping_std[j]:.10g}"])
-        with open(staging / "mode_shapes.csv", "w", encoding="utf-8", newline="") as handle:
-            writer = csv.writer(handle, lineterminator="\n")
-            writer.writerow(["sensor"] + [f"mode_{j + 1}" for j in range(modes.n_modes)])
-            for sensor, row in zip(modes.sensor_names, modes.mode_shapes):
-                writer.writerow([sensor] + [f"{v:.10g}" for v in row])
-        figure = save_figure(modes.plot_stabilisation(), staging / "stabilisation.png").name
+        _write_csv(staging / "modes.csv", ["mode", "frequency", "frequency_std", "damping_ratio",
+                                           "damping_std"],
+                   [[f"mode_{j + 1}", *(f"{v[j]:.10g}" for v in (
+                       modes.frequencies, modes.frequency_std, modes.damping_ratios,
+                       modes.damping_std))] for j in range(modes.n_modes)])
+        _write_csv(staging / "mode_shapes.csv",
+                   ["sensor"] + [f"mode_{j + 1}" for j in range(modes.n_modes)],
+                   [[sensor] + [f"{v:.10g}" for v in row]
+                    for sensor, row in zip(modes.sensor_names, modes.mode_shapes)])
         files = ["modes.csv", "mode_shapes.csv"]
+        if modes.cross_check is not None:
+            _write_csv(staging / "cross_check.csv",
+                       ["mode", "method", "frequency", "frequency_std", "damping_ratio",
+                        "damping_std", "frequency_difference", "damping_difference",
+                        "frequency_z", "damping_z", "mac", "agree"],
+                       _cross_check_rows(modes.cross_check))
+            files.append("cross_check.csv")
+        figures = _figures(modes, staging)
         if spec is not None:
             structure = _modal_model(modes, spec)
             write_modal_model(structure, staging / "modal_table.csv",
                               staging / "modal_shapes.csv", staging / "output_points.csv")
             files += ["modal_table.csv", "modal_shapes.csv", "output_points.csv"]
         results = {"command": "modes", "crowdvib_version": __version__, "versions": versions(),
-                   "ambient": str(args.ambient), "name": name,
-                   "modes": [{"frequency": float(modes.frequencies[j]),
-                              "frequency_std": float(modes.frequency_std[j]),
-                              "damping_ratio": float(modes.damping_ratios[j]),
-                              "damping_std": float(modes.damping_std[j])}
-                             for j in range(modes.n_modes)],
-                   "files": files, "figures": [figure], "elapsed_s": elapsed}
+                   "ambient": str(args.ambient), "name": name, **modes.to_dict(),
+                   "files": files, "figures": figures, "elapsed_s": elapsed}
         write_json(staging / "results.json", results)
         write_report(staging)
     for j in range(modes.n_modes):

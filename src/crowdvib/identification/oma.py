@@ -1,40 +1,46 @@
 """Operational modal analysis of the empty bridge (docs: theory, Operational modal analysis).
 
 The estimator assumes the empty bridge's modal model known; the most accurate source is system
-identification on ambient vibration data [VNVdB23]. :func:`identify_modes` runs covariance-driven
-stochastic subspace identification (SSI-cov) through pyOMA2 (the ``oma`` extra) over a range of
-model orders, keeps the poles that pyOMA2's stability criteria call stable, groups them by
-frequency and reports per physical mode the median frequency and damping ratio over its stable
-poles, with a standard deviation that is the larger of (a) the first-order (perturbation)
-standard deviation pyOMA2 propagates from the scatter of the output covariances over data blocks
-and (b) the scatter of the stable poles over the model orders.
+identification on ambient vibration data [VNVdB23]. :func:`identify_modes` runs one of two
+methods on an ambient record:
 
-OMA gives no modal masses: :meth:`ModeIdentification.modal_model` takes them from an FE model (or
-a mass the user states).
+* ``"ssi-cov"``: covariance-driven stochastic subspace identification through pyOMA2 (the
+  ``oma`` extra) over a range of model orders; the poles pyOMA2's stability criteria call stable
+  are grouped by frequency and each physical mode gets the median frequency and damping ratio
+  over its stable poles, with a standard deviation that is the larger of (a) the first-order
+  (perturbation) standard deviation pyOMA2 propagates from the scatter of the output
+  covariances over data blocks and (b) the scatter of the stable poles over the model orders;
+* ``"efdd"``: enhanced frequency domain decomposition (:mod:`crowdvib.identification.efdd`).
+
+``cross_check=True`` runs the other method too and compares them mode by mode
+(:class:`~crowdvib.identification.modeid.ModeCrossCheck`); ``reference_sensors`` merges several
+setups (:mod:`crowdvib.identification.multisetup`). OMA gives no modal masses:
+:meth:`ModeIdentification.modal_model` takes them from an FE model (or a mass the user states).
 """
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import io
 import logging
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import as_float_array, check_positive
+from .._validation import check_positive
 from ..errors import DataError, EstimationError, ParameterError
 from ..models.structure import ModalModel
+from .efdd import MAC_THRESHOLD, efdd_modes
+from .modeid import (ModeIdentification, compare_identifications, identified_error_levels,
+                     information_bound)
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
-    from matplotlib.figure import Figure, SubFigure
+__all__ = ["ModeIdentification", "ambient_response", "identified_error_levels", "identify_modes",
+           "METHODS"]
 
-__all__ = ["ModeIdentification", "ambient_response", "identified_error_levels", "identify_modes"]
-
+#: Identification methods; each is the other's cross-check.
+METHODS = ("ssi-cov", "efdd")
 #: Stable poles closer than this relative frequency gap belong to one mode.
 CLUSTER_TOLERANCE = 0.01
 #: A mode must be stable at this share of the model orders that have any stable pole.
@@ -51,215 +57,168 @@ def _pyoma2():
     return SSI, SingleSetup
 
 
-@dataclass(frozen=True)
-class ModeIdentification:
-    """Modes identified from an ambient record (docs: theory, Operational modal analysis).
-
-    Attributes
-    ----------
-    frequencies, damping_ratios : ndarray, (n_modes,)
-        f_j [Hz] and ξ_j [-]: medians over the mode's stable poles.
-    frequency_std, damping_std : ndarray, (n_modes,)
-        Standard deviations [Hz], [-] (larger of the propagated and the over-orders scatter).
-    mode_shapes : ndarray, (n_sensors, n_modes)
-        Real mode shapes at the sensors, +1 at the largest component.
-    sensor_names : tuple of str
-    sample_rate : float
-    poles : dict
-        The stabilisation diagram: ``frequency``, ``damping`` and ``stable`` arrays of shape
-        (n_poles, n_orders), and ``orders``.
-    method : str
-    """
-
-    frequencies: np.ndarray
-    damping_ratios: np.ndarray
-    frequency_std: np.ndarray
-    damping_std: np.ndarray
-    mode_shapes: np.ndarray
-    sensor_names: tuple
-    sample_rate: float
-    poles: dict
-    method: str = "ssi-cov"
-
-    @property
-    def n_modes(self) -> int:
-        return self.frequencies.size
-
-    def modal_model(self, structure: ModalModel | None = None, *,
-                    modal_masses: ArrayLike | None = None,
-                    sensor_positions: ArrayLike | None = None,
-                    walkway: tuple[float, float] | None = None, width: float | None = None,
-                    name: str = "identified footbridge") -> ModalModel:
-        """A :class:`ModalModel` with the identified frequencies and damping ratios.
-
-        The estimator needs the mode shapes along the whole walkway and the modal masses, which
-        an ambient test with a few sensors does not give. Two ways:
-
-        * ``structure`` — an FE :class:`ModalModel` whose outputs are the sensors (same names):
-          each identified mode is paired with the FE mode of highest MAC at the sensors and
-          takes the identified f_j and ξ_j; shapes and modal masses stay the FE model's.
-        * ``modal_masses`` [kg] (stated by the user, for unity-at-antinode shapes) with
-          ``sensor_positions`` [m] along the ``walkway`` = (start, end) [m] and ``width`` [m]:
-          shapes linear between the sensors and zero at the walkway's ends (supports there),
-          scaled to 1 at their largest value. A coarse shape: prefer an FE model.
-        """
-        if structure is not None:
-            return self._paired_with(structure)
-        if modal_masses is None or sensor_positions is None or walkway is None or width is None:
-            raise ParameterError("modal_model needs structure (an FE ModalModel at the sensors) "
-                                 "or modal_masses, sensor_positions, walkway and width: OMA "
-                                 "gives no modal masses")
-        masses = check_positive("modal_masses", np.broadcast_to(
-            np.asarray(modal_masses, dtype=float), (self.n_modes,)), unit="kg")
-        x = as_float_array("sensor_positions", sensor_positions, ndim=1)
-        start, end = (float(v) for v in walkway)
-        if x.size != self.mode_shapes.shape[0] or np.any(np.diff(x) <= 0) or x[0] <= start \
-                or x[-1] >= end:
-            raise ParameterError(f"sensor_positions must give one increasing position per sensor "
-                                 f"({self.mode_shapes.shape[0]}) strictly inside the walkway "
-                                 f"[{start:g}, {end:g}] m, got {x.tolist()}")
-        stations = np.concatenate([[start], x, [end]])
-        shapes = np.vstack([np.zeros(self.n_modes), self.mode_shapes, np.zeros(self.n_modes)])
-        peak = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(self.n_modes)]
-        shapes = shapes / peak
-        return ModalModel(frequencies=self.frequencies, damping_ratios=self.damping_ratios,
-                          modal_masses=masses, positions=stations - start, mode_shapes=shapes,
-                          width=width, output_names=self.sensor_names,
-                          output_shapes=shapes[1:-1], name=name)
-
-    def _paired_with(self, structure):
-        missing = [n for n in self.sensor_names if n not in structure.output_names]
-        if missing:
-            raise ParameterError(f"structure must have the sensors {list(self.sensor_names)} as "
-                                 f"outputs, missing {missing}")
-        rows = structure.output_shapes[structure.output_index(self.sensor_names)]
-        mac = _mac(self.mode_shapes, rows)                   # (identified, FE)
-        pairs = np.argmax(mac, axis=1)
-        if np.unique(pairs).size != pairs.size:
-            raise EstimationError(f"two identified modes pair with the same FE mode (MAC "
-                                  f"{np.round(mac, 2).tolist()})")
-        frequencies = structure.frequencies.copy()
-        damping = structure.damping_ratios.copy()
-        frequencies[pairs] = self.frequencies
-        damping[pairs] = self.damping_ratios
-        return structure.replace(frequencies=frequencies, damping_ratios=damping)
-
-    def error_levels(self, levels: Mapping[str, Sequence[float]] | None = None
-                     ) -> dict[str, tuple[float, ...]]:
-        """Modelling-error levels for :func:`~crowdvib.identification.modelling_error_study`
-        from this identification (see :func:`identified_error_levels`)."""
-        return identified_error_levels(self.frequencies, self.frequency_std, self.damping_ratios,
-                                       self.damping_std, levels)
-
-    def plot_stabilisation(self, ax: "Axes | None" = None) -> "Figure | SubFigure":
-        """Stabilisation diagram: poles per model order, stable ones filled, modes marked."""
-        import matplotlib.pyplot as plt
-
-        if ax is None:
-            _, ax = plt.subplots(figsize=(7, 4))
-        order = np.broadcast_to(self.poles["orders"], self.poles["frequency"].shape)
-        stable = self.poles["stable"]
-        ax.plot(self.poles["frequency"][~stable], order[~stable], "x", color="0.7", ms=3,
-                label="pole")
-        ax.plot(self.poles["frequency"][stable], order[stable], "o", color="C0", ms=3,
-                label="stable pole")
-        for f in self.frequencies:
-            ax.axvline(f, color="C3", lw=0.8)
-        ax.set_xlabel("frequency [Hz]")
-        ax.set_ylabel("model order")
-        ax.set_title("SSI-cov stabilisation diagram")
-        ax.legend(loc="lower right")
-        return ax.figure
-
-
-def identified_error_levels(frequencies: ArrayLike, frequency_std: ArrayLike,
-                            damping_ratios: ArrayLike, damping_std: ArrayLike,
-                            levels: Mapping[str, Sequence[float]] | None = None
-                            ) -> dict[str, tuple[float, ...]]:
-    """Modelling-error levels whose ε_f and ε_ξ come from an identification, not fixed percentages.
-
-    One and two relative standard deviations (σ_f/f, σ_ξ/ξ) of the least certain identified mode
-    (docs: theory, Operational modal analysis); the other parameters keep ``levels`` (default the
-    paper's ``PAPER_ERROR_LEVELS``).
-    """
-    from .studies import PAPER_ERROR_LEVELS
-
-    result = dict(PAPER_ERROR_LEVELS if levels is None else levels)
-    for name, value, std in (("frequencies", frequencies, frequency_std),
-                             ("damping_ratios", damping_ratios, damping_std)):
-        value = check_positive(name, np.asarray(value, dtype=float))
-        std = np.asarray(std, dtype=float)
-        if std.shape != value.shape or not np.all(np.isfinite(std) & (std >= 0)):
-            raise ParameterError(f"{name} standard deviations must be finite, >= 0 and one per "
-                                 f"mode ({value.size}), got {std.tolist()}")
-        worst = float(np.max(std / value))
-        if worst == 0:
-            raise ParameterError(f"{name} standard deviations are all 0: no error level from them")
-        result[name] = (worst, 2 * worst)
-    return result
-
-
-def _mac(a, b):
-    """Modal assurance criterion between the columns of a and of b."""
-    num = np.abs(a.T @ b) ** 2
-    return num / np.outer((a * a).sum(axis=0), (b * b).sum(axis=0))
-
-
-def identify_modes(signals: ArrayLike, sample_rate: float, *, n_modes: int | None = None,
+def identify_modes(signals: ArrayLike | Sequence[ArrayLike], sample_rate: float, *,
+                   n_modes: int | None = None,
                    frequency_band: tuple[float, float] | None = None, method: str = "ssi-cov",
+                   cross_check: bool = False,
+                   reference_sensors: Sequence[Sequence[int]] | None = None,
                    block_rows: int | None = None, max_order: int = 40, n_blocks: int = 50,
-                   sensor_names: Sequence[str] | None = None) -> ModeIdentification:
-    """Modes of the empty bridge from an ambient record by SSI-cov (docs: theory, Operational modal analysis).
+                   segment_length: int | None = None, mac_threshold: float = MAC_THRESHOLD,
+                   sensor_names: Sequence[str] | Sequence[Sequence[str]] | None = None
+                   ) -> ModeIdentification:
+    """Modes of the empty bridge from an ambient record (docs: theory, Operational modal analysis).
 
     Parameters
     ----------
-    signals : array_like, shape (n_sensors, n_samples)
-        Ambient accelerations [m/s²] (any consistent unit).
+    signals : array_like, shape (n_sensors, n_samples), or a sequence of them
+        Ambient accelerations [m/s²] (any consistent unit). Several setups (each its own array,
+        of any length) with ``reference_sensors``.
     sample_rate : float
-        [Hz].
+        [Hz] (the same for every setup).
     n_modes : int, optional
-        Number of modes to report (the most consistently stable ones); default every mode stable
-        at ≥ 30 % of the model orders.
+        Number of modes to report. SSI-cov: the most consistently stable ones, default every
+        mode stable at ≥ 30 % of the model orders; EFDD: the most prominent peaks of the first
+        singular value, default every peak 0.5 decades above its sides.
     frequency_band : (float, float), optional
         Modes outside are ignored [Hz]; default (0, Nyquist).
-    method : {"ssi-cov"}
-        Covariance-driven SSI through pyOMA2.
+    method : {"ssi-cov", "efdd"}
+        SSI-cov through pyOMA2, or crowdvib's EFDD.
+    cross_check : bool
+        Also run the other method and compare the two mode by mode (``cross_check`` of the
+        result): SSI-cov is checked by EFDD at its frequencies, EFDD by SSI-cov.
+    reference_sensors : sequence of sequences of int, optional
+        Several setups: per setup the row indices of the reference sensors (the same sensors,
+        in the same order, in every setup). Each setup is identified alone; the shapes are
+        merged by rescaling on the references, f and ξ averaged (see ``setups`` of the result).
     block_rows : int, optional
-        Block rows of the Hankel matrix; default enough for two periods of the lowest band
-        frequency (at least 20).
+        SSI-cov: block rows of the Hankel matrix; default enough for two periods of the lowest
+        band frequency (at least 20).
     max_order : int
-        Highest model order of the stabilisation diagram.
+        SSI-cov: highest model order of the stabilisation diagram.
     n_blocks : int
-        Data blocks for the propagated uncertainty.
-    sensor_names : sequence of str, optional
+        SSI-cov: data blocks for the propagated uncertainty.
+    segment_length : int, optional
+        EFDD: Welch segment [samples]; default the largest power of two <= n_samples / 16.
+    mac_threshold : float
+        EFDD: the SDOF bell's lines have a first singular vector of MAC >= this with the peak's.
+    sensor_names : sequence of str (one per row), or per setup a sequence, optional
 
     Returns
     -------
     ModeIdentification
     """
-    if method != "ssi-cov":
-        raise ParameterError(f"method must be 'ssi-cov', got {method!r}")
-    data = as_float_array("signals", signals)
-    if data.ndim != 2 or data.shape[0] < 1 or data.shape[1] < 100:
-        raise ParameterError(f"signals must have shape (n_sensors, n_samples) with at least 100 "
-                             f"samples, got {np.shape(signals)}")
-    if not np.all(np.isfinite(data)):
-        raise DataError("signals must be finite")
+    if method not in METHODS:
+        raise ParameterError(f"method must be one of {', '.join(map(repr, METHODS))}, "
+                             f"got {method!r}")
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
+    band = _band(frequency_band, sample_rate)
+    if n_modes is not None and (int(n_modes) != n_modes or n_modes < 1):
+        raise ParameterError(f"n_modes must be a positive integer, got {n_modes!r}")
+    options = _options(block_rows, max_order, n_blocks, segment_length, mac_threshold)
+    if reference_sensors is not None:
+        from .multisetup import identify_setups
+
+        def single(data, names):
+            return _identify(data, sample_rate, names, band, n_modes, method, cross_check,
+                             options)
+
+        return identify_setups(signals, reference_sensors, sensor_names, single)
+    data = _signals("signals", signals)
+    return _identify(data, sample_rate, _names(sensor_names, data.shape[0], "sensor_names"),
+                     band, n_modes, method, cross_check, options)
+
+
+def _band(frequency_band, sample_rate):
     low, high = (0.0, sample_rate / 2) if frequency_band is None else (
         float(frequency_band[0]), float(frequency_band[1]))
     if not 0 <= low < high <= sample_rate / 2:
         raise ParameterError(f"frequency_band must satisfy 0 <= low < high <= Nyquist "
                              f"({sample_rate / 2:g} Hz), got {frequency_band!r}")
-    names = (tuple(f"sensor_{i + 1}" for i in range(data.shape[0])) if sensor_names is None
+    return low, high
+
+
+def _options(block_rows, max_order, n_blocks, segment_length, mac_threshold):
+    for name, value, least in (("block_rows", block_rows, 2), ("max_order", max_order, 2),
+                               ("n_blocks", n_blocks, 2), ("segment_length", segment_length, 64)):
+        if value is not None and (int(value) != value or value < least):
+            raise ParameterError(f"{name} must be an integer >= {least}, got {value!r}")
+    if not 0 < float(mac_threshold) < 1:
+        raise ParameterError(f"mac_threshold must lie in (0, 1), got {mac_threshold!r}")
+    return {"block_rows": block_rows, "max_order": int(max_order), "n_blocks": int(n_blocks),
+            "segment_length": None if segment_length is None else int(segment_length),
+            "mac_threshold": float(mac_threshold)}
+
+
+def _signals(name, signals):
+    """One setup's signals, checked: a finite (n_sensors, n_samples) array, n_samples >= 100."""
+    try:
+        data = np.array(signals, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a numeric array (n_sensors, n_samples), got ragged "
+                             f"or non-numeric rows") from None
+    if data.ndim != 2 or data.shape[0] < 1 or data.shape[1] < 100:
+        raise ParameterError(f"{name} must have shape (n_sensors, n_samples) with at least 100 "
+                             f"samples, got {data.shape}")
+    if not np.all(np.isfinite(data)):
+        raise DataError(f"{name} must be finite")
+    return data
+
+
+def _names(sensor_names, count, name):
+    names = (tuple(f"sensor_{i + 1}" for i in range(count)) if sensor_names is None
              else tuple(str(n) for n in sensor_names))
-    if len(names) != data.shape[0]:
-        raise ParameterError(f"sensor_names must name {data.shape[0]} sensors, got {len(names)}")
+    if len(names) != count:
+        raise ParameterError(f"{name} must name {count} sensors, got {len(names)}")
+    return names
+
+
+def _identify(data, sample_rate, names, band, n_modes, method, cross_check, options):
+    """One setup by ``method``, with the other method's cross-check if asked."""
+    primary = _floored(_run(method, data, sample_rate, names, band, n_modes, options, None),
+                       data.shape[1] / sample_rate)
+    if not cross_check:
+        return primary
+    other_method = METHODS[1 - METHODS.index(method)]
+    try:
+        other = _floored(_run(other_method, data, sample_rate, names, band, None, options,
+                              primary.frequencies), data.shape[1] / sample_rate)
+    except EstimationError:                          # found nothing: every mode unconfirmed
+        other = _empty(other_method, names, sample_rate)
+    return dataclasses.replace(primary, cross_check=compare_identifications(primary, other))
+
+
+def _floored(modes, duration):
+    """The standard deviations raised to the information bound where they fall below it."""
+    if not modes.n_modes:
+        return modes
+    bound_f, bound_xi = information_bound(modes.frequencies, modes.damping_ratios, duration)
+    return dataclasses.replace(modes, frequency_std=np.maximum(modes.frequency_std, bound_f),
+                               damping_std=np.maximum(modes.damping_std, bound_xi))
+
+
+def _run(method, data, sample_rate, names, band, n_modes, options, seeds):
+    if method == "efdd":
+        return efdd_modes(data, sample_rate, names, *band, n_modes=n_modes, frequencies=seeds,
+                          segment_length=options["segment_length"],
+                          mac_threshold=options["mac_threshold"], drop_failed=seeds is not None)
+    return _ssi(data, sample_rate, names, band, n_modes, options)
+
+
+def _empty(method, names, sample_rate):
+    none = np.zeros(0)
+    return ModeIdentification(none, none, none, none, np.zeros((len(names), 0)), names,
+                              sample_rate, {}, method)
+
+
+def _ssi(data, sample_rate, names, band, n_modes, options):
+    """SSI-cov through pyOMA2, its stable poles grouped into modes."""
+    low, high = band
+    block_rows = options["block_rows"]
     if block_rows is None:
         block_rows = max(20, int(np.ceil(2 * sample_rate / max(low, sample_rate / 100))))
     SSI, SingleSetup = _pyoma2()
-    algorithm = SSI(name="ssi", method="cov", br=int(block_rows), ordmax=int(max_order),
-                    calc_unc=True, nb=int(n_blocks))
+    algorithm = SSI(name="ssi", method="cov", br=int(block_rows), ordmax=options["max_order"],
+                    calc_unc=True, nb=options["n_blocks"])
     setup = SingleSetup(data.T, fs=sample_rate)
     setup.add_algorithms(algorithm)
     logger = logging.getLogger("pyoma2")
@@ -270,8 +229,7 @@ def identify_modes(signals: ArrayLike, sample_rate: float, *, n_modes: int | Non
             setup.run_by_name("ssi")
     finally:
         logger.setLevel(level)
-    result = algorithm.result
-    return _from_poles(result, names, sample_rate, low, high, n_modes)
+    return _from_poles(algorithm.result, names, sample_rate, low, high, n_modes)
 
 
 def _from_poles(result, names, sample_rate, low, high, n_modes):

@@ -31,6 +31,10 @@ _CAPTIONS = {
     "time_history": "Simulated acceleration with its 1 s running RMS and the people on the deck.",
     "design_utilisation": "Governing utilisation a/a_limit of each design check without HSI, "
                           "with the crowd's mass and with HSI; dashed: the limit.",
+    "stabilisation": "SSI-cov stabilisation diagram: poles per model order, stable ones "
+                     "filled; red lines: the identified modes.",
+    "singular_values": "EFDD: singular values of the output spectral matrix; shaded: the SDOF "
+                       "bells, red lines: the identified modes.",
     "design_modes": "Peak acceleration of every mode at the governing output, per code and "
                     "model; dashed: the limit.",
 }
@@ -87,6 +91,9 @@ def caption(name):
     if stem.startswith("time_history_"):
         return html("Simulated acceleration at {} with its 1 s running RMS and the people on the "
                     "deck.", stem[len("time_history_"):])
+    for kind in ("stabilisation", "singular_values"):
+        if stem.startswith(kind + "_setup"):
+            return html("{} (setup {})", _CAPTIONS[kind], stem[len(kind) + 6:])
     if stem.startswith("residuals_"):
         return html("Relative residuals of the joint fit at {}, against the 95 % band of the "
                     "Welch scatter: residuals outside it in many neighbouring bins are what the "

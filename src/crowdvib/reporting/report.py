@@ -33,6 +33,7 @@ from ..errors import DataError, ParameterError
 from . import sections
 from .figures import collect_figures
 from .html import html, page
+from .oma_section import modes_section
 from .reading import case_name, read_results
 from .sections import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, SECTIONS
 
@@ -123,6 +124,7 @@ def _assess(results, directory):
     figures = collect_figures(results, directory, notes, CONVERGENCE_LEVEL)
     diagnostics = sections.diagnostics_section(results, notes)   # fills notes before the summary
     diagnostics += sections.design_section(results, notes)       # crowdvib check only
+    diagnostics += modes_section(results, notes)                  # crowdvib modes only
     return notes, figures, diagnostics
 
 

@@ -1,0 +1,90 @@
+"""The identified modes of ``crowdvib modes`` in report.html, with the second method's cross-check.
+
+A mode the two methods do not agree on (a difference beyond ``level`` combined standard
+deviations, or not found by the second method) is a warning: the verdict names it.
+"""
+
+from markupsafe import Markup
+
+from .html import html, join, number, table
+
+__all__ = ["modes_section"]
+
+_METHODS = {"ssi-cov": "SSI-cov", "efdd": "EFDD"}
+
+
+def _name(method):
+    return _METHODS.get(method, str(method))
+
+
+def modes_section(results: dict, notes) -> Markup:
+    """Modes table, cross-check table and per-setup table of a ``modes`` results file; empty for
+    other commands."""
+    modes = results.get("modes")
+    if results.get("command") != "modes" or not isinstance(modes, list):
+        return Markup("")
+    modes = [m if isinstance(m, dict) else {} for m in modes]
+    method = _name(results.get("method", "ssi-cov"))
+    rows = [[f"mode {j + 1}", number(m.get("frequency"), 5), number(m.get("frequency_std"), 2),
+             number(m.get("damping_ratio"), 4), number(m.get("damping_std"), 2)]
+            for j, m in enumerate(modes)]
+    parts = [html("<p>{} modes identified by {}; standard deviations σ.</p>", len(modes), method),
+             table(["mode", "f [Hz]", "σ_f [Hz]", "ξ [-]", "σ_ξ [-]"], rows, "data")]
+    check = results.get("cross_check")
+    if isinstance(check, dict) and isinstance(check.get("modes"), list):
+        parts.append(_cross_check(check, modes, method, notes))
+    setups = results.get("setups")
+    if isinstance(setups, list) and setups:
+        parts.append(_setups(setups, len(modes)))
+    return html('<section id="modes"><h2>Identified modes</h2>{}</section>', join(parts))
+
+
+def _cross_check(check, modes, method, notes):
+    other = _name(check.get("method"))
+    level = check.get("level", 1.96)
+    rows, disagree = [], []
+    for j, (mine, row) in enumerate(zip(modes, check["modes"])):
+        row = row if isinstance(row, dict) else {}
+        agree = row.get("agree") is True
+        rows.append([f"mode {j + 1}", number(mine.get("frequency"), 5),
+                     number(row.get("frequency"), 5), number(row.get("frequency_difference"), 2),
+                     number(row.get("frequency_z"), 2), number(mine.get("damping_ratio"), 4),
+                     number(row.get("damping_ratio"), 4),
+                     number(row.get("damping_difference"), 2), number(row.get("damping_z"), 2),
+                     number(row.get("mac"), 4), "yes" if agree else "no"])
+        if agree:
+            continue
+        disagree.append(j + 1)
+        if row.get("frequency") is None:
+            notes.warn(html("mode {} ({} Hz): the cross-check by {} finds no mode there.", j + 1,
+                            number(mine.get("frequency"), 4), other))
+        else:
+            notes.warn(html("mode {}: {} and {} disagree beyond {} combined σ: Δf = {} Hz "
+                            "(z = {}), Δξ = {} (z = {}).", j + 1, method, other, number(level, 3),
+                            number(row.get("frequency_difference"), 2),
+                            number(row.get("frequency_z"), 2),
+                            number(row.get("damping_difference"), 2),
+                            number(row.get("damping_z"), 2)))
+    if not disagree and rows:
+        notes.ok(html("{} confirms all {} modes of {} within {} combined σ.", other, len(rows),
+                      method, number(level, 3)))
+    headers = ["mode", html("f {} [Hz]", method), html("f {} [Hz]", other), "Δf [Hz]", "z_f",
+               html("ξ {}", method), html("ξ {}", other), "Δξ", "z_ξ", "MAC", "agree"]
+    return html("<h3>Cross-check by {}</h3><p>Differences {} − {}, and in combined standard "
+                "deviations z = Δ/√(σ₁² + σ₂²); agreement: |z| ≤ {} for f and ξ.</p>{}", other,
+                other, method, number(level, 3), table(headers, rows, "data"))
+
+
+def _setups(setups, n_modes):
+    rows = []
+    for s, setup in enumerate(setups, start=1):
+        setup = setup if isinstance(setup, dict) else {}
+        found = [m if isinstance(m, dict) else {} for m in setup.get("modes") or []]
+        names = setup.get("sensor_names") or []
+        rows.append([f"setup {s}", ", ".join(str(n) for n in names)]
+                    + [number(found[j].get("frequency"), 5) if j < len(found) else "—"
+                       for j in range(n_modes)])
+    return html("<h3>Setups</h3><p>Each setup identified alone; the shapes merged by rescaling "
+                "on the reference sensors, f and ξ averaged with inverse-variance weights.</p>{}",
+                table(["setup", "sensors"] + [f"f mode {j + 1} [Hz]" for j in range(n_modes)],
+                      rows, "data"))
