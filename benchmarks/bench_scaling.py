@@ -1,6 +1,7 @@
 """Speed and scaling (issue 14). Prints tables; asserts nothing.
 
-    python benchmarks/bench_scaling.py [welch|kernel|simulate|all] [--records N] [--seconds S]
+    python benchmarks/bench_scaling.py [welch|kernel|simulate|hundred|all] [--records N]
+        [--seconds S] [--figure PATH]
 
 * Welch-window spectral model on one core (BLAS limited to one thread): crowdvib's evaluation
   (4 points per bin, narrow peaks in closed form) against the dense 16-points-per-bin rule it
@@ -10,7 +11,10 @@
   paper example, with and without HSI, against the plain-numpy RK4 of _numpy_reference.py (same
   walkers; the largest difference of the two records relative to the peak is printed).
 * simulate_many: records of the paper example in 1 and 2 threads, records per second, and the
-  extrapolated time of 100 one-hour records.
+  extrapolated time of 100 one-hour records; ``hundred`` times the 100 one-hour records themselves
+  (two threads).
+* ``--figure PATH``: the scaling curves of the run (µs per walker-step against the number of modes,
+  records per second against threads) drawn into one PNG.
 
 Timings are medians of interleaved repeats (the machine may be shared); the load average
 (``os.getloadavg``) is printed beside every figure.
@@ -174,6 +178,7 @@ def bench_kernel(seconds=300.0):
     print()
     print("Modes: the paper's deck and crowd with HSI, n modes at 2–12 Hz (h = 5 ms), 120 s records")
     print(f"{'modes':>6s}{'µs/walker-step':>16s}{'ms/s':>8s}  load")
+    curve = []
     for n_modes in (1, 4, 14, 50):
         bridge = ModalModel.simply_supported_beam(50.0, 3.0, np.linspace(2.0, 12.0, n_modes), 0.005,
                                                   50e3, n_modes=n_modes)
@@ -186,6 +191,8 @@ def bench_kernel(seconds=300.0):
             steps.append(walker_steps(record))
         per_step = statistics.median(t / s for t, s in zip(timings, steps)) * 1e6
         print(f"{n_modes:6d}{per_step:16.4f}{1e3 * statistics.median(timings) / 120.0:8.3f}  {load()}")
+        curve.append((n_modes, per_step))
+    return curve
 
 
 def bench_simulate(records=4, seconds=300.0):
@@ -221,21 +228,70 @@ def bench_simulate(records=4, seconds=300.0):
     print(f"extrapolated (not measured): 100 one-hour records ≈ "
           f"{best / (records * seconds) * 360000:.0f} s wall at this load; "
           f"{cpu / (records * seconds) * 360000 / 2:.0f} s on 2 idle cores from the CPU time")
+    return [(threads, records / statistics.median(r[0] for r in rows))
+            for threads, rows in rounds.items()]
+
+
+def bench_hundred():
+    """100 one-hour records of the paper example on two threads, measured (issue 14: < 2 min)."""
+    case = paper_example()
+    simulate_many(case.structure, case.crowd, 2.0, seeds=[0, 1], msd=case.msd)   # compile
+    before = load()
+    started, cpu = time.perf_counter(), time.process_time()
+    simulate_many(case.structure, case.crowd, 3600.0, seeds=list(range(100)), msd=case.msd,
+                  workers=2)
+    print(f"100 one-hour records of the paper example, 2 threads: "
+          f"{time.perf_counter() - started:.1f} s wall, {time.process_time() - cpu:.1f} s CPU "
+          f"(target < 120 s; {before} before, {load()} after)")
+
+
+def draw(path, modes, threads):
+    """The scaling curves of this run in one figure."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figure, (left, right) = plt.subplots(1, 2, figsize=(9, 3.6))
+    if modes:
+        n, us = zip(*modes)
+        left.loglog(n, us, "o-")
+        left.set_xlabel("modes")
+        left.set_ylabel("µs per walker-step (one thread)")
+        left.set_title("simulation kernel, paper deck with HSI")
+    if threads:
+        k, rate = zip(*threads)
+        right.plot(k, rate, "o-", label="measured")
+        right.plot(k, [rate[0] * i for i in k], "--", color="0.6", label="linear")
+        right.set_xlabel("threads")
+        right.set_ylabel("records per second")
+        right.set_xticks(k)
+        right.legend()
+        right.set_title("simulate_many, paper example")
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    print(f"figure: {path}")
 
 
 def main(argv):
     what = argv[0] if argv and not argv[0].startswith("--") else "all"
     records = int(argv[argv.index("--records") + 1]) if "--records" in argv else 4
     seconds = float(argv[argv.index("--seconds") + 1]) if "--seconds" in argv else 300.0
+    figure = argv[argv.index("--figure") + 1] if "--figure" in argv else None
     print(f"crowdvib benchmarks, issue 14 ({os.cpu_count()} CPUs, {load()})")
+    modes = threads = None
     if what in ("welch", "all"):
         bench_welch()
         print()
     if what in ("kernel", "all"):
-        bench_kernel()
+        modes = bench_kernel()
         print()
     if what in ("simulate", "all"):
-        bench_simulate(records, seconds)
+        threads = bench_simulate(records, seconds)
+    if what in ("hundred", "all"):
+        bench_hundred()
+    if figure and (modes or threads):
+        draw(figure, modes, threads)
 
 
 if __name__ == "__main__":
