@@ -252,7 +252,9 @@ def draw(path, modes, threads):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    figure, (left, right) = plt.subplots(1, 2, figsize=(9, 3.6))
+    panels = [curve for curve in (modes, threads) if curve]
+    figure, axes = plt.subplots(1, len(panels), figsize=(4.5 * len(panels), 3.6), squeeze=False)
+    left, right = (axes[0, 0], axes[0, -1])
     if modes:
         n, us = zip(*modes)
         left.loglog(n, us, "o-")
