@@ -100,18 +100,19 @@ def bootstrap(n=200, density=0.5, n_boot=100, first=0):
 def _table(rows, n, seconds):
     print(f"{'method':14s}{'crowd':17s}{'parameter':15s}{'coverage':>9s}{'mean error':>24s}"
           f"{'std/record':>12s}{'mean width':>12s}{'s/estimate':>11s}")
-    for (method, model, free), found in rows.items():
-        model = model + (" +f_s" if free else "")
+    for key, found in rows.items():
+        method, model, free = key
+        label = model + (" +f_s" if free else "")
         found = np.array(found)                     # (n, parameters, (value, low, high))
         for p, (name, truth) in enumerate(TRUTH.items()):
             value, low, high = found[:, p, 0], found[:, p, 1], found[:, p, 2]
             covered = np.mean((low <= truth) & (truth <= high))
             error = value / truth - 1
             half = 1.96 * error.std(ddof=1) / np.sqrt(n)
-            print(f"{method:14s}{model:17s}{name:15s}{covered:9.1%}"
+            print(f"{method:14s}{label:17s}{name:15s}{covered:9.1%}"
                   f"{f'{error.mean():+.2%} [{error.mean() - half:+.2%}, {error.mean() + half:+.2%}]':>24s}"
                   f"{error.std(ddof=1):12.2%}{np.mean(high - low) / truth:12.2%}"
-                  f"{seconds[method, model.split()[0], free] / n:11.2f}")
+                  f"{seconds[key] / n:11.2f}")
 
 
 #: The estimators compared: (method, crowd model, step frequencies fitted too).

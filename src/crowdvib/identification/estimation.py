@@ -292,9 +292,6 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
                 f"over the band (no unit or gain mix-up goes further), got measured/model "
                 f"variance {', '.join(f'{v:.3g}' for v in absurd)} for outputs "
                 f"{list(objective.output_names)}")
-    if free_step_frequencies and len(parts) > 1:
-        raise ParameterError("free_step_frequencies is for one record: in a joint fit each "
-                             "record has its own crowd (fit each one's step frequencies first)")
     stacked = _Stacked([objective for objective, _ in parts])
     best, runs = fit(stacked)
     msd, steps = state(best.x)

@@ -173,6 +173,7 @@ class PSDObjective:
             if cross is not None:
                 self._wishart_terms(cross[..., use])
         self.evaluations = 0
+        self._steps_model = (None, None)     # (μ_fs, σ_fs) → model, the last one (model_for)
 
     def _wishart_terms(self, cross):
         """Set up the Wishart deviance of the measured cross-spectral matrix (its bins)."""
@@ -229,11 +230,12 @@ class PSDObjective:
         MSD moves) build it once.
         """
         key = (float(steps[0]), float(steps[1]))
-        if getattr(self, "_steps_model", (None,))[0] != key:
+        if self._steps_model[0] != key:
             crowd = dataclasses.replace(self.model.crowd, step_frequency_mean=key[0],
                                         step_frequency_std=key[1])
+            # The fluctuating mixture keeps its occupancy law (it depends on the density only).
             self._steps_model = (key, self.model.with_step_frequencies(crowd)
-                                 if hasattr(self.model, "with_step_frequencies")
+                                 if self.crowd_model == "fluctuating"
                                  else self.spectral_model(crowd))
         return self._steps_model[1]
 
