@@ -4,7 +4,6 @@ Kept apart from the engine so that the command line can state its defaults witho
 numpy, scipy or dask.
 """
 
-import importlib.util
 import os
 
 #: The environment variables that size the thread pools of BLAS, OpenMP and numba in a process
@@ -25,9 +24,8 @@ def physical_cores() -> int:
 
 
 def default_workers() -> int:
-    """Default local worker processes of a study: the physical cores when dask.distributed is
-    installed (it runs them), else 1 (the study runs in this process)."""
-    return physical_cores() if importlib.util.find_spec("distributed") is not None else 1
+    """Default local worker processes of a study: the physical cores."""
+    return physical_cores()
 
 
 def thread_share(workers: int, cores: int | None = None) -> int:

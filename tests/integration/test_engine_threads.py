@@ -26,9 +26,8 @@ def test_thread_share_divides_the_cores():
 
 
 def test_default_workers_is_the_physical_core_count():
-    # Reference: psutil's count of physical cores (the rule), when dask is installed.
+    # Reference: psutil's count of physical cores (the rule).
     psutil = pytest.importorskip("psutil")
-    pytest.importorskip("distributed")
     assert physical_cores() == (psutil.cpu_count(logical=False) or os.cpu_count())
     assert default_workers() == physical_cores()
 
@@ -36,7 +35,6 @@ def test_default_workers_is_the_physical_core_count():
 def test_local_workers_run_numba_and_blas_with_their_share_of_the_cores():
     # Two workers on this machine: each gets physical_cores() // 2 threads (numba would
     # otherwise start one thread per CPU in every worker).
-    pytest.importorskip("distributed")
     share = thread_share(2)
     with study_executor(workers=2) as executor:
         result = run_tasks(_threads_in_worker, [("only", None)], executor=executor)["only"]

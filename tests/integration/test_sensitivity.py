@@ -154,9 +154,8 @@ def _crash_once(payload):
 
 
 def test_crashed_worker_task_reruns_on_the_engine(tmp_path):
-    # The first attempt kills its worker process; the dask scheduler runs the task again on a
-    # live worker (no retry of ours), and the result is stored like any other.
-    pytest.importorskip("distributed")
+    # The first attempt kills its worker process; the local pool starts a new worker and runs
+    # the task again there, and the result is stored like any other.
     marker = str(tmp_path / "crashed")
     with study_executor(workers=2) as executor:
         results = run_tasks(_crash_once, [("only", marker)], executor=executor,

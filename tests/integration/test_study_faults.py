@@ -189,7 +189,6 @@ def test_parent_killed_five_times_then_resumed_equals_an_uninterrupted_run(tmp_p
     # kills at seeded random moments (after the k-th task file, plus up to 0.3 s), each followed
     # by --resume: no worker survives a kill, no finished task is computed again, and the end
     # result is the uninterrupted run's (which ran on 1 worker: determinism across engines).
-    pytest.importorskip("distributed")
     rng = np.random.default_rng(9)
     out = tmp_path / "study"
     out.mkdir()
@@ -224,15 +223,13 @@ def test_parent_killed_five_times_then_resumed_equals_an_uninterrupted_run(tmp_p
 @pytest.mark.slow
 def test_a_killed_worker_does_not_stop_the_study(tmp_path, uninterrupted):
     # Fault 4: killing one worker of the local pool ended the study with BrokenProcessPool. Now
-    # the nanny replaces the worker and the scheduler reruns its task elsewhere.
+    # the pool starts a new worker and runs the dead one's task again there.
     psutil = pytest.importorskip("psutil")
-    pytest.importorskip("distributed")
     out = tmp_path / "study"
     out.mkdir()
     process = _start(out)
     _wait_for_tasks(process, out, 5)
-    workers = [child for child in psutil.Process(process.pid).children()
-               if "spawn_main" in " ".join(child.cmdline())]
+    workers = psutil.Process(process.pid).children()       # the pool's workers, forked
     assert len(workers) == 2
     workers[0].kill()
     stdout, stderr = process.communicate(timeout=300)
@@ -247,7 +244,6 @@ def test_ctrl_c_keeps_finished_tasks_prints_the_resume_command_and_exits_130(tmp
                                                                              uninterrupted):
     # Fault 4: Ctrl-C waited minutes, printed a traceback and dropped finished tasks. SIGINT goes
     # to the whole process group, as a terminal's Ctrl-C does.
-    pytest.importorskip("distributed")
     out = tmp_path / "study"
     out.mkdir()
     process = _start(out)

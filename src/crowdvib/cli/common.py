@@ -315,9 +315,8 @@ def add_workers_argument(parser):
     cores = physical_cores()
     parser.add_argument(
         "--workers", type=positive_int, default=default_workers(),
-        help=f"worker processes of a local dask cluster, each with its share of the cores for "
-             f"BLAS and numba (default: the physical cores, {cores} on this machine, when "
-             f"crowdvib[dask] is installed, else 1; 1 runs in this process, without a cluster)")
+        help=f"local worker processes, each with its share of the cores for BLAS and numba "
+             f"(default: the physical cores, {cores} on this machine; 1 runs in this process)")
 
 
 def record_formats(text):

@@ -3,8 +3,8 @@
 A Monte Carlo study (calibrating intervals, predicting a design's response) needs many seeded
 time-domain records, each reduced to a few numbers. :func:`monte_carlo` cuts the seeds into
 batches; each batch is one task of :func:`crowdvib.identification.tasks.run_tasks`, so it runs in
-this process or on the dask cluster of :func:`crowdvib.identification.engine.study_executor`
-(a worker runs its batch's records in parallel threads, :func:`crowdvib.simulate_many`), and
+this process, on local workers or on a dask cluster
+(:func:`crowdvib.identification.engine.study_executor`; a worker runs its batch's records in parallel threads, :func:`crowdvib.simulate_many`), and
 each finished batch is kept in a :class:`~crowdvib.identification.tasks.TaskStore`: an
 interrupted study resumes without simulating again what is done.
 """

@@ -1,10 +1,10 @@
 """Running many independent tasks, in this process or on an executor, losing nothing.
 
 The studies of :mod:`crowdvib.identification.studies` are lists of deterministic tasks.
-:func:`run_tasks` runs them in this process or on any ``concurrent.futures.Executor`` (the dask
-cluster of :func:`crowdvib.identification.engine.study_executor`); every finished task is written
-at once, atomically and fsync'd, to a :class:`TaskStore`, so an interrupted study resumes without
-recomputing what is done.
+:func:`run_tasks` runs them in this process or on any ``concurrent.futures.Executor`` (the
+local workers or the dask cluster of :func:`crowdvib.identification.engine.study_executor`);
+every finished task is written at once, atomically and fsync'd, to a :class:`TaskStore`, so an
+interrupted study resumes without recomputing what is done.
 
 A task is stored under a key made from its content: its name, a hash of everything that
 determines its result (every array, number and option of its payload, the function that computes
@@ -233,7 +233,8 @@ def run_tasks(function, tasks, *, executor=None, store=None, progress=None):
         Unique names and payloads.
     executor : concurrent.futures.Executor, optional
         Where to run (default: in this process, one after the other). Crashed workers are the
-        executor's business: a dask cluster runs a dead worker's tasks again on another worker.
+        executor's business: crowdvib's local pool and a dask cluster run a dead worker's task
+        again on another worker.
     store : TaskStore or path, optional
         Finished results are written here as they arrive, under keys made from their content
         (:func:`fingerprint`), and read back instead of recomputed.
