@@ -2,6 +2,7 @@
 
 import contextlib
 import sys
+import warnings
 from pathlib import Path
 
 from .. import __version__
@@ -80,8 +81,6 @@ def _identified_levels(directory):
 def _warnings_as_lines():
     """Print each crowdvib warning as one line on stderr when it happens (a damaged task file,
     inputs changed since the study began), not as a Python warning with a source line."""
-    import warnings
-
     from ..errors import CrowdvibWarning
 
     with warnings.catch_warnings():
@@ -97,11 +96,24 @@ def _warnings_as_lines():
         yield
 
 
+def _estimate_with_warnings(measured, structure, crowd, options):
+    """The record's estimate and the crowdvib warnings it gave ``(category, message)``, for
+    this process to show (a worker's warnings would not reach the user)."""
+    from ..errors import CrowdvibWarning
+    from ..identification import estimate_hsi
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CrowdvibWarning)
+        estimate = estimate_hsi(measured, structure, crowd, **options)
+    return estimate, [(w.category, str(w.message)) for w in caught
+                      if issubclass(w.category, CrowdvibWarning)]
+
+
 def run(args):
     from ..io.casefile import load_case
     from ..reporting.plotting import plot_estimation_errors, save_figure
-    from ..identification import (TaskStore, estimate_hsi, modelling_error_study,
-                                  record_length_study, study_executor)
+    from ..identification import (TaskStore, modelling_error_study, record_length_study,
+                                  study_executor)
 
     case = load_case(args.case)
     levels = None if args.modes_from is None else _identified_levels(args.modes_from)
@@ -125,6 +137,11 @@ def run(args):
         say(f"  resuming: {done} finished task(s) found in {store.directory}")
     try:
         with _warnings_as_lines(), study_executor(args.workers, args.scheduler) as executor:
+            # The record's own estimate with its interval, beside the studies on a worker (it
+            # was the longest step left in this process, measured in issue 14).
+            record_estimate = (measured, case.structure, crowd, estimate_options(case))
+            pending = (executor.submit(_estimate_with_warnings, *record_estimate)
+                       if executor is not None else None)
             study = modelling_error_study(
                 measured, case.structure, crowd, levels=levels, joint=not args.no_joint,
                 executor=executor, store=store,
@@ -138,6 +155,10 @@ def run(args):
                     output_names=record.channel_names, lowpass=lowpass, executor=executor,
                     store=TaskStore(out / "record_length"),
                     progress=progress_printer("record lengths", unit="tasks"), **options)
+            nominal, caught = (pending.result() if pending is not None
+                               else _estimate_with_warnings(*record_estimate))
+            for category, message in caught:
+                warnings.warn(message, category, stacklevel=1)
     except KeyboardInterrupt:
         # Every finished task is already on disk; the cluster is closed by now.
         kept = sum(len(TaskStore(out / name).keys()) for name in ("tasks", "record_length")
@@ -160,8 +181,6 @@ def run(args):
     say(f"\n  result: f_h1 = {f['nominal']:.2f} ± {f['bound']:.2f} Hz, "
          f"ξ_h1 = {xi['nominal']:.2f} ± {xi['bound']:.2f}  (nominal ± joint bound)")
     # The record's statistical interval beside the modelling bound, and both together.
-    with _warnings_as_lines():
-        nominal = estimate_hsi(measured, case.structure, crowd, **estimate_options(case))
     combined = study.combined(nominal) if nominal.covariance is not None else None
     for name, label, unit in (("frequency", "f_h1", " Hz"), ("damping_ratio", "ξ_h1", "")):
         if combined:
