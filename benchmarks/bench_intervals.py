@@ -12,7 +12,8 @@ fluctuating crowd model of the expected PSD, are run on the same records. Prints
 coverage of the truth by the 95 % profile interval per parameter, mean error with its 95 %
 interval, the standard deviation per record and the mean interval width, plus time per
 estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]
-[paper|free]`` (``free``: the likelihood with the step-frequency distribution fitted too)
+[paper|free] [--workers W]`` (``free``: the likelihood with the step-frequency distribution
+fitted too; records run on W local workers, default 1)
 (density in persons/m², default the paper's 0.5; walking speed from Weidmann's relation).
 ``python benchmarks/bench_intervals.py bootstrap [N] [density] [n_boot] [first]`` checks the
 parametric bootstrap of least squares (percentile intervals, smeared model) on N Gaussian records
@@ -31,6 +32,7 @@ import numpy as np
 
 from crowdvib import (BoundWarning, Crowd, LowPassFilter, ModalModel, MSDModel, estimate_hsi,
                       response_psd, simulate, welch_psd)
+from crowdvib.identification import study_executor
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies
 
 TRUTH = {"frequency": 3.0, "damping_ratio": 0.30}
@@ -47,12 +49,17 @@ def paper_crowd(density):
 MSD = MSDModel(TRUTH["frequency"], TRUTH["damping_ratio"], 0.95)
 
 
-def gaussian_records(n, crowd, first=0):
+def gaussian_record_psd(crowd, seed):
+    """Welch PSD of one Gaussian hour with the spectral model's PSD (seeded)."""
     frequency = record_frequencies(3600.0, 20.0)
     psd = response_psd(BRIDGE, crowd, frequency, msd=MSD).psd
+    record = gaussian_record(psd, 20.0, rng=seed)
+    return welch_psd(record, 20.0, window_length=60.0, output_names=["midspan"]).band(0, 10)
+
+
+def gaussian_records(n, crowd, first=0):
     for seed in range(first, first + n):
-        record = gaussian_record(psd, 20.0, rng=seed)
-        yield welch_psd(record, 20.0, window_length=60.0, output_names=["midspan"]).band(0, 10)
+        yield gaussian_record_psd(crowd, seed)
 
 
 def simulated_record(crowd, seed):
@@ -71,11 +78,6 @@ def simulated_record(crowd, seed):
             pickle.dump(psd, handle)
         os.replace(path + ".tmp", path)
     return psd
-
-
-def simulated_records(n, crowd):
-    for seed in range(1, n + 1):
-        yield simulated_record(crowd, seed)
 
 
 def bootstrap(n=200, density=0.5, n_boot=100, first=0):
@@ -121,23 +123,36 @@ ESTIMATORS = {"paper": [(method, model, False) for model in ("smeared", "fluctua
               "free": [("likelihood", "fluctuating", True)]}
 
 
-def main(kind="gaussian", n=40, density=0.5, estimators="paper"):
+def record_estimates(kind, density, seed, estimators):
+    """One record's estimates by every estimator: key → ([(value, low, high) per parameter],
+    seconds). A module-level task, so that records run on the study workers."""
     crowd = paper_crowd(density)
-    records = {"gaussian": gaussian_records, "simulated": simulated_records}[kind](n, crowd)
-    rows = {key: [] for key in ESTIMATORS[estimators]}
-    seconds = {key: 0.0 for key in rows}
-    for measured in records:
-        for (method, model, free), found in rows.items():
-            started = time.perf_counter()
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", BoundWarning)
-                estimate = estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0), method=method,
-                                        crowd_model=model, free_step_frequencies=free)
-            seconds[method, model, free] += time.perf_counter() - started
-            found.append([(getattr(estimate.msd, name), *estimate.interval(name))
-                          for name in TRUTH])
+    measured = {"gaussian": gaussian_record_psd, "simulated": simulated_record}[kind](crowd, seed)
+    found = {}
+    for method, model, free in ESTIMATORS[estimators]:
+        started = time.perf_counter()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", BoundWarning)
+            estimate = estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0), method=method,
+                                    crowd_model=model, free_step_frequencies=free)
+        found[method, model, free] = ([(getattr(estimate.msd, name), *estimate.interval(name))
+                                       for name in TRUTH], time.perf_counter() - started)
+    return found
+
+
+def main(kind="gaussian", n=40, density=0.5, estimators="paper", workers=1):
+    # Seeds: 0 … n−1 for Gaussian records, 1 … n for simulated ones (as the caches hold them).
+    seeds = range(n) if kind == "gaussian" else range(1, n + 1)
+    started = time.perf_counter()
+    with study_executor(workers) as executor:
+        mapper = map if executor is None else executor.map
+        per_record = list(mapper(record_estimates, *zip(*[(kind, density, seed, estimators)
+                                                           for seed in seeds])))
+    wall = time.perf_counter() - started
+    rows = {key: [found[key][0] for found in per_record] for key in ESTIMATORS[estimators]}
+    seconds = {key: sum(found[key][1] for found in per_record) for key in rows}
     print(f"{kind} records of the paper example at {density:g} P/m², n = {n}, "
-          "95 % profile intervals")
+          f"95 % profile intervals; {wall:.1f} s wall on {workers} worker(s)")
     _table(rows, n, seconds)
     cache = os.environ.get("CROWDVIB_RECORD_CACHE")
     if cache:   # the estimates themselves, for other summaries of the same records
@@ -149,7 +164,10 @@ def main(kind="gaussian", n=40, density=0.5, estimators="paper"):
 if __name__ == "__main__" and sys.argv[1:2] == ["bootstrap"]:
     bootstrap(*(f(a) for f, a in zip((int, float, int, int), sys.argv[2:])))
 elif __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "gaussian",
-         int(sys.argv[2]) if len(sys.argv) > 2 else 40,
-         float(sys.argv[3]) if len(sys.argv) > 3 else 0.5,
-         sys.argv[4] if len(sys.argv) > 4 else "paper")
+    workers = int(sys.argv[sys.argv.index("--workers") + 1]) if "--workers" in sys.argv else 1
+    args = [a for i, a in enumerate(sys.argv[1:], start=1)
+            if a != "--workers" and sys.argv[i - 1] != "--workers"]
+    main(args[0] if len(args) > 0 else "gaussian",
+         int(args[1]) if len(args) > 1 else 40,
+         float(args[2]) if len(args) > 2 else 0.5,
+         args[3] if len(args) > 3 else "paper", workers)
