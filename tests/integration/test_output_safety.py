@@ -368,7 +368,10 @@ def _tags(text):
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.text(min_size=1, max_size=40))
+# "name" and "description" are excluded: as a payload they collide with the fixed keys of the
+# "inputs" table in _hostile_results, whose dict literal then holds one entry fewer (another
+# results file, not another rendering of the same one).
+@given(st.text(min_size=1, max_size=40).filter(lambda t: t not in ("name", "description")))
 def test_any_string_in_results_leaves_the_markup_unchanged(text):
     # The page's elements and attribute names are the same whatever text the file holds.
     assert _tags(render_report(_hostile_results(text))) == \
