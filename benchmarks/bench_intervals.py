@@ -12,8 +12,9 @@ fluctuating crowd model of the expected PSD, are run on the same records. Prints
 coverage of the truth by the 95 % profile interval per parameter, mean error with its 95 %
 interval, the standard deviation per record and the mean interval width, plus time per
 estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]
-[paper|free] [--workers W]`` (``free``: the likelihood with the step-frequency distribution
-fitted too; records run on W local workers, default 1)
+[paper|free|likelihood|least_squares] [--workers W]`` (``paper``: both estimators with both
+crowd models; ``free``: the likelihood with the step-frequency distribution fitted too; the last
+two: one estimator with the smeared model; records run on W local workers, default 1)
 (density in persons/m², default the paper's 0.5; walking speed from Weidmann's relation).
 ``python benchmarks/bench_intervals.py bootstrap [N] [density] [n_boot] [first]`` checks the
 parametric bootstrap of least squares (percentile intervals, smeared model) on N Gaussian records
@@ -120,7 +121,10 @@ def _table(rows, n, seconds):
 #: The estimators compared: (method, crowd model, step frequencies fitted too).
 ESTIMATORS = {"paper": [(method, model, False) for model in ("smeared", "fluctuating")
                         for method in ("least_squares", "likelihood")],
-              "free": [("likelihood", "fluctuating", True)]}
+              "free": [("likelihood", "fluctuating", True)],
+              # One estimator alone (the timing of a 200-record calibration study).
+              "likelihood": [("likelihood", "smeared", False)],
+              "least_squares": [("least_squares", "smeared", False)]}
 
 
 def record_estimates(kind, density, seed, estimators):
