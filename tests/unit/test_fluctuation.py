@@ -59,17 +59,18 @@ def test_gauss_rule_of_a_normal_law_is_gauss_hermite():
 def test_one_node_is_the_smeared_model(paper_bridge, paper_crowd, paper_msd, welch_grid):
     smeared = SpectralModel(paper_bridge, paper_crowd, welch_grid, welch_window_length=60.0)
     single = FluctuatingSpectralModel(paper_bridge, paper_crowd, welch_grid, n_nodes=1,
-                                      welch_window_length=60.0)
+                                      welch_window_length=60.0, finite_crossing=False)
     np.testing.assert_array_equal(single.psd_array(paper_msd), smeared.psd_array(paper_msd))
 
 
 def test_fluctuation_widens_the_resonance_and_keeps_the_mean_load(paper_bridge, paper_msd):
     # Without HSI the load is linear in λ, so the mixture equals the smeared PSD (E[λ] = 1);
-    # with HSI the occupied frequency moves with λ and the mixture has a lower, wider peak.
+    # with HSI the occupied frequency moves with λ and the mixture has a lower, wider peak
+    # (the load's finite crossings left out here: tests/unit/test_crossing.py).
     crowd = Crowd.from_density(0.25)
     grid = np.linspace(1.5, 2.5, 2001)
     smeared = SpectralModel(paper_bridge, crowd, grid)
-    mixed = FluctuatingSpectralModel(paper_bridge, crowd, grid)
+    mixed = FluctuatingSpectralModel(paper_bridge, crowd, grid, finite_crossing=False)
     np.testing.assert_allclose(mixed.psd_array(None), smeared.psd_array(None), rtol=1e-9)
     a, b = smeared.psd_array(paper_msd)[0], mixed.psd_array(paper_msd)[0]
     assert b.max() < 0.95 * a.max()

@@ -12,7 +12,8 @@ of smeared-crowd PSDs, each with the crowd scaled by λ (load and added mass tog
 compound-Poisson variable whose cumulants follow from the mode shape (Campbell's theorem):
 κ_r(ψ) = d ∫ φ^{2r} dA. :class:`FluctuatingSpectralModel` evaluates the mixture with a Gauss
 quadrature of that law: a handful of :class:`~crowdvib.response.SpectralModel`
-instances, each used as a black box.
+instances, each used as a black box. Their load spectrum is smoothed by the kernel of a walker's
+finite crossing of the occupied mode (``_crossing.py``; docs: theory, Finite crossings).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from ..models.loading import as_force_model
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ..signals import ResponsePSD
+from ._crossing import crossing_spread
 from .spectral import SpectralModel
 
 __all__ = ["FluctuatingSpectralModel", "occupancy_quadrature", "occupancy_cumulants",
@@ -166,23 +168,35 @@ class FluctuatingSpectralModel:
         The mode whose occupancy is modelled (default the one with the largest resonant
         response at the outputs within ``frequency``); the whole influence matrix is scaled by
         its λ.
+    finite_crossing : bool, optional
+        Smooth the load spectrum with that mode's crossing kernel (default True: walkers stay
+        on the deck for a crossing only; docs: theory, Finite crossings).
     """
 
     def __init__(self, structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
-                 n_nodes: int | None = None, mode: int | None = None, **options: Any) -> None:
+                 n_nodes: int | None = None, mode: int | None = None,
+                 finite_crossing: bool = True, **options: Any) -> None:
         check_type("structure", structure, ModalModel)
         check_type("crowd", crowd, Crowd)
+        check_type("finite_crossing", finite_crossing, bool)
         if n_nodes is not None and (not isinstance(n_nodes, (int, np.integer))
                                     or not 1 <= n_nodes <= 40):
             raise ParameterError(f"n_nodes must be an integer from 1 to 40, got {n_nodes!r}")
+        if "crossing_spread" in options:
+            raise ParameterError("crossing_spread is set from the mode shape here; use "
+                                 "finite_crossing=False for the narrow-band load")
         base = SpectralModel(structure, crowd, frequency, **options)
-        self._options = options
         self.structure, self.crowd, self.frequency = base.structure, base.crowd, base.frequency
         self.force, self.output_names = base.force, base.output_names
         self.welch_window_length, self.lowpass = base.welch_window_length, base.lowpass
         self.mode = (dominant_mode(structure, crowd, base.frequency, options.get("force"),
                                    base.output_names) if mode is None else int(mode))
+        self.crossing_spread = (crossing_spread(structure, crowd.walking_speed, self.mode)
+                                if finite_crossing and crowd.density > 0 else 0.0)
+        options = dict(options, crossing_spread=self.crossing_spread)
+        self._options = options
         if crowd.density == 0 or n_nodes == 1:
+            base = SpectralModel(structure, crowd, frequency, **options)
             self.nodes, self.weights, self._models = np.ones(1), np.ones(1), [base]
             return
         law = occupancy_law(structure, crowd.density, self.mode)

@@ -22,11 +22,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
-from .._validation import check_frequency_grid, check_positive
+from .._validation import check_frequency_grid, check_non_negative, check_positive
 from ..errors import ParameterError
 from ..models.loading import as_force_model
 from ..models.pedestrian import MSDModel
 from ..signals import ResponsePSD
+from ._crossing import smoothed_load_spectrum
 from ._attached import (
     attachments,
     crowd_attachment,
@@ -101,12 +102,17 @@ class SpectralModel:
         |H_LP|⁴ before the Welch smoothing (docs: theory, What a Welch estimate sees: the expectation kernel).
     dampers : sequence of TunedMassDamper, optional
         Tuned mass dampers fixed to the deck (part of the structure for every ``msd``).
+    crossing_spread : float, optional
+        σ_K [Hz] of the finite-crossing kernel that smooths the load spectrum (docs: theory,
+        Finite crossings); 0 (default) keeps the narrow-band load of the paper.
+        :class:`FluctuatingSpectralModel` sets it from the occupied mode's shape.
     """
 
     def __init__(self, structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
                  force: ForceModel | None = None, outputs: str | Sequence[str] | None = None,
                  welch_window_length: float | None = None, lowpass: LowPassFilter | None = None,
-                 dampers: Sequence[TunedMassDamper] | None = None) -> None:
+                 dampers: Sequence[TunedMassDamper] | None = None,
+                 crossing_spread: float = 0.0) -> None:
         self.structure = structure
         self.crowd = crowd
         self.frequency = check_frequency_grid(frequency)
@@ -116,6 +122,7 @@ class SpectralModel:
         shapes = structure.output_shapes[structure.output_index(self.output_names)]
         self.welch_window_length = welch_window_length
         self.lowpass = lowpass
+        self.crossing_spread = check_non_negative("crossing_spread", crossing_spread, unit="Hz")
         self._psi = structure.influence_matrix(crowd.density)
         self._load_factor = psd_factor(self._psi)
         self._shapes = shapes
@@ -130,7 +137,8 @@ class SpectralModel:
 
     def _weight_at(self, frequency):
         """ω⁴ s(f) |H_LP|⁴: the load spectrum (and filter gain) with ω⁴ for accelerations."""
-        spectrum = self.force.load_spectrum(frequency, self.crowd)
+        spectrum = smoothed_load_spectrum(self.force, frequency, self.crowd,
+                                          self.crossing_spread)
         if self.lowpass is not None:
             spectrum = spectrum * self.lowpass.power_gain(frequency)
         return (2 * np.pi * frequency) ** 4 * spectrum
