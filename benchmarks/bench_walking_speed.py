@@ -4,9 +4,16 @@ At a fixed density the occupancy law of a Poisson crowd does not depend on the w
 but the occupancy changes faster when the walkers walk faster. Simulated one-hour records of the
 paper example at 0.25 P/m² (true MSD, seeds 1…N), mean Welch PSD over the fluctuating model's
 expected PSD per band, ± one standard error of the mean (docs: theory, The fluctuating crowd,
-Evidence). ``--no-hsi`` simulates without the MSDs (a time-invariant bridge).
+Evidence). ``--no-hsi`` simulates without the MSDs (a time-invariant bridge). The standard
+error is that of the per-record band ratios (the bins of one record are correlated: their
+errors do not add in quadrature). Each band is compared with the fluctuating model with the
+walkers' finite crossings (the default) and with the narrow-band load.
 
     python benchmarks/bench_walking_speed.py SPEED [N] [--no-hsi]
+    python benchmarks/bench_walking_speed.py calibration [N]
+
+``calibration``: the records of ``bench_intervals.py simulated N 0.25`` (Weidmann's speed,
+100 s of warm-up; its cache is shared).
 
 With ``CROWDVIB_RECORD_CACHE`` set, the records' Welch PSDs are kept there and reused.
 """
@@ -21,7 +28,7 @@ from crowdvib import Crowd, LowPassFilter, simulate, welch_psd
 from crowdvib.response import FluctuatingSpectralModel
 
 sys.path.insert(0, os.path.dirname(__file__))
-from bench_intervals import BRIDGE, MSD, paper_crowd  # noqa: E402  (the same example)
+from bench_intervals import BRIDGE, MSD, paper_crowd, simulated_record  # noqa: E402
 
 BANDS = ((0.3, 1.0), (1.5, 1.8), (1.8, 1.9), (1.9, 2.05), (2.05, 2.3), (3.5, 6.0))
 
@@ -46,26 +53,47 @@ def record(crowd, seed, msd):
     return psd
 
 
+def band_table(psds, crowd, msd):
+    """Mean simulated over model PSD per band, ± one standard error over the records."""
+    frequency = psds[0].frequency
+    values = np.array([p.psd[0] for p in psds])
+    models = {label: FluctuatingSpectralModel(BRIDGE, crowd, frequency, welch_window_length=60.0,
+                                              lowpass=psds[0].lowpass,
+                                              finite_crossing=crossing).psd_array(msd)[0]
+              for label, crossing in (("finite crossings", True), ("narrow-band load", False))}
+    print(f"{'band [Hz]':12s}" + "".join(f"{label:>22s}" for label in models))
+    for low, high in BANDS:
+        k = (frequency >= low) & (frequency < high)
+        cells = []
+        for model in models.values():
+            ratios = values[:, k].sum(axis=1) / model[k].sum()
+            error = ratios.std(ddof=1) / np.sqrt(len(ratios))
+            cells.append(f"{ratios.mean():.4f} ± {error:.4f}")
+        print(f"{low:4.2f}–{high:4.2f}   " + "".join(f"{cell:>22s}" for cell in cells))
+
+
 def main(speed, n=30, hsi=True):
     base = paper_crowd(0.25)
     crowd = Crowd(density=0.25, walking_speed=speed, step_frequency_mean=base.step_frequency_mean,
                   step_frequency_std=base.step_frequency_std, body_mass=base.body_mass)
     msd = MSD if hsi else None
     psds = [record(crowd, seed, msd) for seed in range(1, n + 1)]
-    frequency = psds[0].frequency
-    values = np.array([p.psd[0] for p in psds])
-    mean, error = values.mean(axis=0), values.std(axis=0, ddof=1) / np.sqrt(n)
-    model = FluctuatingSpectralModel(BRIDGE, crowd, frequency, welch_window_length=60.0,
-                                     lowpass=psds[0].lowpass).psd_array(msd)[0]
     print(f"0.25 P/m², walking speed {speed:g} m/s, {n} one-hour records, "
           f"{'with' if hsi else 'without'} HSI: mean simulated / fluctuating model")
-    for low, high in BANDS:
-        k = (frequency >= low) & (frequency < high)
-        print(f"  {low:4.2f}–{high:4.2f} Hz  {mean[k].sum() / model[k].sum():.4f} ± "
-              f"{np.sqrt((error[k] ** 2).sum()) / model[k].sum():.4f}")
+    band_table(psds, crowd, msd)
 
 
-if __name__ == "__main__":
+def calibration(n=200):
+    crowd = paper_crowd(0.25)
+    psds = [simulated_record(crowd, seed) for seed in range(1, n + 1)]
+    print(f"0.25 P/m², the {n} one-hour records of bench_intervals.py (seeds 1…{n}), true MSD: "
+          "mean simulated / fluctuating model")
+    band_table(psds, crowd, MSD)
+
+
+if __name__ == "__main__" and sys.argv[1:2] == ["calibration"]:
+    calibration(*(int(a) for a in sys.argv[2:3]))
+elif __name__ == "__main__":
     arguments = [a for a in sys.argv[1:] if a != "--no-hsi"]
     main(float(arguments[0]), int(arguments[1]) if len(arguments) > 1 else 30,
          hsi="--no-hsi" not in sys.argv)
