@@ -12,9 +12,11 @@ fluctuating crowd model of the expected PSD, are run on the same records. Prints
 coverage of the truth by the 95 % profile interval per parameter, mean error with its 95 %
 interval, the standard deviation per record and the mean interval width, plus time per
 estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]
-[paper|free|likelihood|least_squares] [--workers W]`` (``paper``: both estimators with both
-crowd models; ``free``: the likelihood with the step-frequency distribution fitted too; the last
-two: one estimator with the smeared model; records run on W local workers, default 1)
+[paper|free|likelihood|least_squares] [--workers W] [--hours H]`` (``paper``: both estimators
+with both crowd models; ``free``: the likelihood with the step-frequency distribution fitted
+too; the last two: one estimator with the smeared model; records run on W local workers,
+default 1; simulated records of H hours, default 1: a bias that shrinks as 1/H is the
+estimator's finite-sample bias, one that stays is a model error)
 (density in persons/m², default the paper's 0.5; walking speed from Weidmann's relation).
 ``python benchmarks/bench_intervals.py bootstrap [N] [density] [n_boot] [first]`` checks the
 parametric bootstrap of least squares (percentile intervals, smeared model) on N Gaussian records
@@ -63,14 +65,17 @@ def gaussian_records(n, crowd, first=0):
         yield gaussian_record_psd(crowd, seed)
 
 
-def simulated_record(crowd, seed):
-    """Welch PSD of one simulated hour (seeded), from the cache directory when there is one."""
+def simulated_record(crowd, seed, hours=1.0):
+    """Welch PSD of a simulated record of ``hours`` (seeded), from the cache directory when
+    there is one."""
     cache = os.environ.get("CROWDVIB_RECORD_CACHE")
-    path = cache and os.path.join(cache, f"d{crowd.density:g}_s{seed}.pkl")
+    tag = "" if hours == 1.0 else f"_h{hours:g}"
+    path = cache and os.path.join(cache, f"d{crowd.density:g}{tag}_s{seed}.pkl")
     if path and os.path.exists(path):
         with open(path, "rb") as handle:
             return pickle.load(handle)
-    record = simulate(BRIDGE, crowd, 3600.0, msd=MSD, rng=seed, warm_up=100.0, sample_rate=100.0)
+    record = simulate(BRIDGE, crowd, 3600.0 * hours, msd=MSD, rng=seed, warm_up=100.0,
+                      sample_rate=100.0)
     psd = welch_psd(record.acceleration, 100.0, window_length=60.0,
                     output_names=record.output_names,
                     lowpass=LowPassFilter(10.0, 4, 100.0)).band(0, 10)
@@ -127,11 +132,12 @@ ESTIMATORS = {"paper": [(method, model, False) for model in ("smeared", "fluctua
               "least_squares": [("least_squares", "smeared", False)]}
 
 
-def record_estimates(kind, density, seed, estimators):
+def record_estimates(kind, density, seed, estimators, hours=1.0):
     """One record's estimates by every estimator: key → ([(value, low, high) per parameter],
     seconds). A module-level task, so that records run on the study workers."""
     crowd = paper_crowd(density)
-    measured = {"gaussian": gaussian_record_psd, "simulated": simulated_record}[kind](crowd, seed)
+    measured = (gaussian_record_psd(crowd, seed) if kind == "gaussian"
+                else simulated_record(crowd, seed, hours))
     found = {}
     for method, model, free in ESTIMATORS[estimators]:
         started = time.perf_counter()
@@ -144,23 +150,24 @@ def record_estimates(kind, density, seed, estimators):
     return found
 
 
-def main(kind="gaussian", n=40, density=0.5, estimators="paper", workers=1):
+def main(kind="gaussian", n=40, density=0.5, estimators="paper", workers=1, hours=1.0):
     # Seeds: 0 … n−1 for Gaussian records, 1 … n for simulated ones (as the caches hold them).
     seeds = range(n) if kind == "gaussian" else range(1, n + 1)
     started = time.perf_counter()
     with study_executor(workers) as executor:
         mapper = map if executor is None else executor.map
-        per_record = list(mapper(record_estimates, *zip(*[(kind, density, seed, estimators)
-                                                           for seed in seeds])))
+        per_record = list(mapper(record_estimates, *zip(*[(kind, density, seed, estimators,
+                                                            hours) for seed in seeds])))
     wall = time.perf_counter() - started
     rows = {key: [found[key][0] for found in per_record] for key in ESTIMATORS[estimators]}
     seconds = {key: sum(found[key][1] for found in per_record) for key in rows}
-    print(f"{kind} records of the paper example at {density:g} P/m², n = {n}, "
+    length = "" if kind == "gaussian" else f" of {hours:g} h"
+    print(f"{kind} records{length} of the paper example at {density:g} P/m², n = {n}, "
           f"95 % profile intervals; {wall:.1f} s wall on {workers} worker(s)")
     _table(rows, n, seconds)
     cache = os.environ.get("CROWDVIB_RECORD_CACHE")
     if cache:   # the estimates themselves, for other summaries of the same records
-        name = f"estimates_{kind}_d{density:g}_n{n}_{estimators}.pkl"
+        name = f"estimates_{kind}_d{density:g}_h{hours:g}_n{n}_{estimators}.pkl"
         with open(os.path.join(cache, name), "wb") as handle:
             pickle.dump({key: np.array(found) for key, found in rows.items()}, handle)
 
@@ -168,10 +175,13 @@ def main(kind="gaussian", n=40, density=0.5, estimators="paper", workers=1):
 if __name__ == "__main__" and sys.argv[1:2] == ["bootstrap"]:
     bootstrap(*(f(a) for f, a in zip((int, float, int, int), sys.argv[2:])))
 elif __name__ == "__main__":
-    workers = int(sys.argv[sys.argv.index("--workers") + 1]) if "--workers" in sys.argv else 1
+    options = {"--workers": 1, "--hours": 1.0}
+    for flag, default in options.items():
+        if flag in sys.argv:
+            options[flag] = type(default)(sys.argv[sys.argv.index(flag) + 1])
     args = [a for i, a in enumerate(sys.argv[1:], start=1)
-            if a != "--workers" and sys.argv[i - 1] != "--workers"]
+            if a not in options and sys.argv[i - 1] not in options]
     main(args[0] if len(args) > 0 else "gaussian",
          int(args[1]) if len(args) > 1 else 40,
          float(args[2]) if len(args) > 2 else 0.5,
-         args[3] if len(args) > 3 else "paper", workers)
+         args[3] if len(args) > 3 else "paper", options["--workers"], options["--hours"])
