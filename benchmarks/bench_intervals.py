@@ -18,6 +18,8 @@ too; the last two: one estimator with the smeared model; records run on W local 
 default 1; simulated records of H hours, default 1: a bias that shrinks as 1/H is the
 estimator's finite-sample bias, one that stays is a model error)
 (density in persons/m², default the paper's 0.5; walking speed from Weidmann's relation).
+``python benchmarks/bench_intervals.py mean [N] [density] [--hours H]`` estimates on the mean
+Welch PSD of the N simulated records (model error against finite-sample bias).
 ``python benchmarks/bench_intervals.py bootstrap [N] [density] [n_boot] [first]`` checks the
 parametric bootstrap of least squares (percentile intervals, smeared model) on N Gaussian records
 (seeds from ``first``).
@@ -25,6 +27,7 @@ With the environment variable ``CROWDVIB_RECORD_CACHE`` set to a directory, the 
 records' Welch PSDs are kept there (one pickle per density and seed) and reused.
 """
 
+import dataclasses
 import os
 import pickle
 import sys
@@ -172,7 +175,31 @@ def main(kind="gaussian", n=40, density=0.5, estimators="paper", workers=1, hour
             pickle.dump({key: np.array(found) for key, found in rows.items()}, handle)
 
 
-if __name__ == "__main__" and sys.argv[1:2] == ["bootstrap"]:
+def mean_record(n=200, density=0.25, hours=1.0):
+    """Estimates on the mean Welch PSD of the n simulated records (one record of n·H hours,
+    its scatter n times smaller): a bias that stays there is the model's, not the estimator's
+    finite-sample bias."""
+    crowd = paper_crowd(density)
+    records = [simulated_record(crowd, seed, hours) for seed in range(1, n + 1)]
+    mean = dataclasses.replace(records[0], psd=np.mean([r.psd for r in records], axis=0),
+                               n_windows=sum(r.n_windows for r in records), dispersion=None)
+    print(f"the mean Welch PSD of {n} simulated records of {hours:g} h at {density:g} P/m²")
+    for method, model, free in ESTIMATORS["paper"]:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", BoundWarning)
+            estimate = estimate_hsi(mean, BRIDGE, crowd, band=(0.0, 10.0), method=method,
+                                    crowd_model=model, free_step_frequencies=free)
+        print(f"{method:14s}{model:13s}" + "".join(
+            f"  {name} {getattr(estimate.msd, name) / truth - 1:+.2%}"
+            for name, truth in TRUTH.items()))
+
+
+if __name__ == "__main__" and sys.argv[1:2] == ["mean"]:
+    hours = float(sys.argv[sys.argv.index("--hours") + 1]) if "--hours" in sys.argv else 1.0
+    plain = [a for i, a in enumerate(sys.argv[2:], start=2)
+             if a != "--hours" and sys.argv[i - 1] != "--hours"]
+    mean_record(*(f(a) for f, a in zip((int, float), plain)), hours=hours)
+elif __name__ == "__main__" and sys.argv[1:2] == ["bootstrap"]:
     bootstrap(*(f(a) for f, a in zip((int, float, int, int), sys.argv[2:])))
 elif __name__ == "__main__":
     options = {"--workers": 1, "--hours": 1.0}
