@@ -52,7 +52,7 @@ def _crash_once(marker):
     return "second try"
 
 
-@pytest.mark.parametrize("method", ["fork", "spawn"])
+@pytest.mark.parametrize("method", ["fork", "forkserver", "spawn"])
 def test_results_equal_the_same_calls_in_this_process_on_two_workers(method):
     # Reference: _square called here; every worker is a process other than this one.
     if method not in __import__("multiprocessing").get_all_start_methods():
