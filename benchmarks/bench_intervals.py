@@ -175,14 +175,17 @@ def main(kind="gaussian", n=40, density=0.5, estimators="paper", workers=1, hour
             pickle.dump({key: np.array(found) for key, found in rows.items()}, handle)
 
 
-def mean_record(n=200, density=0.25, hours=1.0):
-    """Estimates on the mean Welch PSD of the n simulated records (one record of n·H hours,
-    its scatter n times smaller): a bias that stays there is the model's, not the estimator's
-    finite-sample bias."""
-    crowd = paper_crowd(density)
-    records = [simulated_record(crowd, seed, hours) for seed in range(1, n + 1)]
-    mean = dataclasses.replace(records[0], psd=np.mean([r.psd for r in records], axis=0),
+def mean_psd(records):
+    """The records' mean Welch PSD as one record of all their windows (its scatter N times
+    smaller): what an estimate reads there is the model's error, not finite-sample bias."""
+    return dataclasses.replace(records[0], psd=np.mean([r.psd for r in records], axis=0),
                                n_windows=sum(r.n_windows for r in records), dispersion=None)
+
+
+def mean_record(n=200, density=0.25, hours=1.0):
+    """Estimates on the mean Welch PSD of the n simulated records (seeds 1 … n)."""
+    crowd = paper_crowd(density)
+    mean = mean_psd([simulated_record(crowd, seed, hours) for seed in range(1, n + 1)])
     print(f"the mean Welch PSD of {n} simulated records of {hours:g} h at {density:g} P/m²")
     for method, model, free in ESTIMATORS["paper"]:
         with warnings.catch_warnings():
@@ -194,20 +197,19 @@ def mean_record(n=200, density=0.25, hours=1.0):
             for name, truth in TRUTH.items()))
 
 
-if __name__ == "__main__" and sys.argv[1:2] == ["mean"]:
-    hours = float(sys.argv[sys.argv.index("--hours") + 1]) if "--hours" in sys.argv else 1.0
-    plain = [a for i, a in enumerate(sys.argv[2:], start=2)
-             if a != "--hours" and sys.argv[i - 1] != "--hours"]
-    mean_record(*(f(a) for f, a in zip((int, float), plain)), hours=hours)
-elif __name__ == "__main__" and sys.argv[1:2] == ["bootstrap"]:
-    bootstrap(*(f(a) for f, a in zip((int, float, int, int), sys.argv[2:])))
-elif __name__ == "__main__":
+if __name__ == "__main__":
     options = {"--workers": 1, "--hours": 1.0}
     for flag, default in options.items():
         if flag in sys.argv:
             options[flag] = type(default)(sys.argv[sys.argv.index(flag) + 1])
     args = [a for i, a in enumerate(sys.argv[1:], start=1)
             if a not in options and sys.argv[i - 1] not in options]
+
+if __name__ == "__main__" and args[:1] == ["mean"]:
+    mean_record(*(f(a) for f, a in zip((int, float), args[1:])), hours=options["--hours"])
+elif __name__ == "__main__" and args[:1] == ["bootstrap"]:
+    bootstrap(*(f(a) for f, a in zip((int, float, int, int), args[1:])))
+elif __name__ == "__main__":
     main(args[0] if len(args) > 0 else "gaussian",
          int(args[1]) if len(args) > 1 else 40,
          float(args[2]) if len(args) > 2 else 0.5,

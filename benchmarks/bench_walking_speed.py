@@ -19,7 +19,6 @@ estimated on the records' mean PSD (the model's own error, free of the estimator
 With ``CROWDVIB_RECORD_CACHE`` set, the records' Welch PSDs are kept there and reused.
 """
 
-import dataclasses
 import os
 import pickle
 import sys
@@ -31,7 +30,8 @@ from crowdvib import BoundWarning, Crowd, LowPassFilter, estimate_hsi, simulate,
 from crowdvib.response import FluctuatingSpectralModel
 
 sys.path.insert(0, os.path.dirname(__file__))
-from bench_intervals import BRIDGE, MSD, paper_crowd, simulated_record  # noqa: E402
+from bench_intervals import (BRIDGE, MSD, mean_psd, paper_crowd,  # noqa: E402
+                             simulated_record)
 
 BANDS = ((0.3, 1.0), (1.5, 1.8), (1.8, 1.9), (1.9, 2.05), (2.05, 2.3), (3.5, 6.0))
 
@@ -58,8 +58,7 @@ def record(crowd, seed, msd):
 
 def mean_fit(psds, crowd):
     """Estimates (fluctuating model) on the records' mean Welch PSD: the model's own error."""
-    mean = dataclasses.replace(psds[0], psd=np.mean([p.psd for p in psds], axis=0),
-                               n_windows=sum(p.n_windows for p in psds), dispersion=None)
+    mean = mean_psd(psds)
     for method in ("likelihood", "least_squares"):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", BoundWarning)

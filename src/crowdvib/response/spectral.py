@@ -27,7 +27,6 @@ from ..errors import ParameterError
 from ..models.loading import as_force_model
 from ..models.pedestrian import MSDModel
 from ..signals import ResponsePSD
-from ._crossing import smoothed_load_spectrum
 from ._attached import (
     attachments,
     crowd_attachment,
@@ -35,6 +34,7 @@ from ._attached import (
     psd_factor,
     reduced_matrices,
 )
+from ._crossing import smoothed_load_spectrum
 from ._linalg import solve_occupied
 from ._welch_model import DENSE_POINTS_PER_BIN, CorrectedWelch, WelchRule
 from .results import FRF, EffectiveModalProperties
