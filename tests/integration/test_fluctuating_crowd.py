@@ -12,8 +12,8 @@ import warnings
 
 import pytest
 
-from crowdvib import (BoundWarning, Crowd, ModalModel, MSDModel, estimate_hsi, simulate,
-                      welch_psd)
+from crowdvib import (BoundWarning, Crowd, ModalModel, ModelRangeWarning, MSDModel,
+                      estimate_hsi, simulate, welch_psd)
 
 TRUTH = MSDModel(3.0, 0.30, 0.95)
 
@@ -34,8 +34,15 @@ def _fit(record, method, crowd_model):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)
         # Wald intervals (sandwich covariance): the profiles are not the point here.
-        return estimate_hsi(measured, bridge, crowd, band=(0.0, 6.0), method=method,
-                            crowd_model=crowd_model, interval="wald")
+        if crowd_model == "smeared":
+            return estimate_hsi(measured, bridge, crowd, band=(0.0, 6.0), method=method,
+                                crowd_model=crowd_model, interval="wald")
+        # The occupancy of this short, light bridge changes too fast for the slow-modulation
+        # correction (expansion parameter 1.6): the quasi-static mixture alone, and the user
+        # is told (docs: theory, Beyond the quasi-static mixture).
+        with pytest.warns(ModelRangeWarning, match="changes too fast"):
+            return estimate_hsi(measured, bridge, crowd, band=(0.0, 6.0), method=method,
+                                crowd_model=crowd_model, interval="wald")
 
 
 @pytest.mark.slow

@@ -90,8 +90,9 @@ def test_fluctuating_model_mixes_the_cross_matrix_like_the_psd():
     # Reference: the mixture's own PSD (its diagonal) and the weighted sum of its nodes' models.
     structure, crowd, msd = _eeklo()
     grid = np.arange(63, 201) / 25.0
+    # The mixture alone (the slow-modulation correction's matrix: tests/unit/test_modulation.py).
     model = FluctuatingSpectralModel(structure, crowd, grid, welch_window_length=25.0,
-                                     n_nodes=3)
+                                     n_nodes=3, modulation=False)
     cross = model.cross_psd_array(msd)
     np.testing.assert_allclose(np.einsum("aaf->af", cross).real, model.psd_array(msd),
                                rtol=1e-12)

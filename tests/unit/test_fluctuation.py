@@ -110,9 +110,11 @@ def test_node_count_follows_the_spread_of_the_occupied_frequency(paper_bridge, p
     assert FluctuatingSpectralModel(paper_bridge, Crowd.from_density(0.25), np.arange(601) / 60,
                                     welch_window_length=60.0).nodes.size == 3
     small = ModalModel.simply_supported_beam(20.0, 2.0, 2.0, 0.005, 4200.0)
-    chosen = FluctuatingSpectralModel(small, crowd, grid, welch_window_length=60.0)
+    # The mixture's rule (this bridge's occupancy is too fast for the slow-modulation term).
+    chosen = FluctuatingSpectralModel(small, crowd, grid, welch_window_length=60.0,
+                                      modulation=False)
     reference = FluctuatingSpectralModel(small, crowd, grid, welch_window_length=60.0,
-                                         n_nodes=40)
+                                         n_nodes=40, modulation=False)
     assert chosen.nodes.size > 3
     a, b = chosen.psd_array(paper_msd)[0], reference.psd_array(paper_msd)[0]
     assert np.abs(a - b).max() < 0.01 * b.max()

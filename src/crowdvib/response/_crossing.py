@@ -33,16 +33,22 @@ def crossing_spread(structure: ModalModel, walking_speed: float, mode: int) -> f
     it (a mode that does not vanish there spreads part of its load over a broad band instead).
     """
     shapes = structure.mode_shapes[..., mode]                   # (lane, station)
-    lane_weights = structure._area_weights.sum(axis=1)
-    lane_weights = lane_weights / lane_weights.sum()
-    slope_energy = lane_weights @ (np.diff(shapes, axis=1) ** 2
-                                   / np.diff(structure.positions)).sum(axis=1)
+    slope_energy = lane_slope_energy(structure, shapes)
     energy = np.sum(structure._area_weights * shapes**2)
     if not energy > 0:
         raise ParameterError(f"mode {mode} carries no crowd (∫φ² dA = 0): it has no crossing "
                              "kernel")
     length_energy = energy / structure.width                    # lane-averaged ∫φ² dx
     return float(walking_speed / (2 * np.pi) * np.sqrt(slope_energy / length_energy))
+
+
+def lane_slope_energy(structure: ModalModel, values: np.ndarray) -> float:
+    """Lane-weighted ∫ (∂v/∂x)² dx of values (lane, station) along the walking direction, from
+    the differences between stations (the walkway's ends excluded)."""
+    lane_weights = structure._area_weights.sum(axis=1)
+    lane_weights = lane_weights / lane_weights.sum()
+    return float(lane_weights @ (np.diff(values, axis=1) ** 2
+                                 / np.diff(structure.positions)).sum(axis=1))
 
 
 def smoothed_load_spectrum(force, frequency: np.ndarray, crowd, spread: float) -> np.ndarray:

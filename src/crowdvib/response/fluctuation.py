@@ -19,6 +19,7 @@ finite crossing of the occupied mode (``_crossing.py``; docs: theory, Finite cro
 from __future__ import annotations
 
 import copy
+import warnings
 from collections.abc import Sequence
 from typing import Any
 
@@ -26,13 +27,16 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._validation import check_type
-from ..errors import ParameterError
+from ..errors import ModelRangeWarning, ParameterError
 from ..models.crowd import Crowd
 from ..models.loading import as_force_model
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ..signals import ResponsePSD
 from ._crossing import crossing_spread
+from ._modulation import (MAX_PARAMETER, modulation_correction, modulation_parameter,
+                          occupancy_rate_variance)
+from ._welch_model import COARSE_POINTS_PER_BIN, WelchRule
 from .spectral import SpectralModel
 
 __all__ = ["FluctuatingSpectralModel", "occupancy_quadrature", "occupancy_cumulants",
@@ -171,14 +175,32 @@ class FluctuatingSpectralModel:
     finite_crossing : bool, optional
         Smooth the load spectrum with that mode's crossing kernel (default True: walkers stay
         on the deck for a crossing only; docs: theory, Finite crossings).
+    modulation : bool, optional
+        Add the second-order correction for an occupancy that changes within the occupied
+        mode's memory (default True; docs: theory, Beyond the quasi-static mixture). Without
+        HSI it vanishes. Left out, with a :class:`~crowdvib.ModelRangeWarning`, where its
+        expansion parameter exceeds 1 (fast walkers on a lightly damped occupied mode).
+
+    Attributes
+    ----------
+    nodes, weights : ndarray
+        The occupancy rule.
+    crossing_spread : float
+        σ_K [Hz] of the crossing kernel (0 without ``finite_crossing``).
+    modulation_parameter : float
+        ε = Var λ̇ / (Var λ Γ²) with the paper's MSD (0 without ``modulation``).
+    rate_variance : float
+        Var λ̇ [1/s²] used by the correction (0 when it is left out).
     """
 
     def __init__(self, structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
                  n_nodes: int | None = None, mode: int | None = None,
-                 finite_crossing: bool = True, **options: Any) -> None:
+                 finite_crossing: bool = True, modulation: bool = True,
+                 **options: Any) -> None:
         check_type("structure", structure, ModalModel)
         check_type("crowd", crowd, Crowd)
         check_type("finite_crossing", finite_crossing, bool)
+        check_type("modulation", modulation, bool)
         if n_nodes is not None and (not isinstance(n_nodes, (int, np.integer))
                                     or not 1 <= n_nodes <= 40):
             raise ParameterError(f"n_nodes must be an integer from 1 to 40, got {n_nodes!r}")
@@ -195,9 +217,16 @@ class FluctuatingSpectralModel:
                                 if finite_crossing and crowd.density > 0 else 0.0)
         options = dict(options, crossing_spread=self.crossing_spread)
         self._options = options
+        self._base = SpectralModel(structure, crowd, frequency, **options)
+        self.rate_variance = self.modulation_parameter = 0.0
+        if modulation and crowd.density > 0 and n_nodes != 1:
+            self._check_modulation()
+        self._correction_rule = (None if self.welch_window_length is None else
+                                 WelchRule(self.frequency, self.welch_window_length,
+                                           COARSE_POINTS_PER_BIN))
+        self._correction_grid()
         if crowd.density == 0 or n_nodes == 1:
-            base = SpectralModel(structure, crowd, frequency, **options)
-            self.nodes, self.weights, self._models = np.ones(1), np.ones(1), [base]
+            self.nodes, self.weights, self._models = np.ones(1), np.ones(1), [self._base]
             return
         law = occupancy_law(structure, crowd.density, self.mode)
 
@@ -236,17 +265,64 @@ class FluctuatingSpectralModel:
         other._models = [SpectralModel(model.structure, crowd.with_density(model.crowd.density),
                                        model.frequency, **self._options)
                          for model in self._models]
+        other._base = SpectralModel(self.structure, crowd, self.frequency, **self._options)
+        other._correction_grid()
         return other
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
         """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
-        return _mixture(self.weights, self._models, msd)
+        return _mixture(self.weights, self._models, msd) + self._modulation(msd, cross=False)
 
     def cross_psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
         """Expected cross-spectral matrix, shape (n_outputs, n_outputs, n_frequencies): the
         same mixture Σ_i w_i S(f; λ_i d), each term linear in the occupancy state's record
         (docs: theory, The cross-spectral matrix)."""
-        return _mixture(self.weights, self._models, msd, cross=True)
+        return _mixture(self.weights, self._models, msd, cross=True) + self._modulation(
+            msd, cross=True)
+
+    def _check_modulation(self):
+        """Var λ̇ for the correction, and its expansion parameter ε judged with the paper's MSD:
+        beyond MAX_PARAMETER the correction is left out, with a warning."""
+        structure, crowd = self.structure, self.crowd
+        rate_variance = occupancy_rate_variance(structure, crowd.density, crowd.walking_speed,
+                                                self.mode)
+        variance = occupancy_cumulants(structure, crowd.density, self.mode, order=2)[1]
+        self.modulation_parameter = modulation_parameter(
+            structure, self._base._attached(_REFERENCE_MSD), self.mode, variance, rate_variance)
+        if self.modulation_parameter <= MAX_PARAMETER:
+            self.rate_variance = rate_variance
+            return
+        warnings.warn(
+            f"the occupancy of mode {self.mode} changes too fast for the slow-modulation "
+            f"correction (expansion parameter {self.modulation_parameter:.2f} > "
+            f"{MAX_PARAMETER:g}: walkers at {crowd.walking_speed:g} m/s over the mode's "
+            "memory); the quasi-static mixture is used without it, which overstates the "
+            "resonance's spread (docs: theory, Beyond the quasi-static mixture)",
+            ModelRangeWarning, stacklevel=3)
+
+    def _correction_grid(self):
+        """The grid of the correction (the Welch rule's, or the frequencies) and its weight
+        ω⁴ s(f) |H_LP|⁴ (the crowd's load, kept: it does not depend on the MSD)."""
+        rule = self._correction_rule
+        grid = self.frequency if rule is None else rule.grid
+        self._correction_weight = grid, self._base._weight_at(grid)
+
+    def _modulation(self, msd, cross):
+        """The slow-modulation correction, as the Welch estimate sees it (0 without HSI, with
+        one node or without ``modulation``)."""
+        if msd is None or self.rate_variance == 0 or len(self.nodes) == 1:
+            return 0.0
+        rule = self._correction_rule
+        grid, weight = self._correction_weight
+        delta = modulation_correction(self.structure, self._base._attached(msd),
+                                      self._base._shapes, self.mode, self.nodes,
+                                      self.weights, self.rate_variance, grid, cross) * weight
+        if rule is None:
+            return delta
+        if not cross:
+            return rule.apply(delta)
+        size = delta.shape[0]
+        return rule.apply(delta.reshape(size * size, -1)).reshape(size, size, -1)
 
     def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
         """Expected PSD at the outputs → :class:`ResponsePSD`."""
