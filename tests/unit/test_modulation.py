@@ -9,7 +9,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from crowdvib import Crowd, ModalModel, ModelRangeWarning
-from crowdvib.response._modulation import (_STEP, _OccupiedMode, _Resolvents, expansion,
+from crowdvib.response._modulation import (_STEP, _OccupiedMode, expansion,
                                            modulation_correction, occupancy_rate_variance)
 from crowdvib.response.fluctuation import FluctuatingSpectralModel
 from crowdvib.response.spectral import SpectralModel
@@ -50,15 +50,14 @@ def test_expansion_is_second_order_in_the_rate_of_change(paper_bridge, paper_msd
     crowd = Crowd.from_density(0.25)
     attached = SpectralModel(paper_bridge, crowd, GRID)._attached(paper_msd)
     occupied = _OccupiedMode(paper_bridge, attached, 0)
-    omega = np.array([[2j * np.pi * frequency]])
-    g0, g1, g2, g3 = (np.asarray(g).ravel()[0] if not isinstance(g, dict) else g
-                      for g in expansion(occupied, np.array([1.0]), 1.0, omega))
-    g3_node = (g3[1][1] + g3[-1][1]).ravel()[0] / 2        # G₃ at λ = 1 (O(h²) from the ±h)
+    g0, g1, g2, g3 = (g[0, 1, 0, 0, 0] for g in
+                      expansion(occupied, np.array([1.0]), np.array([1.0]),
+                                np.array([frequency])))
 
     def residuals(rate, curvature):
         direct = _direct_transfer(occupied, 1.0, lambda u: 1.0 + rate * u + curvature * u**2 / 2,
                                   frequency)
-        model = g0 + rate * g1 + rate**2 * g2 + curvature * g3_node
+        model = g0 + rate * g1 + rate**2 * g2 + curvature * g3
         return abs(direct - model), abs(direct - g0)
 
     rate = 2e-3                                   # λ̇ [1/s]: a tenth of σ_λ̇ at 0.25 P/m²
@@ -156,15 +155,20 @@ def test_with_step_frequencies_keeps_the_correction(paper_bridge, paper_msd):
                                direct.psd_array(paper_msd), rtol=1e-12)
 
 
-def test_resolvent_products_against_dense_algebra(paper_bridge, paper_msd):
-    # C R A' R² b in the eigenbasis against explicit inverses R = (iω − A)⁻¹.
+def test_expansion_terms_against_dense_algebra(paper_bridge, paper_msd):
+    # G₁ = C R A' R² b and G₃ = C R A' R³ b from the eigenbasis against explicit inverses
+    # R = (iω − A)⁻¹ and a central difference for A', at two nodes and two frequencies.
     attached = SpectralModel(paper_bridge, Crowd.from_density(0.5), GRID)._attached(paper_msd)
     occupied = _OccupiedMode(paper_bridge, attached, 0)
-    state, load = occupied.system(1.1)
-    other = occupied.system(1.1 + _STEP)[0]
-    omega = np.array([[2j * np.pi * 1.93]])
-    r = _Resolvents(np.array([1.0]), state, load, omega)
-    product = r.close(r.then(r.start, r.basis(other), 2)).ravel()[0]
-    resolvent = np.linalg.inv(omega[0, 0] * np.eye(len(state)) - state)
-    dense = (resolvent @ other @ resolvent @ resolvent @ load)[0, 0]
-    assert product == pytest.approx(dense, rel=1e-9)
+    nodes, frequency = np.array([0.8, 1.1]), np.array([1.90, 1.93])
+    _, g1, _, g3 = expansion(occupied, np.array([1.0]), nodes, frequency)
+    for i, node in enumerate(nodes):
+        h = _STEP * node
+        state, load = occupied.system(node)
+        slope = (occupied.system(node + h)[0] - occupied.system(node - h)[0]) / (2 * h)
+        for j, f in enumerate(frequency):
+            resolvent = np.linalg.inv(2j * np.pi * f * np.eye(len(state)) - state)
+            first = resolvent @ slope @ resolvent @ resolvent
+            assert g1[i, 1, j, 0, 0] == pytest.approx((first @ load)[0, 0], rel=1e-8)
+            assert g3[i, 1, j, 0, 0] == pytest.approx((first @ resolvent @ load)[0, 0],
+                                                      rel=1e-8)

@@ -80,80 +80,63 @@ class _OccupiedMode:
         self.coefficients = (at_zero, (at_one - at_minus) / 2, (at_one + at_minus) / 2 - at_zero)
 
     def system(self, occupancy):
-        """State matrix and input column (the load's intensity λ in it) at occupancy λ."""
-        s = np.sqrt(occupancy)
-        mass, damping, stiffness = sum(c * s**k for k, c in enumerate(self.coefficients))
-        size = mass.shape[0]
+        """State matrices (…, 2n, 2n) and input columns (…, 2n, 1), the load's intensity λ in
+        them, at the occupancies λ (a float or an array of any shape …)."""
+        s = np.sqrt(np.asarray(occupancy, dtype=float))[..., np.newaxis, np.newaxis]
+        mass, damping, stiffness = (c0 + s * c1 + s**2 * c2 for c0, c1, c2
+                                    in zip(*self.coefficients))
+        size = mass.shape[-1]
         inverse_mass = np.linalg.inv(mass)
-        state = np.zeros((2 * size, 2 * size))
-        state[:size, size:] = np.eye(size)
-        state[size:, :size] = -inverse_mass @ stiffness
-        state[size:, size:] = -inverse_mass @ damping
-        load = np.zeros((2 * size, 1))
-        load[size:, 0] = inverse_mass[:, 0] * s * self.coupling
+        state = np.zeros(s.shape[:-2] + (2 * size, 2 * size))
+        state[..., :size, size:] = np.eye(size)
+        state[..., size:, :size] = -inverse_mass @ stiffness
+        state[..., size:, size:] = -inverse_mass @ damping
+        load = np.zeros(s.shape[:-2] + (2 * size, 1))
+        load[..., size:, :] = inverse_mass[..., :, :1] * s * self.coupling
         return state, load
 
 
 def _power(a, b, cross):
-    """Σ_k a_ok conj(b_ok) → (n_out, n_f), or the (n_out, n_out, n_f) matrix with ``cross``."""
+    """Σ_k a_ok conj(b_ok) over (…, n_f, n_out, rank) → (…, n_out, n_f), or the
+    (…, n_out, n_out, n_f) matrix with ``cross``."""
     if cross:
-        return np.einsum("fak,fbk->abf", a, b.conj())
-    return np.einsum("fak,fak->af", a, b.conj())
+        return np.einsum("...fak,...fbk->...abf", a, b.conj())
+    return np.einsum("...fak,...fak->...af", a, b.conj())
 
 
 def _real_part(product, cross):
     """2 Re of a product, for a PSD or (Hermitian part) a cross-spectral matrix."""
-    return product + np.swapaxes(product.conj(), 0, 1) if cross else 2 * product.real
+    return product + np.swapaxes(product.conj(), -3, -2) if cross else 2 * product.real
 
 
-class _Resolvents:
-    """Row vectors C R X R^k … at every frequency, built left to right in the eigenbasis of
-    the state matrix (R = (iω − A)⁻¹ is diagonal there), so each product costs n² per output
-    and frequency."""
+def expansion(occupied: _OccupiedMode, mode_shape: np.ndarray, nodes: np.ndarray,
+              frequency: np.ndarray):
+    """G₀, G₁, G₂, G₃ of the module docstring at λ = node + k h for k = −1, 0, 1 (h = _STEP
+    node), each of shape (n_nodes, 3, n_f, n_out, 1); G₁ and G₂ are needed at k = 0 only, G₀
+    and G₃ at all three (the λ̈ term is differentiated in λ).
 
-    def __init__(self, mode_shape, state, load, omega):
-        poles, vectors = np.linalg.eig(state)
-        self.inverse, self.vectors = np.linalg.inv(vectors), vectors
-        self.right = self.inverse @ load                                  # (2n, 1)
-        self.d = 1.0 / (omega - poles)                                    # (n_f, 2n)
-        self.start = mode_shape[:, np.newaxis] * vectors[0] * self.d[:, np.newaxis, :]
-
-    def basis(self, matrix):
-        return self.inverse @ matrix @ self.vectors
-
-    def then(self, rows, matrix, power):
-        """rows · X R^power for rows (n_f, n_out, 2n) and X in the eigenbasis."""
-        return (rows @ matrix) * self.d[:, np.newaxis, :] ** power
-
-    def close(self, rows):
-        """rows · b → (n_f, n_out, 1)."""
-        return rows @ self.right
-
-
-def expansion(occupied: _OccupiedMode, mode_shape: np.ndarray, node: float,
-              omega: np.ndarray):
-    """G₀, G₁, G₂ of the module docstring at λ = node (each (n_f, n_out, 1)) and, for the λ̈
-    term differentiated in λ, {k: (G₀, G₃)} at λ = node + k h, k = ±1 (h = _STEP node)."""
-    h = _STEP * node
-    systems = {k: occupied.system(node + k * h) for k in range(-2, 3)}
-
-    def at(k):
-        """Resolvents, A' and A'' at λ = node + k h."""
-        (minus, _), (state, load), (plus, _) = (systems[k + j] for j in (-1, 0, 1))
-        r = _Resolvents(mode_shape, state, load, omega)
-        return r, r.basis((plus - minus) / (2 * h)), r.basis((plus - 2 * state + minus) / h**2)
-
-    g3 = {}
-    for k in (-1, 1):
-        r, a1, _ = at(k)
-        g3[k] = (r.close(r.start), r.close(r.then(r.start, a1, 3)))
-    r, a1, a2 = at(0)
-    row_a1 = r.start @ a1                                                 # C R A'
-    g0 = r.close(r.start)
-    g1 = r.close(row_a1 * r.d[:, np.newaxis, :] ** 2)
-    g2 = r.close(r.then(row_a1 * r.d[:, np.newaxis, :] ** 2, a1, 2)
-                 + 2 * r.then(row_a1 * r.d[:, np.newaxis, :], a1, 3)
-                 + r.then(r.start, a2, 3))
+    In the eigenbasis of A every resolvent R = (iω − A)⁻¹ is diagonal, so the products are
+    built left to right as row vectors C R X R^k …: n² operations per output and frequency.
+    """
+    step = _STEP * np.asarray(nodes, dtype=float)[:, np.newaxis]
+    states, loads = occupied.system(nodes[:, np.newaxis] + np.arange(-2, 3) * step)
+    h = step[..., np.newaxis, np.newaxis]
+    first = (states[:, 2:] - states[:, :-2]) / (2 * h)          # A' at k = −1, 0, 1
+    second = (states[:, 2:] - 2 * states[:, 1:-1] + states[:, :-2]) / h**2
+    poles, vectors = np.linalg.eig(states[:, 1:-1])
+    inverse = np.linalg.inv(vectors)
+    right = (inverse @ loads[:, 1:-1])[:, :, np.newaxis]        # (n, 3, 1, 2m, 1)
+    a1 = (inverse @ first @ vectors)[:, :, np.newaxis]
+    a2 = (inverse @ second @ vectors)[:, :, np.newaxis]
+    d = 1.0 / (2j * np.pi * frequency[:, np.newaxis] - poles[:, :, np.newaxis, :])
+    d = d[..., np.newaxis, :]                                   # (n, 3, f, 1, 2m)
+    start = mode_shape[:, np.newaxis] * vectors[:, :, np.newaxis, :1, :] * d   # C R
+    row_a1 = start @ a1                                                      # C R A'
+    g0 = start @ right
+    g1 = (row_a1 * d**2) @ right
+    g2 = (((row_a1 * d**2) @ a1) * d**2 + 2 * ((row_a1 * d) @ a1) * d**3
+          + (start @ a2) * d**3) @ right
+    g3 = (row_a1 * d**3) @ right
     return g0, g1, g2, g3
 
 
@@ -172,19 +155,15 @@ def modulation_correction(structure: ModalModel, attached: tuple, shapes: np.nda
     if not attached or rate_variance == 0:
         return result
     occupied = _OccupiedMode(structure, attached, mode)
-    mode_shape = shapes[:, mode]
+    nodes = np.asarray(nodes, dtype=float)
     near = _near_resonances(occupied, nodes, frequency)
-    omega = 2j * np.pi * frequency[near, np.newaxis]
-
-    total = 0.0
-    for node, weight in zip(nodes, weights):
-        g0, g1, g2, g3 = expansion(occupied, mode_shape, node, omega)
-        h = _STEP * node
-        (g0_plus, g3_plus), (g0_minus, g3_minus) = g3[1], g3[-1]
-        slope = (_real_part(_power(g0_plus, g3_plus, cross), cross)
-                 - _real_part(_power(g0_minus, g3_minus, cross), cross)) / (2 * h)
-        total = total + weight * (_power(g1, g1, cross)
-                                  + _real_part(_power(g0, g2, cross), cross) - slope)
+    g0, g1, g2, g3 = expansion(occupied, shapes[:, mode], nodes, frequency[near])
+    lam_g3 = _real_part(_power(g0, g3, cross), cross)          # (n, 3, …, f)
+    h = (_STEP * nodes).reshape((-1,) + (1,) * (lam_g3.ndim - 2))
+    slope = (lam_g3[:, 2] - lam_g3[:, 0]) / (2 * h)
+    terms = (_power(g1[:, 1], g1[:, 1], cross)
+             + _real_part(_power(g0[:, 1], g2[:, 1], cross), cross) - slope)
+    total = np.tensordot(np.asarray(weights, dtype=float), terms, axes=1)
     result[..., near] = rate_variance * (total if cross else total.real)
     return result
 
@@ -205,10 +184,7 @@ def _near_resonances(occupied, nodes, frequency):
     """Where the correction is computed: within _REACH half-power widths (at least
     _MIN_REACH Hz) of a lightly damped pole at any node. Its terms carry three or more
     resolvents where the mixture carries one, so beyond this it is below 1e-3 of the PSD."""
-    near = np.zeros(frequency.shape, dtype=bool)
-    for node in nodes:
-        poles = np.linalg.eigvals(occupied.system(node)[0])
-        for pole in poles[(poles.imag > 0) & (-poles.real < _LIGHT_DAMPING * np.abs(poles))]:
-            reach = max(_REACH * -pole.real, 2 * np.pi * _MIN_REACH) / (2 * np.pi)
-            near |= np.abs(frequency - pole.imag / (2 * np.pi)) < reach
-    return near
+    poles = np.linalg.eigvals(occupied.system(nodes)[0]).ravel()
+    light = poles[(poles.imag > 0) & (-poles.real < _LIGHT_DAMPING * np.abs(poles))]
+    reach = np.maximum(_REACH * -light.real, 2 * np.pi * _MIN_REACH) / (2 * np.pi)
+    return (np.abs(frequency[:, np.newaxis] - light.imag / (2 * np.pi)) < reach).any(axis=1)
