@@ -111,9 +111,9 @@ def _real_part(product, cross):
 
 def expansion(occupied: _OccupiedMode, mode_shape: np.ndarray, nodes: np.ndarray,
               frequency: np.ndarray):
-    """G₀, G₁, G₂, G₃ of the module docstring at λ = node + k h for k = −1, 0, 1 (h = _STEP
-    node), each of shape (n_nodes, 3, n_f, n_out, 1); G₁ and G₂ are needed at k = 0 only, G₀
-    and G₃ at all three (the λ̈ term is differentiated in λ).
+    """G₀ and G₃ of the module docstring at λ = node + k h for k = −1, 0, 1 (h = _STEP node),
+    shape (n_nodes, 3, n_f, n_out, 1), G₁ and G₂ at k = 0 only, shape (n_nodes, 1, n_f,
+    n_out, 1) (the λ̈ term is differentiated in λ, the others are not).
 
     In the eigenbasis of A every resolvent R = (iω − A)⁻¹ is diagonal, so the products are
     built left to right as row vectors C R X R^k …: n² operations per output and frequency.
@@ -133,10 +133,12 @@ def expansion(occupied: _OccupiedMode, mode_shape: np.ndarray, nodes: np.ndarray
     start = mode_shape[:, np.newaxis] * vectors[:, :, np.newaxis, :1, :] * d   # C R
     row_a1 = start @ a1                                                      # C R A'
     g0 = start @ right
+    g3 = (row_a1 * d**3) @ right
+    # G₁ and G₂ at k = 0 only.
+    start, row_a1, d, a1, right = (x[:, 1:2] for x in (start, row_a1, d, a1, right))
     g1 = (row_a1 * d**2) @ right
     g2 = (((row_a1 * d**2) @ a1) * d**2 + 2 * ((row_a1 * d) @ a1) * d**3
-          + (start @ a2) * d**3) @ right
-    g3 = (row_a1 * d**3) @ right
+          + (start @ a2[:, 1:2]) * d**3) @ right
     return g0, g1, g2, g3
 
 
@@ -161,8 +163,8 @@ def modulation_correction(structure: ModalModel, attached: tuple, shapes: np.nda
     lam_g3 = _real_part(_power(g0, g3, cross), cross)          # (n, 3, …, f)
     h = (_STEP * nodes).reshape((-1,) + (1,) * (lam_g3.ndim - 2))
     slope = (lam_g3[:, 2] - lam_g3[:, 0]) / (2 * h)
-    terms = (_power(g1[:, 1], g1[:, 1], cross)
-             + _real_part(_power(g0[:, 1], g2[:, 1], cross), cross) - slope)
+    terms = (_power(g1[:, 0], g1[:, 0], cross)
+             + _real_part(_power(g0[:, 1], g2[:, 0], cross), cross) - slope)
     total = np.tensordot(np.asarray(weights, dtype=float), terms, axes=1)
     result[..., near] = rate_variance * (total if cross else total.real)
     return result
