@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from crowdvib import Crowd, ModalModel, ModelRangeWarning
+from crowdvib import (Crowd, ModalModel, ModelRangeWarning, MSDModel,
+                      effective_modal_properties)
+import crowdvib.response._modulation as module
 from crowdvib.response._modulation import (_STEP, _OccupiedMode, expansion,
                                            modulation_correction, occupancy_rate_variance)
 from crowdvib.response.fluctuation import FluctuatingSpectralModel
@@ -116,7 +118,6 @@ def test_correction_is_negligible_beyond_its_reach(paper_bridge, paper_msd, monk
     args = (paper_bridge, attached, model._base._shapes, 0, model.nodes, model.weights,
             model.rate_variance, GRID)
     default = modulation_correction(*args)
-    import crowdvib.response._modulation as module
     monkeypatch.setattr(module, "_REACH", 400.0)
     monkeypatch.setattr(module, "_MIN_REACH", 5.0)
     wide = modulation_correction(*args)
@@ -132,7 +133,16 @@ def test_fast_occupancy_leaves_the_correction_out_with_a_warning(paper_bridge, p
     crowd = dataclasses.replace(Crowd.from_density(0.25), walking_speed=3.0)
     with pytest.warns(ModelRangeWarning, match="changes too fast"):
         fast = FluctuatingSpectralModel(paper_bridge, crowd, GRID, welch_window_length=60.0)
-    assert fast.modulation_parameter == pytest.approx(3.87, abs=0.01)
+    # ε = Var λ̇ / (Var λ Γ²) from independent pieces: Var λ̇ = 2π²v²/(dBL³) and Var λ = 3/(2n),
+    # n = dBL walkers (Campbell, closed forms for the half sine), Γ = ξ 2πf of the occupied
+    # mode with the paper's MSD (effective_modal_properties, the smeared model's own poles).
+    occupied = effective_modal_properties(paper_bridge, crowd, MSDModel())
+    decay = occupied.damping_ratios[0] * 2 * np.pi * occupied.frequencies[0]
+    walkers = crowd.density * 3.0 * 50.0
+    expected = (2 * np.pi**2 * 3.0**2 / (crowd.density * 3.0 * 50.0**3)
+                / (1.5 / walkers * decay**2))
+    assert fast.modulation_parameter == pytest.approx(expected, rel=2e-3)
+    assert fast.modulation_parameter > 1
     assert fast.rate_variance == 0
     plain = FluctuatingSpectralModel(paper_bridge, crowd, GRID, welch_window_length=60.0,
                                      modulation=False)
@@ -140,9 +150,10 @@ def test_fast_occupancy_leaves_the_correction_out_with_a_warning(paper_bridge, p
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         slow = FluctuatingSpectralModel(paper_bridge, Crowd.from_density(0.25), GRID)
-    # ε = Var λ̇ / (Var λ Γ²): Var λ = 3/(2n) = 0.04 with n = 37.5 walkers (Campbell).
-    gamma = np.sqrt(slow.rate_variance / (0.04 * slow.modulation_parameter))
-    assert 0.05 < gamma < 0.3          # 1/s: the occupied mode's decay rate at 0.25 P/m²
+    # The same ε at Weidmann's 1.34 m/s: the speed enters squared.
+    speed = Crowd.from_density(0.25).walking_speed
+    assert slow.modulation_parameter == pytest.approx(expected * (speed / 3.0) ** 2, rel=2e-3)
+    assert slow.modulation_parameter < 1
 
 
 def test_with_step_frequencies_keeps_the_correction(paper_bridge, paper_msd):

@@ -177,16 +177,21 @@ def modulation_parameter(structure: ModalModel, attached: tuple, mode: int,
     holds for ε small; beyond MAX_PARAMETER it overshoots (docs: theory, Beyond the
     quasi-static mixture)."""
     poles = np.linalg.eigvals(_OccupiedMode(structure, attached, mode).system(1.0)[0])
-    light = poles[(poles.imag > 0) & (-poles.real < _LIGHT_DAMPING * np.abs(poles))]
+    light = _light_poles(poles)
     decay = -(light if light.size else poles).real.min()
     return float(rate_variance / (occupancy_variance * decay**2))
+
+
+def _light_poles(poles):
+    """The poles with Im > 0 and a damping ratio below _LIGHT_DAMPING (the resonances that
+    carry the correction; the MSD's own, heavily damped pole varies little with λ)."""
+    return poles[(poles.imag > 0) & (-poles.real < _LIGHT_DAMPING * np.abs(poles))]
 
 
 def _near_resonances(occupied, nodes, frequency):
     """Where the correction is computed: within _REACH half-power widths (at least
     _MIN_REACH Hz) of a lightly damped pole at any node. Its terms carry three or more
     resolvents where the mixture carries one, so beyond this it is below 1e-3 of the PSD."""
-    poles = np.linalg.eigvals(occupied.system(nodes)[0]).ravel()
-    light = poles[(poles.imag > 0) & (-poles.real < _LIGHT_DAMPING * np.abs(poles))]
+    light = _light_poles(np.linalg.eigvals(occupied.system(nodes)[0]).ravel())
     reach = np.maximum(_REACH * -light.real, 2 * np.pi * _MIN_REACH) / (2 * np.pi)
     return (np.abs(frequency[:, np.newaxis] - light.imag / (2 * np.pi)) < reach).any(axis=1)
