@@ -10,8 +10,8 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING
 
 from .errors import (BoundWarning, ConvergenceWarning, CrowdvibError, CrowdvibWarning, DataError,
-                     DataWarning, EstimationError, IdentifiabilityWarning, ModelRangeWarning,
-                     ParameterError, PlausibilityWarning, ResolutionWarning)
+                     DataWarning, EstimationError, IdentifiabilityWarning, ParameterError,
+                     PlausibilityWarning, ResolutionWarning)
 
 try:
     __version__ = version("crowdvib")
@@ -45,7 +45,7 @@ __all__ = [
     *_LAZY,
     "CrowdvibError", "ParameterError", "DataError", "EstimationError",
     "CrowdvibWarning", "BoundWarning", "ConvergenceWarning", "ResolutionWarning",
-    "DataWarning", "PlausibilityWarning", "IdentifiabilityWarning", "ModelRangeWarning",
+    "DataWarning", "PlausibilityWarning", "IdentifiabilityWarning",
     "__version__",
 ]
 

@@ -17,7 +17,6 @@ __all__ = [
     "DataWarning",
     "PlausibilityWarning",
     "IdentifiabilityWarning",
-    "ModelRangeWarning",
     "StudyWarning",
 ]
 
@@ -62,11 +61,6 @@ class PlausibilityWarning(CrowdvibWarning):
     """A value is legal but implausible for a footbridge or for the model: likely a unit, a
     percentage given for a fraction, a gain or a channel mix-up. The message names the likely
     cause."""
-
-
-class ModelRangeWarning(CrowdvibWarning):
-    """A model approximation is outside the range where it holds and is left out; the
-    message says which and what the result then neglects."""
 
 
 class IdentifiabilityWarning(CrowdvibWarning):

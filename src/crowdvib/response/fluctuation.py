@@ -19,7 +19,6 @@ finite crossing of the occupied mode (``_crossing.py``; docs: theory, Finite cro
 from __future__ import annotations
 
 import copy
-import warnings
 from collections.abc import Sequence
 from typing import Any
 
@@ -27,14 +26,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._validation import check_type
-from ..errors import ModelRangeWarning, ParameterError
+from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.loading import as_force_model
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ..signals import ResponsePSD
 from ._crossing import crossing_spread
-from ._modulation import (MAX_PARAMETER, modulation_correction, modulation_parameter,
+from ._modulation import (OccupancyPath, modulation_correction, modulation_parameter,
                           occupancy_rate_variance)
 from ._welch_model import COARSE_POINTS_PER_BIN, WelchRule
 from .spectral import SpectralModel
@@ -176,10 +175,10 @@ class FluctuatingSpectralModel:
         Smooth the load spectrum with that mode's crossing kernel (default True: walkers stay
         on the deck for a crossing only; docs: theory, Finite crossings).
     modulation : bool, optional
-        Add the second-order correction for an occupancy that changes within the occupied
-        mode's memory (default True; docs: theory, Beyond the quasi-static mixture). Without
-        HSI it vanishes. Left out, with a :class:`~crowdvib.ModelRangeWarning`, where its
-        expansion parameter exceeds 1 (fast walkers on a lightly damped occupied mode).
+        Add the correction for an occupancy that moves within the occupied resonance's memory
+        (default True; docs: theory, Beyond the quasi-static mixture): the resonance drifts
+        with the occupancy along its Gaussian path, to all orders in the rate. Without HSI it
+        vanishes.
 
     Attributes
     ----------
@@ -188,9 +187,10 @@ class FluctuatingSpectralModel:
     crossing_spread : float
         σ_K [Hz] of the crossing kernel (0 without ``finite_crossing``).
     modulation_parameter : float
-        ε = Var λ̇ / (Var λ Γ²) with the paper's MSD (0 without ``modulation``).
+        ε = Var λ̇ / (Var λ Γ²) with the paper's MSD: the squared ratio of the occupied mode's
+        memory to the occupancy's time scale (0 without ``modulation``).
     rate_variance : float
-        Var λ̇ [1/s²] used by the correction (0 when it is left out).
+        Var λ̇ [1/s²] of the occupancy (0 without ``modulation``).
     """
 
     def __init__(self, structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
@@ -219,8 +219,16 @@ class FluctuatingSpectralModel:
         self._options = options
         self._base = SpectralModel(structure, crowd, frequency, **options)
         self.rate_variance = self.modulation_parameter = 0.0
+        self._path = None
         if modulation and crowd.density > 0 and n_nodes != 1:
-            self._check_modulation()
+            self._path = OccupancyPath(
+                structure, crowd.walking_speed, self.mode,
+                variance=occupancy_cumulants(structure, crowd.density, self.mode, order=2)[1],
+                rate_variance=occupancy_rate_variance(structure, crowd.density,
+                                                      crowd.walking_speed, self.mode))
+            self.rate_variance = self._path.rate_variance
+            self.modulation_parameter = modulation_parameter(
+                structure, self._base._attached(_REFERENCE_MSD), self.mode, self._path)
         self._correction_rule = (None if self.welch_window_length is None else
                                  WelchRule(self.frequency, self.welch_window_length,
                                            COARSE_POINTS_PER_BIN))
@@ -280,26 +288,6 @@ class FluctuatingSpectralModel:
         return _mixture(self.weights, self._models, msd, cross=True) + self._modulation(
             msd, cross=True)
 
-    def _check_modulation(self):
-        """Var λ̇ for the correction, and its expansion parameter ε judged with the paper's MSD:
-        beyond MAX_PARAMETER the correction is left out, with a warning."""
-        structure, crowd = self.structure, self.crowd
-        rate_variance = occupancy_rate_variance(structure, crowd.density, crowd.walking_speed,
-                                                self.mode)
-        variance = occupancy_cumulants(structure, crowd.density, self.mode, order=2)[1]
-        self.modulation_parameter = modulation_parameter(
-            structure, self._base._attached(_REFERENCE_MSD), self.mode, variance, rate_variance)
-        if self.modulation_parameter <= MAX_PARAMETER:
-            self.rate_variance = rate_variance
-            return
-        warnings.warn(
-            f"the occupancy of mode {self.mode} changes too fast for the slow-modulation "
-            f"correction (expansion parameter {self.modulation_parameter:.2f} > "
-            f"{MAX_PARAMETER:g}: walkers at {crowd.walking_speed:g} m/s over the mode's "
-            "memory); the quasi-static mixture is used without it, which overstates the "
-            "resonance's spread (docs: theory, Beyond the quasi-static mixture)",
-            ModelRangeWarning, stacklevel=3)
-
     def _correction_grid(self):
         """The grid of the correction (the Welch rule's, or the frequencies) and its weight
         ω⁴ s(f) |H_LP|⁴ (the crowd's load, kept: it does not depend on the MSD)."""
@@ -310,13 +298,13 @@ class FluctuatingSpectralModel:
     def _modulation(self, msd, cross):
         """The slow-modulation correction, as the Welch estimate sees it (0 without HSI, with
         one node or without ``modulation``)."""
-        if msd is None or self.rate_variance == 0 or len(self.nodes) == 1:
+        if msd is None or self._path is None or len(self.nodes) == 1:
             return 0.0
         rule = self._correction_rule
         grid, weight = self._correction_weight
         delta = modulation_correction(self.structure, self._base._attached(msd),
                                       self._base._shapes, self.mode, self.nodes,
-                                      self.weights, self.rate_variance, grid, cross) * weight
+                                      self.weights, self._path, grid, cross) * weight
         if rule is None:
             return delta
         if not cross:
