@@ -109,9 +109,9 @@ def test_drift_against_gaussian_paths(paper_bridge):
 
 
 def test_quadrature_converges(paper_bridge, paper_msd, monkeypatch):
-    # The grid follows K, the exponentials are integrated exactly: four times the points and
-    # a longer memory move the correction by 2e-3 of its own peak (1e-4 of the PSD's); the
-    # bound is 5e-3.
+    # The grid follows the path, the exponentials are integrated exactly: five times the points
+    # and a longer memory move the correction by 4e-3 of its own peak (6e-5 of the PSD's);
+    # the bound is 5e-3.
     crowd = Crowd.from_density(0.25)
     model = FluctuatingSpectralModel(paper_bridge, crowd, GRID)
     args = (paper_bridge, model._base._attached(paper_msd), model._base._shapes, 0,
