@@ -12,9 +12,10 @@ fluctuating crowd model of the expected PSD, are run on the same records. Prints
 coverage of the truth by the 95 % profile interval per parameter, mean error with its 95 %
 interval, the standard deviation per record and the mean interval width, plus time per
 estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]
-[paper|fluctuating|fluctuating-likelihood|free|likelihood|least_squares] [--workers W] [--hours H]``
-(``paper``: both estimators with both crowd models; ``fluctuating``: both with the fluctuating
-model, ``fluctuating-likelihood`` the likelihood alone; ``free``:
+[paper|fluctuating|fluctuating-likelihood|fluctuating-least-squares|free|likelihood|least_squares]
+[--workers W] [--hours H]`` (``paper``: both estimators with both crowd models; ``fluctuating``:
+both with the fluctuating model, ``fluctuating-likelihood`` and ``fluctuating-least-squares``
+one of them; ``free``:
 the likelihood with the step-frequency distribution fitted too; the last two: one estimator
 with the smeared model; records run on W local workers,
 default 1; simulated records of H hours, default 1: a bias that shrinks as 1/H is the
@@ -135,6 +136,7 @@ ESTIMATORS = {"paper": [(method, model, False) for model in ("smeared", "fluctua
               "fluctuating": [(method, "fluctuating", False)
                               for method in ("least_squares", "likelihood")],
               "fluctuating-likelihood": [("likelihood", "fluctuating", False)],
+              "fluctuating-least-squares": [("least_squares", "fluctuating", False)],
               # One estimator alone (the issue's timing of a 200-record calibration study).
               "likelihood": [("likelihood", "smeared", False)],
               "least_squares": [("least_squares", "smeared", False)]}
