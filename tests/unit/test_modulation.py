@@ -169,6 +169,20 @@ def test_correction_is_left_out_without_hsi_or_with_one_node(paper_bridge, paper
     assert 0.002 < np.abs(a - b).max() / b.max() < 0.05
 
 
+def test_no_lightly_damped_pole_no_correction(paper_msd):
+    # A structure damped at 25 %: no pole of the occupied system is below the 0.2 damping ratio
+    # that carries the correction, so the model is the mixture alone (and does not fail).
+    bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.25, 50e3)
+    crowd = Crowd.from_density(0.25)
+    model = FluctuatingSpectralModel(bridge, crowd, GRID, welch_window_length=60.0)
+    plain = FluctuatingSpectralModel(bridge, crowd, GRID, welch_window_length=60.0,
+                                     modulation=False)
+    assert model.rate_variance > 0
+    np.testing.assert_array_equal(model.psd_array(paper_msd), plain.psd_array(paper_msd))
+    np.testing.assert_array_equal(model.cross_psd_array(paper_msd),
+                                  plain.cross_psd_array(paper_msd))
+
+
 def test_cross_spectral_matrix_carries_the_same_correction(paper_msd):
     # Two outputs of a two-mode beam: the diagonal of the corrected cross-spectral matrix is the
     # corrected PSD, and the matrix stays Hermitian.

@@ -32,6 +32,7 @@ import dataclasses
 from types import SimpleNamespace
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 
 from ..models.structure import ModalModel
 from ._attached import reduced_matrices
@@ -165,9 +166,7 @@ def _is_light(poles):
 
 def _cumulative(values, step):
     """∫₀^u of samples on an even grid (trapezoids), along the last axis."""
-    steps = (values[..., 1:] + values[..., :-1]) * (step / 2)
-    return np.concatenate([np.zeros(values.shape[:-1] + (1,)), np.cumsum(steps, axis=-1)],
-                          axis=-1)
+    return cumulative_trapezoid(values, dx=step, axis=-1, initial=0)
 
 
 def _path_grid(path: OccupancyPath, decay: float):
@@ -267,9 +266,10 @@ def modulation_correction(structure: ModalModel, attached: tuple, shapes: np.nda
     if attached and path.rate_variance > 0:
         occupied = _OccupiedMode(structure, attached, mode)
         track, slope, residue, node = occupied.drifting_poles(nodes)
-        near = _near_resonances(track[:, 0], frequency)
-        spectra = drift_spectrum(track, slope, path, 2 * np.pi * frequency[near])
-        result[near] = (np.asarray(weights)[node] * residue) @ spectra
+        if node.size:           # none where every pole is heavily damped: nothing drifts to ring
+            near = _near_resonances(track[:, 0], frequency)
+            spectra = drift_spectrum(track, slope, path, 2 * np.pi * frequency[near])
+            result[near] = (np.asarray(weights)[node] * residue) @ spectra
     if cross:
         return np.multiply.outer(np.outer(outputs, outputs), result).astype(complex)
     return np.multiply.outer(outputs**2, result)
