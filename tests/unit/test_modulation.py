@@ -163,8 +163,8 @@ def test_correction_is_left_out_without_hsi_or_with_one_node(paper_bridge, paper
         one.psd_array(paper_msd),
         SpectralModel(paper_bridge, paper_crowd, GRID, welch_window_length=60.0,
                       crossing_spread=one.crossing_spread).psd_array(paper_msd))
-    # With HSI it moves the occupied resonance by a few per cent, not more (docs: the
-    # second-order term at 0.5 P/m² and 1.3 m/s).
+    # With HSI it moves the occupied resonance by a few tenths of a per cent of the peak at
+    # 0.5 P/m² and 1.30 m/s (0.45 % here; docs: the band table, 0.3–0.5 % at 0.5 P/m²).
     a, b = on.psd_array(paper_msd)[0], off.psd_array(paper_msd)[0]
     assert 0.002 < np.abs(a - b).max() / b.max() < 0.05
 
