@@ -118,38 +118,64 @@ def profile_interval(residuals, estimate, index, lower, upper, covariance, hessi
     others = [i for i in range(estimate.size) if i != index]
     r = residuals(estimate)
     best = float(r @ r)
+    known = {value: 0.0}
+    # The others' minimum along the profile, t → x(t): each inner fit starts from the
+    # quadratic through the three nearest points found so far (at first the line of slope
+    # −H_oo⁻¹ H_op, the minimum's motion for a quadratic S), leaving it a step or two.
+    found = {value: estimate[others]}
+    slope = (-np.linalg.lstsq(hessian[np.ix_(others, others)], hessian[others, index],
+                              rcond=None)[0] if others else np.zeros(0))
+
+    def predicted(t):
+        near = sorted(found, key=lambda s: abs(s - t))[:3]
+        if len(near) == 1:
+            return found[value] + slope * (t - value)
+        scale = max(abs(s - value) for s in near)
+        return np.array([np.polyval(np.polyfit((np.array(near) - value) / scale, column,
+                                               len(near) - 1), (t - value) / scale)
+                         for column in np.array([found[s] for s in near]).T])
+
+    def rise(t):
+        """c_p (S_p(t) − S(θ̂)), S minimised over the other parameters (each t once)."""
+        if t not in known:
+            theta = estimate.copy()
+            theta[index] = t
+            if others:
+                def inner(x):
+                    theta[others] = x
+                    return residuals(theta)
+
+                start = np.clip(predicted(t), lower[others], upper[others])
+                theta[others] = found[t] = optimize.least_squares(
+                    inner, start, method="trf", bounds=(lower[others], upper[others]),
+                    x_scale="jac").x
+            r = residuals(theta)
+            known[t] = factor * (float(r @ r) - best)
+        return known[t]
 
     def excess(t):
-        """c_p (S_p(t) − S(θ̂)) − χ²₁(level), S minimised over the other parameters."""
-        theta = estimate.copy()
-        theta[index] = t
-        if others:
-            def inner(x):
-                theta[others] = x
-                return residuals(theta)
-
-            start = np.clip(estimate[others], lower[others], upper[others])
-            theta[others] = optimize.least_squares(
-                inner, start, method="trf", bounds=(lower[others], upper[others]),
-                x_scale="jac").x
-        r = residuals(theta)
-        return factor * (float(r @ r) - best) - threshold
+        """√rise − √χ²₁(level): the crossing sought, nearly linear in t for a profile close
+        to quadratic, so the root finder needs few steps."""
+        return np.sqrt(max(rise(t), 0.0)) - np.sqrt(threshold)
 
     half_width = np.sqrt(threshold * variance)
     ends, on_bound = [], []
     for side, limit in ((-1, lower[index]), (+1, upper[index])):
         inside, step, end, hit = value, half_width, None, False
-        for _ in range(12):      # expand by doubling until the threshold is crossed
+        for _ in range(12):      # expand until the threshold is crossed
             trial = value + side * step
             if side * (trial - limit) >= 0:
                 trial = float(limit)
             if excess(trial) > 0:
-                end = optimize.brentq(excess, inside, trial, xtol=1e-4 * half_width)
+                end = optimize.brentq(excess, inside, trial, xtol=1e-3 * half_width)
                 break
             if trial == limit:
                 end, hit = float(limit), True
                 break
-            inside, step = trial, 2 * step
+            # Next trial where the rise would reach χ² if it grew as (t − θ̂)² from here,
+            # 10 % beyond, at least 1.2 and at most 2 times as far.
+            growth = np.sqrt(threshold / max(rise(trial), 1e-12 * threshold))
+            inside, step = trial, abs(trial - value) * float(np.clip(1.1 * growth, 1.2, 2.0))
         ends.append(float(end if end is not None else inside))
         on_bound.append(hit)
     return (ends[0], ends[1]), tuple(on_bound)
