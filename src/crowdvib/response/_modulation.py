@@ -46,9 +46,11 @@ _STEP, _TRACK = 1e-3, np.linspace(0.0, 1.0, 17)
 #: them, and at least _MIN_REACH [Hz].
 _LIGHT_DAMPING, _REACH, _MIN_REACH = 0.2, 40.0, 0.2
 #: The grid in u: _PER_SCALE steps over the shorter of the occupancy's time scale σ/σ_λ̇ and the
-#: memory 1/Γ, out to _MEMORIES memories (e^{−12} of the amplitude); at most _MAX_POINTS. Five
-#: times the points and 16 memories move the correction by less than 5e-3 of itself.
-_PER_SCALE, _MEMORIES, _MAX_POINTS = 12, 12.0, 1024
+#: memory 1/Γ, out to _MEMORIES memories (e^{−12} of the amplitude); at most _MAX_POINTS. The
+#: piecewise-linear quadrature errs as h²: the result on this grid and on every other point of
+#: it are extrapolated (Richardson), which leaves 1e-3 of the correction against 8 times the
+#: points and 16 memories, at a third of the cost of 12 steps per scale without it.
+_PER_SCALE, _MEMORIES, _MAX_POINTS = 6, 12.0, 1025
 
 
 def occupancy_rate_variance(structure: ModalModel, density: float, walking_speed: float,
@@ -170,10 +172,11 @@ def _cumulative(values, step):
 
 
 def _path_grid(path: OccupancyPath, decay: float):
-    """The grid in u, ρ on it and the correlation of the path about its mean given λ₀:
-    σ⁻² Cov(δλ(u), δλ(u')) = ρ(u − u') − ρ(u) ρ(u') (the linear prediction's error)."""
+    """The grid in u (an odd number of points), ρ on it and the correlation of the path about
+    its mean given λ₀: σ⁻² Cov(δλ(u), δλ(u')) = ρ(u − u') − ρ(u) ρ(u') (the linear
+    prediction's error)."""
     step = min(path.time_scale, 1.0 / decay) / _PER_SCALE
-    count = min(int(np.ceil(_MEMORIES / (decay * step))) + 1, _MAX_POINTS)
+    count = min(2 * int(np.ceil(_MEMORIES / (2 * decay * step))) + 1, _MAX_POINTS)
     step = max(step, _MEMORIES / (decay * (count - 1)))
     u = step * np.arange(count)
     rho = path.correlation(u)
@@ -208,9 +211,16 @@ def drift_spectrum(track, slope, path: OccupancyPath, omega):
     path (``track``, ``slope``: (n_p, n_t) on _TRACK, the first column at λ₀)
     at angular frequencies ``omega`` → (n_p, n_f)."""
     track, slope = np.asarray(track, dtype=complex), np.asarray(slope, dtype=complex)
-    pole = track[:, :1]
     decay = float(-track.real.max())                # the longest memory along the mean path
     u, rho, covariance = _path_grid(path, decay)
+    fine = _drift_on_grid(track, slope, path, omega, u, rho, covariance)
+    coarse = _drift_on_grid(track, slope, path, omega, u[::2], rho[::2], covariance[::2, ::2])
+    return (4 * fine - coarse) / 3
+
+
+def _drift_on_grid(track, slope, path, omega, u, rho, covariance):
+    """drift_spectrum on one grid (u, ρ(u), the path's correlation on it)."""
+    pole = track[:, :1]
     step, count = u[1], u.size
     # the pole and its slope where the mean path λ₀ + (1 − λ₀)(1 − ρ(u)) is at u
     share = 1.0 - rho
