@@ -39,23 +39,19 @@ def _fit(record, method, crowd_model):
                             crowd_model=crowd_model, interval="wald")
 
 
-@pytest.fixture
-def mixture_alone(monkeypatch):
-    """The fluctuating model without its drift correction: the mixture over the occupancy is
-    what removes the smeared model's bias here. (With this bridge's 12 walkers the correction
-    overshoots: over six records the likelihood's ξ_h1 is 0.296 without it and 0.282 with it,
-    truth 0.30; docs, theory, Beyond the quasi-static mixture.)"""
-    build = FluctuatingSpectralModel.__init__
-
-    def without_correction(self, *args, **options):
-        build(self, *args, **dict(options, modulation=False))
-
-    monkeypatch.setattr(FluctuatingSpectralModel, "__init__", without_correction)
+def test_this_bridge_gets_the_mixture_alone(small_bridge_record):
+    # κ ≈ 1.4 here (the occupied resonance moves by 1.4 half-widths over the occupancy's
+    # spread): beyond the range where the drift correction was checked, so the default model is
+    # the mixture alone, which the simulator's records support on this bridge (over 60 three-hour
+    # records, the likelihood on their mean PSD reads ξ_h1 +0.02 % without the correction and
+    # −4.7 % with it; docs, theory, Beyond the quasi-static mixture). The tests below fit that.
+    bridge, crowd, measured = small_bridge_record
+    model = FluctuatingSpectralModel(bridge, crowd, measured.frequency)
+    assert model.spread_parameter > 1.0 and not model.modulation
 
 
 @pytest.mark.slow
-def test_fluctuating_model_removes_the_damping_bias_of_least_squares(small_bridge_record,
-                                                                     mixture_alone):
+def test_fluctuating_model_removes_the_damping_bias_of_least_squares(small_bridge_record):
     smeared = _fit(small_bridge_record, "least_squares", "smeared")
     fluctuating = _fit(small_bridge_record, "least_squares", "fluctuating")
     # The smeared model reads the widened resonance as damping: its interval misses the truth.
@@ -67,8 +63,7 @@ def test_fluctuating_model_removes_the_damping_bias_of_least_squares(small_bridg
 
 
 @pytest.mark.slow
-def test_fluctuating_model_removes_the_frequency_bias_of_the_likelihood(small_bridge_record,
-                                                                       mixture_alone):
+def test_fluctuating_model_removes_the_frequency_bias_of_the_likelihood(small_bridge_record):
     smeared = _fit(small_bridge_record, "likelihood", "smeared")
     fluctuating = _fit(small_bridge_record, "likelihood", "fluctuating")
     assert smeared.interval("frequency")[1] < TRUTH.frequency

@@ -34,7 +34,7 @@ from ..models.structure import ModalModel
 from ..signals import ResponsePSD
 from ._crossing import crossing_spread
 from ._modulation import (OccupancyPath, modulation_correction, modulation_parameter,
-                          occupancy_rate_variance)
+                          occupancy_rate_variance, spread_parameter)
 from ._welch_model import COARSE_POINTS_PER_BIN, WelchRule
 from .spectral import SpectralModel
 
@@ -46,6 +46,12 @@ CROWD_MODELS = ("smeared", "fluctuating")
 #: Reference MSD for choosing the number of nodes (the paper's values): the mixture must be
 #: resolved for a plausible crowd, whatever θ the estimator later tries.
 _REFERENCE_MSD = MSDModel()
+#: The drift correction is applied by default up to this κ (the occupied resonance's shift over
+#: one standard deviation of the occupancy, in half-power half-widths): checked against the
+#: simulator at κ = 0.40–0.42 (four densities and speeds on the paper's bridge, a 20 m bridge
+#: with 48 light walkers), it overshoots at κ = 0.69–1.96 where the mixture alone holds
+#: (docs: theory, Beyond the quasi-static mixture).
+_SPREAD_LIMIT = 0.5
 
 
 def dominant_mode(structure: ModalModel, crowd: Crowd, frequency: np.ndarray, force=None,
@@ -174,11 +180,14 @@ class FluctuatingSpectralModel:
     finite_crossing : bool, optional
         Smooth the load spectrum with that mode's crossing kernel (default True: walkers stay
         on the deck for a crossing only; docs: theory, Finite crossings).
-    modulation : bool, optional
-        Add the correction for an occupancy that moves within the occupied resonance's memory
-        (default True; docs: theory, Beyond the quasi-static mixture): the resonance drifts
-        with the occupancy along its Gaussian path, to all orders in the rate. Without HSI it
-        vanishes.
+    modulation : bool or None, optional
+        The correction for an occupancy that moves within the occupied resonance's memory
+        (docs: theory, Beyond the quasi-static mixture): the resonance drifts with the
+        occupancy along its Gaussian path, to all orders in the rate. ``None`` (default)
+        applies it where it has been checked against the simulator, κ ≤ 0.5 (see
+        ``spread_parameter``; the paper's bridge has κ ≈ 0.4 at every density): beyond, on
+        strongly coupled light bridges, it overshoots and the mixture alone is nearer the
+        records. ``True`` applies it always, ``False`` never. Without HSI it vanishes.
 
     Attributes
     ----------
@@ -188,19 +197,26 @@ class FluctuatingSpectralModel:
         σ_K [Hz] of the crossing kernel (0 without ``finite_crossing``).
     modulation_parameter : float
         ε = Var λ̇ / (Var λ Γ²) with the paper's MSD: the squared ratio of the occupied mode's
-        memory to the occupancy's time scale (0 without ``modulation``).
+        memory to the occupancy's time scale (0 with ``modulation=False``).
+    spread_parameter : float
+        κ = σ_λ |Im p'| / Γ with the paper's MSD: how many half-power half-widths the occupied
+        resonance moves over one standard deviation of the occupancy (0 with
+        ``modulation=False``).
     rate_variance : float
-        Var λ̇ [1/s²] of the occupancy (0 without ``modulation``).
+        Var λ̇ [1/s²] of the occupancy (0 with ``modulation=False``).
+    modulation : bool
+        Whether the drift correction is applied.
     """
 
     def __init__(self, structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
                  n_nodes: int | None = None, mode: int | None = None,
-                 finite_crossing: bool = True, modulation: bool = True,
+                 finite_crossing: bool = True, modulation: bool | None = None,
                  **options: Any) -> None:
         check_type("structure", structure, ModalModel)
         check_type("crowd", crowd, Crowd)
         check_type("finite_crossing", finite_crossing, bool)
-        check_type("modulation", modulation, bool)
+        if modulation is not None:
+            check_type("modulation", modulation, bool)
         if n_nodes is not None and (not isinstance(n_nodes, (int, np.integer))
                                     or not 1 <= n_nodes <= 40):
             raise ParameterError(f"n_nodes must be an integer from 1 to 40, got {n_nodes!r}")
@@ -218,17 +234,22 @@ class FluctuatingSpectralModel:
         options = dict(options, crossing_spread=self.crossing_spread)
         self._options = options
         self._base = SpectralModel(structure, crowd, frequency, **options)
-        self.rate_variance = self.modulation_parameter = 0.0
+        self.rate_variance = self.modulation_parameter = self.spread_parameter = 0.0
         self._path = None
-        if modulation and crowd.density > 0 and n_nodes != 1:
-            self._path = OccupancyPath(
+        if modulation is not False and crowd.density > 0 and n_nodes != 1:
+            path = OccupancyPath(
                 structure, crowd.walking_speed, self.mode,
                 variance=occupancy_cumulants(structure, crowd.density, self.mode, order=2)[1],
                 rate_variance=occupancy_rate_variance(structure, crowd.density,
                                                       crowd.walking_speed, self.mode))
-            self.rate_variance = self._path.rate_variance
-            self.modulation_parameter = modulation_parameter(
-                structure, self._base._attached(_REFERENCE_MSD), self.mode, self._path)
+            reference = self._base._attached(_REFERENCE_MSD)
+            self.rate_variance = path.rate_variance
+            self.modulation_parameter = modulation_parameter(structure, reference, self.mode,
+                                                             path)
+            self.spread_parameter = spread_parameter(structure, reference, self.mode, path)
+            if modulation or self.spread_parameter <= _SPREAD_LIMIT:
+                self._path = path
+        self.modulation = self._path is not None
         self._correction_rule = (None if self.welch_window_length is None else
                                  WelchRule(self.frequency, self.welch_window_length,
                                            COARSE_POINTS_PER_BIN))
