@@ -265,8 +265,10 @@ def test_with_step_frequencies_keeps_the_correction(paper_bridge, paper_msd):
     other = dataclasses.replace(crowd, step_frequency_mean=1.95, step_frequency_std=0.2)
     model = FluctuatingSpectralModel(paper_bridge, crowd, GRID, welch_window_length=60.0)
     direct = FluctuatingSpectralModel(paper_bridge, other, GRID, welch_window_length=60.0)
+    first = model.psd_array(paper_msd)     # its correction per unit load is kept, and shared
     np.testing.assert_allclose(model.with_step_frequencies(other).psd_array(paper_msd),
                                direct.psd_array(paper_msd), rtol=1e-12)
+    assert np.abs(direct.psd_array(paper_msd) - first).max() > 0.01 * first.max()
 
 
 def _kappa_from_pieces(bridge, crowd):

@@ -17,6 +17,8 @@ occupied peak is corrected exactly:
   on the scale 1/T, where the coarse rule is accurate.
 """
 
+import copy
+
 import numpy as np
 from scipy import sparse
 
@@ -149,6 +151,14 @@ class CorrectedWelch:
         self.grid_weight = weight(self.grid)
         self._reach = (KERNEL_HALF_WIDTH_BINS + CORRECTION_MARGIN_BINS) / window_length
         self._narrow = NARROW_POLE_WIDTH / window_length
+
+    def with_weight(self, weight, grid_weight=None):
+        """The same rule for another weight function (``grid_weight``: its values on the grid,
+        when the caller has them): the rule depends on the grid and window only."""
+        other = copy.copy(self)
+        other._weight = weight
+        other.grid_weight = weight(self.grid) if grid_weight is None else grid_weight
+        return other
 
     def psd(self, poles, left, right):
         """Welch expectation (n_outputs, n_f) of w · Σ_r |Σ_p left right / (iω − λ_p)|²."""

@@ -35,7 +35,6 @@ from ..signals import ResponsePSD
 from ._crossing import crossing_spread
 from ._modulation import (OccupancyPath, modulation_correction, modulation_parameter,
                           occupancy_rate_variance, spread_parameter)
-from ._welch_model import COARSE_POINTS_PER_BIN, WelchRule
 from .spectral import SpectralModel
 
 __all__ = ["FluctuatingSpectralModel", "occupancy_quadrature", "occupancy_cumulants",
@@ -52,6 +51,8 @@ _REFERENCE_MSD = MSDModel()
 #: with 48 light walkers), it overshoots at κ = 0.69–1.96 where the mixture alone holds
 #: (docs: theory, Beyond the quasi-static mixture).
 _SPREAD_LIMIT = 0.5
+#: Corrections per unit load kept, by MSD (the memory is emptied when full).
+_DRIFT_MEMORY = 64
 
 
 def dominant_mode(structure: ModalModel, crowd: Crowd, frequency: np.ndarray, force=None,
@@ -250,19 +251,21 @@ class FluctuatingSpectralModel:
             if modulation or self.spread_parameter <= _SPREAD_LIMIT:
                 self._path = path
         self.modulation = self._path is not None
-        self._correction_rule = (None if self.welch_window_length is None else
-                                 WelchRule(self.frequency, self.welch_window_length,
-                                           COARSE_POINTS_PER_BIN))
-        self._correction_grid()
+        # The correction per unit load, by MSD: it does not depend on the step frequencies, so
+        # the models of with_step_frequencies share it (a fit of μ_fs and σ_fs asks for the
+        # same MSD again and again).
+        self._drifts: dict = {}
         if crowd.density == 0 or n_nodes == 1:
             self.nodes, self.weights, self._models = np.ones(1), np.ones(1), [self._base]
             return
         law = occupancy_law(structure, crowd.density, self.mode)
 
+        weight = self._base._grid_weight                 # the same for every node: s(f) per ψ
+
         def rule(count):
             nodes, weights = _gauss_rule(*law, count)
-            models = [SpectralModel(structure, crowd.with_density(crowd.density * node),
-                                    frequency, **options) for node in nodes]
+            models = [self._base._for_crowd(crowd.with_density(crowd.density * node), weight)
+                      for node in nodes]
             return nodes, weights, models
 
         if n_nodes is not None:
@@ -291,11 +294,10 @@ class FluctuatingSpectralModel:
                                  f"occupancy law is kept), got {crowd.density:g}")
         other = copy.copy(self)
         other.crowd = crowd
-        other._models = [SpectralModel(model.structure, crowd.with_density(model.crowd.density),
-                                       model.frequency, **self._options)
+        other._base = self._base._for_crowd(crowd)
+        weight = other._base._grid_weight           # the same for every node: s(f) per ψ
+        other._models = [model._for_crowd(crowd.with_density(model.crowd.density), weight)
                          for model in self._models]
-        other._base = SpectralModel(self.structure, crowd, self.frequency, **self._options)
-        other._correction_grid()
         return other
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
@@ -309,23 +311,22 @@ class FluctuatingSpectralModel:
         return _mixture(self.weights, self._models, msd, cross=True) + self._modulation(
             msd, cross=True)
 
-    def _correction_grid(self):
-        """The grid of the correction (the Welch rule's, or the frequencies) and its weight
-        ω⁴ s(f) |H_LP|⁴ (the crowd's load, kept: it does not depend on the MSD)."""
-        rule = self._correction_rule
-        grid = self.frequency if rule is None else rule.grid
-        self._correction_weight = grid, self._base._weight_at(grid)
-
     def _modulation(self, msd, cross):
         """The slow-modulation correction, as the Welch estimate sees it (0 without HSI, with
         one node or without ``modulation``)."""
         if msd is None or self._path is None or len(self.nodes) == 1:
             return 0.0
-        rule = self._correction_rule
-        grid, weight = self._correction_weight
-        delta = modulation_correction(self.structure, self._base._attached(msd),
-                                      self._base._shapes, self.mode, self.nodes,
-                                      self.weights, self._path, grid, cross) * weight
+        # On the base model's grid with its load weight (the Welch rule's, or the frequencies).
+        welch = self._base._welch
+        rule, grid = (None, self.frequency) if welch is None else (welch.rule, welch.grid)
+        key = (msd, cross)
+        if key not in self._drifts:
+            if len(self._drifts) >= _DRIFT_MEMORY:
+                self._drifts.clear()
+            self._drifts[key] = modulation_correction(
+                self.structure, self._base._attached(msd), self._base._shapes, self.mode,
+                self.nodes, self.weights, self._path, grid, cross)
+        delta = self._drifts[key] * self._base._grid_weight
         if rule is None:
             return delta
         if not cross:

@@ -15,6 +15,7 @@ estimator can call it many times; :func:`response_psd` is the one-shot front doo
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -134,6 +135,29 @@ class SpectralModel:
         else:
             window = check_positive("welch_window_length", welch_window_length, unit="s")
             self._welch = CorrectedWelch(self.frequency, window, self._weight_at)
+
+    def _for_crowd(self, crowd, weight=None):
+        """This model for another crowd on the same structure, grid and options: only the
+        crowd's parts are computed again (the Welch rule, the dampers and the empty structure's
+        stiffness are kept). ``weight``: the load weight on the model's grid when the caller
+        has it (it depends on the step frequencies and the body mass, not on the density)."""
+        other = copy.copy(self)
+        other.crowd = crowd
+        other._psi = self.structure.influence_matrix(crowd.density)
+        other._load_factor = psd_factor(other._psi)
+        other._dense = None
+        if self._welch is None:
+            frequency, _, diagonal = self._grid
+            other._grid = (frequency, other._weight_at(frequency) if weight is None else weight,
+                           diagonal)
+        else:
+            other._welch = self._welch.with_weight(other._weight_at, weight)
+        return other
+
+    @property
+    def _grid_weight(self):
+        """The load weight on the model's grid (the Welch rule's, or the frequencies)."""
+        return self._grid[1] if self._welch is None else self._welch.grid_weight
 
     def _weight_at(self, frequency):
         """ω⁴ s(f) |H_LP|⁴: the load spectrum (and filter gain) with ω⁴ for accelerations."""
