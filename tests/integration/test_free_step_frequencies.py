@@ -90,6 +90,8 @@ def test_fluctuating_model_for_other_step_frequencies_is_a_new_model():
     np.testing.assert_allclose(other.psd_array(TRUTH), fresh.psd_array(TRUTH), rtol=1e-12)
     with pytest.raises(ParameterError, match=r"crowd.density must stay 0.5"):
         base.with_step_frequencies(CROWD.with_density(1.0))
+    with pytest.raises(ParameterError, match=r"step frequencies only .* other body_mass"):
+        base.with_step_frequencies(dataclasses.replace(WRONG, body_mass=80.0))
 
 
 def test_a_three_value_start_needs_the_mass_ratio_free(measured):

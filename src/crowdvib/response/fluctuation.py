@@ -19,6 +19,7 @@ finite crossing of the occupied mode (``_crossing.py``; docs: theory, Finite cro
 from __future__ import annotations
 
 import copy
+import dataclasses
 from collections.abc import Sequence
 from typing import Any
 
@@ -292,6 +293,16 @@ class FluctuatingSpectralModel:
         if crowd.density != self.crowd.density:
             raise ParameterError(f"crowd.density must stay {self.crowd.density:g} P/m² (the "
                                  f"occupancy law is kept), got {crowd.density:g}")
+        # The occupancy's path (walking speed) and the drift correction per unit load (body
+        # mass) are kept too: nothing but the step frequencies may change.
+        kept = dataclasses.replace(crowd, step_frequency_mean=self.crowd.step_frequency_mean,
+                                   step_frequency_std=self.crowd.step_frequency_std)
+        if kept != self.crowd:
+            changed = [field.name for field in dataclasses.fields(Crowd)
+                       if getattr(kept, field.name) != getattr(self.crowd, field.name)]
+            raise ParameterError(f"crowd may differ from the model's in its step frequencies "
+                                 f"only (the occupancy law and path are kept), got other "
+                                 f"{', '.join(changed)}")
         other = copy.copy(self)
         other.crowd = crowd
         other._base = self._base._for_crowd(crowd)
