@@ -66,6 +66,11 @@ def test_fluctuating_model_removes_the_damping_bias_of_least_squares(small_bridg
 def test_fluctuating_model_removes_the_frequency_bias_of_the_likelihood(small_bridge_record):
     smeared = _fit(small_bridge_record, "likelihood", "smeared")
     fluctuating = _fit(small_bridge_record, "likelihood", "fluctuating")
+    # The estimate says what its expected PSD was made of (results.json: crowd_model_details).
+    details = fluctuating.to_dict()["crowd_model_details"]
+    assert smeared.crowd_model_details == () and len(details) == 1
+    assert details[0]["drift_correction"] is False and details[0]["spread_parameter"] > 1.0
+    assert details[0]["occupancy_nodes"] >= 9
     assert smeared.interval("frequency")[1] < TRUTH.frequency
     for name in ("frequency", "damping_ratio"):
         low, high = fluctuating.interval(name)

@@ -238,6 +238,11 @@ def _say_estimate(estimate):
         f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
         f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
         f"J/J_noHSI = {estimate.relative_cost:.3g}")
+    for details in estimate.crowd_model_details:
+        applied = "on" if details["drift_correction"] else "off"
+        say(f"  crowd model: fluctuating, {details['occupancy_nodes']} occupancy nodes, drift "
+            f"correction {applied} (κ = {details['spread_parameter']:.2f}, applied up to "
+            f"{details['spread_limit']:g})")
 
 
 def _fitted_and_no_hsi(case, crowd, measured, lowpass, msd, outputs):

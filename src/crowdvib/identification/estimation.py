@@ -351,6 +351,8 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         starts=table, message=str(best.message), level_ratio=np.concatenate(ratios),
         method=method, covariance=covariance, intervals=intervals, interval_level=level,
         interval_on_bound=on_bound, crowd_model=parts[0][0].crowd_model,
+        crowd_model_details=tuple(objective.model.details() for objective, _ in parts
+                                  if hasattr(objective.model, "details")),
         interval_method=interval if intervals else None, bootstrap_samples=samples,
         crowd=parts[0][0].model.crowd if steps is not None else None)
 

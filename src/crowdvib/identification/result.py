@@ -68,6 +68,10 @@ class HSIEstimate:
         Interval ends that stopped at a search bound, e.g. ``("damping_ratio:upper",)``.
     crowd_model : str
         The expected-PSD model of the crowd: ``"smeared"`` or ``"fluctuating"``.
+    crowd_model_details : tuple of dict
+        With the fluctuating model, per record what its mixture is made of
+        (:meth:`FluctuatingSpectralModel.details`: occupancy nodes, whether the drift
+        correction is applied, κ, ε); empty with the smeared model.
     interval_method : str or None
         How ``intervals`` were found: ``"profile"`` or ``"bootstrap"`` (None: not computed).
     bootstrap_samples : ndarray, shape (n_boot, n_free), or None
@@ -97,6 +101,7 @@ class HSIEstimate:
     interval_level: float = 0.95
     interval_on_bound: tuple = ()
     crowd_model: str = "smeared"
+    crowd_model_details: tuple = ()
     interval_method: str = None
     bootstrap_samples: np.ndarray = None
     crowd: Crowd | None = None
@@ -173,6 +178,7 @@ class HSIEstimate:
             estimate["standard_error"] = self.standard_errors
         return {
             "estimate": estimate, "method": self.method, "crowd_model": self.crowd_model,
+            "crowd_model_details": [dict(d) for d in self.crowd_model_details],
             "correlation": None if self.covariance is None else self.correlation.tolist(),
             "interval_on_bound": list(self.interval_on_bound),
             "cost": self.cost, "cost_no_hsi": self.cost_no_hsi,

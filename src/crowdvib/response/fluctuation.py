@@ -282,6 +282,16 @@ class FluctuatingSpectralModel:
             current = finer
         self.nodes, self.weights, self._models = current
 
+    def details(self) -> dict[str, Any]:
+        """What this mixture is made of, for a report: occupied mode, occupancy nodes, crossing
+        spread [Hz], whether the drift correction is applied, κ and ε."""
+        return {"mode": self.mode, "occupancy_nodes": int(len(self.nodes)),
+                "crossing_spread": float(self.crossing_spread),
+                "drift_correction": bool(self.modulation),
+                "spread_parameter": float(self.spread_parameter),
+                "spread_limit": _SPREAD_LIMIT,
+                "modulation_parameter": float(self.modulation_parameter)}
+
     def with_step_frequencies(self, crowd: Crowd) -> "FluctuatingSpectralModel":
         """The same mixture for a crowd that differs only in its step-frequency distribution.
 
