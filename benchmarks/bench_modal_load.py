@@ -17,21 +17,19 @@ import time
 import numpy as np
 from scipy.signal import welch
 
-from crowdvib import Crowd, ModalModel, simulate
+from bench_intervals import BRIDGE, paper_crowd     # the calibration's bridge and crowds
+
+from crowdvib import simulate
 from crowdvib.models.loading import as_force_model
 from crowdvib.response._crossing import crossing_spread, smoothed_load_spectrum
 
-BRIDGE = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
-#: The paper's crowd at 0.5 P/m²; other densities from Crowd.from_density (as bench_intervals).
-PAPER_CROWD = Crowd(density=0.5, walking_speed=1.30, step_frequency_mean=1.89,
-                    step_frequency_std=0.175, body_mass=70.0)
 BANDS = ((1.5, 1.7), (1.7, 1.8), (1.8, 1.85), (1.85, 1.9), (1.9, 1.95), (1.95, 2.0), (2.0, 2.05),
          (2.05, 2.1), (2.1, 2.2), (2.2, 2.4))
 SAMPLE_RATE, WINDOW = 20.0, 60.0
 
 
 def main(density=0.5, hours=100):
-    crowd = PAPER_CROWD if density == 0.5 else Crowd.from_density(density, body_mass=70.0)
+    crowd = paper_crowd(density)
     started, per_hour = time.perf_counter(), []
     for seed in range(1, hours + 1):
         record = simulate(BRIDGE, crowd, 3600.0, msd=None, rng=1000 + seed, warm_up=100.0,
