@@ -29,7 +29,10 @@ import numpy as np
 from scipy.linalg import expm
 from scipy.signal import welch
 
-from crowdvib import Crowd, ModalModel, MSDModel
+from bench_coupling import case as coupling_case          # the 20 m bridge's cases
+from bench_intervals import BRIDGE, paper_crowd           # the paper example's
+
+from crowdvib import MSDModel
 from crowdvib.response._modulation import (OccupancyPath, _OccupiedMode, modulation_correction,
                                            occupancy_rate_variance)
 from crowdvib.response.fluctuation import FluctuatingSpectralModel, occupancy_cumulants
@@ -40,16 +43,11 @@ BANDS = ((-8, -4), (-4, -2), (-2, -1), (-1, 1), (1, 2), (2, 4), (4, 8))
 
 
 def case(name):
+    """(bridge, crowd): the paper example's at 0.25 P/m², or bench_coupling's case A (light,
+    κ = 0.42) or D (strong, κ = 1.38)."""
     if name == "paper":
-        return (ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3),
-                Crowd.from_density(0.25, body_mass=70.0))
-    light = Crowd(density=1.2, walking_speed=1.3, step_frequency_mean=1.95,
-                  step_frequency_std=0.175, body_mass=17.5)
-    if name == "light":
-        return ModalModel.simply_supported_beam(20.0, 2.0, 2.0, 0.005, 12600.0), light
-    return (ModalModel.simply_supported_beam(20.0, 2.0, 2.0, 0.005, 4200.0),
-            Crowd(density=0.3, walking_speed=1.3, step_frequency_mean=1.95,
-                  step_frequency_std=0.175, body_mass=70.0))
+        return BRIDGE, paper_crowd(0.25)
+    return coupling_case({"light": "A", "strong": "D"}[name])
 
 
 @numba.njit(cache=True)

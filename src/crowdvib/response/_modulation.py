@@ -48,7 +48,7 @@ _LIGHT_DAMPING, _REACH, _MIN_REACH = 0.2, 40.0, 0.2
 #: The grid in u: _PER_SCALE steps over the shorter of the occupancy's time scale σ/σ_λ̇ and the
 #: memory 1/Γ, out to _MEMORIES memories (e^{−12} of the amplitude); at most _MAX_POINTS. The
 #: piecewise-linear quadrature errs as h²: the result on this grid and on every other point of
-#: it are extrapolated (Richardson), which leaves 1e-3 of the correction against 8 times the
+#: it are extrapolated (Richardson), which leaves 7e-4 of the correction against ten times the
 #: points and 16 memories, at a third of the cost of 12 steps per scale without it.
 _PER_SCALE, _MEMORIES, _MAX_POINTS = 6, 12.0, 1025
 
@@ -285,29 +285,28 @@ def modulation_correction(structure: ModalModel, attached: tuple, shapes: np.nda
     return np.multiply.outer(outputs**2, result)
 
 
-def modulation_parameter(structure: ModalModel, attached: tuple, mode: int,
-                         path: OccupancyPath) -> float:
-    """ε = Var λ̇ / (Var λ Γ²): the squared ratio of the occupied mode's memory 1/Γ (Γ = −Re p
-    of its pole at the mean occupancy) to the occupancy's time scale σ/σ_λ̇. Where it is small
-    the mixture alone holds; the correction matters as it approaches 1 and beyond (docs:
-    theory, Beyond the quasi-static mixture)."""
-    poles = np.linalg.eigvals(_OccupiedMode(structure, attached, mode).system(1.0)[0])
-    light = poles[_is_light(poles)]
-    decay = -(light if light.size else poles).real.min()
-    return float(path.rate_variance / (path.variance * decay**2))
+def drift_parameters(structure: ModalModel, attached: tuple, mode: int,
+                     path: OccupancyPath) -> tuple[float, float]:
+    """(ε, κ) of the occupied mode's lightly damped pole p at the mean occupancy (the one with
+    the shortest memory 1/Γ, Γ = −Re p; docs: theory, Beyond the quasi-static mixture):
 
+    * ε = Var λ̇ / (Var λ Γ²), the squared ratio of the memory to the occupancy's time scale
+      σ/σ_λ̇: where it is small the mixture alone holds, the correction matters from about 1;
+    * κ = σ_λ |Im p'| / Γ, how many half-power half-widths the resonance moves over one
+      standard deviation of the occupancy: the correction is checked against the simulator up
+      to κ = 0.42 and overshoots from κ = 0.69.
 
-def spread_parameter(structure: ModalModel, attached: tuple, mode: int,
-                     path: OccupancyPath) -> float:
-    """κ = σ_λ |Im p'| / Γ at the mean occupancy: how many half-power half-widths the occupied
-    resonance moves over one standard deviation of the occupancy (the same pole as ε; 0 where
-    no pole is lightly damped). The correction is checked against the simulator up to
-    κ = 0.42 and overshoots from κ = 0.69 (docs: theory, Beyond the quasi-static mixture)."""
-    track, slope, _, _ = _OccupiedMode(structure, attached, mode).drifting_poles(np.ones(1))
+    Where no pole is lightly damped ε takes the largest decay of all poles and κ is 0.
+    """
+    occupied = _OccupiedMode(structure, attached, mode)
+    track, slope, _, _ = occupied.drifting_poles(np.ones(1))
     if not track.size:
-        return 0.0
+        decay = float(-np.linalg.eigvals(occupied.system(1.0)[0]).real.min())
+        return float(path.rate_variance / (path.variance * decay**2)), 0.0
     pole = np.argmax(-track[:, 0].real)
-    return float(np.sqrt(path.variance) * abs(slope[pole, 0].imag) / -track[pole, 0].real)
+    decay = float(-track[pole, 0].real)
+    return (float(path.rate_variance / (path.variance * decay**2)),
+            float(np.sqrt(path.variance) * abs(slope[pole, 0].imag) / decay))
 
 
 def _near_resonances(poles, frequency):

@@ -34,8 +34,8 @@ from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ..signals import ResponsePSD
 from ._crossing import crossing_spread
-from ._modulation import (OccupancyPath, modulation_correction, modulation_parameter,
-                          occupancy_rate_variance, spread_parameter)
+from ._modulation import (OccupancyPath, drift_parameters, modulation_correction,
+                          occupancy_rate_variance)
 from .spectral import SpectralModel
 
 __all__ = ["FluctuatingSpectralModel", "occupancy_quadrature", "occupancy_cumulants",
@@ -234,7 +234,6 @@ class FluctuatingSpectralModel:
         self.crossing_spread = (crossing_spread(structure, crowd.walking_speed, self.mode)
                                 if finite_crossing and crowd.density > 0 else 0.0)
         options = dict(options, crossing_spread=self.crossing_spread)
-        self._options = options
         self._base = SpectralModel(structure, crowd, frequency, **options)
         self.rate_variance = self.modulation_parameter = self.spread_parameter = 0.0
         self._path = None
@@ -244,11 +243,9 @@ class FluctuatingSpectralModel:
                 variance=occupancy_cumulants(structure, crowd.density, self.mode, order=2)[1],
                 rate_variance=occupancy_rate_variance(structure, crowd.density,
                                                       crowd.walking_speed, self.mode))
-            reference = self._base._attached(_REFERENCE_MSD)
             self.rate_variance = path.rate_variance
-            self.modulation_parameter = modulation_parameter(structure, reference, self.mode,
-                                                             path)
-            self.spread_parameter = spread_parameter(structure, reference, self.mode, path)
+            self.modulation_parameter, self.spread_parameter = drift_parameters(
+                structure, self._base._attached(_REFERENCE_MSD), self.mode, path)
             if modulation or self.spread_parameter <= _SPREAD_LIMIT:
                 self._path = path
         self.modulation = self._path is not None
@@ -300,18 +297,15 @@ class FluctuatingSpectralModel:
         fits μ_fs and σ_fs builds hundreds of these).
         """
         check_type("crowd", crowd, Crowd)
-        if crowd.density != self.crowd.density:
-            raise ParameterError(f"crowd.density must stay {self.crowd.density:g} P/m² (the "
-                                 f"occupancy law is kept), got {crowd.density:g}")
-        # The occupancy's path (walking speed) and the drift correction per unit load (body
-        # mass) are kept too: nothing but the step frequencies may change.
-        kept = dataclasses.replace(crowd, step_frequency_mean=self.crowd.step_frequency_mean,
-                                   step_frequency_std=self.crowd.step_frequency_std)
-        if kept != self.crowd:
-            changed = [field.name for field in dataclasses.fields(Crowd)
-                       if getattr(kept, field.name) != getattr(self.crowd, field.name)]
+        # The occupancy law (density), its path (walking speed) and the drift correction per
+        # unit load (body mass) are kept: nothing but the step frequencies may change.
+        changed = [f"{field.name} {getattr(self.crowd, field.name)!r} → "
+                   f"{getattr(crowd, field.name)!r}" for field in dataclasses.fields(Crowd)
+                   if field.name not in ("step_frequency_mean", "step_frequency_std")
+                   and getattr(crowd, field.name) != getattr(self.crowd, field.name)]
+        if changed:
             raise ParameterError(f"crowd may differ from the model's in its step frequencies "
-                                 f"only (the occupancy law and path are kept), got other "
+                                 f"only (the occupancy law and path are kept), got "
                                  f"{', '.join(changed)}")
         other = copy.copy(self)
         other.crowd = crowd
@@ -335,7 +329,7 @@ class FluctuatingSpectralModel:
     def _modulation(self, msd, cross):
         """The slow-modulation correction, as the Welch estimate sees it (0 without HSI, with
         one node or without ``modulation``)."""
-        if msd is None or self._path is None or len(self.nodes) == 1:
+        if msd is None or self._path is None:       # no HSI, no nodes or no correction
             return 0.0
         # On the base model's grid with its load weight (the Welch rule's, or the frequencies).
         welch = self._base._welch
