@@ -15,11 +15,60 @@ def check_type(name, value, kind):
     return value
 
 
+def check_flag(name, value):
+    """Require a boolean (True or False, numpy's too): "no" or 0 for a switch is refused, not
+    read by its truth value; return it as bool."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def check_count(name, value, minimum=0):
+    """Require an integer count >= ``minimum`` (an integral float such as 3.0 too, not 2.5 nor
+    True); return it as int."""
+    integral = isinstance(value, (int, np.integer)) or (
+        isinstance(value, (float, np.floating)) and float(value).is_integer())
+    if isinstance(value, (bool, np.bool_)) or not integral or value < minimum:
+        raise ParameterError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def _refuse_non_real(name, value):
+    """Strings and complex numbers are not read as numbers: numpy would turn "3" into 3.0 and
+    drop an imaginary part with only a ComplexWarning."""
+    raw = np.asarray(value) if not isinstance(value, np.ndarray) else value
+    kind = raw.dtype.kind
+    if kind == "O":
+        items = raw.ravel().tolist()
+        bad = next((x for x in items if isinstance(x, (str, bytes, complex, np.complexfloating))),
+                   None)
+        kind = "c" if isinstance(bad, (complex, np.complexfloating)) else ("U" if bad is not None
+                                                                            else kind)
+    if value is None or (kind == "O" and any(x is None for x in raw.ravel().tolist())):
+        raise ParameterError(f"{name} must be numeric, got None")
+    if kind in "USc":
+        what = "complex" if kind == "c" else "a string"
+        shown = value
+        if raw.ndim and kind == "c":
+            flat = raw.ravel().astype(complex)
+            shown = (flat[np.flatnonzero(flat.imag != 0)[0]] if np.any(flat.imag != 0)
+                     else flat[0]).item()
+        elif raw.ndim:
+            shown = raw.ravel()[0].item()
+        raise ParameterError(f"{name} must be real numbers, not {what}, got {shown!r}")
+
+
 def as_float_array(name, value, *, ndim=None):
-    """Return ``value`` as a finite float64 array, checking its number of dimensions."""
+    """Return ``value`` as a finite float64 array, checking its number of dimensions.
+
+    Strings and complex values are refused (:func:`_refuse_non_real`), not converted.
+    """
     try:
+        _refuse_non_real(name, value)
         array = np.array(value, dtype=float)
     except (TypeError, ValueError) as exc:
+        if isinstance(exc, ParameterError):
+            raise
         raise ParameterError(f"{name} must be numeric, got {value!r}") from exc
     if ndim is not None and array.ndim != ndim:
         raise ParameterError(f"{name} must have {ndim} dimension(s), got shape {array.shape}")

@@ -15,21 +15,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import (as_float_array, check_damping_ratio, check_non_negative, check_positive,
-                          frozen_array, name_indices)
-from ..errors import ParameterError
+import warnings
+
+from .._plausibility import RANGES, implausibility
+from .._validation import (as_float_array, check_count, check_damping_ratio, check_non_negative,
+                          check_positive, frozen_array, name_indices)
+from ..errors import ParameterError, PlausibilityWarning
 
 __all__ = ["ModalModel"]
-
-
-#: Damping ratio above which a footbridge mode is doubtful (docs: theory, Conventions). Measured
-#: footbridge modes lie around 0.002–0.05 (paper's bridges: 0.25–0.86 %).
-MAX_PLAUSIBLE_DAMPING_RATIO = 0.10
-#: Equivalent deck mass m_j / ∫φ_j² dA [kg/m²] of footbridges: light FRP or timber decks from
-#: ~50 kg/m², heavy concrete decks a few t/m²; modes moving little of the walkway weigh more.
-#: The range is wide on purpose: it catches factors of 1000 (tonnes for kg) and mismatched
-#: scalings, not unusual bridges.
-PLAUSIBLE_DECK_MASS = (20.0, 1e5)
 
 
 def _trapezoid_weights(points, lower, upper):
@@ -146,6 +139,10 @@ class ModalModel:
             object.__setattr__(self, name, frozen_array(value))
         object.__setattr__(self, "width", width)
         object.__setattr__(self, "output_names", names)
+        # Once per model, where it is built (a case file, an FE export, the user's code): the
+        # estimator and the design check name the same notes again for their verdicts.
+        for note in self.implausibilities():
+            warnings.warn(note, PlausibilityWarning, stacklevel=3)
 
     def __repr__(self):
         f = self.frequencies
@@ -178,34 +175,37 @@ class ModalModel:
     def implausibilities(self) -> list[str]:
         """Values that are legal but unlikely for a footbridge, with their likely cause.
 
-        Two checks (docs: theory, Conventions), both independent of the mode-shape scaling:
+        The checks of docs: theory, Plausible ranges, all independent of the mode-shape scaling:
 
-        * a damping ratio ξ_j above ``MAX_PLAUSIBLE_DAMPING_RATIO`` (a percentage given for a
-          fraction: 0.5 meant as 0.5 %);
-        * an equivalent deck mass m_j / ∫_A φ_j² dA outside ``PLAUSIBLE_DECK_MASS`` [kg/m²]
-          (tonnes for kilograms, or modal masses that do not match the shapes' scaling).
+        * a damping ratio ξ_j above 0.1 (a percentage given for a fraction: 0.5 meant as 0.5 %);
+        * a lowest natural frequency above 10 Hz (rad/s given for Hz);
+        * a walkway longer than 1 km or wider than 30 m (millimetres given for metres);
+        * an equivalent deck mass m_j / ∫_A φ_j² dA outside 20–1e5 kg/m² (tonnes for kilograms,
+          or modal masses that do not match the shapes' scaling).
+
+        The constructor warns (:class:`PlausibilityWarning`) with these notes.
 
         Returns
         -------
         list of str
             One sentence per doubtful value; empty when all is plausible.
         """
-        notes = []
-        for j, ratio in enumerate(self.damping_ratios):
-            if ratio > MAX_PLAUSIBLE_DAMPING_RATIO:
-                notes.append(
-                    f"damping_ratios[{j}] = {ratio:g} is above {MAX_PLAUSIBLE_DAMPING_RATIO:g}, "
-                    f"unusual for a footbridge mode: percent instead of fraction? "
-                    f"({ratio:g} % is {ratio / 100:g})")
-        low, high = PLAUSIBLE_DECK_MASS
+        notes = [implausibility("damping_ratio", ratio, f"damping_ratios[{j}]")
+                 for j, ratio in enumerate(self.damping_ratios)]
+        notes += [implausibility("lowest_frequency", self.frequencies.min(),
+                                 f"frequencies[{int(np.argmin(self.frequencies))}]"),
+                  implausibility("length", self.length, "walkway length (positions)"),
+                  implausibility("width", self.width, "width")]
+        notes = [note for note in notes if note is not None]
+        deck = RANGES["deck_mass"]
         mass_per_area = self.modal_masses / np.diag(self.influence_matrix(1.0))
         for j, value in enumerate(mass_per_area):
-            if not low <= value <= high:
+            if not deck.contains(value):
                 notes.append(
                     f"modal_masses[{j}] = {self.modal_masses[j]:g} kg stands for a deck of "
                     f"{value:.3g} kg/m² over the walkway (m_j / ∫φ_j² dA), outside the "
-                    f"{low:g}–{high:g} kg/m² of footbridges: tonnes instead of kg, or modal "
-                    "masses not in the scaling of the mode shapes?")
+                    f"{deck.low:g}–{deck.high:g} kg/m² of footbridges: tonnes instead of kg, or "
+                    "modal masses not in the scaling of the mode shapes?")
         return notes
 
     def influence_matrix(self, density: float) -> np.ndarray:
@@ -348,19 +348,17 @@ class ModalModel:
         37.5
         """
         span = check_positive("span", span, unit="m")
-        if int(n_modes) != n_modes or n_modes < 1:
-            raise ParameterError(f"n_modes must be a positive integer, got {n_modes!r}")
-        if int(n_points) != n_points or n_points < 3:
-            raise ParameterError(f"n_points must be an integer >= 3, got {n_points!r}")
-        order = np.arange(1, int(n_modes) + 1)
-        frequency = np.atleast_1d(np.asarray(frequency, dtype=float))
+        n_modes = check_count("n_modes", n_modes, 1)
+        n_points = check_count("n_points", n_points, 3)
+        order = np.arange(1, n_modes + 1)
+        frequency = np.atleast_1d(as_float_array("frequency", frequency))
         frequencies = frequency[0] * order**2 if frequency.size == 1 else frequency
         outputs = {"midspan": span / 2} if outputs is None else dict(outputs)
         for label, x in outputs.items():
             if not 0.0 <= float(x) <= span:
                 raise ParameterError(
                     f"outputs[{label!r}] must lie on the span [0, {span:g}] m, got {x!r}")
-        positions = np.linspace(0.0, span, int(n_points))
+        positions = np.linspace(0.0, span, n_points)
 
         def sine(x):
             return np.sin(np.pi * np.outer(np.asarray(x, dtype=float), order) / span)
