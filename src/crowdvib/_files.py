@@ -1,15 +1,50 @@
 """Safe file output: atomic writes (a reader never sees a half-written file, a crash leaves the
-old one intact) and file names from user strings that cannot leave their directory."""
+old one intact), write failures as one error naming the path and the cause, a lock that keeps
+two runs from writing one results folder, and file names from user strings that cannot leave
+their directory."""
 
 import contextlib
+import datetime
+import errno
 import json
 import os
+import socket
+import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-from .errors import DataError
+from .errors import DataError, OutputError, ParameterError
+
+# ------------------------------------------------------------------------------ write failures
+#: What an errno means for someone writing results, and what to do about it.
+_CAUSES = {
+    errno.ENOSPC: "the disk is full: free space and run again (a study continues with --resume)",
+    errno.EDQUOT: "the disk quota is used up: free space and run again",
+    errno.EROFS: "the file system is mounted read-only",
+    errno.EFBIG: "the file would exceed the file-size limit of this process (ulimit -f) or of "
+                 "the file system",
+    errno.EACCES: "no permission to write there",
+    errno.EPERM: "the folder does not allow it (immutable? see lsattr)",
+}
+
+
+def os_error_text(error, path=None):
+    """``PATH: cause (what it means)`` for an ``OSError``; ``path`` replaces the error's own (the
+    result a temporary file was for)."""
+    where = path if path is not None else error.filename
+    hint = _CAUSES.get(error.errno)
+    text = (error.strerror or str(error)) + (f" ({hint})" if hint else "")
+    return text if where is None else f"{where}: {text}"
+
+
+def output_error(error, path=None):
+    """The :class:`OutputError` for an ``OSError`` met writing ``path`` (see
+    :func:`os_error_text`)."""
+    result = OutputError(f"cannot write {os_error_text(error, path)}")
+    result.errno, result.filename = error.errno, path if path is not None else error.filename
+    return result
 
 
 @contextlib.contextmanager
@@ -21,22 +56,28 @@ def atomic_path(path, *, fsync=False):
     alone orders nothing on ext4/xfs with delayed allocation).
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    os.close(handle)
-    # mkstemp creates 0600 files; give the result the permissions a plain open() would.
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(temporary, 0o666 & ~umask)
+    temporary = None
     try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part",
+                                             dir=path.parent)
+        os.close(handle)
+        # mkstemp creates 0600 files; give the result the permissions a plain open() would.
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(temporary, 0o666 & ~umask)
         yield Path(temporary)
         if fsync:
             _fsync(temporary, os.O_RDONLY)
         os.replace(temporary, path)
         if fsync:
             _fsync(path.parent, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except OutputError:
+        raise
+    except OSError as error:         # disk full, read-only, size limit: one line, no traceback
+        raise output_error(error, path) from error
     finally:
-        if os.path.exists(temporary):
+        if temporary is not None and os.path.exists(temporary):
             os.unlink(temporary)
 
 
@@ -64,6 +105,13 @@ def write_json(path, data, *, fsync=False):
     return Path(path)
 
 
+def canonical_json(data):
+    """``data`` as :func:`write_json` stores it, in one canonical line (sorted keys, no spaces):
+    the same text for the data written and the data read back, for content hashes."""
+    return json.dumps(_replace_nan(data), default=_json_default, allow_nan=False,
+                      sort_keys=True, separators=(",", ":"))
+
+
 def _replace_nan(value):
     if isinstance(value, float) and not np.isfinite(value):
         return None
@@ -72,6 +120,96 @@ def _replace_nan(value):
     if isinstance(value, (list, tuple)):
         return [_replace_nan(v) for v in value]
     return value
+
+
+# ------------------------------------------------------------------------------ folder locks
+#: Descriptors of the locks this process holds. A forked worker inherits them and with them the
+#: lock (flock belongs to the open file, not the process): it closes its copies at once, so a
+#: killed run's orphaned worker cannot keep its folder locked.
+_HELD = set()
+if hasattr(os, "register_at_fork"):
+    def _drop_inherited_locks():
+        for descriptor in _HELD:
+            with contextlib.suppress(OSError):
+                os.close(descriptor)
+        _HELD.clear()
+
+    os.register_at_fork(after_in_child=_drop_inherited_locks)
+
+
+def lock_path(directory):
+    """The lock file of results folder ``directory``: beside it, ``.NAME.lock``, as it must
+    outlive the folder being swapped for its staged replacement."""
+    directory = Path(directory).resolve()
+    return directory.parent / f".{directory.name}.lock"
+
+
+@contextlib.contextmanager
+def folder_lock(directory, command):
+    """Hold the lock of results folder ``directory`` while the block runs.
+
+    The lock is an ``flock`` on :func:`lock_path`, holding who took it (pid, host, start time,
+    command). A second writer is refused with a :class:`ParameterError` naming that holder. The
+    kernel drops the lock of a process that dies, so a lock file left by a killed run is taken
+    over, with a note on stderr naming the run that left it.
+    """
+    import fcntl
+
+    path = lock_path(directory)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        while True:
+            descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+            try:
+                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = _holder(descriptor)
+                os.close(descriptor)
+                raise ParameterError(
+                    f"--out {directory} is being written by another crowdvib run "
+                    f"({_describe(holder)}): two runs may not write one results folder; wait "
+                    "for it to end or choose another --out") from None
+            # The holder before us may have deleted the file after we opened it: lock the file
+            # that is there now, or two runs would each hold a lock on a different file.
+            with contextlib.suppress(FileNotFoundError):
+                if os.stat(path).st_ino == os.fstat(descriptor).st_ino:
+                    break
+            os.close(descriptor)
+        _HELD.add(descriptor)
+        left = _holder(descriptor)
+        if left:
+            print(f"crowdvib: note: took over the lock of {directory} left by a run that ended "
+                  f"without releasing it ({_describe(left)})", file=sys.stderr, flush=True)
+        started = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
+        record = json.dumps({"pid": os.getpid(), "host": socket.gethostname(),
+                             "started": started, "command": command}).encode()
+        os.ftruncate(descriptor, 0)
+        os.pwrite(descriptor, record, 0)
+    except OSError as error:
+        raise output_error(error, path) from error
+    try:
+        yield path
+    finally:
+        _HELD.discard(descriptor)
+        with contextlib.suppress(OSError):
+            os.unlink(path)             # while still locked: the next run finds no stale record
+        os.close(descriptor)
+
+
+def _holder(descriptor):
+    """The record in a lock file ({} if empty or unreadable)."""
+    try:
+        data = json.loads(os.pread(descriptor, 4096, 0) or b"{}")
+    except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) else {}
+
+
+def _describe(holder):
+    if not holder:
+        return "holder unknown"
+    return (f"crowdvib {holder.get('command')}, pid {holder.get('pid')} on host "
+            f"{holder.get('host')}, started {holder.get('started')}")
 
 
 # ------------------------------------------------------------------------------ file names

@@ -7,13 +7,20 @@ was edited since, is *foreign* and makes ``--force`` refuse rather than lose som
 
 A resumable study also names *store* directories (its task stores): the task files it writes
 there one by one, while it runs, are owned without being listed, so a study killed before its
-manifest was completed can still be resumed or replaced.
+manifest was completed can still be resumed or replaced. A task file proves itself: it is
+crowdvib's only while its content matches the SHA-256 written into it
+(:func:`crowdvib.identification.tasks.read_task_file`); any other file in a store, a user's
+``*.json`` included, is foreign to ``--force``. Only ``--resume`` rewrites a damaged or edited
+file named as a task file (its name is a digest of its task's key, which crowdvib chose),
+computing its task again with a warning naming it. The temporaries of a store's atomic writes
+(``.NAME.json.XXXX.part``, left by a kill), recognised by that name alone, as they are cut short.
 """
 
 import contextlib
 import datetime
 import json
 import os
+import re
 from pathlib import Path
 
 from . import __version__
@@ -77,7 +84,8 @@ def write_manifest(directory, command, *, stores=(), complete=True):
     complete : bool
         False while a resumable study is still running.
     """
-    files = [_entry(directory, p) for p in _walk(directory) if p != MANIFEST_NAME]
+    files = [_entry(directory, p) for p in _walk(directory) if p != MANIFEST_NAME
+             and _owned_store_file(directory, p, stores) is not False]
     created = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     return write_json(Path(directory) / MANIFEST_NAME, {
         "crowdvib_manifest": _FORMAT, "crowdvib_version": __version__, "command": command,
@@ -91,6 +99,31 @@ def _in_store(relative, stores):
             and (parts[1].endswith(".json") or parts[1].endswith(".part")))
 
 
+#: The temporary of an atomic write of a task file (src/crowdvib/_files.py atomic_path).
+_TEMPORARY = re.compile(r"\.[0-9a-f]+\.json\.[A-Za-z0-9_]+\.part")
+#: A task file's name (src/crowdvib/identification/tasks.py _file_name).
+_TASK_NAME = re.compile(r"[0-9a-f]{16}\.json")
+
+
+def _owned_store_file(directory, relative, stores, resume=False):
+    """None if ``relative`` is not in a store, else whether crowdvib may replace it: it provably
+    wrote it, or (``resume``) it is named as a task file, which a resumed study recomputes."""
+    from .identification.tasks import read_task_file
+
+    if not _in_store(relative, stores):
+        return None
+    path = Path(directory) / relative
+    if path.is_symlink():                 # crowdvib writes no links
+        return False
+    if _TEMPORARY.fullmatch(path.name) or (resume and _TASK_NAME.fullmatch(path.name)):
+        return True
+    try:
+        read_task_file(path)
+    except (ValueError, OSError):
+        return False
+    return True
+
+
 def only_stores(directory, stores):
     """True if every file below ``directory`` is a task file of one of the ``stores``.
 
@@ -99,8 +132,10 @@ def only_stores(directory, stores):
     return bool(stores) and all(_in_store(f, stores) for f in _walk(directory))
 
 
-def foreign_files(directory, manifest=None):
+def foreign_files(directory, manifest=None, *, resume=False):
     """Files below ``directory`` crowdvib did not write: not listed, or changed since.
+
+    With ``resume``, damaged or edited task files are not counted (see the module docstring).
 
     Returns
     -------
@@ -114,7 +149,10 @@ def foreign_files(directory, manifest=None):
     for relative in _walk(directory):
         if relative == MANIFEST_NAME and manifest is not None:
             continue
-        if _in_store(relative, stores):
+        owned = _owned_store_file(directory, relative, stores, resume)
+        if owned is not None:       # a store's file is judged by its content, listed or not
+            if not owned:
+                foreign.append(relative)
             continue
         entry = listed.get(relative)
         path = Path(directory) / relative

@@ -10,6 +10,7 @@ __all__ = [
     "ParameterError",
     "DataError",
     "EstimationError",
+    "OutputError",
     "CrowdvibWarning",
     "BoundWarning",
     "ConvergenceWarning",
@@ -35,6 +36,11 @@ class DataError(ParameterError):
 
 class EstimationError(CrowdvibError, RuntimeError):
     """The estimation problem cannot be solved (non-finite objective, singular model)."""
+
+
+class OutputError(CrowdvibError, OSError):
+    """Results cannot be written: the message names the path and the cause (disk full, read-only
+    or immutable folder, file-size limit); nothing half-written is left."""
 
 
 class CrowdvibWarning(UserWarning):

@@ -405,17 +405,21 @@ def test_sensitivity_force_and_resume_follow_the_manifest(tmp_path, capsys):
 def test_an_interrupted_study_can_be_resumed_or_replaced(tmp_path):
     # A study killed after some tasks: an incomplete manifest naming its stores, task files and
     # the hidden temporary of an unfinished atomic write (src/crowdvib/_files.py atomic_path).
+    # A task file is crowdvib's by its content (issue 24 §3: its digest), so it is written by
+    # the TaskStore here, not faked as "{}" (which is now a user's file --force refuses).
     from crowdvib.cli.common import prepare_output
+    from crowdvib.identification import TaskStore
 
     out = tmp_path / "study"
     prepare_output(out, force=False, resume=False, command="sensitivity", stores=("tasks",))
     assert read_manifest(out)["complete"] is False
-    (out / "tasks").mkdir()
-    (out / "tasks" / "0123.json").write_text("{}")
+    store = TaskStore(out / "tasks")
+    store.put("nominal@0123", {"frequency": 3.0})
+    task_file, = (out / "tasks").glob("*.json")
     (out / "tasks" / ".4567.json.abc.part").write_text("{")
     assert foreign_files(out) == []
     prepare_output(out, force=False, resume=True, command="sensitivity", stores=("tasks",))
-    assert (out / "tasks" / "0123.json").exists()
+    assert store.get("nominal@0123") == {"frequency": 3.0} and task_file.exists()
     prepare_output(out, force=True, resume=False, command="sensitivity", stores=("tasks",))
     assert sorted(p.name for p in out.rglob("*")) == [MANIFEST_NAME]
 
@@ -426,9 +430,10 @@ def test_a_study_from_before_manifests_resumes_but_is_not_replaced(tmp_path):
 
     out = tmp_path / "study"
     (out / "tasks").mkdir(parents=True)
-    (out / "tasks" / "0123.json").write_text("{}")
+    # Named as a task file (16 hex digits, issue 24 §3): --resume may recompute it, not --force.
+    (out / "tasks" / "0123456789abcdef.json").write_text("{}")
     with pytest.raises(ParameterError, match="not written by crowdvib"):
         prepare_output(out, force=True, command="sensitivity", stores=("tasks",))
     prepare_output(out, force=False, resume=True, command="sensitivity", stores=("tasks",))
-    assert (out / "tasks" / "0123.json").read_text() == "{}"
+    assert (out / "tasks" / "0123456789abcdef.json").read_text() == "{}"
     assert read_manifest(out)["stores"] == ["tasks"]

@@ -9,6 +9,7 @@ import numpy as np
 from tqdm import tqdm
 
 from .. import __version__
+from .._files import folder_lock, output_error
 
 __all__ = ["add_output_arguments", "ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "say",
            "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output",
@@ -125,7 +126,7 @@ def check_output(out, *, force, resume=None, inputs=(), command="", stores=()):
     if resume and not force and manifest.get("command") != command:
         raise ParameterError(f"--out {out} holds results of crowdvib {manifest.get('command')}, "
                              f"not of {command}: --resume continues only a {command} run")
-    foreign = foreign_files(out, manifest)
+    foreign = foreign_files(out, manifest, resume=bool(resume and not force))
     if foreign:
         shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5
                                           else "")
@@ -138,8 +139,8 @@ def check_output(out, *, force, resume=None, inputs=(), command="", stores=()):
 def prepare_output(out, *, force, resume=False, inputs=(), command, stores=()):
     """Make ``out`` ready for a run that writes into it in place (a resumable study).
 
-    Checks it (:func:`check_output`); with --force removes the files of the previous crowdvib
-    run; creates it and marks it with an incomplete manifest naming the task ``stores``, so an
+    Call it holding the folder's lock (:func:`crowdvib._files.folder_lock`). Checks it
+    (:func:`check_output`); with --force removes the files of the previous crowdvib run; creates it and marks it with an incomplete manifest naming the task ``stores``, so an
     interrupted run can be resumed or replaced. Call :func:`finish_output` when done.
 
     Returns
@@ -154,7 +155,10 @@ def prepare_output(out, *, force, resume=False, inputs=(), command, stores=()):
     if force and manifest is not None:
         remove_owned(out)
         manifest = None
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise output_error(error, out) from error
     if manifest is None or read_manifest(out) is None:
         write_manifest(out, command, stores=stores, complete=False)
     return out
@@ -171,7 +175,8 @@ def finish_output(out, *, command, stores=()):
 def staged_output(out, force, *, command, inputs=()):
     """Yield a staging directory that replaces ``out`` only if the block finishes.
 
-    ``out`` is checked first (:func:`check_output`). The block writes into a fresh directory
+    ``out`` is locked against a second run (:func:`crowdvib._files.folder_lock`) and checked
+    (:func:`check_output`). The block writes into a fresh directory
     beside ``out``; when it finishes, a manifest listing its files is added and it is swapped in
     for ``out`` (the previous crowdvib results are then deleted, file by listed file). A failed
     run removes the staging directory and leaves ``out`` as it was, so no half-written results
@@ -184,20 +189,26 @@ def staged_output(out, force, *, command, inputs=()):
     from .._manifest import write_manifest
 
     out = Path(out)
-    check_output(out, force=force, inputs=inputs, command=command)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".part", dir=out.parent))
-    # mkdtemp makes 0700 directories; results are shared like any directory mkdir makes.
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(staging, 0o777 & ~umask)
-    try:
-        yield staging
-        write_manifest(staging, command)
-        _publish(staging, out, force=force, inputs=inputs, command=command)
-    finally:
-        if staging.exists():   # a directory this run created and filled
-            shutil.rmtree(staging, ignore_errors=True)
+    check_clash(out, inputs)
+    with folder_lock(out, command):
+        check_output(out, force=force, inputs=inputs, command=command)
+        staging = None
+        try:
+            staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".part",
+                                            dir=out.parent))
+            # mkdtemp makes 0700 directories; results are shared like any directory mkdir makes.
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(staging, 0o777 & ~umask)
+        except OSError as error:
+            raise output_error(error, staging or out.parent) from error
+        try:
+            yield staging
+            write_manifest(staging, command)
+            _publish(staging, out, force=force, inputs=inputs, command=command)
+        finally:
+            if staging.exists():   # a directory this run created and filled
+                shutil.rmtree(staging, ignore_errors=True)
 
 
 def _publish(staging, out, *, force, inputs, command):
@@ -209,12 +220,17 @@ def _publish(staging, out, *, force, inputs, command):
     # Checked again: files may have appeared in --out while the run was working.
     check_output(out, force=force, inputs=inputs, command=command)
     old = None
-    if out.is_dir() and not any(out.iterdir()):
-        out.rmdir()
-    elif out.exists():
-        old = out.with_name(f".{out.name}.old-{os.getpid()}")
-        os.replace(out, old)
-    os.replace(staging, out)
+    try:
+        if out.is_dir() and not any(out.iterdir()):
+            out.rmdir()
+        elif out.exists():
+            old = out.with_name(f".{out.name}.old-{os.getpid()}")
+            os.replace(out, old)
+        os.replace(staging, out)
+    except OSError as error:
+        if old is not None and not out.exists():
+            os.replace(old, out)              # the previous results back where they were
+        raise output_error(error, out) from error
     if old is not None:
         left = remove_owned(old)
         if left:

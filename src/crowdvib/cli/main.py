@@ -1,8 +1,10 @@
 """Command line: ``crowdvib demo`` and the case-file commands.
 
 The CLI only parses arguments, calls the public API and writes through the file and plotting
-helpers. Exit codes: 0 success, 1 a crowdvib error (message on stderr; traceback with
-``--verbose``), 2 a usage error.
+helpers. Exit codes: 0 success, 1 an error, 2 a usage error, 130 Ctrl-C. Whatever ends a
+command, it ends in one line on stderr (the traceback only with ``--verbose``): a crowdvib
+error's message, an ``OSError`` as its path and cause, Ctrl-C as "interrupted", and any other
+exception as a bug in crowdvib, with how to report it.
 """
 
 import argparse
@@ -10,7 +12,7 @@ import sys
 from pathlib import Path
 
 from .. import __version__
-from .._files import require_file
+from .._files import os_error_text, require_file
 from ..errors import CrowdvibError
 from ..reporting.report import write_report
 from . import check, demo, estimate, landscape, modes, sensitivity, simulate
@@ -79,11 +81,26 @@ def main(argv=None):
             # Before the command imports scipy and numba: a wrong path is answered at once.
             require_file(case, "case")
         return _COMMANDS[args.command][1].run(args)
-    except CrowdvibError as error:
+    except KeyboardInterrupt:
+        # What a command keeps is its business (sensitivity keeps its finished tasks and says
+        # so); a staged one has removed its unfinished results by now.
+        print(f"\ncrowdvib {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as error:
         if args.verbose:
             raise
-        print(f"crowdvib {args.command}: error: {error}", file=sys.stderr)
+        print(f"crowdvib {args.command}: error: {_one_line(error)}", file=sys.stderr)
         return 1
+
+
+def _one_line(error):
+    """The line that tells a user what ended a command."""
+    if isinstance(error, CrowdvibError):
+        return str(error)
+    if isinstance(error, OSError):
+        return os_error_text(error)
+    return (f"{type(error).__name__}: {error}. This is a bug in crowdvib: please report it with "
+            "the output of the same command run with --verbose")
 
 
 if __name__ == "__main__":

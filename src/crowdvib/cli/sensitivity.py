@@ -6,10 +6,10 @@ import warnings
 from pathlib import Path
 
 from .. import __version__
-from .._files import require_file, write_json
+from .._files import folder_lock, require_file, write_json
 from ..reporting.report import provenance, write_report
-from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, dask_address,
-                     finish_output, prepare_output, progress_printer, say, versions)
+from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, check_clash,
+                     dask_address, finish_output, prepare_output, progress_printer, say, versions)
 from .estimate import case_crowd, case_measurement, estimate_options
 
 
@@ -111,12 +111,20 @@ def _estimate_with_warnings(measured, structure, crowd, options):
 
 def run(args):
     from ..io.casefile import load_case
+
+    case = load_case(args.case)
+    levels = None if args.modes_from is None else _identified_levels(args.modes_from)
+    check_clash(args.out, case_inputs(case))
+    # The study writes --out in place, task by task: no second run may write it meanwhile.
+    with folder_lock(args.out, "sensitivity"):
+        return _study(args, case, levels)
+
+
+def _study(args, case, levels):
     from ..reporting.plotting import plot_estimation_errors, save_figure
     from ..identification import (TaskStore, modelling_error_study, record_length_study,
                                   study_executor)
 
-    case = load_case(args.case)
-    levels = None if args.modes_from is None else _identified_levels(args.modes_from)
     stamp = provenance(case.path)
     out = prepare_output(args.out, force=args.force, resume=args.resume,
                          inputs=case_inputs(case), command="sensitivity", stores=_STORES)

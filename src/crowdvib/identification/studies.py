@@ -147,6 +147,11 @@ def _estimate_task(task):
             "active_bounds": list(estimate.active_bounds)}
 
 
+#: Keys of every result of :func:`_estimate_task` (a stored one lacking any is computed again).
+_ESTIMATE_FIELDS = ("frequency", "damping_ratio", "mass_ratio", "cost", "relative_cost",
+                    "success", "active_bounds")
+
+
 @dataclass(frozen=True, eq=False)
 class SensitivityResult:
     """Estimation errors caused by modelling errors (paper Figs. 11 and 19).
@@ -286,7 +291,8 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
     cases = error_cases(levels, joint=joint)
     tasks = [(case.name, _EstimationTask(measured, structure, crowd, case, options))
              for case in cases]
-    results = run_tasks(_estimate_task, tasks, executor=executor, store=store, progress=progress)
+    results = run_tasks(_estimate_task, tasks, executor=executor, store=store, progress=progress,
+                        fields=_ESTIMATE_FIELDS)
     nominal = results["nominal"]
     if "error" in nominal:
         raise CrowdvibError(f"the nominal estimation failed: {nominal['error']}")
@@ -385,7 +391,7 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
                                window_length, names, lowpass, structure, crowd, settings))
              for d in durations]
     results = run_tasks(_window_count_task, tasks, executor=executor, store=store,
-                        progress=progress)
+                        progress=progress, fields=_ESTIMATE_FIELDS + ("n_windows", "duration"))
     full = results[tasks[-1][0]]
     rows = []
     for key, _ in tasks:

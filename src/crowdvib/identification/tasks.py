@@ -11,8 +11,9 @@ determines its result (every array, number and option of its payload, the functi
 it and crowdvib's major version). A study resumed on changed inputs therefore finds no result for
 the tasks whose inputs changed and computes them again, saying so in a :class:`StudyWarning`
 that names what differs; the results of the old inputs stay in the store and are used again if
-the inputs change back. A damaged task file (empty, truncated, holding another task) is computed
-again with a warning naming it.
+the inputs change back. A damaged task file (empty, truncated, holding another task, its content
+no longer matching the SHA-256 recorded when it was written, a result lacking a field its study
+reads) is computed again with a warning naming it: an edited value is never taken as a result.
 """
 
 import concurrent.futures
@@ -27,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import write_json
+from .._files import canonical_json, write_json
 from ..errors import CrowdvibError, ParameterError, StudyWarning
 
 __all__ = ["TaskStore", "run_tasks", "fingerprint"]
@@ -150,7 +151,9 @@ class TaskStore:
 
     A task's file name is derived from its key, so a resumed study finds what is done without any
     index file that could be left half-written. Each file holds the task's ``key``, ``name``, the
-    hashes of its ``inputs`` (see :func:`fingerprint`) and its ``result``.
+    hashes of its ``inputs`` (see :func:`fingerprint`), its ``result`` and the ``sha256`` of all
+    four (:func:`record_digest`): a file whose content no longer matches it was not written so
+    by crowdvib, and is neither reused nor (see :mod:`crowdvib._manifest`) ever deleted.
     """
 
     def __init__(self, directory):
@@ -158,28 +161,10 @@ class TaskStore:
         self.directory.mkdir(parents=True, exist_ok=True)
 
     def _path(self, key):
-        digest = hashlib.sha1(key.encode()).hexdigest()[:16]
-        return self.directory / f"{digest}.json"
+        return self.directory / _file_name(key)
 
     def _read(self, path):
-        """The record in ``path``; ValueError saying what is wrong with it."""
-        try:
-            text = path.read_bytes().decode("utf-8")
-        except UnicodeDecodeError:
-            raise ValueError("not UTF-8 text") from None
-        if not text.strip():
-            raise ValueError("empty")
-        try:
-            record = json.loads(text)
-        except json.JSONDecodeError as error:
-            raise ValueError(f"not valid JSON, truncated? ({error.msg} at byte {error.pos})") \
-                from None
-        if not (isinstance(record, dict) and isinstance(record.get("key"), str)
-                and isinstance(record.get("result"), dict)):
-            raise ValueError("not a task record (needs a 'key' and a 'result')")
-        if self._path(record["key"]) != path:
-            raise ValueError("holds the key of another task")
-        return record
+        return read_task_file(path)
 
     def _damaged(self, path, reason):
         warnings.warn(f"task file {path} is damaged ({reason}); its task is computed again",
@@ -199,15 +184,21 @@ class TaskStore:
 
     def put(self, key, result, *, name=None, inputs=None):
         """Store the result of ``key`` atomically, on disk before this returns."""
-        write_json(self._path(key), {"key": key, "name": key if name is None else name,
-                                     "inputs": inputs or {}, "result": result}, fsync=True)
+        record = {"key": key, "name": key if name is None else name, "inputs": inputs or {},
+                  "result": result}
+        record["sha256"] = record_digest(record)
+        write_json(self._path(key), record, fsync=True)
 
-    def records(self, *, warn=True):
-        """Every readable task record, by key; damaged files are skipped with a warning."""
+    def records(self, *, warn=True, fields=()):
+        """Every readable task record, by key; damaged files (or results lacking one of
+        ``fields``) are skipped with a warning."""
         records = {}
         for path in sorted(self.directory.glob("*.json")):
             try:
                 record = self._read(path)
+                missing = [f for f in fields if f not in record["result"]]
+                if missing and "error" not in record["result"]:
+                    raise ValueError(f"its result lacks {', '.join(missing)}")
             except (ValueError, OSError) as error:
                 if warn:
                     self._damaged(path, error)
@@ -221,8 +212,48 @@ class TaskStore:
         return list(self.records(warn=False))
 
 
+def _file_name(key):
+    return hashlib.sha1(key.encode()).hexdigest()[:16] + ".json"
+
+
+def read_task_file(path):
+    """The task record in ``path``; ValueError saying what is wrong with it.
+
+    A record is crowdvib's only if its content matches the digest written with it and its file
+    is named after its key: :mod:`crowdvib._manifest` deletes no other file of a store.
+    """
+    path = Path(path)
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except UnicodeDecodeError:
+        raise ValueError("not UTF-8 text") from None
+    if not text.strip():
+        raise ValueError("empty")
+    try:
+        record = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise ValueError(f"not valid JSON, truncated? ({error.msg} at byte {error.pos})") \
+            from None
+    if not (isinstance(record, dict) and isinstance(record.get("key"), str)
+            and isinstance(record.get("result"), dict)):
+        raise ValueError("not a task record (needs a 'key' and a 'result')")
+    if record.get("sha256") != record_digest(record):
+        raise ValueError("its content does not match the SHA-256 crowdvib recorded when it "
+                         "wrote it: edited since?")
+    if _file_name(record["key"]) != path.name:
+        raise ValueError("holds the key of another task")
+    return record
+
+
+def record_digest(record):
+    """SHA-256 of a task record's ``key``, ``name``, ``inputs`` and ``result`` as stored (NaN as
+    null, canonical JSON): equal for the record written and the record read back."""
+    content = {field: record.get(field) for field in ("key", "name", "inputs", "result")}
+    return hashlib.sha256(canonical_json(content).encode()).hexdigest()
+
+
 # ------------------------------------------------------------------------------ running
-def run_tasks(function, tasks, *, executor=None, store=None, progress=None):
+def run_tasks(function, tasks, *, executor=None, store=None, progress=None, fields=()):
     """Run ``function(payload)`` for every ``(name, payload)`` of ``tasks``; results by name.
 
     Parameters
@@ -240,6 +271,9 @@ def run_tasks(function, tasks, *, executor=None, store=None, progress=None):
         (:func:`fingerprint`), and read back instead of recomputed.
     progress : callable, optional
         ``progress(done, total)`` after every finished task.
+    fields : sequence of str
+        Keys every result of ``function`` holds (unless it is an ``{"error": …}``): a stored
+        result lacking one is computed again, with a warning naming its file.
 
     Returns
     -------
@@ -262,7 +296,7 @@ def run_tasks(function, tasks, *, executor=None, store=None, progress=None):
         digest, parts = fingerprint(function, payload, memo=memo)
         keyed.append((name, payload, f"{name}@{digest}", parts))
     del memo
-    stored = store.records() if store is not None else {}
+    stored = store.records(fields=fields) if store is not None else {}
     results = {name: stored[key]["result"] for name, _, key, _ in keyed if key in stored}
     pending = [task for task in keyed if task[0] not in results]
     total = len(tasks)
