@@ -26,6 +26,15 @@ def quote(value, limit=QUOTE_LIMIT):
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
+def quote_names(names, limit=8):
+    """Names from a file for a message: each shortened, at most ``limit`` of them (names come
+    from a file's header line, which must not be echoed whole)."""
+    names = list(names)
+    shown = ", ".join(quote(n) for n in names[:limit])
+    more = len(names) - limit
+    return f"[{shown}{f', … ({more} more)' if more > 0 else ''}]"
+
+
 def where(source, channel=None):
     """Message prefix ``"file.csv: channel 'a': "`` (``"record: "`` without a file)."""
     name = Path(source).name if source else "record"
@@ -75,6 +84,22 @@ def reading(path, what):
     except Exception as exc:  # noqa: BLE001 — the one place third-party errors become ours
         raise DataError(f"{name}: cannot be read as {what} file ({type(exc).__name__}: "
                         f"{quote(str(exc))})") from exc
+
+
+def same_rate(first, second):
+    """Whether two sample rates [Hz] agree to 1e-6 (a rate written with 7 digits or more)."""
+    return abs(first - second) <= 1e-6 * max(abs(first), abs(second))
+
+
+def stated_rate(path, given, stored, stored_where):
+    """(rate [Hz], where it comes from) of the rate the caller gave or the file stores, or
+    (None, None); both, differing, is refused: one of them is wrong (issue 24)."""
+    if given is not None and stored is not None and not same_rate(given, stored):
+        raise DataError(f"{where(path)}{stored_where} states {stored:.9g} Hz but sample_rate "
+                        f"{given:.9g} Hz was given (measurement.sample_rate): they must agree")
+    if given is not None:
+        return given, "the given sample_rate (measurement.sample_rate)"
+    return stored, None if stored is None else stored_where
 
 
 def sample_rate_from_time(time, source, channel=None):

@@ -10,9 +10,14 @@ cut short.
 File layouts written (and read) by crowdvib
 -------------------------------------------
 CSV
-    Optional ``#`` comment lines (``# unit = g``, ``# sample_rate = 100``), one header line of
-    column names, one row per sample. A ``time`` column [s] gives the time stamps; without it the
-    sample rate must be given (case file ``measurement.sample_rate``).
+    Optional ``#`` comment lines (``# unit = g``, ``# sample_rate = 100``, ``# time_column =
+    time``), one header line of column names (RFC 4180 quoting), one row per sample. Columns are
+    separated by ``,``, or by ``;`` or tab, which allow decimal commas (``1,5``). The time column
+    [s] is the one named by ``time_column`` or the comment, else ``time``, else the one usual time
+    header (``t``, ``Time [s]``, ``time_s``, ``Zeit``, ``temps``, ``Tijd`` …); without one the
+    sample rate must be given (case file ``measurement.sample_rate``), and with one a stated
+    sample rate must agree with it. crowdvib writes a channel name a spreadsheet would take for
+    a formula (first character ``= + - @``) behind a ``'``, which the reader takes off again.
 NPZ
     ``data`` (n_channels, n_samples) with ``channel_names``, or one array per channel;
     ``sample_rate`` [Hz] or ``time`` [s]; optional ``unit`` and ``start_time`` [s].
@@ -24,6 +29,9 @@ UFF 58
     name in ID line 1, even abscissa spacing (Δt) and the unit in the ordinate-axis label.
 """
 
+import csv
+import io
+import itertools
 import re
 import warnings
 from pathlib import Path
@@ -31,8 +39,8 @@ from pathlib import Path
 import numpy as np
 
 from .._files import atomic_path
-from ..errors import DataError
-from ._common import quote, sample_rate_from_time, where
+from ..errors import DataError, ParameterError
+from ._common import quote, quote_names, sample_rate_from_time, stated_rate, where
 from ._matv5 import check_mat_v5
 
 __all__ = ["READERS", "WRITERS"]
@@ -75,6 +83,17 @@ def _numbers(path, key, value, *, max_ndim):
     return array.astype(float)
 
 
+def _samples(path, key, value):
+    """Accelerations as stored: integers are refused, they are a logger's raw ADC counts, and
+    taking counts for m/s² would be silently wrong by the sensor's sensitivity (issue 24)."""
+    dtype = np.asarray(value).dtype
+    if dtype.kind in "iu":
+        raise DataError(f"{where(path)}{key} holds {dtype.name} samples, the raw counts of a "
+                        "logger rather than accelerations: scale them to m/s² (or g) with the "
+                        "sensor's sensitivity and store them as floating point")
+    return value
+
+
 def _vector(path, key, value):
     """A 1-D series: 1 × n and n × 1 matrices (MATLAB vectors) are flattened, others refused."""
     array = _numbers(path, key, value, max_ndim=2)
@@ -91,74 +110,174 @@ def _scalar(path, key, value):
 
 
 # ---------------------------------------------------------------------------------------- CSV
-def _first_bad_line(path, skip, header):
-    """Why the rows below the header are not a table of numbers (only run after a failure)."""
-    with open(path, encoding="utf-8") as handle:
-        row = -1
-        for number, line in enumerate(handle, start=1):
-            text = line.split("#", 1)[0].strip()
-            if number <= skip or not text:
-                continue
-            row += 1
-            cells = text.split(",")
-            if len(cells) != len(header):
-                return (f"line {number} (sample index {row}) has {len(cells)} field(s), the header "
-                        f"names {len(header)} column(s)")
-            for name, cell in zip(header, cells):
-                try:
-                    float(cell)
-                except ValueError:
-                    return (f"line {number} (sample index {row}), column {quote(name)}: "
-                            f"{quote(cell.strip())} is not a number")
+#: Column separators tried in turn: crowdvib's ",", then ";" and tab (spreadsheets of locales
+#: whose decimal mark is a comma write ";" and "1,5").
+_DELIMITERS = (",", ";", "\t")
+#: A name a spreadsheet would run as a formula (OWASP "CSV injection": = + - @ first). The writer
+#: puts one "'" before it (and before any "'" already there), the reader takes exactly one off.
+_FORMULA = re.compile(r"'*[=+\-@]")
+_ESCAPED = re.compile(r"'+[=+\-@]")
+#: The usual headers of a time column (English, German, French, Dutch, Spanish, Italian, Nordic,
+#: Polish, Finnish), with an optional unit: "Time [s]", "t (s)", "time_s", "Zeit/s".
+_TIME_HEADER = re.compile(r"\s*(time|zeit|temps|tijd|tiempo|tempo|tid|czas|aika|t)\s*"
+                          r"(?:[\[(]\s*(\w+)\s*[\])]|[_/ ]\s*(\w+))?\s*", re.IGNORECASE)
+_SECONDS = {"s", "sec", "secs", "second", "seconds", "sek", "sekunden"}
+_OTHER_TIME_UNITS = {"ms", "us", "µs", "ns", "min", "h", "hr", "hrs"}
+
+
+def _time_unit(name):
+    """The unit of a usual time header ("s", or e.g. "ms"); None for any other name (a capital
+    "T" alone is left alone: a temperature or a period as often as a time)."""
+    match = _TIME_HEADER.fullmatch(name)
+    if match is None or match.group(1) == "T":
+        return None
+    unit = (match.group(2) or match.group(3) or "s").lower()
+    return "s" if unit in _SECONDS else unit if unit in _OTHER_TIME_UNITS else None
+
+
+def time_key(path, names, time_column, stated=None):
+    """The time column (variable) among ``names``, or None.
+
+    A ``time_column`` other than the default "time" is taken as given; otherwise the column the
+    file itself names (``stated``: the ``# time_column`` comment crowdvib writes), else "time",
+    else the one usual time header in seconds. Two candidates, or a time header in another
+    unit, are refused rather than guessed.
+    """
+    if time_column != "time":
+        return time_column if time_column in names else None
+    for name in (stated, "time"):
+        if name is not None and name in names:
+            return name
+    found = [name for name in names if _time_unit(name) is not None]
+    if len(found) > 1:
+        raise DataError(f"{where(path)}columns {quote_names(found)} all look like time stamps: "
+                        "name the one to use with measurement.time_column (time_column=)")
+    if found and _time_unit(found[0]) != "s":
+        raise DataError(f"{where(path)}column {quote(found[0])} looks like time in "
+                        f"{_time_unit(found[0])}, crowdvib reads time stamps in s: convert it to "
+                        "seconds, or drop it and give measurement.sample_rate [Hz]")
+    return found[0] if found else None
+
+
+def _header(lines, start):
+    """(column names, delimiter, index of the first line below the header) of a CSV whose header
+    starts at ``lines[start]``: the first delimiter that splits the header into as many names as
+    the first row into fields (RFC 4180 quoting; a quoted name may hold the delimiter)."""
+    row = next((line for line in itertools.islice(lines, start + 1, None)
+                if line.split("#", 1)[0].strip()), "")
+    parsed = []
+    for delimiter in _DELIMITERS:
+        reader = csv.reader(itertools.islice(lines, start, None), delimiter=delimiter)
+        names = next(reader)
+        parsed.append((names, delimiter, start + reader.line_num))
+        if len(names) > 1 and len(names) == len(row.split(delimiter)):
+            return parsed[-1]
+    return parsed[0]
+
+
+def _column_names(path, names):
+    """Header cells → column names: blanks around them dropped, the writer's formula guard
+    taken off; a name given twice is refused (which of the two columns is meant?)."""
+    names = [name.strip() for name in names]
+    names = [name[1:] if _ESCAPED.match(name) else name for name in names]
+    seen = {}
+    for number, name in enumerate(names, start=1):
+        if name in seen:
+            raise DataError(f"{where(path)}channel_names must be unique: column {quote(name)} "
+                            f"is both column {seen[name]} and column {number} of the header")
+        seen[name] = number
+    return names
+
+
+def _body(path, lines, first, delimiter):
+    """The rows below the header as text for numpy: comments cut off, decimal commas made points
+    when the columns are not separated by commas (a mix of both marks is refused)."""
+    rows = [line.split("#", 1)[0].rstrip("\r\n") for line in itertools.islice(lines, first, None)]
+    if delimiter == ",":
+        return rows
+    comma = next((i for i, row in enumerate(rows) if "," in row), None)
+    if comma is None:
+        return rows
+    point = next((i for i, row in enumerate(rows) if "." in row), None)
+    if point is not None:
+        raise DataError(f"{where(path)}mixes decimal commas (line {first + comma + 1}) and decimal "
+                        f"points (line {first + point + 1}): refusing to guess which is meant")
+    return [row.replace(",", ".") for row in rows]
+
+
+def _first_bad_line(rows, first, header, delimiter):
+    """Why the rows below the header are not a table of numbers (only run after a failure).
+
+    A cell and its column are quoted only below a row of numbers: before that the file may be
+    anything a case file named (never quote a file that is not the record we expected).
+    """
+    numbers = 0
+    for number, text in enumerate(rows, start=first + 1):
+        text = text.strip()
+        if not text:
+            continue
+        cells = text.split(delimiter)
+        if len(cells) != len(header):
+            hint = (" (decimal commas? separate the columns with ';')"
+                    if delimiter == "," and len(cells) > len(header) else "")
+            return (f"line {number} (sample index {numbers}) has {len(cells)} field(s), the "
+                    f"header names {len(header)} column(s){hint}")
+        for name, cell in zip(header, cells):
+            try:
+                float(cell)
+            except ValueError:
+                if not numbers:
+                    return (f"line {number} (sample index 0) is not a row of numbers "
+                            f"separated by {delimiter!r}: not a CSV record?")
+                return (f"line {number} (sample index {numbers}), column {quote(name)}: "
+                        f"{quote(cell.strip())} is not a number")
+        numbers += 1
     return "its rows are not all numbers"
 
 
 def _read_csv(path, *, sample_rate, time_column):
+    # utf-8-sig: a spreadsheet's "CSV UTF-8" starts with a byte-order mark.
+    # newline="": lines end at "\n", "\r\n" or "\r" only, for the csv module to join the lines
+    # of a quoted name that holds one.
+    lines = list(io.StringIO(Path(path).read_bytes().decode("utf-8-sig"), newline=""))
     meta = {}
-    header = None
-    with open(path, encoding="utf-8") as handle:
-        skip = 0
-        for line in handle:
-            skip += 1
-            stripped = line.strip()
-            if not stripped:
-                continue
-            if stripped.startswith("#"):
-                match = re.match(r"#\s*([\w ]+?)\s*[=:]\s*(.+)$", stripped)
-                if match:
-                    meta[match.group(1).strip().lower()] = match.group(2).strip()
-                continue
-            header = [h.strip() for h in stripped.split(",")]
-            break
-    if header is None:
+    start = 0
+    while start < len(lines) and (not lines[start].strip()
+                                  or lines[start].lstrip().startswith("#")):
+        match = re.match(r"#\s*([\w ]+?)\s*[=:]\s*(.+)$", lines[start].strip())
+        if match:
+            meta[match.group(1).strip().lower()] = match.group(2).strip()
+        start += 1
+    if start == len(lines):
         raise DataError(f"{where(path)}has no header line of column names")
+    header, delimiter, first = _header(lines, start)
+    header = _column_names(path, header)
+    rows = _body(path, lines, first, delimiter)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")   # numpy warns on a table without rows: refused below
-            values = np.loadtxt(path, delimiter=",", skiprows=skip, ndmin=2, comments="#",
-                                dtype=float, encoding="utf-8")
+            values = np.loadtxt(rows, delimiter=delimiter, ndmin=2, dtype=float)
     except ValueError as exc:
         # numpy's message quotes the whole offending row: name the line and cell instead.
         raise DataError(f"{where(path)}cannot be read as a table of numbers: "
-                        f"{_first_bad_line(path, skip, header)}") from exc
+                        f"{_first_bad_line(rows, first, header, delimiter)}") from exc
     if values.size == 0:
         raise DataError(f"{where(path)}has no rows of numbers below its header line")
     if values.shape[1] != len(header):
         raise DataError(f"{where(path)}has {values.shape[1]} columns of data but {len(header)} "
                         "names in its header line")
-    time = None
-    if time_column in header:
-        time = values[:, header.index(time_column)]
-    columns = [(name, values[:, i], None) for i, name in enumerate(header) if name != time_column]
-    rate = sample_rate
-    if rate is None and time is None and "sample_rate" in meta:
+    key = time_key(path, header, time_column, meta.get("time_column"))
+    stored = None
+    if "sample_rate" in meta:
         try:
-            rate = float(meta["sample_rate"])
+            stored = float(meta["sample_rate"])
         except ValueError:
             raise DataError(f"{where(path)}comment 'sample_rate' must be a number, got "
                             f"{quote(meta['sample_rate'])}") from None
-    return columns, dict(time=None if rate is not None and time is None else time,
-                         sample_rate=rate if time is None else None,
+    rate, source = stated_rate(path, sample_rate, stored, "its comment 'sample_rate'")
+    columns = [(name, values[:, i], None) for i, name in enumerate(header) if name != key]
+    return columns, dict(time=None if key is None else values[:, header.index(key)],
+                         time_name=key, sample_rate=rate, rate_source=source,
                          units=meta.get("unit"))
 
 
@@ -175,13 +294,14 @@ def _from_variables(path, content, *, sample_rate, time_column, channels_last):
     units = _string(content.pop("unit")) if "unit" in content else None
     start = _scalar(path, "start_time", content.pop("start_time")) if "start_time" in content \
         else 0.0
-    rate = content.pop("sample_rate", None)
-    rate = _scalar(path, "sample_rate", rate) if rate is not None else sample_rate
-    time = content.pop(time_column, None)
-    time = None if time is None else _vector(path, time_column, time)
+    stored = content.pop("sample_rate", None)
+    stored = None if stored is None else _scalar(path, "sample_rate", stored)
+    rate, source = stated_rate(path, sample_rate, stored, "its variable 'sample_rate'")
+    time_name = time_key(path, [k for k in content if not k.startswith("__")], time_column)
+    time = None if time_name is None else _vector(path, time_name, content.pop(time_name))
     names = _names(content.pop("channel_names")) if "channel_names" in content else None
     if "data" in content:
-        raw = _numbers(path, "data", content.pop("data"), max_ndim=2)
+        raw = _numbers(path, "data", _samples(path, "data", content.pop("data")), max_ndim=2)
         data = np.atleast_2d(raw)
         n = len(names) if names is not None else None
         # MATLAB users keep one column per channel (n_samples × n_channels); NPZ and the HDF5
@@ -207,10 +327,10 @@ def _from_variables(path, content, *, sample_rate, time_column, channels_last):
             value = np.asarray(content[key])
             if names is None and value.dtype.kind not in "fiu":
                 continue   # other variables (text, structs) are not channels
-            columns.append((key, _vector(path, f"channel {quote(key)}", value), None))
-    return columns, dict(time=time if rate is None or time is not None else None,
-                         sample_rate=rate if time is None else None, units=units,
-                         start_time=start)
+            label = f"channel {quote(key)}"
+            columns.append((key, _vector(path, label, _samples(path, label, value)), None))
+    return columns, dict(time=time, time_name=time_name, sample_rate=rate, rate_source=source,
+                         units=units, start_time=start)
 
 
 def _read_mat(path, *, sample_rate, time_column):
@@ -312,7 +432,8 @@ def _read_uff(path, *, sample_rate, time_column):
         label = str(dset.get("ordinate_axis_units_lab", "")).strip()
         if label:
             units = label
-    return columns, dict(time=None, sample_rate=sample_rate, units=units, start_time=start)
+    return columns, dict(time=None, sample_rate=sample_rate, units=units, start_time=start,
+                         rate_source="the given sample_rate (measurement.sample_rate)")
 
 
 READERS = {"csv": _read_csv, "npz": _read_npz, "mat": _read_mat, "mat73": _read_mat73,
@@ -320,14 +441,35 @@ READERS = {"csv": _read_csv, "npz": _read_npz, "mat": _read_mat, "mat73": _read_
 
 
 # ------------------------------------------------------------------------------------ writers
+def _csv_name(number, name):
+    """A channel name as a header cell that reads back to the name and that a spreadsheet does
+    not run as a formula (RFC 4180 quoting is the csv module's)."""
+    if name != name.strip():
+        raise ParameterError(f"channel_names[{number}] must not start or end with blanks in a "
+                             f"CSV file (its reader drops them), got {quote(name)}")
+    return "'" + name if _FORMULA.match(name) else name
+
+
+def _csv_line(cells):
+    """One CSV line ending in "\n" (a writer told its line ends in "\r\n" quotes a name holding
+    a "\r", which one told "\n" would leave bare)."""
+    line = io.StringIO()
+    csv.writer(line, lineterminator="\r\n").writerow(cells)
+    return line.getvalue()[:-2] + "\n"
+
+
 def _write_csv(record, path, dtype):
     digits = 8 if np.dtype(dtype) == np.float32 else 17
+    time_name = "time"
+    while time_name in record.channel_names:     # a channel may itself be called "time"
+        time_name += "_"
+    header = [time_name] + [_csv_name(i, n) for i, n in enumerate(record.channel_names)]
     columns = np.vstack([record.time, record.data]).T
     with atomic_path(path) as temporary:
-        with open(temporary, "w", encoding="utf-8", newline="\n") as handle:
+        with open(temporary, "w", encoding="utf-8", newline="") as handle:
             handle.write(f"# crowdvib record\n# unit = m/s2\n"
-                         f"# sample_rate = {record.sample_rate!r}\n")
-            handle.write(",".join(("time",) + record.channel_names) + "\n")
+                         f"# sample_rate = {record.sample_rate!r}\n# time_column = {time_name}\n")
+            handle.write(_csv_line(header))
             np.savetxt(handle, columns, delimiter=",", fmt=f"%.{digits}g")
 
 

@@ -30,7 +30,8 @@ from .._validation import check_positive
 from ..errors import DataError, DataWarning, ParameterError
 from ..models.loading import STANDARD_GRAVITY
 from .._files import require_file
-from ._common import quote, reading, sample_rate_from_time, where
+from ._common import (quote, quote_names, reading, same_rate, sample_rate_from_time,
+                      where)
 from .formats import READERS, WRITERS
 
 __all__ = ["Record", "read_record", "write_record", "check_record", "merge_records",
@@ -87,6 +88,10 @@ class Record:
     source: str = ""
 
     def __post_init__(self):
+        if np.iscomplexobj(self.data):    # numpy would drop the imaginary part with a warning
+            raise ParameterError(f"data must hold real accelerations [m/s²], got "
+                                 f"{np.asarray(self.data).dtype.name} samples: take the real "
+                                 "part or the magnitude first, as the measurement means")
         data = np.array(self.data, dtype=float)
         if data.ndim == 1:
             data = data[np.newaxis]
@@ -142,7 +147,8 @@ class Record:
         for new, old in mapping.items():
             if old not in self.channel_names:
                 raise DataError(f"{self._where()}channel {quote(old)} (for {quote(new)}) is "
-                                f"not in the record; its channels are {self._names()}")
+                                f"not in the record; its channels are "
+                                f"{quote_names(self.channel_names)}")
             rows.append(self.channel_names.index(old))
         return self.replace(data=self.data[rows], channel_names=tuple(mapping))
 
@@ -168,13 +174,6 @@ class Record:
                       source=self.source)
         fields.update(changes)
         return Record(**fields)
-
-    def _names(self, limit=8):
-        """The channel names for a message: each shortened, at most ``limit`` of them (names
-        come from a file's header line, which must not be echoed whole)."""
-        names = ", ".join(quote(n) for n in self.channel_names[:limit])
-        more = self.n_channels - limit
-        return f"[{names}{f', … ({more} more)' if more > 0 else ''}]"
 
     def _where(self):
         return f"{Path(self.source).name}: " if self.source else ""
@@ -233,6 +232,9 @@ def check_record(record: Record, *, band: tuple[float, float] | None = None,
     if not isinstance(record, Record):
         raise ParameterError(f"record must be a Record, got {type(record).__name__}")
     source = record.source
+    if record.n_channels == 0 or record.n_samples < 2:
+        raise DataError(f"{where(source)}holds {record.n_channels} channel(s) of "
+                        f"{record.n_samples} sample(s); a record needs a channel of at least 2")
     finite = np.isfinite(record.data)
     if not finite.all():
         channel, index = np.argwhere(~finite)[0]
@@ -291,23 +293,34 @@ def merge_records(records):
                   source=sources[0] if len(sources) == 1 else ", ".join(sources))
 
 
-def _assemble(source, channels, *, sample_rate=None, time=None, units="m/s2", start_time=0.0):
+def _assemble(source, channels, *, sample_rate=None, rate_source=None, time=None,
+              time_name="time", units="m/s2", start_time=0.0):
     """A Record from per-channel arrays; checks their lengths and the time base.
 
-    ``channels`` is a list of (name, samples, channel_sample_rate or None).
+    ``channels`` is a list of (name, samples, channel_sample_rate or None); ``sample_rate`` is
+    the rate the caller gave or the file states (``rate_source`` says which), ``time`` the time
+    stamps of column (variable) ``time_name``. Stamps and a stated rate must agree.
     """
     if not channels:
         raise DataError(f"{where(source)}holds no channels")
     if time is not None:
         rate = sample_rate_from_time(time, source)
         start_time = float(np.asarray(time, dtype=float)[0])
+        if sample_rate is not None:
+            if not same_rate(rate, sample_rate):
+                raise DataError(f"{where(source)}its time column {quote(time_name)} gives "
+                                f"{rate:.9g} Hz but {rate_source or 'the given sample_rate'} is "
+                                f"{sample_rate:.9g} Hz: they must agree (drop or fix one)")
+            rate = float(sample_rate)   # exact, where the stamps are rounded in the file
     elif sample_rate is not None:
         rate = float(sample_rate)
     else:
         rates = [r for _, _, r in channels if r is not None]
         if not rates:
-            raise DataError(f"{where(source)}has no time stamps and no sample rate: give "
-                            "measurement.sample_rate [Hz]")
+            raise DataError(f"{where(source)}has no time stamps and no sample rate: none of its "
+                            f"columns {quote_names(n for n, _, _ in channels)} is a time column "
+                            "(time, t, Time [s], time_s, Zeit, temps, Tijd …): give "
+                            "measurement.sample_rate [Hz] or name it in measurement.time_column")
         rate = rates[0]
     if not np.isfinite(start_time):
         raise DataError(f"{where(source)}start time must be finite, got {start_time}")
@@ -316,7 +329,7 @@ def _assemble(source, channels, *, sample_rate=None, time=None, units="m/s2", st
         raise DataError(f"{where(source, first_name)}holds {np.size(first)} sample(s); a record "
                         "needs at least 2")
     for name, samples, channel_rate in channels:
-        if channel_rate is not None and abs(channel_rate - rate) > 1e-6 * rate:
+        if channel_rate is not None and not same_rate(channel_rate, rate):
             raise DataError(f"{where(source, name)}sample rate {channel_rate:.9g} Hz differs "
                             f"from {rate:.9g} Hz of channel {first_name!r}")
         if np.size(samples) != np.size(first):
@@ -390,7 +403,8 @@ def read_record(path: str | os.PathLike, *, format: str | None = None,
         unit = units if units is not None else (meta.get("units") or "m/s2")
         _unit_key(unit, f"{path.name}: ")
         record = _assemble(path, columns, sample_rate=meta.get("sample_rate"),
-                           time=meta.get("time"), units=unit,
+                           rate_source=meta.get("rate_source"), time=meta.get("time"),
+                           time_name=meta.get("time_name"), units=unit,
                            start_time=meta.get("start_time", 0.0))
     return record if channels is None else record.select(channels)
 

@@ -97,14 +97,19 @@ class ResponsePSD:
             object.__setattr__(self, "cross", frozen_array(cross, dtype=complex))
 
     def check_measured(self) -> ResponsePSD:
-        """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values (or its
-        cross-spectra non-finite ones)."""
+        """Raise a :class:`DataError` if the PSD holds NaN, infinite or negative values, is zero
+        at every frequency of an output (a dead channel: nothing to fit), or its cross-spectra
+        hold non-finite values."""
         for row, name in zip(self.psd, self.output_names):
             bad = np.flatnonzero(~np.isfinite(row) | (row < 0))
             if bad.size:
                 raise DataError(
                     f"measured PSD of output {name!r} must be finite and >= 0, got {row[bad[0]]} "
                     f"at {self.frequency[bad[0]]:g} Hz (index {bad[0]})")
+            if not np.any(row > 0):
+                raise DataError(f"measured PSD of output {name!r} is zero at all {row.size} "
+                                "frequencies: a dead or disconnected channel, or a record of "
+                                "zeros, has no response to fit")
         if self.cross is not None and not np.all(np.isfinite(self.cross)):
             column = int(np.argwhere(~np.isfinite(self.cross))[0, -1])
             raise DataError(f"measured cross-spectra must be finite, got a non-finite entry at "
