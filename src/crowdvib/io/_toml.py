@@ -4,6 +4,7 @@ got -0.5``), and reports unknown (misspelt) keys.
 """
 
 import difflib
+import re
 import tomllib
 from pathlib import Path
 
@@ -16,6 +17,11 @@ from ._common import named_file, quote
 __all__ = ["Table", "REQUIRED", "read_toml", "wrap"]
 
 REQUIRED = object()
+
+
+def _is_number(value):
+    """A TOML integer or float (not a boolean, not a string of digits)."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 class Table:
@@ -87,10 +93,10 @@ class Table:
         value = self.raw(name, default)
         if value is None or value is default:
             return value
-        try:
-            low, high = (float(v) for v in value)
-        except (TypeError, ValueError):
-            raise self.error(name, "must be a pair [lower, upper] of numbers", value) from None
+        # Only a list of two numbers: a string "19" would otherwise unpack to 1 and 9.
+        if not (isinstance(value, list) and len(value) == 2 and all(map(_is_number, value))):
+            raise self.error(name, "must be a pair [lower, upper] of numbers", value)
+        low, high = (float(v) for v in value)
         if increasing and not low < high:
             raise self.error(name, "must have lower < upper", value)
         return low, high
@@ -108,10 +114,9 @@ class Table:
         value = self.raw(name, default)
         if value is None or value is default:
             return value
-        try:
-            array = np.array(value, dtype=float)
-        except (TypeError, ValueError):
-            raise self.error(name, "must be a list of numbers", value) from None
+        if not (_is_number(value) or isinstance(value, list) and all(map(_is_number, value))):
+            raise self.error(name, "must be a list of numbers", value)
+        array = np.array(value, dtype=float)
         if not np.all(np.isfinite(array)):
             raise self.error(name, "must be finite", value)
         if rule == "positive" and np.any(array <= 0):
@@ -160,4 +165,50 @@ def read_toml(path):
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
+        twice = _first_duplicate(text)
+        if twice is not None:
+            raise DataError(f"{Path(path).name}: {twice}") from None
         raise DataError(f"{Path(path).name}: not valid TOML: {exc}") from None
+
+
+_PART = r"""(?:[\w-]+|"[^"\n]*"|'[^'\n]*')"""
+_KEY = re.compile(rf"\s*({_PART}(?:\s*\.\s*{_PART})*)\s*=")
+_HEADER = re.compile(rf"\s*(\[\[?)\s*({_PART}(?:\s*\.\s*{_PART})*)\s*\]")
+
+
+def _dotted(key):
+    return ".".join(part.strip().strip("\"'") for part in re.split(r"\s*\.\s*", key))
+
+
+def _first_duplicate(text):
+    """"key 'crowd.density' is given twice (lines 3 and 5) …" for the first key or table a file
+    gives twice, else None: tomllib's "Cannot overwrite a value" names neither (issue 24).
+
+    A line scan, run only once the parser has failed: keys of each ``[table]`` and each
+    ``[[array]]`` entry, lines inside multi-line strings skipped.
+    """
+    seen, table, block, quoted = {}, "", 0, None
+    for number, line in enumerate(text.splitlines(), start=1):
+        for mark in ('"""', "'''"):
+            if (quoted in (None, mark)) and line.count(mark) % 2:
+                quoted = None if quoted else mark
+                break
+        else:
+            if quoted:
+                continue
+        header = _HEADER.match(line)
+        if header:
+            table, block = _dotted(header.group(2)), number if header.group(1) == "[[" else 0
+            if block:
+                continue          # every [[array]] entry is a table of its own
+            what, fix = f"table [{table}] is declared", "merge them"
+        else:
+            key = _KEY.match(line)
+            if key is None:
+                continue
+            dotted = _dotted(key.group(1))
+            what, fix = f"key {quote(f'{table}.{dotted}' if table else dotted)} is given", "keep one"
+        first = seen.setdefault((block, what), number)
+        if first != number:
+            return f"{what} twice (lines {first} and {number}): {fix}"
+    return None

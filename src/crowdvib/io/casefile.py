@@ -49,7 +49,7 @@ from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ._common import quote, reading
-from ._toml import Table, read_toml, wrap
+from ._toml import Table, _is_number, read_toml, wrap
 from .measurement import load_measurement
 from .modalfiles import read_modal_model, write_modal_model
 from .casedesign import _design
@@ -222,7 +222,7 @@ def _msd(table, path):
     try:
         return MSDModel(frequency, damping, mass_ratio)
     except ParameterError as exc:
-        raise wrap(path, "hsi", exc) from None
+        raise wrap(path, table.prefix, exc) from None    # "hsi" or "design.msd"
 
 
 def _measurement(table, path):
@@ -309,10 +309,10 @@ def _starts(table, name, size):
     starts = table.raw(name, None)
     if starts is None:
         return None
-    try:
-        array = np.array(starts, dtype=float)
-    except (TypeError, ValueError):
-        raise table.error(name, "must be a list of starting points [[...], ...]", starts) from None
+    if not (isinstance(starts, list) and all(isinstance(row, list) and all(map(_is_number, row))
+                                             for row in starts)):
+        raise table.error(name, "must be a list of starting points [[...], ...]", starts)
+    array = np.array(starts, dtype=float)
     if array.ndim != 2 or array.shape[1] not in size or array.shape[0] < 1:
         raise table.error(name, f"must be a list of points with {' or '.join(map(str, size))} "
                           "values each", starts)

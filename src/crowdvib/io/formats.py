@@ -205,7 +205,7 @@ def _body(path, lines, first, delimiter):
     return [row.replace(",", ".") for row in rows]
 
 
-def _first_bad_line(rows, first, header, delimiter):
+def _first_bad_line(path, rows, first, header, delimiter):
     """Why the rows below the header are not a table of numbers (only run after a failure).
 
     A cell and its column are quoted only below a row of numbers: before that the file may be
@@ -228,7 +228,7 @@ def _first_bad_line(rows, first, header, delimiter):
             except ValueError:
                 if not numbers:
                     return (f"line {number} (sample index 0) is not a row of numbers "
-                            f"separated by {delimiter!r}: not a CSV record?")
+                            f"separated by {delimiter!r}: is {path} a CSV record?")
                 return (f"line {number} (sample index {numbers}), column {quote(name)}: "
                         f"{quote(cell.strip())} is not a number")
         numbers += 1
@@ -260,7 +260,7 @@ def _read_csv(path, *, sample_rate, time_column):
     except ValueError as exc:
         # numpy's message quotes the whole offending row: name the line and cell instead.
         raise DataError(f"{where(path)}cannot be read as a table of numbers: "
-                        f"{_first_bad_line(rows, first, header, delimiter)}") from exc
+                        f"{_first_bad_line(path, rows, first, header, delimiter)}") from exc
     if values.size == 0:
         raise DataError(f"{where(path)}has no rows of numbers below its header line")
     if values.shape[1] != len(header):
