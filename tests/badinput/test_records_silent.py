@@ -17,19 +17,8 @@ from crowdvib.cli import main
 from crowdvib.errors import DataError, ParameterError
 from crowdvib.io import load_case, load_measurement
 from crowdvib.signals.spectrum import ResponsePSD
+from tests.badinput.test_files import BEAM   # a one-mode beam case, 11 lines
 
-BEAM = """name = "beam"
-[structure]
-type = "simply_supported_beam"
-span = 50.0
-width = 3.0
-frequency = 2.0
-damping_ratio = 0.005
-modal_mass = 50e3
-outputs = { midspan = 25.0 }
-[crowd]
-density = 0.5
-"""
 
 #: Channel names that break a naive CSV writer or run as spreadsheet formulas (OWASP "CSV
 #: injection": a cell starting with = + - @), and names that look like the writer's own escape.
