@@ -16,9 +16,10 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy import interpolate
+from scipy.spatial import QhullError
 
 from .._validation import check_damping_ratio, check_positive
-from ..errors import DataError, DataWarning, ParameterError
+from ..errors import DataError, DataWarning, ParameterError, PlausibilityWarning
 from ..models.structure import ModalModel
 from .._files import require_file
 from ._common import quote, reading
@@ -29,6 +30,12 @@ UFF_SUFFIXES = (".uff", ".unv")
 AXES = ("x", "y", "z")
 #: Modal masses within this of 1 mark a mass-normalised export.
 UNIT_MASS_TOLERANCE = 1e-4
+#: No footbridge mode engages less mass [kg] (a 20 kg/m² deck of 10 m²): a mass-normalised
+#: shape peaking above 1/√ of it is a unity-scaled shape read without its modal mass.
+MIN_ENGAGED_MASS = 100.0
+#: Node coordinates spanning more than this [m] are taken for millimetres (the longest
+#: pedestrian bridges span about 720 m).
+MAX_EXTENT = 5000.0
 
 
 @dataclass(frozen=True)
@@ -155,19 +162,22 @@ class FEModes:
         else:
             lanes = np.atleast_1d(np.asarray(lanes, dtype=float))
         grid = _interpolate(x, y, vertical_shapes[rows], positions,
-                            None if lanes is None else lanes + centre_offset, flat)
+                            None if lanes is None else lanes + centre_offset, flat, self.source)
         antinode = _antinode(grid)
         if np.any(antinode == 0):
-            raise DataError(f"{self.source}: mode(s) {(np.flatnonzero(antinode == 0) + 1).tolist()} "
+            raise DataError(f"{self.source}: mode(s) {(keep[antinode == 0] + 1).tolist()} "
                             "have no vertical motion on the deck")
-        base = ModalModel(frequencies=self.frequencies[keep], damping_ratios=damping,
-                          modal_masses=self.modal_masses[keep], positions=positions - x.min(),
-                          mode_shapes=grid, width=width, output_names=(),
-                          output_shapes=np.zeros((0, keep.size)), name=name,
-                          **({} if lanes is None else {"lanes": lanes}))
         if (outputs is None) == (output_nodes is None):
             raise ParameterError("give exactly one of outputs (name → position) and output_nodes "
                                  "(name → node number)")
+        from .modalfiles import quietly_built
+
+        # Unity at the antinode: a mass-normalised export gets its engaged modal mass.
+        base = quietly_built(frequencies=self.frequencies[keep], damping_ratios=damping,
+                             modal_masses=self.modal_masses[keep] / antinode**2,
+                             positions=positions - x.min(), mode_shapes=grid / antinode,
+                             width=width, name=name,
+                             **({} if lanes is None else {"lanes": lanes}))
         if output_nodes is not None:
             names, out_rows = [], []
             for label, node in output_nodes.items():
@@ -176,14 +186,12 @@ class FEModes:
                     raise ParameterError(f"output_nodes[{label!r}] must be a node of "
                                          f"{self.source}, got {quote(node)}")
                 names.append(label)
-                out_rows.append(vertical_shapes[hit[0]])
-            base = base.replace(output_names=tuple(names), output_shapes=np.array(out_rows))
+                out_rows.append(vertical_shapes[hit[0]] / antinode)
         else:
             from .modalfiles import output_rows  # the CSV route's positional outputs
 
             names, out_rows = output_rows(base, outputs)
-            base = base.replace(output_names=tuple(names), output_shapes=out_rows)
-        return base.rescaled(1.0 / antinode)
+        return base.replace(output_names=tuple(names), output_shapes=np.array(out_rows))
 
     def _damping(self, damping_ratios, keep):
         if damping_ratios is None:
@@ -206,7 +214,7 @@ def _axis(name, label="vertical"):
     return AXES.index(name)
 
 
-def _interpolate(x, y, values, positions, lane_coordinates, flat):
+def _interpolate(x, y, values, positions, lane_coordinates, flat, source):
     """Shapes (n_lanes, n_positions, n_modes) at the walkway grid, linear between nodes."""
     if flat:
         order = np.argsort(x, kind="stable")
@@ -219,7 +227,13 @@ def _interpolate(x, y, values, positions, lane_coordinates, flat):
     points = np.column_stack([x, y])
     lx, ly = np.meshgrid(positions, lane_coordinates)
     query = np.column_stack([lx.ravel(), ly.ravel()])
-    linear = interpolate.LinearNDInterpolator(points, values)(query)
+    try:
+        linear = interpolate.LinearNDInterpolator(points, values)(query)
+    except QhullError:
+        raise DataError(f"{source}: the deck nodes must lie on a line along the walkway or "
+                        f"span an area; they lie (nearly) on a line oblique to it (across "
+                        f"extent {np.ptp(y):.3g} m over {np.ptp(x):.3g} m along): give "
+                        f"coordinates with the walkway along one axis") from None
     nearest = interpolate.NearestNDInterpolator(points, values)(query)
     grid = np.where(np.isnan(linear), nearest, linear)     # outside the nodes' hull: nearest
     return grid.reshape(lane_coordinates.size, positions.size, values.shape[1])
@@ -273,6 +287,10 @@ def _read_uff_modes(path):
             raise DataError(f"{path.name}: must hold a data set 15 (nodes) and data sets 55 of "
                             f"normal modes (analysis type 2), got {len(node_sets)} and "
                             f"{len(mode_sets)}")
+        for s in node_sets:
+            if not len(s["node_nums"]) == len(s["x"]) == len(s["y"]) == len(s["z"]):
+                raise DataError(f"{path.name}: data set 15 must give x, y, z for each of its "
+                                f"{len(s['node_nums'])} node(s), got {len(s['x'])}")
         nodes = np.concatenate([np.asarray(s["node_nums"]) for s in node_sets]).astype(np.int64)
         coordinates = np.column_stack([np.concatenate([np.asarray(s[a], dtype=float)
                                                        for s in node_sets]) for a in AXES])
@@ -285,6 +303,9 @@ def _read_uff_modes(path):
             if any(n not in index for n in numbers):
                 raise DataError(f"{path.name}: mode {j + 1} names nodes absent from data set 15")
             rows = [index[n] for n in numbers]
+            if any(len(mode[r]) != len(rows) for r in ("r1", "r2", "r3")):
+                raise DataError(f"{path.name}: mode {j + 1} must give r1, r2, r3 for each of "
+                                f"its {len(rows)} node(s)")
             shapes[rows, j] = np.column_stack([np.asarray(mode[r], dtype=float)
                                                for r in ("r1", "r2", "r3")])
         header = np.array([[float(m["freq"]), float(m["modal_damp_vis"]), float(m["modal_m"])]
@@ -317,6 +338,20 @@ def _read_csv_modes(path, modal_table):
         _numbers(modal_table, table_header, table_rows, [c])[:, 0] if c in table_header
         else np.full(n_modes, default)
         for c, default in (("frequency", 0.0), ("damping_ratio", 0.0), ("modal_mass", 1.0))])
+    if "modal_mass" not in table_header:
+        # Absent = mass-normalised, where φ is about 1/√m: a shape peaking near 1 is
+        # unity-scaled, and would get an engaged modal mass of 1/max|φ|² ≈ 1 kg.
+        peak = np.abs(shapes).max(axis=(0, 2))
+        light = np.flatnonzero(peak > 1 / np.sqrt(MIN_ENGAGED_MASS))
+        if light.size:
+            raise DataError(
+                f"{Path(modal_table).name}: no modal_mass column, so the shapes of "
+                f"{Path(path).name} are taken as mass-normalised; but mode(s) "
+                f"{(light + 1).tolist()} peak at |φ| = {np.round(peak[light], 4).tolist()}, "
+                f"which gives engaged modal masses of "
+                f"{np.round(1 / peak[light] ** 2, 3).tolist()} kg (a footbridge mode engages "
+                f"more than {MIN_ENGAGED_MASS:g} kg): add a modal_mass column [kg] in the "
+                f"scaling of the shapes")
     return _checked(path, node_values.astype(np.int64), coordinates, shapes, table)
 
 
@@ -325,6 +360,10 @@ def _checked(path, nodes, coordinates, shapes, table):
     name = Path(path).name
     if np.unique(nodes).size != nodes.size:
         raise DataError(f"{name}: node numbers must be unique")
+    if coordinates.shape != (nodes.size, 3) or shapes.shape[0] != nodes.size:
+        raise DataError(f"{name}: every node must have coordinates and mode shapes: "
+                        f"{nodes.size} node(s), {coordinates.shape[0]} coordinate and "
+                        f"{shapes.shape[0]} shape row(s)")
     for label, array in (("coordinates", coordinates), ("mode shapes", shapes),
                          ("modal table", table)):
         if not np.all(np.isfinite(array)):
@@ -332,6 +371,14 @@ def _checked(path, nodes, coordinates, shapes, table):
     if np.any(table[:, 0] <= 0) or np.any(table[:, 2] <= 0):
         raise DataError(f"{name}: frequencies and modal masses must be > 0")
     if np.any(table[:, 1] < 0) or np.any(table[:, 1] >= 1):
-        raise DataError(f"{name}: damping ratios must lie in [0, 1) (fractions)")
+        raise DataError(f"{name}: damping ratios must lie in [0, 1) (fractions, not percent), "
+                        f"got {table[:, 1].tolist()}")
+    extent = np.ptp(coordinates, axis=0)
+    if extent.max() > MAX_EXTENT:
+        axis = AXES[int(np.argmax(extent))]
+        warnings.warn(f"{name}: the nodes span {extent.max():.6g} m along {axis}, unusual for "
+                      f"a footbridge (< {MAX_EXTENT:g} m): coordinates in millimetres? (they "
+                      f"would span {extent.max() / 1000:.4g} m)", PlausibilityWarning,
+                      stacklevel=4)
     return FEModes(nodes=nodes, coordinates=coordinates, shapes=shapes, frequencies=table[:, 0],
                    damping_ratios=table[:, 1], modal_masses=table[:, 2], source=name)

@@ -11,14 +11,16 @@ from __future__ import annotations
 
 import csv
 import difflib
+import inspect
 import os
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..errors import DataError, ParameterError
+from ..errors import DataError, ParameterError, PlausibilityWarning
 from ..models.structure import ModalModel
 from .._files import require_file
 from ._common import quote, reading
@@ -112,8 +114,15 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
     -------
     ModalModel
     """
-    from .femodes import UFF_SUFFIXES, read_fe_modes
+    from .femodes import UFF_SUFFIXES, FEModes, read_fe_modes
 
+    known = set(inspect.signature(FEModes.modal_model).parameters) - {"self", "width",
+                                                                       "outputs", "name"}
+    for option in sorted(set(fe_options) - known):
+        guess = difflib.get_close_matches(option, known, n=1)
+        raise ParameterError(f"{option!r} is not an option of read_modal_model"
+                             f"{f' (did you mean {guess[0]!r}?)' if guess else ''}; the FE "
+                             f"options are {sorted(known)}")
     fe_route = Path(modal_table).suffix.lower() in UFF_SUFFIXES or (
         mode_shapes is not None and Path(mode_shapes).is_file()
         and "node" in _read_csv_table(mode_shapes)[0])
@@ -145,6 +154,10 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
                         f"{Path(modal_table).name} ({n_modes}) besides 'position' and 'lane', "
                         f"got {len(mode_columns)}")
     values = _numbers(mode_shapes, shape_header, shape_rows, mode_columns)
+    still = [c for c, column in zip(mode_columns, values.T) if not np.any(column)]
+    if still:
+        raise DataError(f"{Path(mode_shapes).name}: mode column(s) {still} are all zero: a mode "
+                        "must move the walkway somewhere")
     position = _numbers(mode_shapes, shape_header, shape_rows, ["position"])[:, 0]
     if "lane" in shape_header:
         lane = _numbers(mode_shapes, shape_header, shape_rows, ["lane"])[:, 0]
@@ -158,11 +171,9 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
         shapes = np.stack([values[block] for block in blocks])
     else:
         lanes, positions, shapes = None, position, values
-    base = ModalModel(frequencies=table[:, 0], damping_ratios=table[:, 1],
-                      modal_masses=table[:, 2], positions=positions, mode_shapes=shapes,
-                      width=width, lanes=lanes, output_names=(),
-                      output_shapes=np.zeros((0, n_modes)),
-                      name=name)
+    base = quietly_built(frequencies=table[:, 0], damping_ratios=table[:, 1],
+                         modal_masses=table[:, 2], positions=positions, mode_shapes=shapes,
+                         width=width, lanes=lanes, name=name)
     if (outputs is None) == (output_points is None):
         raise ParameterError("give exactly one of outputs (name → position) and output_points "
                              "(a CSV of mode-shape rows)")
@@ -178,6 +189,15 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
     else:
         names, rows_ = output_rows(base, outputs)
     return base.replace(output_names=tuple(names), output_shapes=np.array(rows_, dtype=float))
+
+
+def quietly_built(**fields):
+    """The walkway's ModalModel without outputs, built only to place them: its plausibility is
+    judged once, on the complete model the reader returns (each doubt warned once)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        return ModalModel(output_names=(), output_shapes=np.zeros((0, fields["frequencies"].size)),
+                          **fields)
 
 
 def output_rows(base, outputs):
