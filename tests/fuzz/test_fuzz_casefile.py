@@ -1,6 +1,7 @@
 """Fuzzing the TOML case parser: only crowdvib errors may come out (issue 9, fault 6: a binary
 case file gave a UnicodeDecodeError traceback)."""
 
+import re
 import shutil
 from pathlib import Path
 
@@ -10,6 +11,7 @@ from fuzzing import FUZZ, FUZZ_RANDOM, mutations, outcome, random_bytes
 from hypothesis import given
 from hypothesis import strategies as st
 
+from crowdvib.errors import CrowdvibError
 from crowdvib.io import Case, load_case
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -65,3 +67,20 @@ def test_random_text(folder, text):
 @given(data=st.data())
 def test_damaged_case_file(folder, good, data):
     load_damaged(folder, data.draw(mutations(good)))
+
+
+
+@FUZZ_RANDOM
+@given(data=st.data())
+def test_a_line_given_twice(folder, good, data):
+    # Issue 24: a key or table given twice gave tomllib's "Cannot overwrite a value" without the
+    # key. A line of the example copied elsewhere loads, or its message is crowdvib's own.
+    lines = good.decode("utf-8").splitlines(keepends=True)
+    line = data.draw(st.sampled_from([text for text in lines if "=" in text or "[" in text]))
+    at = data.draw(st.integers(0, len(lines)))
+    path = folder / "twice.toml"
+    path.write_text("".join(lines[:at] + [line] + lines[at:]), encoding="utf-8")
+    try:
+        load_case(path)
+    except CrowdvibError as error:
+        assert not re.search(r"Cannot (overwrite|declare)", str(error)), str(error)
