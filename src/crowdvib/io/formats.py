@@ -43,7 +43,7 @@ from ..errors import DataError, ParameterError
 from ._common import quote, quote_names, sample_rate_from_time, stated_rate, where
 from ._matv5 import check_mat_v5
 
-__all__ = ["READERS", "WRITERS"]
+__all__ = ["READERS", "WRITERS", "check_names"]
 
 _MAT73_HEADER = b"MATLAB 7.3 MAT-file, Platform: crowdvib, Created by: crowdvib HDF5 schema 1.00 ."
 # A UFF data set starts and ends with the tag "    -1" closing a line (binary data run up to the
@@ -441,12 +441,9 @@ READERS = {"csv": _read_csv, "npz": _read_npz, "mat": _read_mat, "mat73": _read_
 
 
 # ------------------------------------------------------------------------------------ writers
-def _csv_name(number, name):
+def _csv_name(name):
     """A channel name as a header cell that reads back to the name and that a spreadsheet does
     not run as a formula (RFC 4180 quoting is the csv module's)."""
-    if name != name.strip():
-        raise ParameterError(f"channel_names[{number}] must not start or end with blanks in a "
-                             f"CSV file (its reader drops them), got {quote(name)}")
     return "'" + name if _FORMULA.match(name) else name
 
 
@@ -463,7 +460,7 @@ def _write_csv(record, path, dtype):
     time_name = "time"
     while time_name in record.channel_names:     # a channel may itself be called "time"
         time_name += "_"
-    header = [time_name] + [_csv_name(i, n) for i, n in enumerate(record.channel_names)]
+    header = [time_name] + [_csv_name(n) for n in record.channel_names]
     columns = np.vstack([record.time, record.data]).T
     with atomic_path(path) as temporary:
         with open(temporary, "w", encoding="utf-8", newline="") as handle:
@@ -540,6 +537,23 @@ def _write_uff(record, path, dtype):
                 data=np.asarray(row, dtype=dtype).astype(float),
                 x=record.start_time + np.arange(row.size) * step)
             writer.write_sets(dset, mode="add")
+
+
+def check_names(names, kind):
+    """Refuse, before writing, a channel name the format's reader could not give back."""
+    for number, name in enumerate(names):
+        if name != name.strip():
+            rule = "must not start or end with blanks (the readers drop them)"
+        elif kind == "mat73" and "," in name:
+            rule = "must not hold a comma (a MATLAB v7.3 file keeps the names as one text)"
+        elif kind in ("mat", "uff") and not name:
+            rule = "must not be empty (MATLAB v5 stores it as [], UFF reads it as ch<n>)"
+        elif kind == "uff" and (len(name) > 80 or "\n" in name or "\r" in name):
+            rule = "must fit the 80 characters of one UFF ID line"
+        else:
+            continue
+        raise ParameterError(f"channel_names[{number}] {rule} in {kind} format, got "
+                             f"{quote(name)}: rename it, or write CSV or NPZ")
 
 
 WRITERS = {"csv": _write_csv, "npz": _write_npz, "mat": _write_mat, "mat73": _write_mat73,

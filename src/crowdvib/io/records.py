@@ -32,7 +32,7 @@ from ..models.loading import STANDARD_GRAVITY
 from .._files import require_file
 from ._common import (quote, quote_names, reading, same_rate, sample_rate_from_time,
                       where)
-from .formats import READERS, WRITERS
+from .formats import READERS, WRITERS, check_names
 
 __all__ = ["Record", "read_record", "write_record", "check_record", "merge_records",
            "RECORD_FORMATS", "convert_units"]
@@ -431,5 +431,6 @@ def write_record(record: Record, path: str | os.PathLike, *, format: str | None 
     if np.dtype(dtype) not in (np.float32, np.float64):
         raise ParameterError(f"dtype must be 'float32' or 'float64', got {dtype!r}")
     kind = _format_of(path, format)
+    check_names(record.channel_names, kind)
     WRITERS[kind](record, Path(path), np.dtype(dtype).type)
     return Path(path)
