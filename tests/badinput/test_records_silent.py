@@ -220,6 +220,16 @@ def test_semicolons_and_decimal_commas_are_read(tmp_path):
     assert record.sample_rate == pytest.approx(100.0)
 
 
+def test_spreadsheet_csv_with_byte_order_mark_and_crlf_is_read(tmp_path):
+    # A spreadsheet's "CSV UTF-8" starts with a byte-order mark: at 49020a3 the first header
+    # became "\ufefftime", no time column was found and the record was refused.
+    path = tmp_path / "excel.csv"
+    path.write_bytes(b"\xef\xbb\xbftime;acc\r\n0;0,25\r\n0,02;-0,5\r\n0,04;1\r\n")
+    record = read_record(path)
+    assert record.channel_names == ("acc",) and record.sample_rate == pytest.approx(50.0)
+    np.testing.assert_allclose(record.data, [[0.25, -0.5, 1.0]])
+
+
 def test_decimal_commas_mixed_with_points_are_refused(tmp_path):
     path = write(tmp_path, "mixed.csv", "time;a\n0;1,5\n0.01;2\n")
     with pytest.raises(DataError, match=r"mixed.csv: mixes decimal commas \(line 2\) and decimal "

@@ -192,7 +192,8 @@ def _column_names(path, names):
 def _body(path, lines, first, delimiter):
     """The rows below the header as text for numpy: comments cut off, decimal commas made points
     when the columns are not separated by commas (a mix of both marks is refused)."""
-    rows = [line.split("#", 1)[0].rstrip("\r\n") for line in itertools.islice(lines, first, None)]
+    rows = [line.partition("#")[0] if "#" in line else line
+            for line in itertools.islice(lines, first, None)]
     if delimiter == ",":
         return rows
     comma = next((i for i, row in enumerate(rows) if "," in row), None)
