@@ -20,13 +20,12 @@ from .errors import DataError, OutputError, ParameterError
 # ------------------------------------------------------------------------------ write failures
 #: What an errno means for someone writing results, and what to do about it.
 _CAUSES = {
-    errno.ENOSPC: "the disk is full: free space and run again (a study continues with --resume)",
+    errno.ENOSPC: "the disk is full: free space and run again; a study continues with --resume",
     errno.EDQUOT: "the disk quota is used up: free space and run again",
     errno.EROFS: "the file system is mounted read-only",
-    errno.EFBIG: "the file would exceed the file-size limit of this process (ulimit -f) or of "
-                 "the file system",
-    errno.EACCES: "no permission to write there",
-    errno.EPERM: "the folder does not allow it (immutable? see lsattr)",
+    errno.EFBIG: "over the file-size limit of this process, ulimit -f, or of the file system",
+    errno.EACCES: "check the permissions of the file and its folder",
+    errno.EPERM: "an immutable file or folder? see lsattr",
 }
 
 
@@ -42,9 +41,7 @@ def os_error_text(error, path=None):
 def output_error(error, path=None):
     """The :class:`OutputError` for an ``OSError`` met writing ``path`` (see
     :func:`os_error_text`)."""
-    result = OutputError(f"cannot write {os_error_text(error, path)}")
-    result.errno, result.filename = error.errno, path if path is not None else error.filename
-    return result
+    return OutputError(f"cannot write {os_error_text(error, path)}")
 
 
 @contextlib.contextmanager

@@ -3,6 +3,7 @@
 import argparse
 import contextlib
 import sys
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -251,6 +252,17 @@ def warning_texts(caught):
     return [f"{w.category.__name__}: {w.message}" for w in caught]
 
 
+#: Progress bars drawn and not yet closed: a command that ends early closes them
+#: (:func:`close_progress`), so its last line starts a line of its own.
+_BARS = weakref.WeakSet()
+
+
+def close_progress():
+    """Close every progress bar a failed or interrupted command left open."""
+    for bar in list(_BARS):
+        bar.close()
+
+
 def progress_printer(label, unit="s", offset=0.0):
     """A ``progress(done, total)`` callback drawing a tqdm bar on stderr.
 
@@ -269,6 +281,7 @@ def progress_printer(label, unit="s", offset=0.0):
                        mininterval=0.5 if terminal else 15.0,
                        bar_format="{desc} {n:.0f}/{total:.0f}{unit} |{bar}| {percentage:3.0f}%"
                                   "  {elapsed} elapsed, {remaining} left")
+            _BARS.add(bar)
         bar.update(max(min(done, total) - offset, 0.0) - bar.n)
         if done >= total:
             bar.close()

@@ -15,13 +15,23 @@ from .estimate import case_crowd, case_measurement, estimate_options
 
 
 # ------------------------------------------------------------------------------ map/sensitivity
+#: Most points along one axis of a map: far finer than any plot shows, and the grid is made
+#: while the arguments are read, before the time a map would take can be estimated.
+MAX_AXIS = 100_000
+
+
 def grid(text):
-    """``lower:upper:count`` → a linearly spaced grid (argparse type)."""
+    """``lower:upper:count`` → a linearly spaced grid of 3 to :data:`MAX_AXIS` points (argparse
+    type; the curvature at the map's minimum takes 3 points along each axis)."""
     try:
         lower, upper, count = text.split(":")
-        return np.linspace(float(lower), float(upper), int(count))
+        lower, upper, count = float(lower), float(upper), int(count)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected lower:upper:count, got {text!r}") from None
+    if not 3 <= count <= MAX_AXIS:
+        raise argparse.ArgumentTypeError(f"count must be 3 to {MAX_AXIS} points, got {count} "
+                                         f"(in {text!r})")
+    return np.linspace(lower, upper, count)
 
 
 def add_arguments(parser):
@@ -32,6 +42,9 @@ def add_arguments(parser):
     parser.add_argument("--damping-ratios", type=grid, default=np.linspace(0.1, 0.8, 36),
                         metavar="LOW:HIGH:N",
                         help="grid of ξ_h1 [-] (default 0.1:0.8:36, paper)")
+    parser.add_argument("--max-minutes", type=float, default=10.0, metavar="MIN",
+                        help="refuse a grid that would take longer, timed on its first point "
+                             "(default 10)")
 
 
 def run(args):
@@ -59,7 +72,8 @@ def run(args):
         landscape = objective_map(measured, case.structure, crowd,
                                   frequencies=args.frequencies,
                                   damping_ratios=args.damping_ratios, estimate=estimate,
-                                  progress=progress_printer("grid", unit="points"), **options)
+                                  progress=progress_printer("grid", unit="points"),
+                                  max_seconds=60.0 * args.max_minutes, **options)
         best = landscape.optimum
         say(f"  {landscape.cost.size} grid points in {time.perf_counter() - started:.1f} s; "
              f"grid minimum f_h1 = {best.frequency:.3f} Hz, ξ_h1 = {best.damping_ratio:.3f}; "

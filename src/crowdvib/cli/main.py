@@ -16,7 +16,7 @@ from .._files import os_error_text, require_file
 from ..errors import CrowdvibError
 from ..reporting.report import write_report
 from . import check, demo, estimate, landscape, modes, sensitivity, simulate
-from .common import say
+from .common import close_progress, say
 
 __all__ = ["main", "build_parser"]
 
@@ -84,9 +84,11 @@ def main(argv=None):
     except KeyboardInterrupt:
         # What a command keeps is its business (sensitivity keeps its finished tasks and says
         # so); a staged one has removed its unfinished results by now.
-        print(f"\ncrowdvib {args.command}: interrupted", file=sys.stderr)
+        close_progress()
+        print(f"crowdvib {args.command}: interrupted", file=sys.stderr)
         return 130
     except Exception as error:
+        close_progress()
         if args.verbose:
             raise
         print(f"crowdvib {args.command}: error: {_one_line(error)}", file=sys.stderr)

@@ -7,9 +7,11 @@ from pathlib import Path
 
 from .. import __version__
 from .._files import folder_lock, require_file, write_json
+from .._manifest import record_file
 from ..reporting.report import provenance, write_report
 from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, check_clash,
-                     dask_address, finish_output, prepare_output, progress_printer, say, versions)
+                     close_progress, dask_address, finish_output, prepare_output,
+                     progress_printer, say, versions)
 from .estimate import case_crowd, case_measurement, estimate_options
 
 
@@ -171,7 +173,8 @@ def _study(args, case, levels):
         # Every finished task is already on disk; the cluster is closed by now.
         kept = sum(len(TaskStore(out / name).keys()) for name in ("tasks", "record_length")
                    if (out / name).is_dir())
-        print(f"\ncrowdvib sensitivity: interrupted, {kept} finished task(s) kept in {out}; "
+        close_progress()
+        print(f"crowdvib sensitivity: interrupted, {kept} finished task(s) kept in {out}; "
               f"resume with: {_resume_command(args)}", file=sys.stderr, flush=True)
         return 130
     say(f"\n  {'case':34s}{'Δ f_h1 [%]':>12s}{'Δ ξ_h1 [%]':>12s}")
@@ -201,7 +204,10 @@ def _study(args, case, levels):
         say("  record length: " + ", ".join(
             f"{r['duration']:g} s → {r['frequency']:.3f} Hz" for r in lengths if "error" not in r))
     axes = plot_estimation_errors(study, title=f"{case.name}: estimation error Δ")
+    # Each file is listed in the manifest once written: a run that fails on the next one (a
+    # full disk) leaves only files crowdvib owns, so --resume may replace them.
     figure = save_figure(axes, out / "estimation_errors.png").name
+    record_file(out, figure, "sensitivity")
     write_json(out / "results.json", {
         "command": "sensitivity", "crowdvib_version": __version__, "versions": versions(),
         "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(ESTIMATION_TABLES),
@@ -213,6 +219,7 @@ def _study(args, case, levels):
         "combined": combined,
         "expected": dict(case.expected), "sensitivity": study.to_dict(),
         "record_length": lengths, "figures": [figure], **stamp})
+    record_file(out, "results.json", "sensitivity")
     report = write_report(out)
     finish_output(out, command="sensitivity", stores=_STORES)
     say(f"  wrote {out / 'results.json'}, {figure} and {report.name}")

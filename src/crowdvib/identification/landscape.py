@@ -1,10 +1,13 @@
 """The objective landscape J(f_h1, ξ_h1) of paper Eq. (6) on a grid (paper Figs. 4 and 10)."""
 
+import os
+import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._validation import as_float_array, check_positive
+from ..errors import ParameterError
 from ..models.pedestrian import MSDModel
 from .estimation import PSDObjective
 
@@ -83,7 +86,7 @@ class ObjectiveMap:
 def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, band,
                   outputs=None, output_weights=None, frequency_weights=None, mass_ratio=0.95,
                   force=None, match_welch=True, estimate=None, method="least_squares",
-                  progress=None):
+                  progress=None, max_seconds=None):
     """The objective on a (f_h1, ξ_h1) grid → :class:`ObjectiveMap` (paper Figs. 4, 10).
 
     The misfit of ``method``: the paper's J of Eq. (6) (default) or the Whittle deviance.
@@ -106,18 +109,30 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
         An optimiser's solution to carry along and mark on plots.
     progress : callable, optional
         Called as ``progress(done, total)`` [grid points] after each row of the grid.
+    max_seconds : float, optional
+        Refuse (:class:`ParameterError`) a grid whose time, estimated from its first point, is
+        longer. A grid whose costs would not fit in half the free memory is refused always.
     """
     frequencies = check_positive("frequencies", as_float_array("frequencies", frequencies, ndim=1),
                                  unit="Hz")
     damping_ratios = as_float_array("damping_ratios", damping_ratios, ndim=1)
+    for name, grid in (("frequencies", frequencies), ("damping_ratios", damping_ratios)):
+        if grid.size < 3:    # the curvature at the minimum takes 3 points along each axis
+            raise ParameterError(f"{name} must hold at least 3 grid points, got {grid.size}")
     for value in damping_ratios:
         MSDModel(damping_ratio=value)          # validates each ξ with the model's own rule
+    shape = (damping_ratios.size, frequencies.size)
+    _check_memory(shape)
     objective = PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                              output_weights=output_weights, frequency_weights=frequency_weights,
                              match_welch=match_welch, method=method)
-    cost = np.empty((damping_ratios.size, frequencies.size))
+    cost = np.empty(shape)
+    started = time.perf_counter()
+    cost[0, 0] = objective.cost(MSDModel(frequencies[0], damping_ratios[0], mass_ratio))
+    _check_time(shape, time.perf_counter() - started, max_seconds)
     for row, xi in enumerate(damping_ratios):
-        cost[row] = [objective.cost(MSDModel(f, xi, mass_ratio)) for f in frequencies]
+        cost[row, int(row == 0):] = [objective.cost(MSDModel(f, xi, mass_ratio))
+                                     for f in frequencies[int(row == 0):]]
         if progress is not None:
             progress((row + 1) * frequencies.size, cost.size)
     if estimate is not None and not isinstance(estimate, MSDModel):
@@ -125,3 +140,32 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     return ObjectiveMap(frequencies=frequencies, damping_ratios=damping_ratios, cost=cost,
                         cost_no_hsi=objective.cost(None), mass_ratio=mass_ratio,
                         estimate=estimate)
+
+
+def _grid_text(shape):
+    return (f"frequencies × damping_ratios = {shape[1]} × {shape[0]} = {shape[0] * shape[1]} "
+            "grid points")
+
+
+def _check_memory(shape):
+    """Refuse a grid whose cost array would take more than half the free memory (Linux)."""
+    try:
+        free = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):      # not known on this system
+        return
+    need = 8.0 * shape[0] * shape[1]
+    if need > free / 2:
+        raise ParameterError(f"{_grid_text(shape)} need {need / 2**30:.3g} GiB for their costs "
+                             f"alone, more than half the {free / 2**30:.3g} GiB free: use fewer "
+                             "points")
+
+
+def _check_time(shape, per_point, max_seconds):
+    """Refuse a grid that would take longer than ``max_seconds`` at the first point's pace."""
+    total = per_point * shape[0] * shape[1]
+    if max_seconds is not None and total > max_seconds:
+        hours, minutes = divmod(total / 60.0, 60.0)
+        raise ParameterError(
+            f"{_grid_text(shape)} would take about {int(hours)} h {minutes:.0f} min "
+            f"({1e3 * per_point:.2g} ms per point, timed on the first), more than the limit of "
+            f"{max_seconds / 60:g} min: use fewer points (or a longer limit)")
