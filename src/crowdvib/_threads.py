@@ -6,10 +6,14 @@ numpy, scipy or dask.
 
 import os
 
-#: The environment variables that size the thread pools of BLAS, OpenMP and numba in a process
-#: that has not loaded them yet.
-THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
-                    "NUMBA_NUM_THREADS")
+#: The environment variables that size the thread pools of BLAS and OpenMP in a process that has
+#: not loaded them yet.
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+#: The threads crowdvib's own parallel code may use in this process (a study worker's share).
+#: Not ``NUMBA_NUM_THREADS``: numba reads that again before every compilation and refuses a new
+#: value once its thread pool runs (issue 24), so a worker leaves it alone.
+BUDGET_VARIABLE = "CROWDVIB_THREADS"
 
 
 def physical_cores() -> int:
@@ -35,7 +39,7 @@ def thread_share(workers: int, cores: int | None = None) -> int:
 
 
 def thread_budget() -> int:
-    """Threads this process may use: ``NUMBA_NUM_THREADS`` when set (a study worker's share),
+    """Threads this process may use: ``CROWDVIB_THREADS`` when set (a study worker's share),
     else the physical cores."""
-    share = os.environ.get("NUMBA_NUM_THREADS", "")
+    share = os.environ.get(BUDGET_VARIABLE, "")
     return int(share) if share.isdigit() and int(share) > 0 else physical_cores()

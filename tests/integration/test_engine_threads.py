@@ -5,9 +5,11 @@ import os
 import pytest
 
 from crowdvib._threads import (
+    BUDGET_VARIABLE,
     THREAD_VARIABLES,
     default_workers,
     physical_cores,
+    thread_budget,
     thread_share,
 )
 from crowdvib.identification import run_tasks, study_executor
@@ -16,8 +18,9 @@ from crowdvib.identification import run_tasks, study_executor
 def _threads_in_worker(payload):
     import numba
 
-    return {"numba": numba.get_num_threads(),
-            "environ": {name: os.environ.get(name) for name in THREAD_VARIABLES}}
+    return {"numba": numba.get_num_threads(), "budget": thread_budget(),
+            "environ": {name: os.environ.get(name)
+                        for name in THREAD_VARIABLES + (BUDGET_VARIABLE, "NUMBA_NUM_THREADS")}}
 
 
 def test_thread_share_divides_the_cores():
@@ -41,6 +44,11 @@ def test_local_workers_run_numba_and_blas_with_their_share_of_the_cores():
     assert result["numba"] == share
     for name in THREAD_VARIABLES:
         assert result["environ"][name] == os.environ.get(name, str(share))
+    # crowdvib's own parallel code (simulate_many) reads the share from CROWDVIB_THREADS;
+    # NUMBA_NUM_THREADS stays as this process had it (numba refuses a change once its threads
+    # run, issue 24).
+    assert result["budget"] == share and result["environ"][BUDGET_VARIABLE] == str(share)
+    assert result["environ"]["NUMBA_NUM_THREADS"] == os.environ.get("NUMBA_NUM_THREADS")
 
 
 def test_the_cli_states_the_default_in_its_help(capsys):

@@ -35,7 +35,7 @@ __all__ = ["study_executor"]
 
 
 @contextlib.contextmanager
-def study_executor(workers=1, scheduler=None):
+def study_executor(workers=1, scheduler=None, *, timeout_floor=60.0, timeout_factor=10.0):
     """The executor a study runs on, for a ``with`` block.
 
     Parameters
@@ -47,6 +47,11 @@ def study_executor(workers=1, scheduler=None):
     scheduler : str, optional
         Address of a running dask.distributed scheduler, e.g. ``"tcp://10.0.0.5:8786"``;
         ``workers`` is then ignored.
+    timeout_floor, timeout_factor : float
+        Local workers: a task running longer than max(``timeout_floor`` s, ``timeout_factor`` ×
+        the slowest finished task) has its worker taken as hung, killed and replaced, and runs
+        again elsewhere (see :class:`~crowdvib.identification._pool.ProcessPool`); defaults 60 s
+        and 10.
 
     Yields
     ------
@@ -72,7 +77,7 @@ def study_executor(workers=1, scheduler=None):
     if workers == 1:
         yield None
         return
-    pool = ProcessPool(workers)
+    pool = ProcessPool(workers, timeout_floor=timeout_floor, timeout_factor=timeout_factor)
     try:
         yield pool
     except BaseException:
