@@ -11,6 +11,8 @@ estimator's level guard. The ranges are wide on purpose: they catch factors of 2
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import warnings
 from dataclasses import dataclass
@@ -19,7 +21,22 @@ import numpy as np
 
 from .errors import PlausibilityWarning
 
-__all__ = ["PlausibleRange", "RANGES", "implausibility", "warn_if_implausible"]
+__all__ = ["PlausibleRange", "RANGES", "implausibility", "warn_if_implausible", "warn_notes",
+           "derived"]
+
+#: True while the library derives a model from one already checked (a rescaled bridge, a crowd
+#: at another density): its values were named once, where the user built it. Per thread.
+_DERIVED = contextvars.ContextVar("crowdvib_plausibility_derived", default=False)
+
+
+@contextlib.contextmanager
+def derived():
+    """Build models inside without plausibility warnings: they derive from checked ones."""
+    token = _DERIVED.set(True)
+    try:
+        yield
+    finally:
+        _DERIVED.reset(token)
 
 
 @dataclass(frozen=True)
@@ -110,8 +127,8 @@ RANGES = {
 }
 
 
-def _format(value):
-    return f"{value:.4g}"
+def _format(value, digits=6):
+    return f"{value:.{digits}g}"
 
 
 def implausibility(quantity: str, value: float, name: str | None = None) -> str | None:
@@ -132,9 +149,9 @@ def implausibility(quantity: str, value: float, name: str | None = None) -> str 
     for factor, cause, mixed in plausible.mixups:
         if plausible.contains(value * factor):
             return (f"{name} = {_format(value)}{unit} is {side}, unusual for {plausible.what}: "
-                    f"{cause}? ({_format(value)} {mixed} is {_format(value * factor)}{unit})")
+                    f"{cause}? ({_format(value)} {mixed} is {_format(value * factor, 4)}{unit})")
     return (f"{name} = {_format(value)}{unit} is {side}, unusual for {plausible.what}: "
-            "check the unit")
+            "check the value and its unit")
 
 
 def warn_if_implausible(quantity: str, value, name: str | None = None, *,
@@ -161,6 +178,14 @@ def warn_if_implausible(quantity: str, value, name: str | None = None, *,
     else:
         notes = [implausibility(quantity, v, f"{name}[{i}]") for i, v in enumerate(array.ravel())]
     notes = [note for note in notes if note is not None]
+    warn_notes(notes, stacklevel=stacklevel + 1)
+    return notes
+
+
+def warn_notes(notes, *, stacklevel=3):
+    """One :class:`PlausibilityWarning` per note (none inside :func:`derived`); ``stacklevel``
+    as for :func:`warn_if_implausible`."""
+    if _DERIVED.get():
+        return
     for note in notes:
         warnings.warn(note, PlausibilityWarning, stacklevel=stacklevel + 1)
-    return notes

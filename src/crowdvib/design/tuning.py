@@ -13,15 +13,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._validation import check_positive
+from .._plausibility import warn_if_implausible
+from .._validation import check_positive, check_type
 from ..errors import ParameterError
+from ..models.crowd import Crowd
 from ..models.damper import TunedMassDamper
+from ..models.structure import ModalModel
 from ..response.spectral import effective_modal_properties
 
 if TYPE_CHECKING:
-    from ..models.crowd import Crowd
     from ..models.pedestrian import MSDModel
-    from ..models.structure import ModalModel
 
 __all__ = ["optimal_tuning", "tune_damper", "TUNING_CRITERIA"]
 
@@ -89,7 +90,8 @@ def tune_damper(structure: ModalModel, mode: int, mass_ratio: float, *, crowd: C
     mass_ratio : float
         μ = m_d φ_j(x_d)² / m_j [-], > 0 (typically 0.01–0.05).
     crowd : Crowd, optional
-        The design crowd; needed with ``msd``.
+        The design crowd; needed with ``msd``, and only with it (without an MSD the crowd
+        changes nothing, so it is refused rather than ignored).
     msd : MSDModel, optional
         The pedestrians' MSD model; with it the damper is tuned to the occupied mode.
     criterion : {"acceleration", "displacement"}
@@ -108,11 +110,21 @@ def tune_damper(structure: ModalModel, mode: int, mass_ratio: float, *, crowd: C
     >>> round(damper.mass), round(damper.frequency, 4), damper.position
     (1000, 1.9803, 25.0)
     """
+    check_type("structure", structure, ModalModel)
     if isinstance(mode, bool) or not isinstance(mode, (int, np.integer)) \
             or not 0 <= mode < structure.n_modes:
         raise ParameterError(
             f"mode must be an integer index in [0, {structure.n_modes - 1}], got {mode!r}")
+    if crowd is not None:
+        check_type("crowd", crowd, Crowd)
+        if msd is None:
+            raise ParameterError("msd must be given with crowd: the damper is tuned to the "
+                                 "occupied mode of the crowd's MSDs, and a crowd without them "
+                                 "would be ignored; give msd, or leave crowd out for the empty "
+                                 "bridge")
     mu = check_positive("mass_ratio", mass_ratio)
+    # 2 meant as 2 % would build a damper as heavy as the mode (docs: theory, Plausible ranges).
+    warn_if_implausible("mass_ratio", mu, stacklevel=2)
     optimal_tuning(mu, criterion)                          # checks the criterion early
     position, lane, shape = _antinode(structure, mode)
     damper_mass = mu * structure.modal_masses[mode] / shape**2

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.signal import cont2discrete, lfilter, ss2tf
 
+from .._plausibility import warn_if_implausible
 from .._validation import check_non_negative
 from ..errors import ParameterError, ResolutionWarning
 from ..models.crowd import Crowd
@@ -209,6 +210,7 @@ def ukna_check(structure: ModalModel, *, traffic_class: str | None, density: flo
 
     if density is not None:
         density = float(check_non_negative("density", density, unit="persons/m²"))
+        warn_if_implausible("density", density, stacklevel=3)
     if weighting not in (None, "Wb"):
         raise ParameterError(f"weighting must be None or 'Wb', got {weighting!r}")
     limit, factors = ukna_limit(site_factors)

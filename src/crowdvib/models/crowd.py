@@ -12,6 +12,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._plausibility import derived, warn_if_implausible
 from .._validation import as_float_array, check_non_negative, check_positive
 from ..errors import ParameterError
 from .loading import STANDARD_GRAVITY
@@ -103,6 +104,12 @@ class Crowd:
         for name in ("density", "walking_speed", "step_frequency_mean", "step_frequency_std",
                      "body_mass", "forward_fraction", "body_mass_std"):
             object.__setattr__(self, name, float(getattr(self, name)))
+        # Legal but doubtful values (docs: theory, Plausible ranges): a unit mix-up, named with
+        # the value it would then be. A rad/s or steps-per-minute step frequency, for one, puts
+        # the whole load spectrum above the modes: an all-zero response, and no error.
+        # The density has its error (the jam density) here and its design range in design_check.
+        for name in ("walking_speed", "step_frequency_mean", "step_frequency_std", "body_mass"):
+            warn_if_implausible(name, getattr(self, name), stacklevel=3)
 
     @classmethod
     def from_density(cls, density: float, *, body_mass: float = 70.0,
@@ -121,8 +128,12 @@ class Crowd:
                    forward_fraction=forward_fraction, body_mass_std=body_mass_std)
 
     def with_density(self, density: float) -> Crowd:
-        """The same walkers at another density (speed and step frequencies unchanged)."""
-        return replace(self, density=density)
+        """The same walkers at another density (speed and step frequencies unchanged).
+
+        The walkers were checked for plausibility when this crowd was built: no warning again.
+        """
+        with derived():
+            return replace(self, density=density)
 
     def mean_square_weight(self) -> float:
         """E[W²] = g² (m_h² + σ_m²) [N²]: the weight factor of the crowd-load PSD (docs: theory, Modal load PSD of a Poisson crowd)."""

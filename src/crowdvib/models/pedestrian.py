@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._plausibility import warn_if_implausible
 from .._validation import check_damping_ratio, check_open_unit, check_positive
 
 __all__ = ["MSDModel", "transmissibility"]
@@ -55,6 +56,9 @@ class MSDModel:
         object.__setattr__(self, "damping_ratio",
                            check_damping_ratio("damping_ratio", self.damping_ratio, upper=2.0))
         object.__setattr__(self, "mass_ratio", check_open_unit("mass_ratio", self.mass_ratio))
+        # Above 15 Hz only (docs: theory, Plausible ranges): the estimator searches down to
+        # 0.001 Hz and must stay quiet there; rad/s is the mix-up, and it lands high.
+        warn_if_implausible("msd_frequency", self.frequency, "frequency", stacklevel=3)
 
     def sprung_mass(self, body_mass: ArrayLike) -> np.ndarray | float:
         """m_h1 = μ_h1·m_h [kg]."""

@@ -15,12 +15,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-import warnings
-
-from .._plausibility import RANGES, implausibility
+from .._plausibility import RANGES, derived, implausibility, warn_notes
 from .._validation import (as_float_array, check_count, check_damping_ratio, check_non_negative,
                           check_positive, frozen_array, name_indices)
-from ..errors import ParameterError, PlausibilityWarning
+from ..errors import ParameterError
 
 __all__ = ["ModalModel"]
 
@@ -141,8 +139,7 @@ class ModalModel:
         object.__setattr__(self, "output_names", names)
         # Once per model, where it is built (a case file, an FE export, the user's code): the
         # estimator and the design check name the same notes again for their verdicts.
-        for note in self.implausibilities():
-            warnings.warn(note, PlausibilityWarning, stacklevel=3)
+        warn_notes(self.implausibilities(), stacklevel=3)
 
     def __repr__(self):
         f = self.frequencies
@@ -290,9 +287,10 @@ class ModalModel:
         factors = as_float_array("factors", np.broadcast_to(factors, (self.n_modes,)))
         if np.any(factors == 0):
             raise ParameterError(f"factors must be non-zero, got {factors.tolist()}")
-        return self.replace(mode_shapes=self.mode_shapes * factors,
-                            output_shapes=self.output_shapes * factors,
-                            modal_masses=self.modal_masses * factors**2)
+        with derived():                      # the same physics: checked when self was built
+            return self.replace(mode_shapes=self.mode_shapes * factors,
+                                output_shapes=self.output_shapes * factors,
+                                modal_masses=self.modal_masses * factors**2)
 
     def mass_normalised(self) -> ModalModel:
         """The same physics with mass-normalised shapes (m_j = 1)."""

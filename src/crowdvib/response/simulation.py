@@ -11,6 +11,7 @@ Public: :func:`simulate`; the walkers come from :mod:`.traffic`.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
@@ -46,6 +47,49 @@ STEPS_PER_PERIOD = 10
 FORCE_STEPS_PER_PERIOD = 6
 #: Default simulated seconds per kernel call (progress granularity; results do not depend on it).
 DEFAULT_CHUNK_DURATION = 60.0
+#: Bytes a walker costs while the run is drawn: its per-component DLF, ratio and phase rows and
+#: some twenty scalars, in float64, about three times over for the temporaries of the draws.
+_BYTES_PER_WALKER = 3 * 8 * 20
+#: Share of the available memory a run may plan to take (the rest: the caller, the OS, copies).
+_MEMORY_SHARE = 0.5
+#: Memory assumed available where neither psutil nor the OS can tell [bytes].
+_FALLBACK_MEMORY = 4e9
+
+
+def available_memory() -> float:
+    """Memory this process can still take [bytes]: psutil's ``available``, else the free
+    physical pages the OS reports, else ``_FALLBACK_MEMORY``."""
+    try:
+        import psutil
+    except ImportError:
+        try:
+            return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (AttributeError, ValueError, OSError):
+            return _FALLBACK_MEMORY
+    return float(psutil.virtual_memory().available)
+
+
+def _check_memory(structure, crowd, force, duration, warm_up, sample_rate, n_samples,
+                  record_modal_load):
+    """Refuse a run whose records and walkers will not fit, before anything is allocated.
+
+    A duration of 1e9 s once took 13 GB over two minutes before numpy gave up (issue 24): the
+    sizes are known from the inputs, so the answer can come at once, naming the parameter.
+    """
+    rows = structure.n_outputs + (structure.n_modes if record_modal_load else 0) + 1   # + time
+    walkers = 0.0
+    if crowd is not None and crowd.density > 0:
+        walkers = (crowd.arrival_rate(structure.width) * (duration + warm_up)
+                   + crowd.density * structure.area)
+    components = np.size(force.ratios)
+    need = 8.0 * rows * n_samples + walkers * _BYTES_PER_WALKER * (1 + components / 10)
+    have = available_memory()
+    if need > _MEMORY_SHARE * have:
+        raise ParameterError(
+            f"duration = {duration:g} s at sample_rate = {sample_rate:g} Hz needs about "
+            f"{need / 1e9:.3g} GB ({n_samples:.3g} samples × {rows} rows, {walkers:.3g} "
+            f"walkers), more than half the {have / 1e9:.3g} GB of memory available: simulate "
+            "shorter records (simulate_many runs several)")
 
 
 def _internal_substeps(structure, walkers, msd, sample_rate):
@@ -252,6 +296,8 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
             f"duration × sample_rate must give at least one sample, got {duration:g} s × "
             f"{sample_rate:g} Hz")
     warm_up_samples = int(math.ceil(warm_up * sample_rate - 1e-9))
+    _check_memory(structure, crowd, force, duration, warm_up, sample_rate,
+                  n_samples + warm_up_samples, record_modal_load)
     pedestrians = list(pedestrians) if pedestrians is not None else []
     rng = np.random.default_rng(seed)
     start = -warm_up_samples / sample_rate

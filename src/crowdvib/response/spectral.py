@@ -23,10 +23,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
-from .._validation import check_frequency_grid, check_non_negative, check_positive
+from .._validation import check_frequency_grid, check_non_negative, check_positive, check_type
 from ..errors import ParameterError
+from ..models.crowd import Crowd
 from ..models.loading import as_force_model
 from ..models.pedestrian import MSDModel
+from ..models.structure import ModalModel
 from ..signals import ResponsePSD
 from ._attached import (
     attachments,
@@ -42,13 +44,20 @@ from .results import FRF, EffectiveModalProperties
 
 if TYPE_CHECKING:
     from .._typing import ForceModel
-    from ..models.crowd import Crowd
     from ..models.damper import TunedMassDamper
-    from ..models.structure import ModalModel
     from ..signals.welch import LowPassFilter
 
 __all__ = ["SpectralModel", "response_psd", "frf", "effective_modal_properties",
            "modal_accelerance"]
+
+def _check_models(structure, crowd, msd, *, crowd_required=False):
+    """The model objects of a public entry point: a clear error for None, a dict or a string
+    where a model is expected (not an AttributeError deep inside)."""
+    check_type("structure", structure, ModalModel)
+    if crowd is not None or crowd_required:
+        check_type("crowd", crowd, Crowd)
+    _check_msd_inputs(crowd, msd)
+
 
 def _check_msd_inputs(crowd, msd):
     if msd is not None and not isinstance(msd, MSDModel):
@@ -114,6 +123,7 @@ class SpectralModel:
                  welch_window_length: float | None = None, lowpass: LowPassFilter | None = None,
                  dampers: Sequence[TunedMassDamper] | None = None,
                  crossing_spread: float = 0.0) -> None:
+        _check_models(structure, crowd, None, crowd_required=True)
         self.structure = structure
         self.crowd = crowd
         self.frequency = check_frequency_grid(frequency)
@@ -340,7 +350,7 @@ def response_psd(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
     >>> round(float(psd.peak_frequency()[0]), 2)
     1.93
     """
-    _check_msd_inputs(crowd, msd)
+    _check_models(structure, crowd, msd, crowd_required=True)
     model = SpectralModel(structure, crowd, frequency, force=force, outputs=outputs,
                           welch_window_length=welch_window_length, lowpass=lowpass,
                           dampers=dampers)
@@ -377,7 +387,7 @@ def frf(structure: ModalModel, frequency: ArrayLike, *, crowd: Crowd | None = No
         ``values`` of shape (n_outputs, n_inputs, n_frequencies) [(m/s²)/N]; ``occupied`` is
         True when the crowd's MSDs are included.
     """
-    _check_msd_inputs(crowd, msd)
+    _check_models(structure, crowd, msd)
     frequency = check_frequency_grid(frequency)
     outputs = structure.output_names if outputs is None else tuple(outputs)
     inputs = outputs if inputs is None else tuple(inputs)
@@ -427,7 +437,7 @@ def modal_accelerance(structure: ModalModel, frequency: ArrayLike, *, crowd: Cro
     ndarray of complex, shape (n_outputs, n_modes, n_frequencies)
         [(m/s²) per unit modal force, in the scaling of the mode shapes].
     """
-    _check_msd_inputs(crowd, msd)
+    _check_models(structure, crowd, msd)
     frequency = check_frequency_grid(frequency)
     outputs = structure.output_names if outputs is None else tuple(outputs)
     return _accelerance(structure, frequency, attachments(structure, crowd, msd, dampers),
@@ -470,7 +480,7 @@ def effective_modal_properties(structure: ModalModel, crowd: Crowd | None = None
     -------
     EffectiveModalProperties
     """
-    _check_msd_inputs(crowd, msd)
+    _check_models(structure, crowd, msd)
     n_modes = structure.n_modes
     attached = attachments(structure, crowd, msd, dampers)
     if not attached:
