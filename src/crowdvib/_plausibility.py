@@ -120,6 +120,11 @@ RANGES = {
         ((1 / (2 * math.pi), "rad/s instead of Hz", "rad/s"),),
         "walking MSDs 2.75–3.6 Hz (Shahabpoor, Pavić & Racić 2016); the paper's estimates "
         "2.8–3.1 Hz, searched up to 10 Hz"),
+    "damper_frequency": PlausibleRange(
+        None, 10.0, " Hz", "a footbridge's tuned mass damper",
+        ((1 / (2 * math.pi), "rad/s instead of Hz", "rad/s"),),
+        "a damper is tuned just below the mode it controls (Den Hartog 1956), and footbridge "
+        "modes that need one lie within 1–5 Hz (Sétra 2006, HiVoSS 2008)"),
     "mass_ratio": PlausibleRange(
         None, 0.2, "", "a tuned mass damper (typically 0.01–0.05)",
         ((0.01, "percent instead of fraction", "%"),),

@@ -18,8 +18,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import least_squares
 
-from .._validation import as_float_array
-from ..errors import BoundWarning, EstimationError, ParameterError, PlausibilityWarning
+from .._plausibility import warn_notes
+from .._validation import as_float_array, check_flag
+from ..errors import BoundWarning, EstimationError, ParameterError
 from ..models.pedestrian import MSDModel
 from .bootstrap import bootstrap_estimates, percentile_interval
 from .diagnostics import _check_identifiability, _check_level, _diagnose
@@ -152,6 +153,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     ConvergenceWarning
         When no start converged.
     """
+    free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
+
     def objective(crowd):
         return PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                             output_weights=output_weights, frequency_weights=frequency_weights,
@@ -244,6 +247,9 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
               interval, level, n_boot=200, rng=None, free_step_frequencies=False):
     """The estimate from one or several (objective, measured PSD) records (estimate_hsi)."""
     MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
+    # A switch given as "no" or 0 must not be read by its truth value ("no" frees μ_h1).
+    free_mass_ratio = check_flag("free_mass_ratio", free_mass_ratio)
+    free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
     if interval not in INTERVALS:
         raise ParameterError(f"interval must be one of {list(INTERVALS)}, got {interval!r}")
     if interval == "bootstrap" and not (isinstance(n_boot, (int, np.integer)) and n_boot >= 20):
@@ -251,8 +257,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
                              f"{n_boot!r}")
     if not 0 < level < 1:
         raise ParameterError(f"level must lie in (0, 1), got {level!r}")
-    for note in structure.implausibilities():
-        warnings.warn(f"structure: {note}", PlausibilityWarning, stacklevel=3)
+    warn_notes([f"structure: {note}" for note in structure.implausibilities()], stacklevel=2)
     names = (_PARAMETERS if free_mass_ratio else _PARAMETERS[:2]) + (
         STEP_PARAMETERS if free_step_frequencies else ())
     limits = _merge_bounds(bounds, dict(DEFAULT_BOUNDS, **(

@@ -19,7 +19,7 @@ import dataclasses
 
 import numpy as np
 
-from .._validation import as_float_array, check_positive, check_type
+from .._validation import as_float_array, check_flag, check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.structure import ModalModel
@@ -57,12 +57,16 @@ def _check_band(band, frequency):
     return (lower, upper), keep
 
 
+def _check_length(name, array, size):
+    if array.shape != (size,):
+        raise ParameterError(f"{name} must have {size} entries, got {array.size}")
+
+
 def _normalised_weights(name, weights, size):
     if weights is None:
         return np.full(size, 1.0 / size)
     weights = as_float_array(name, weights, ndim=1)
-    if weights.shape != (size,):
-        raise ParameterError(f"{name} must have {size} entries, got {weights.size}")
+    _check_length(name, weights, size)
     check_positive(name, weights)
     return weights / weights.sum()
 
@@ -146,8 +150,11 @@ class PSDObjective:
             w = np.ones(self.frequency.size)
         elif callable(frequency_weights):
             w = as_float_array("frequency_weights", frequency_weights(self.frequency), ndim=1)
+            _check_length("frequency_weights(f) on the band", w, self.frequency.size)
         else:
-            w = as_float_array("frequency_weights", frequency_weights, ndim=1)[keep]
+            w = as_float_array("frequency_weights", frequency_weights, ndim=1)
+            _check_length("frequency_weights (one per measured frequency)", w, keep.size)
+            w = w[keep]
         check_positive("frequency_weights", w)
         # ν and the bin correlation of the Welch estimate (a periodogram if unknown): the
         # statistics of the measured ordinates, used by the likelihood and the uncertainty.
@@ -161,6 +168,7 @@ class PSDObjective:
             # sum of log-likelihoods. ν scales D, not its minimum.
             self._scale = (len(outputs) * self.output_weights[:, np.newaxis] * w
                            * self.degrees_of_freedom)
+        match_welch = check_flag("match_welch", match_welch)
         window = measured.window_length if match_welch else None
         lowpass = measured.lowpass if match_welch else None
         self._model_inputs = dict(structure=structure, force=force, outputs=outputs,

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._plausibility import warn_if_implausible
 from .._validation import as_float_array, check_damping_ratio, check_non_negative, check_positive
 from ..errors import ParameterError
 from .pedestrian import transmissibility
@@ -60,6 +61,7 @@ class TunedMassDamper:
                            float(as_float_array("position", self.position, ndim=0)))
         if self.lane is not None:
             object.__setattr__(self, "lane", check_non_negative("lane", self.lane, unit="m"))
+        warn_if_implausible("damper_frequency", self.frequency, "frequency", stacklevel=3)
 
     def stiffness(self) -> float:
         """k_d = m_d ω_d² [N/m]."""

@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike
 from scipy import signal
 
 from .._validation import as_float_array, check_non_negative, check_positive
-from ..errors import ParameterError
+from ..errors import DataError, ParameterError
 from .loading import STANDARD_GRAVITY, ZivanovicForce
 
 __all__ = ["MeasuredForce", "builtin_walking_forces"]
@@ -41,6 +41,10 @@ BUILTIN_TRIM = 10.0
 STEP_BAND = (1.2, 2.6)
 #: Half-width [Hz] of the band around k·f_s whose power makes the k-th harmonic's DLF.
 HARMONIC_HALF_BAND = 0.2
+#: Smallest first-harmonic DLF of a record that walks: walking gives 0.2–0.5 (Živanović, Pavić
+#: & Reynolds 2007's μ₁ over 1.5–2.5 Hz); a record below 0.02 holds no steps to replay (a
+#: standing person, an unloaded plate), and its step frequency would be 0/0.
+MIN_RECORD_DLF1 = 0.02
 #: Harmonics of the step frequency that set the simulator's time step (as for the 5-harmonic
 #: Živanović model): the records' content above 5 f_s is small and far above footbridge modes.
 REPLAY_HARMONICS = 5
@@ -177,8 +181,14 @@ class MeasuredForce:
             names = tuple(f"record_{i + 1}" for i in range(forces.shape[0]))
         forces = np.asarray(forces, dtype=float)
         mean = forces.mean(axis=1, keepdims=True)
-        steps = np.array([_mean_step_frequency(f, rate) for f in forces])
         dlf1 = np.array([step_frequency_and_dlfs(f, rate, n_harmonics=1)[1][0] for f in forces])
+        for index, value in enumerate(dlf1):
+            if not value >= MIN_RECORD_DLF1:
+                raise DataError(
+                    f"forces record {index} ({names[index]}) has no walking steps: its "
+                    f"first-harmonic DLF in {STEP_BAND[0]:g}–{STEP_BAND[1]:g} Hz is {value:.3g}, "
+                    f"below {MIN_RECORD_DLF1:g} (walking: 0.2–0.5): nothing to replay")
+        steps = np.array([_mean_step_frequency(f, rate) for f in forces])
         for attribute, value in (("names", names), ("table", np.ascontiguousarray(forces / mean - 1)),
                                  ("record_step_frequency", steps), ("record_dlf1", dlf1),
                                  ("sample_rate", rate)):
