@@ -298,16 +298,19 @@ def test_map_ctrl_c_is_one_line_exit_130_and_leaves_nothing(tmp_path):
     assert sorted(os.listdir(tmp_path)) == []
 
 
-@pytest.mark.parametrize("grid, message", [
-    ("1:6:0", "count must be 3 to 100000 points, got 0"),
-    ("1:6:1", "count must be 3 to 100000 points, got 1"),
-    ("1:6:10000000000", "count must be 3 to 100000 points, got 10000000000"),
+@pytest.mark.parametrize("option, value, message", [
+    ("--frequencies", "1:6:0", "count must be 3 to 100000 points, got 0"),
+    ("--frequencies", "1:6:1", "count must be 3 to 100000 points, got 1"),
+    ("--damping-ratios", "0.1:0.8:10000000000",
+     "count must be 3 to 100000 points, got 10000000000"),
+    ("--max-minutes", "nan", "expected a number of minutes > 0, got 'nan'"),
+    ("--max-minutes", "-5", "expected a number of minutes > 0, got '-5'"),
 ])
-def test_map_refuses_a_grid_axis_it_cannot_use(tmp_path, capsys, grid, message):
+def test_map_refuses_a_grid_axis_it_cannot_use(tmp_path, capsys, option, value, message):
     # Issue 24: 1:6:0 and 1:6:1 ended in numpy tracebacks (the curvature at the minimum takes 3
-    # points per axis); a usage error now, before any work.
-    assert main(["map", str(CASE), "--out", str(tmp_path / "map"), "--frequencies", grid]) == 2
-    assert f"argument --frequencies: {message}" in capsys.readouterr().err
+    # points per axis), 10^10 points in a MemoryError; a usage error now, before any work.
+    assert main(["map", str(CASE), "--out", str(tmp_path / "map"), option, value]) == 2
+    assert f"argument {option}: {message}" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("options, message", [
@@ -315,13 +318,18 @@ def test_map_refuses_a_grid_axis_it_cannot_use(tmp_path, capsys, grid, message):
      r"frequencies × damping_ratios = 100000 × 36 = 3600000 grid points would take about "
      r"\d+ h \d+ min \(.* ms per point, timed on the first\), more than the limit of 1 min"),
     (["--frequencies", "1:6:100000", "--damping-ratios", "0.1:0.8:100000"],
-     r"= 10000000000 grid points need 74.5 GiB for their costs alone, more than half the"),
+     r"= 10000000000 grid points need 74.5 GiB for their costs alone, more than half the "
+     r"16 GiB free: use fewer points"),
 ])
-def test_map_refuses_a_grid_that_will_not_fit(tmp_path, capsys, options, message):
+def test_map_refuses_a_grid_that_will_not_fit(tmp_path, capsys, monkeypatch, options, message):
     # Issue 24: `map --frequencies 1:6:100000` computed for minutes. 3.6 million points at even
-    # 0.05 ms each (a fast machine) take 3 min, over the 1 min limit; 10^10 costs need 74.5 GiB.
+    # 0.05 ms each (a fast machine) take 3 min, over the 1 min limit; 10^10 costs need 8 bytes
+    # each, 74.5 GiB, on a machine made to report 16 GiB free.
     import re
 
+    real = os.sysconf
+    free = {"SC_AVPHYS_PAGES": 16 * 2**30 // 4096, "SC_PAGE_SIZE": 4096}
+    monkeypatch.setattr(os, "sysconf", lambda name: free.get(name) or real(name))
     started = time.monotonic()
     assert main(["map", str(CASE), "--out", str(tmp_path / "map"), *options]) == 1
     err = capsys.readouterr().err
