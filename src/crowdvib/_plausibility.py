@@ -78,8 +78,8 @@ _PER_SECOND = ((1 / (2 * math.pi), "rad/s instead of Hz", "rad/s"),
 RANGES = {
     "damping_ratio": PlausibleRange(
         None, 0.10, "", "a footbridge mode", ((0.01, "percent instead of fraction", "%"),),
-        "Sétra (2006) and HiVoSS (2008) damping tables: 0.1–1.5 % for steel, concrete, timber "
-        "and composite decks; the paper's bridges 0.25–0.86 %"),
+        "Sétra (2006) damping table: 0.1–1.5 % by deck type (recalled); the paper's bridges "
+        "0.25–0.86 % [VNVdB23]"),
     "lowest_frequency": PlausibleRange(
         None, 10.0, " Hz", "the lowest vertical mode of a footbridge",
         ((1 / (2 * math.pi), "rad/s instead of Hz", "rad/s"),),
@@ -95,7 +95,7 @@ RANGES = {
         "the longest pedestrian suspension bridges span about 720 m (Sky Bridge 721, 2022)"),
     "width": PlausibleRange(
         None, 30.0, " m", "a footbridge walkway", _MM,
-        "footbridge decks are 1.5–6 m wide; HiVoSS (2008) example bridges ≤ 10 m"),
+        "footbridge decks are 1.5–6 m wide"),
     "body_mass": PlausibleRange(
         30.0, 120.0, " kg", "the mean body mass of a crowd",
         ((1e3, "tonnes instead of kg", "t"), (1e-3, "grams instead of kg", "g"),
@@ -118,8 +118,8 @@ RANGES = {
     "msd_frequency": PlausibleRange(
         None, 15.0, " Hz", "a walking person's MSD (f_h1)",
         ((1 / (2 * math.pi), "rad/s instead of Hz", "rad/s"),),
-        "walking MSDs 2.75–3.6 Hz (Shahabpoor, Pavić & Racić 2016); the paper's estimates "
-        "2.8–3.1 Hz, searched up to 10 Hz"),
+        "the paper's estimates 2.8–3.1 Hz on two footbridges, searched up to 10 Hz "
+        "[VNVdB23]"),
     "damper_frequency": PlausibleRange(
         None, 10.0, " Hz", "a footbridge's tuned mass damper",
         ((1 / (2 * math.pi), "rad/s instead of Hz", "rad/s"),),

@@ -176,3 +176,19 @@ def test_mode_count_must_be_an_integer(value):
     # True was read as 1 mode on 49020a3; 2.5 must not become 2.
     with pytest.raises(ParameterError, match=rf"n_modes must be an integer >= 1, got {value!r}"):
         beam(n_modes=value)
+
+
+def test_the_docs_table_states_every_range():
+    # One table in the code (crowdvib._plausibility.RANGES), one in the docs (docs: theory,
+    # Plausible ranges): each key appears there with its bounds, so the two cannot drift apart.
+    from pathlib import Path
+
+    from crowdvib._plausibility import RANGES
+
+    page = (Path(__file__).resolve().parents[2] / "docs" / "theory"
+            / "plausible-ranges.rst").read_text(encoding="utf-8")
+    for key, plausible in RANGES.items():
+        row = page[page.index(f"(``{key}``"):].split("   * - ")[0]
+        bounds = [f"{b:g}" for b in (plausible.low, plausible.high) if b is not None]
+        shown = [b.replace("100000", "1e5") for b in bounds]
+        assert all(b in row for b in shown), (key, shown, row[:80])
