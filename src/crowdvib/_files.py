@@ -141,6 +141,10 @@ def lock_path(directory):
     return directory.parent / f".{directory.name}.lock"
 
 
+#: errno of flock on a file system that keeps no locks (NFS without its lock service).
+_NO_LOCKS = {errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOSYS}
+
+
 @contextlib.contextmanager
 def folder_lock(directory, command):
     """Hold the lock of results folder ``directory`` while the block runs.
@@ -150,31 +154,20 @@ def folder_lock(directory, command):
     kernel drops the lock of a process that dies, so a lock file left by a killed run is taken
     over, with a note on stderr naming the run that left it.
     """
-    import fcntl
-
     path = lock_path(directory)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        while True:
-            descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
-            try:
-                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except BlockingIOError:
-                holder = _holder(descriptor)
-                os.close(descriptor)
-                raise ParameterError(
-                    f"--out {directory} is being written by another crowdvib run "
-                    f"({_describe(holder)}): two runs may not write one results folder; wait "
-                    "for it to end or choose another --out") from None
-            # The holder before us may have deleted the file after we opened it: lock the file
-            # that is there now, or two runs would each hold a lock on a different file.
-            with contextlib.suppress(FileNotFoundError):
-                if os.stat(path).st_ino == os.fstat(descriptor).st_ino:
-                    break
-            os.close(descriptor)
-        _HELD.add(descriptor)
+        descriptor, locked = _acquire(path, directory)
+    except OSError as error:
+        raise output_error(error, path) from error
+    try:
         left = _holder(descriptor)
-        if left:
+        if not locked:      # a network file system without a lock service: warn, not refuse
+            print(f"crowdvib: note: {path.parent} cannot be locked: make sure no other run "
+                  f"writes {directory} meanwhile"
+                  + (f" (the last one: {_describe(left)})" if left else ""), file=sys.stderr,
+                  flush=True)
+        elif left:
             print(f"crowdvib: note: took over the lock of {directory} left by a run that ended "
                   f"without releasing it ({_describe(left)})", file=sys.stderr, flush=True)
         started = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
@@ -183,14 +176,51 @@ def folder_lock(directory, command):
         os.ftruncate(descriptor, 0)
         os.pwrite(descriptor, record, 0)
     except OSError as error:
+        _release(descriptor, path)
         raise output_error(error, path) from error
     try:
         yield path
     finally:
+        _release(descriptor, path)
+
+
+def _acquire(path, directory):
+    """Open and flock ``path`` → (descriptor, whether it is locked)."""
+    import fcntl
+
+    while True:
+        descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+        _HELD.add(descriptor)
+        try:
+            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = _holder(descriptor)
+            _HELD.discard(descriptor)
+            os.close(descriptor)
+            raise ParameterError(
+                f"--out {directory} is being written by another crowdvib run "
+                f"({_describe(holder)}): two runs may not write one results folder; wait "
+                "for it to end or choose another --out") from None
+        except OSError as error:
+            if error.errno in _NO_LOCKS:
+                return descriptor, False
+            _HELD.discard(descriptor)
+            os.close(descriptor)
+            raise
+        # The holder before us may have deleted the file after we opened it: lock the file
+        # that is there now, or two runs would each hold a lock on a different file.
+        with contextlib.suppress(FileNotFoundError):
+            if os.stat(path).st_ino == os.fstat(descriptor).st_ino:
+                return descriptor, True
         _HELD.discard(descriptor)
-        with contextlib.suppress(OSError):
-            os.unlink(path)             # while still locked: the next run finds no stale record
         os.close(descriptor)
+
+
+def _release(descriptor, path):
+    _HELD.discard(descriptor)
+    with contextlib.suppress(OSError):
+        os.unlink(path)             # while still locked: the next run finds no stale record
+    os.close(descriptor)
 
 
 def _holder(descriptor):

@@ -196,6 +196,45 @@ def test_a_stale_lock_of_a_killed_run_is_taken_over_with_a_note(tmp_path, holder
     assert not lock_path(out).exists()                       # released at the end
 
 
+def test_a_killed_runs_forked_worker_does_not_keep_the_lock(tmp_path, capsys):
+    # A study's local pool forks its workers while the lock is held (identification/_pool.py);
+    # flock belongs to the open file, so a worker outliving its killed parent would keep --out
+    # locked against the --resume. Forked children close their copy (_files.py _HELD).
+    script = _HOLD.replace("    print('locked', flush=True)\n",
+                           "    child = os.fork()\n"
+                           "    if child == 0:\n"
+                           "        time.sleep(600)\n"
+                           "    print(child, flush=True)\n").replace("import sys", "import os, sys")
+    out = tmp_path / "study"
+    parent = subprocess.Popen([sys.executable, "-c", script, str(out)], stdout=subprocess.PIPE,
+                              text=True)
+    child = int(parent.stdout.readline())
+    try:
+        parent.kill()
+        parent.wait()
+        os.kill(child, 0)                                    # the worker lives on
+        assert main([*STUDY, "--out", str(out)]) == 0
+        assert f"pid {parent.pid} on host" in capsys.readouterr().err      # taken over
+    finally:
+        os.kill(child, signal.SIGKILL)
+
+
+def test_a_file_system_without_locks_is_written_with_a_note(tmp_path, capsys, monkeypatch):
+    # NFS without its lock service answers flock with ENOLCK: the run goes on and says that it
+    # could not exclude a second one.
+    import fcntl
+
+    def flock(descriptor, operation):
+        raise OSError(errno.ENOLCK, os.strerror(errno.ENOLCK))
+
+    monkeypatch.setattr(fcntl, "flock", flock)
+    out = tmp_path / "sim"
+    assert main(["simulate", "--duration-s", "30", "--out", str(out)]) == 0
+    assert (f"crowdvib: note: {tmp_path} cannot be locked: make sure no other run writes "
+            f"{out} meanwhile") in capsys.readouterr().err
+    assert sorted(os.listdir(tmp_path)) == ["sim"]
+
+
 # ------------------------------------------------------------------------------ write faults (§5)
 def _fail_replace(monkeypatch, code, after):
     """os.replace raises OSError(``code``) from its ``after``-th call on (as a full disk would)."""
@@ -233,16 +272,21 @@ def test_a_full_disk_mid_study_is_one_error_and_resume_finishes(tmp_path, clean,
     assert {p: p.stat().st_mtime_ns for p in kept} == kept
 
 
-def test_a_read_only_out_is_one_error_and_leaves_nothing(tmp_path, capsys, monkeypatch):
-    # Issue 24: --out on a read-only file system. Tests run as root, which ignores chmod 555, so
-    # the file system's answer (EROFS) is simulated at the first file crowdvib writes.
-    calls = _fail_replace(monkeypatch, errno.EROFS, after=0)
+@pytest.mark.parametrize("code, cause", [
+    (errno.EROFS, "Read-only file system (the file system is mounted read-only)"),
+    (errno.EPERM, "Operation not permitted (an immutable file or folder? see lsattr)"),
+])
+def test_a_read_only_out_is_one_error_and_leaves_nothing(tmp_path, capsys, monkeypatch, code,
+                                                         cause):
+    # Issue 24: --out on a read-only file system or under an immutable folder (chattr +i).
+    # Tests run as root, which ignores chmod 555, so the answer of the file system (EROFS) or
+    # of the immutable flag (EPERM) is simulated at the first file crowdvib writes.
+    calls = _fail_replace(monkeypatch, code, after=0)
     out = tmp_path / "sim"
     assert main(["simulate", "--duration-s", "30", "--out", str(out)]) == 1
     err = capsys.readouterr().err
     line, = [line for line in err.splitlines() if line.startswith("crowdvib simulate:")]
-    assert line == (f"crowdvib simulate: error: cannot write {calls[0]}: Read-only file system "
-                    "(the file system is mounted read-only)")
+    assert line == f"crowdvib simulate: error: cannot write {calls[0]}: {cause}"
     assert "Traceback" not in err
     assert sorted(os.listdir(tmp_path)) == []                # no out, staging, lock or temporary
 
