@@ -102,3 +102,92 @@ def test_deck_nodes_on_an_oblique_line_are_refused(tmp_path):
                                         r"the walkway or span an area.*across extent 4 m over "
                                         r"40 m"):
         read_modal_model(*files, width=3.0, outputs={"mid": 20.0})
+
+
+# ------------------------------------------------------------- operational modal analysis
+THREE_MODES = np.array([2.0, 3.1, 6.5])             # the beam of tests/unit/test_oma.py
+SENSORS = {"s1": 12.5, "s2": 25.0, "s3": 37.5}
+
+
+@pytest.fixture(scope="module")
+def modes_run(tmp_path_factory):
+    """``crowdvib modes`` with default settings on 30 min of a three-mode beam's ambient
+    response (exact Gaussian synthesis, seed 3): the tester's run of issue 24, where SSI-cov
+    reported 2.83 and 6.04 Hz besides the three modes, with "no warnings"."""
+    pytest.importorskip("pyoma2")
+    from crowdvib.identification.oma import ambient_response
+
+    folder = tmp_path_factory.mktemp("modes")
+    x = np.linspace(0.0, 50.0, 101)
+    sines = np.sin(np.pi * np.outer(x, np.arange(1, 4)) / 50)
+    at_sensors = np.sin(np.pi * np.outer(list(SENSORS.values()), np.arange(1, 4)) / 50)
+    beam = ModalModel(THREE_MODES, [0.005, 0.012, 0.02], [50e3, 40e3, 60e3], x, sines, 3.0,
+                      tuple(SENSORS), at_sensors)
+    ambient = ambient_response(beam, 1800.0, 20.0, 200.0**2, rng=3)
+    write_record(Record(ambient, 20.0, tuple(SENSORS)), folder / "ambient.csv")
+    (folder / "ambient.toml").write_text(
+        '[record]\nfile = "ambient.csv"\n[identification]\nfrequency_band = [1.0, 9.0]\n'
+        '[modal_model]\nmodal_masses = [5e4, 4e4, 6e4]\nsensor_positions = [12.5, 25.0, 37.5]\n'
+        'walkway = [0.0, 50.0]\nwidth = 3.0\n')
+    return folder
+
+
+def test_modes_reports_only_the_beams_three_modes_and_warns_of_the_others(modes_run, capsys):
+    # Issue 24: two extra pole groups were reported as modes. Their damping is not resolved
+    # (σ_ξ > ξ) nor their frequency within the half-power band (σ_f > ξ f): dropped, named in
+    # the verdict (docs: theory, Operational modal analysis, from poles to modes).
+    out = modes_run / "out"
+    assert main(["modes", str(modes_run / "ambient.toml"), "--out", str(out)]) == 0
+    table = np.genfromtxt(out / "modes.csv", delimiter=",", names=True, dtype=None,
+                          encoding="utf-8")
+    np.testing.assert_allclose(table["frequency"], THREE_MODES, rtol=0.005)
+    printed = capsys.readouterr().out
+    assert "verdict: check before use" in printed
+    assert re.search(r"IdentifiabilityWarning: SSI-cov: 2 group\(s\) of stable poles fail the "
+                     r"checks of a physical mode.*2\.83\d Hz \(damping not resolved.*6\.0[34]\d "
+                     r"Hz \(damping not resolved.*dropped", printed)
+
+
+def test_one_stated_modal_mass_for_several_modes_is_refused():
+    # Issue 24: one modal mass was applied to every identified mode; now one per mode, the
+    # modes named (no identification needed: a ModeIdentification of three modes).
+    from crowdvib.identification.modeid import ModeIdentification
+
+    three = ModeIdentification(THREE_MODES, np.full(3, 0.01), np.full(3, 0.01),
+                               np.full(3, 0.001), np.eye(3), tuple(SENSORS), 20.0, {})
+    with pytest.raises(ParameterError, match=r"modal_masses must give one mass per identified "
+                                             r"mode \(3: 2 Hz, 3\.1 Hz, 6\.5 Hz\), got 1"):
+        three.modal_model(modal_masses=5e4, sensor_positions=list(SENSORS.values()),
+                          walkway=(0.0, 50.0), width=3.0)
+
+
+@pytest.mark.parametrize("key, value", [("n_modes", "2.5"), ("max_order", "30.5"),
+                                        ("segment_length", "1024.5")])
+def test_modes_file_counts_must_be_integers(tmp_path, key, value):
+    # Issue 24: n_modes = 2.5 was cut to 2 (int()); a count is refused unless whole.
+    from crowdvib.cli.modes import read_ambient
+
+    write_record(Record(np.random.default_rng(1).normal(size=(2, 400)), 20.0, ("a", "b")),
+                 tmp_path / "ambient.csv")
+    path = tmp_path / "ambient.toml"
+    path.write_text(f'[record]\nfile = "ambient.csv"\n[identification]\n{key} = {value}\n')
+    with pytest.raises(ParameterError, match=rf"ambient\.toml: identification\.{key} must be "
+                                             rf"an integer >= \d+, got {value}"):
+        read_ambient(path)
+
+
+@pytest.mark.parametrize("method, dead, named", [
+    ("ssi-cov", [0, 1, 2], "'left', 'mid', 'right'"),     # was numpy's LinAlgError
+    ("ssi-cov", [1], "'mid'"),                            # was seven modes of white noise
+    ("efdd", [1], "'mid'"),                               # was "no peak ...: give n_modes"
+])
+def test_a_constant_sensor_is_named(method, dead, named):
+    # Issue 24: constant signals left identify_modes as a foreign LinAlgError; a dead channel
+    # among live ones is named too.
+    pytest.importorskip("pyoma2")
+    from crowdvib import identify_modes
+
+    signals = np.random.default_rng(2).normal(size=(3, 4000))
+    signals[dead] = 0.25                                # dead channels at their offset
+    with pytest.raises(DataError, match=rf"signals of sensor\(s\) \[{named}\] are constant"):
+        identify_modes(signals, 20.0, method=method, sensor_names=["left", "mid", "right"])

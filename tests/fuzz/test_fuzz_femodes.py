@@ -88,3 +88,19 @@ def test_damaged_uff(folder, data):
 @given(which=st.sampled_from(("nodes.csv", "table.csv")), data=st.data())
 def test_damaged_csv(folder, which, data):
     read_csv(folder, which, data.draw(mutations((folder / which).read_bytes())))
+
+
+@FUZZ_RANDOM
+@given(slope=st.floats(-2.0, 2.0), jitter=st.sampled_from([0.0, 1e-12, 1e-9, 1e-6, 1e-3]),
+       seed=st.integers(0, 2**16))
+def test_deck_geometry(folder, slope, jitter, seed):
+    # Issue 24: deck nodes (nearly) on a line oblique to x let scipy's QhullError out. Any
+    # line, slightly scattered, is now a model or a crowdvib error naming the file.
+    x = np.linspace(0.0, 40.0, 9)
+    y = slope * x + jitter * np.random.default_rng(seed).normal(size=9)
+    shapes = np.column_stack([np.sin(np.pi * x / 40), np.sin(2 * np.pi * x / 40)])
+    rows = ["node,x,y,z,m1,m2"] + [f"{i + 1},{x[i]:.17g},{y[i]:.17g},0,{shapes[i, 0]:.17g},"
+                                   f"{shapes[i, 1]:.17g}" for i in range(9)]
+    (folder / "deck.csv").write_text("\n".join(rows) + "\n")
+    check(outcome(read_modal_model, folder / "table.csv", folder / "deck.csv", width=3.0,
+                  outputs={"mid": 20.0}, min_vertical=0.0))

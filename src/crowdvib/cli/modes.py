@@ -40,13 +40,16 @@ given, ``results.json`` and ``report.html``. Modes the two methods disagree on a
 """
 
 import csv
+import sys
 import time
+import warnings
 from pathlib import Path
 
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import write_report
-from .common import add_output_arguments, say, say_verdict, staged_output, versions
+from .common import (add_output_arguments, say, say_verdict, staged_output, versions,
+                     warning_texts)
 
 
 def add_arguments(parser):
@@ -92,14 +95,12 @@ def read_ambient(path):
     name = root.string("name", path.stem)
     records = _records(root)
     ident = root.table("identification")
-    n_modes = ident.number("n_modes", None, rule="positive")
-    segment = ident.number("segment_length", None, rule="positive")
-    options = {"n_modes": None if n_modes is None else int(n_modes),
+    options = {"n_modes": _count(ident, "n_modes", None, 1),
                "frequency_band": ident.pair("frequency_band", None),
-               "max_order": int(ident.number("max_order", 40.0, rule="positive")),
+               "max_order": _count(ident, "max_order", 40, 2),
                "method": ident.string("method", "ssi-cov", choices=("ssi-cov", "efdd")),
                "cross_check": ident.boolean("cross_check", False),
-               "segment_length": None if segment is None else int(segment)}
+               "segment_length": _count(ident, "segment_length", None, 64)}
     references = ident.strings("reference_channels", None)
     if len(records) > 1:
         if references is None:
@@ -124,6 +125,14 @@ def read_ambient(path):
         model.finish()
     root.finish()
     return name, records, options, spec
+
+
+def _count(table, name, default, least):
+    """A count of the file as int: 2.5 modes is refused, not cut to 2."""
+    value = table.number(name, default)
+    if value is not None and (int(value) != value or value < least):
+        raise table.error(name, f"must be an integer >= {least}", value)
+    return None if value is None else int(value)
 
 
 def _reference_rows(records, references, table):
@@ -205,11 +214,17 @@ def run(args):
     with staged_output(args.out, args.force, command="modes",
                        inputs=[("the ambient file", args.ambient)]) as staging:
         started = time.perf_counter()
-        modes = identify_modes([r.data for r in records] if several else records[0].data,
-                               records[0].sample_rate,
-                               sensor_names=([r.channel_names for r in records] if several
-                                             else records[0].channel_names), **options)
+        # Doubtful modes are warnings of the identification: they go to the verdict and report.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            modes = identify_modes([r.data for r in records] if several else records[0].data,
+                                   records[0].sample_rate,
+                                   sensor_names=([r.channel_names for r in records] if several
+                                                 else records[0].channel_names), **options)
+            structure = None if spec is None else _modal_model(modes, spec)
         elapsed = time.perf_counter() - started
+        for text in warning_texts(caught):
+            print(f"crowdvib modes: warning: {text}", file=sys.stderr)
         _write_csv(staging / "modes.csv", ["mode", "frequency", "frequency_std", "damping_ratio",
                                            "damping_std"],
                    [[f"mode_{j + 1}", *(f"{v[j]:.10g}" for v in (
@@ -228,14 +243,14 @@ def run(args):
                        _cross_check_rows(modes.cross_check))
             files.append("cross_check.csv")
         figures = _figures(modes, staging)
-        if spec is not None:
-            structure = _modal_model(modes, spec)
+        if structure is not None:
             write_modal_model(structure, staging / "modal_table.csv",
                               staging / "modal_shapes.csv", staging / "output_points.csv")
             files += ["modal_table.csv", "modal_shapes.csv", "output_points.csv"]
         results = {"command": "modes", "crowdvib_version": __version__, "versions": versions(),
                    "ambient": str(args.ambient), "name": name, **modes.to_dict(),
-                   "files": files, "figures": figures, "elapsed_s": elapsed}
+                   "files": files, "figures": figures, "elapsed_s": elapsed,
+                   "warnings": warning_texts(caught)}
         write_json(staging / "results.json", results)
         write_report(staging)
     for j in range(modes.n_modes):

@@ -108,8 +108,13 @@ class ModeIdentification:
             raise ParameterError("modal_model needs structure (an FE ModalModel at the sensors) "
                                  "or modal_masses, sensor_positions, walkway and width: OMA "
                                  "gives no modal masses")
-        masses = check_positive("modal_masses", np.broadcast_to(
-            np.asarray(modal_masses, dtype=float), (self.n_modes,)), unit="kg")
+        masses = np.atleast_1d(check_positive(
+            "modal_masses", as_float_array("modal_masses", modal_masses), unit="kg")).ravel()
+        if masses.size != self.n_modes:
+            # One mass for several modes would be a guess for all but one of them.
+            modes = ", ".join(f"{f:.4g} Hz" for f in self.frequencies)
+            raise ParameterError(f"modal_masses must give one mass per identified mode "
+                                 f"({self.n_modes}: {modes}), got {masses.size}")
         x = as_float_array("sensor_positions", sensor_positions, ndim=1)
         start, end = (float(v) for v in walkway)
         order = np.argsort(x)                   # several setups list the references first

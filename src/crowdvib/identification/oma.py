@@ -24,13 +24,14 @@ import contextlib
 import dataclasses
 import io
 import logging
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .._validation import check_positive
-from ..errors import DataError, EstimationError, ParameterError
+from ..errors import DataError, EstimationError, IdentifiabilityWarning, ParameterError
 from ..models.structure import ModalModel
 from .efdd import MAC_THRESHOLD, efdd_modes
 from .modeid import (ModeIdentification, compare_identifications, identified_error_levels,
@@ -45,6 +46,10 @@ METHODS = ("ssi-cov", "efdd")
 CLUSTER_TOLERANCE = 0.01
 #: A mode must be stable at this share of the model orders that have any stable pole.
 MIN_STABLE_SHARE = 0.3
+#: ... its stable poles must share one shape (median MAC with the mode's at least this), and it
+#: must be resolved: σ_ξ < ξ and σ_f < ξ f (the half-power half-width). At the information
+#: bound both ratios are (2π f ξ T)^-1/2, so 1 means less data than one decay time.
+MIN_SHAPE_MAC = 0.9
 
 
 def _pyoma2():
@@ -174,6 +179,11 @@ def _names(sensor_names, count, name):
 
 def _identify(data, sample_rate, names, band, n_modes, method, cross_check, options):
     """One setup by ``method``, with the other method's cross-check if asked."""
+    flat = [name for name, row in zip(names, data) if np.ptp(row) == 0]
+    if flat:
+        # A constant row has no covariance: SSI's and EFDD's matrices become singular.
+        raise DataError(f"signals of sensor(s) {flat} are constant: an ambient record must "
+                        f"vary (a dead or disconnected sensor?)")
     primary = _floored(_run(method, data, sample_rate, names, band, n_modes, options, None),
                        data.shape[1] / sample_rate)
     if not cross_check:
@@ -201,7 +211,7 @@ def _run(method, data, sample_rate, names, band, n_modes, options, seeds):
         return efdd_modes(data, sample_rate, names, *band, n_modes=n_modes, frequencies=seeds,
                           segment_length=options["segment_length"],
                           mac_threshold=options["mac_threshold"], drop_failed=seeds is not None)
-    return _ssi(data, sample_rate, names, band, n_modes, options)
+    return _ssi(data, sample_rate, names, band, n_modes, options, warn=seeds is None)
 
 
 def _empty(method, names, sample_rate):
@@ -210,7 +220,7 @@ def _empty(method, names, sample_rate):
                               sample_rate, {}, method)
 
 
-def _ssi(data, sample_rate, names, band, n_modes, options):
+def _ssi(data, sample_rate, names, band, n_modes, options, warn=True):
     """SSI-cov through pyOMA2, its stable poles grouped into modes."""
     low, high = band
     block_rows = options["block_rows"]
@@ -229,11 +239,12 @@ def _ssi(data, sample_rate, names, band, n_modes, options):
             setup.run_by_name("ssi")
     finally:
         logger.setLevel(level)
-    return _from_poles(algorithm.result, names, sample_rate, low, high, n_modes)
+    return _from_poles(algorithm.result, names, sample_rate, low, high, n_modes, warn)
 
 
-def _from_poles(result, names, sample_rate, low, high, n_modes):
-    """Group the stable poles into modes (docs: theory, Operational modal analysis)."""
+def _from_poles(result, names, sample_rate, low, high, n_modes, warn=True):
+    """Group the stable poles into modes and check them (docs: theory, Operational modal
+    analysis, from poles to modes)."""
     frequency = np.asarray(result.Fn_poles, dtype=float)
     damping = np.asarray(result.Xi_poles, dtype=float)
     shapes = np.asarray(result.Phi_poles)
@@ -255,44 +266,73 @@ def _from_poles(result, names, sample_rate, low, high, n_modes):
     support = np.array([np.unique(column[c]).size for c in clusters])
     ranked = np.argsort(-support, kind="stable")
     if n_modes is None:
-        chosen = ranked[support[ranked] >= MIN_STABLE_SHARE * orders_with_poles]
-    else:
-        if int(n_modes) != n_modes or n_modes < 1:
-            raise ParameterError(f"n_modes must be a positive integer, got {n_modes!r}")
-        if ranked.size < n_modes:
-            raise EstimationError(f"only {ranked.size} stable mode(s) in the band, n_modes = "
-                                  f"{n_modes} asked")
-        chosen = ranked[:int(n_modes)]
-    rows = []
-    for c in clusters_sorted(chosen, clusters, values):
-        p, o = pole[c], column[c]
-        f, xi = frequency[p, o], damping[p, o]
-        nearest = np.argmin(np.abs(f - np.median(f)))
-        phi = np.real(shapes[p[nearest], o[nearest]])
-        phi = phi / phi[np.argmax(np.abs(phi))]
-        # The propagated std of single poles is erratic at some orders: its median over the
-        # mode's stable poles, or the scatter over the orders if that is larger.
-        rows.append((np.median(f), np.median(xi),
-                     max(_median_finite(f_std[p, o]), f.std(ddof=1) if f.size > 1 else 0.0),
-                     max(_median_finite(xi_std[p, o]), xi.std(ddof=1) if xi.size > 1 else 0.0),
-                     phi))
+        ranked = ranked[support[ranked] >= MIN_STABLE_SHARE * orders_with_poles]
+    elif ranked.size < n_modes:
+        raise EstimationError(f"only {ranked.size} stable mode(s) in the band, n_modes = "
+                              f"{n_modes} asked")
+    passing, failing = [], []
+    for c in ranked:                                  # best supported first
+        p, o = pole[clusters[c]], column[clusters[c]]
+        mode = _mode(frequency[p, o], damping[p, o], f_std[p, o], xi_std[p, o], shapes[p, o])
+        (failing if mode[-1] else passing).append(mode)
+        if n_modes is not None and len(passing) == n_modes:
+            break
+    # Without n_modes a group failing the checks is dropped; with it, kept only to make up the
+    # number asked. Either way it is named.
+    kept = passing + ([] if n_modes is None else failing[:n_modes - len(passing)])
+    named = failing if n_modes is None else kept[len(passing):]
+    if named and warn:
+        words = "; ".join(f"{f:.4g} Hz ({', '.join(faults)})" for f, *_, faults in named)
+        warnings.warn(f"SSI-cov: {len(named)} group(s) of stable poles fail the checks of a "
+                      f"physical mode (numerical or noise poles): {words}; "
+                      + ("dropped (give n_modes to keep them)" if n_modes is None else
+                         f"reported only because n_modes = {n_modes} asked"),
+                      IdentifiabilityWarning, stacklevel=6)
+    if not kept:
+        raise EstimationError("no group of stable poles passes the checks of a physical mode: "
+                              "the record is too short or too noisy for SSI")
+    kept.sort(key=lambda mode: mode[0])
     return ModeIdentification(
-        frequencies=np.array([r[0] for r in rows]), damping_ratios=np.array([r[1] for r in rows]),
-        frequency_std=np.array([r[2] for r in rows]), damping_std=np.array([r[3] for r in rows]),
-        mode_shapes=np.column_stack([r[4] for r in rows]), sensor_names=names,
+        frequencies=np.array([m[0] for m in kept]), damping_ratios=np.array([m[1] for m in kept]),
+        frequency_std=np.array([m[2] for m in kept]), damping_std=np.array([m[3] for m in kept]),
+        mode_shapes=np.column_stack([m[4] for m in kept]), sensor_names=names,
         sample_rate=sample_rate,
         poles={"frequency": np.where(np.isfinite(frequency), frequency, np.nan),
                "damping": damping, "stable": stable, "orders": orders})
 
 
+def _mode(f, xi, f_std, xi_std, shapes):
+    """(f, ξ, σ_f, σ_ξ, shape, faults) of one group of stable poles (one per model order).
+
+    f and ξ are the medians; the shape is the real part of the pole nearest the median f, +1 at
+    its largest component. The propagated std of single poles is erratic at some orders: its
+    median over the group, or the scatter over the orders if that is larger. ``faults`` names
+    the checks of a physical mode the group fails (docs: theory, Operational modal analysis).
+    """
+    nearest = np.argmin(np.abs(f - np.median(f)))
+    phi = np.real(shapes[nearest])
+    phi = phi / phi[np.argmax(np.abs(phi))]
+    frequency, damping = np.median(f), np.median(xi)
+    sigma_f = max(_median_finite(f_std), f.std(ddof=1) if f.size > 1 else 0.0)
+    sigma_xi = max(_median_finite(xi_std), xi.std(ddof=1) if xi.size > 1 else 0.0)
+    mac = np.median(np.abs(shapes.conj() @ phi) ** 2
+                    / (np.sum(np.abs(shapes) ** 2, axis=1) * (phi @ phi)))
+    faults = []
+    if mac < MIN_SHAPE_MAC:
+        faults.append(f"its shape changes over the orders: median MAC {mac:.2f} < "
+                      f"{MIN_SHAPE_MAC}")
+    if sigma_xi >= damping:
+        faults.append(f"damping not resolved: σ_ξ = {sigma_xi / damping:.0%} of ξ = "
+                      f"{damping:.3g}")
+    if sigma_f >= damping * frequency:
+        faults.append(f"frequency not resolved within its half-power band: σ_f = "
+                      f"{sigma_f:.3g} Hz >= ξf = {damping * frequency:.3g} Hz")
+    return frequency, damping, sigma_f, sigma_xi, phi, faults
+
+
 def _median_finite(values):
     values = values[np.isfinite(values)]
     return float(np.median(values)) if values.size else 0.0
-
-
-def clusters_sorted(chosen, clusters, values):
-    """The chosen clusters in order of increasing frequency."""
-    return [clusters[i] for i in sorted(chosen, key=lambda i: np.median(values[clusters[i]]))]
 
 
 def ambient_response(structure: ModalModel, duration: float, sample_rate: float,
