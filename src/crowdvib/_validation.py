@@ -29,7 +29,8 @@ def check_count(name, value, minimum=0):
     integral = isinstance(value, (int, np.integer)) or (
         isinstance(value, (float, np.floating)) and float(value).is_integer())
     if isinstance(value, (bool, np.bool_)) or not integral or value < minimum:
-        raise ParameterError(f"{name} must be an integer >= {minimum}, got {value!r}")
+        rule = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
+        raise ParameterError(f"{name} must be {rule}, got {value!r}")
     return int(value)
 
 
@@ -55,7 +56,8 @@ def _refuse_non_real(name, value):
                      else flat[0]).item()
         elif raw.ndim:
             shown = raw.ravel()[0].item()
-        raise ParameterError(f"{name} must be real numbers, not {what}, got {shown!r}")
+        raise ParameterError(f"{name} must be numeric, got {shown!r}: {what} is not read as a "
+                             "real number")
 
 
 def as_float_array(name, value, *, ndim=None):
