@@ -229,7 +229,8 @@ def test_a_killed_worker_does_not_stop_the_study(tmp_path, uninterrupted):
     out.mkdir()
     process = _start(out)
     _wait_for_tasks(process, out, 5)
-    workers = psutil.Process(process.pid).children()       # the pool's workers, forked
+    # The pool's workers: children of its fork server, a child of the study's process.
+    workers = [w for child in psutil.Process(process.pid).children() for w in child.children()]
     assert len(workers) == 2
     workers[0].kill()
     stdout, stderr = process.communicate(timeout=300)

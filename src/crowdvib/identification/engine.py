@@ -23,15 +23,19 @@ cores do not run four threads (measured in issue 14: two workers with multi-thre
 gives the same bits wherever it runs.
 """
 
+import concurrent.futures
 import contextlib
+import functools
+import logging
 import signal
 import threading
+import time
 
 from .._threads import default_workers
-from ..errors import ParameterError
+from ..errors import CrowdvibError, ParameterError
 from ._pool import ProcessPool
 
-__all__ = ["study_executor"]
+__all__ = ["study_executor", "SchedulerLost"]
 
 
 @contextlib.contextmanager
@@ -56,7 +60,9 @@ def study_executor(workers=1, scheduler=None, *, timeout_floor=60.0, timeout_fac
     Yields
     ------
     concurrent.futures.Executor or None
-        A :class:`~crowdvib.identification._pool.ProcessPool`, dask's executor, or None.
+        A :class:`~crowdvib.identification._pool.ProcessPool`, dask's executor, or None. When
+        the dask scheduler is lost (its connection closes, or it answers no ping for 20 s),
+        every unfinished task fails with one :class:`SchedulerLost`, which ends the study.
 
     Notes
     -----
@@ -68,9 +74,17 @@ def study_executor(workers=1, scheduler=None, *, timeout_floor=60.0, timeout_fac
     if workers is None:
         workers = default_workers()
     if scheduler is not None:
-        with _dask_client(scheduler) as client:
-            # pure=False: tasks are told apart by run_tasks, hashing them again is waste.
-            yield client.get_executor(pure=False)
+        executor = None
+        try:
+            with _dask_client(scheduler) as client:
+                executor = _ClusterExecutor(client, scheduler)
+                try:
+                    yield executor
+                finally:
+                    executor.shutdown(wait=False)
+        finally:
+            if executor is not None:        # after the client's close, which logs the loss too
+                executor.unquiet()
         return
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ParameterError(f"--workers must be >= 1, got {workers}")
@@ -84,6 +98,116 @@ def study_executor(workers=1, scheduler=None, *, timeout_floor=60.0, timeout_fac
         pool.close(kill=True)
         raise
     pool.close()
+
+
+class SchedulerLost(CrowdvibError, ConnectionError):
+    """The dask scheduler of a study was lost: its unfinished tasks fail, finished ones are kept."""
+
+
+#: Seconds between two pings of a study's dask scheduler, and how long it may take to answer
+#: one: a frozen scheduler (stopped, its host gone) keeps its connection open and says nothing.
+_PING_EVERY, _PING_TIMEOUT = 5.0, 20.0
+
+#: dask's loggers that tell the loss of the scheduler, with tracebacks, while the client retries.
+_QUIET_LOGGERS = ("distributed.client", "distributed.utils", "distributed.core")
+
+
+class _ClusterExecutor(concurrent.futures.Executor):
+    """dask's executor on ``client``, telling at once that the scheduler is lost.
+
+    On losing its scheduler a dask client cancels every unfinished task, each of which would
+    then be a bare ``CancelledError``, logs tracebacks while it tries to reconnect, and cannot
+    tell a frozen scheduler from a busy one (issue 24: a study waited minutes without a word).
+    Here every unfinished task fails with one :class:`SchedulerLost` naming the scheduler, which
+    ends ``run_tasks``; the scheduler is pinged every ``_PING_EVERY`` s, and the client's logs
+    of the loss are left out.
+    """
+
+    def __init__(self, client, address):
+        self._client, self._address = client, address
+        self._inner = client.get_executor(pure=False)   # tasks are told apart by run_tasks
+        self._pending = set()
+        self._lock = threading.Lock()
+        self._lost = None
+        self._done = threading.Event()
+        self._started = time.monotonic()
+        self._quiet = _Quiet(self)
+        for name in _QUIET_LOGGERS:
+            logging.getLogger(name).addFilter(self._quiet)
+        threading.Thread(target=self._watch, name="crowdvib-scheduler-ping", daemon=True).start()
+
+    def submit(self, fn, /, *args, **kwargs):
+        if self._lost is not None:
+            raise self._lost
+        outer = concurrent.futures.Future()
+        with self._lock:
+            self._pending.add(outer)
+        self._inner.submit(fn, *args, **kwargs).add_done_callback(
+            functools.partial(self._relay, outer))
+        return outer
+
+    def shutdown(self, wait=True, *, cancel_futures=False):
+        self._done.set()
+        self._inner.shutdown(wait=wait)     # dask's cancels every unfinished task
+
+    def unquiet(self):
+        """Let dask's logs through again."""
+        for name in _QUIET_LOGGERS:
+            logging.getLogger(name).removeFilter(self._quiet)
+
+    def _relay(self, outer, inner):
+        """Hand dask's outcome of a task to ``outer``; a task cancelled by the loss of the
+        scheduler fails with SchedulerLost."""
+        if inner.cancelled() and not self._done.is_set() and self._client.status != "running":
+            self._lose("its connection closed")
+        if outer.done():
+            return
+        with self._lock:
+            self._pending.discard(outer)
+        if inner.cancelled():
+            outer.cancel()
+            outer.set_running_or_notify_cancel()     # wakes as_completed, as dask's does
+        elif inner.exception() is not None:
+            outer.set_exception(inner.exception())
+        else:
+            outer.set_result(inner.result())
+
+    def _lose(self, how):
+        """Fail every unfinished task with one SchedulerLost (once)."""
+        with self._lock:
+            if self._lost is not None:
+                return
+            since = time.monotonic() - self._started
+            self._lost = SchedulerLost(
+                f"the dask scheduler at {self._address} was lost {since:.0f} s into the study "
+                f"({how}); {len(self._pending)} unfinished task(s) stopped, the finished ones "
+                "are kept: run the study again (resume) once it is back")
+            pending, self._pending = self._pending, set()
+        for future in pending:
+            if not future.done():
+                future.set_exception(self._lost)
+
+    def _watch(self):
+        """Ping the scheduler until shut down; no answer in _PING_TIMEOUT s: it is lost."""
+        while not self._done.wait(_PING_EVERY):
+            try:
+                self._client.sync(self._client.scheduler.identity, callback_timeout=_PING_TIMEOUT)
+            except Exception as error:
+                if not self._done.is_set():
+                    self._lose(f"no answer to a ping within {_PING_TIMEOUT:g} s: "
+                               f"{type(error).__name__}")
+                return
+
+
+class _Quiet(logging.Filter):
+    """Leaves out dask's logs once the scheduler is known lost (SchedulerLost says it once)."""
+
+    def __init__(self, executor):
+        super().__init__()
+        self._executor = executor
+
+    def filter(self, record):
+        return self._executor._lost is None
 
 
 @contextlib.contextmanager

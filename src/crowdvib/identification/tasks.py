@@ -323,6 +323,8 @@ def run_tasks(function, tasks, *, executor=None, store=None, progress=None, fiel
             name, key, parts = futures[future]
             try:
                 result = future.result()
+            except CrowdvibError:        # the executor itself is lost (engine.SchedulerLost):
+                raise                    # tasks' own errors are results (_guarded)
             except Exception as error:   # the executor gave up (KilledWorker, BrokenProcessPool)
                 logger.warning("task %s failed on its worker: %r", name, error)
                 results[name] = {"error": f"its worker failed ({error!r}); run the study again "
