@@ -191,3 +191,23 @@ def test_the_docs_table_states_every_range():
         bounds = [f"{b:g}" for b in (plausible.low, plausible.high) if b is not None]
         shown = [b.replace("100000", "1e5") for b in bounds]
         assert all(b in row for b in shown), (key, shown, row[:80])
+
+
+def test_check_cli_verdict_names_the_damping_in_percent(tmp_path, capsys):
+    # Issue 24: with ξ = 0.5 (meant as 0.5 %) `crowdvib check` passed the paper's bridge, which
+    # fails EN 1990 (examples/check_paper.toml), and printed "verdict: no warnings".
+    from pathlib import Path
+
+    from crowdvib.cli import main
+
+    case = Path(__file__).resolve().parents[2] / "examples" / "check_paper.toml"
+    text = case.read_text(encoding="utf-8")
+    assert "damping_ratio = 0.005" in text
+    wrong = tmp_path / "check_paper.toml"
+    wrong.write_text(text.replace("damping_ratio = 0.005", "damping_ratio = 0.5"),
+                     encoding="utf-8")
+    assert main(["check", str(wrong), "--out", str(tmp_path / "out")]) == 0
+    printed = capsys.readouterr().out
+    assert "verdict: no warnings" not in printed
+    assert ("PlausibilityWarning: damping_ratios[0] = 0.5 is above 0.1, unusual for a footbridge "
+            "mode: percent instead of fraction? (0.5 % is 0.005)") in printed
