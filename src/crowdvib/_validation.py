@@ -35,29 +35,25 @@ def check_count(name, value, minimum=0):
 
 
 def _refuse_non_real(name, value):
-    """Strings and complex numbers are not read as numbers: numpy would turn "3" into 3.0 and
-    drop an imaginary part with only a ComplexWarning."""
-    raw = np.asarray(value) if not isinstance(value, np.ndarray) else value
-    kind = raw.dtype.kind
-    if kind == "O":
-        items = raw.ravel().tolist()
-        bad = next((x for x in items if isinstance(x, (str, bytes, complex, np.complexfloating))),
-                   None)
-        kind = "c" if isinstance(bad, (complex, np.complexfloating)) else ("U" if bad is not None
-                                                                            else kind)
-    if value is None or (kind == "O" and any(x is None for x in raw.ravel().tolist())):
-        raise ParameterError(f"{name} must be numeric, got None")
-    if kind in "USc":
-        what = "complex" if kind == "c" else "a string"
-        shown = value
-        if raw.ndim and kind == "c":
-            flat = raw.ravel().astype(complex)
-            shown = (flat[np.flatnonzero(flat.imag != 0)[0]] if np.any(flat.imag != 0)
-                     else flat[0]).item()
-        elif raw.ndim:
-            shown = raw.ravel()[0].item()
-        raise ParameterError(f"{name} must be numeric, got {shown!r}: {what} is not read as a "
-                             "real number")
+    """Strings, complex numbers and None are not read as numbers: numpy would turn "3" into
+    3.0, None into NaN, and drop an imaginary part with only a ComplexWarning."""
+    raw = value if isinstance(value, np.ndarray) else np.asarray(value)
+    flat = raw.ravel()
+    if raw.dtype.kind == "c":
+        offending = flat[flat.imag != 0] if np.any(flat.imag != 0) else flat
+    elif raw.dtype.kind in "US":
+        offending = flat
+    elif raw.dtype.kind == "O":
+        offending = [x for x in flat.tolist() if x is None or isinstance(x, (str, bytes, complex))]
+    else:
+        return
+    if len(offending):
+        first = offending[0]
+        first = first.item() if isinstance(first, np.generic) else first
+        what = ("" if first is None else
+                f": {'complex' if isinstance(first, complex) else 'a string'} is not read as a "
+                "real number")
+        raise ParameterError(f"{name} must be numeric, got {first!r}{what}")
 
 
 def as_float_array(name, value, *, ndim=None):
