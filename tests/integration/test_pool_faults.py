@@ -213,3 +213,100 @@ def test_a_dead_workers_replacement_is_not_forked_from_this_threaded_process():
     assert forks_warned(None) == []
     if sys.version_info >= (3, 12):
         assert forks_warned("fork") != []
+
+
+# ------------------------------------------------------------------------------ dask scheduler
+def _nap(seconds):
+    """A task of run_tasks on the dask cluster (imported there from this file's folder)."""
+    time.sleep(seconds)
+    return {"slept": seconds}
+
+
+@pytest.fixture
+def cluster(tmp_path):
+    """A dask scheduler (in the process returned) with one worker process, on loopback."""
+    pytest.importorskip("distributed")
+    script = tmp_path / "cluster.py"
+    script.write_text(textwrap.dedent("""
+        import time
+        from distributed import LocalCluster
+
+        import crowdvib.identification  # the scheduler unpickles tasks: 3 s at the first, once
+
+        if __name__ == "__main__":
+            cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                   host="127.0.0.1", scheduler_port=0, dashboard_address=None)
+            print(cluster.scheduler_address, flush=True)
+            time.sleep(600)
+    """))
+    here = os.path.dirname(__file__)
+    environment = {**os.environ, "PYTHONPATH": os.pathsep.join(
+        [here] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p])}
+    process = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True,
+                               env=environment, start_new_session=True)
+    try:
+        process.address = process.stdout.readline().strip()
+        assert process.address.startswith("tcp://127.0.0.1:"), process.address
+        yield process
+    finally:
+        try:
+            os.killpg(process.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        process.wait(timeout=30)
+
+
+def _study_losing_its_scheduler(address, store, lose):
+    """run_tasks of 40 naps of 0.2 s on ``address``, calling ``lose()`` after 3 are done;
+    returns the error it ended with and the seconds from ``lose()`` to the end."""
+    from crowdvib.identification.engine import SchedulerLost
+
+    lost = []
+
+    def progress(done, total):
+        if done >= 3 and not lost:
+            lose()
+            lost.append(time.monotonic())
+
+    with pytest.raises(SchedulerLost) as raised:
+        with study_executor(scheduler=address) as executor:
+            run_tasks(_nap, [(f"nap-{k}", 0.2) for k in range(40)], executor=executor,
+                      store=store, progress=progress)
+    return raised.value, time.monotonic() - lost[0]
+
+
+@pytest.mark.slow
+def test_a_killed_dask_scheduler_ends_the_study_with_one_crowdvib_error_within_a_bound(
+        cluster, tmp_path, caplog):
+    # The issue: the study waited minutes without a word, then Ctrl-C printed tracebacks. Now
+    # dask's cancellation of every task on losing the connection becomes one SchedulerLost,
+    # raised within 15 s of the kill (the client's close takes up to 2 s); the finished tasks
+    # stay stored; no task is reported failed one by one and dask logs no traceback.
+    from crowdvib.identification import TaskStore
+
+    with caplog.at_level(logging.WARNING):
+        error, elapsed = _study_losing_its_scheduler(
+            cluster.address, tmp_path / "store", lambda: os.kill(cluster.pid, signal.SIGKILL))
+    assert elapsed < 15.0
+    assert f"the dask scheduler at {cluster.address} was lost" in str(error)
+    assert "(its connection closed)" in str(error) and "run the study again (resume)" in str(error)
+    assert isinstance(error, ConnectionError)                    # and a CrowdvibError
+    assert len(TaskStore(tmp_path / "store").keys()) >= 3
+    assert [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING] == []
+
+
+@pytest.mark.slow
+def test_a_frozen_dask_scheduler_is_noticed_by_its_missed_ping(cluster, tmp_path, monkeypatch):
+    # A stopped scheduler keeps its connection open and says nothing; the ping (every 0.5 s
+    # here, 2 s to answer) notices it: SchedulerLost within 2 + 0.5 + 2 (close) s, bound 10 s.
+    from crowdvib.identification import engine
+
+    monkeypatch.setattr(engine, "_PING_EVERY", 0.5)
+    monkeypatch.setattr(engine, "_PING_TIMEOUT", 2.0)
+    try:
+        error, elapsed = _study_losing_its_scheduler(
+            cluster.address, tmp_path / "store", lambda: os.kill(cluster.pid, signal.SIGSTOP))
+    finally:
+        os.kill(cluster.pid, signal.SIGCONT)
+    assert elapsed < 10.0
+    assert "no answer to a ping within 2 s" in str(error)

@@ -61,7 +61,7 @@ def study_executor(workers=1, scheduler=None, *, timeout_floor=60.0, timeout_fac
     ------
     concurrent.futures.Executor or None
         A :class:`~crowdvib.identification._pool.ProcessPool`, dask's executor, or None. When
-        the dask scheduler is lost (its connection closes, or it answers no ping for 20 s),
+        the dask scheduler is lost (its connection closes, or it answers no ping for 30 s),
         every unfinished task fails with one :class:`SchedulerLost`, which ends the study.
 
     Notes
@@ -106,7 +106,9 @@ class SchedulerLost(CrowdvibError, ConnectionError):
 
 #: Seconds between two pings of a study's dask scheduler, and how long it may take to answer
 #: one: a frozen scheduler (stopped, its host gone) keeps its connection open and says nothing.
-_PING_EVERY, _PING_TIMEOUT = 5.0, 20.0
+#: A sound one took 2.7 s to answer while it imported crowdvib to read the first tasks (dask
+#: 2026.8 unpickles tasks in the scheduler; measured on loopback, issue 24).
+_PING_EVERY, _PING_TIMEOUT = 5.0, 30.0
 
 #: dask's loggers that tell the loss of the scheduler, with tracebacks, while the client retries.
 _QUIET_LOGGERS = ("distributed.client", "distributed.utils", "distributed.core")
