@@ -29,10 +29,10 @@ an even grid in u and taken piecewise linear, and the exponentials are integrate
 from __future__ import annotations
 
 import dataclasses
+import functools
 from types import SimpleNamespace
 
 import numpy as np
-from scipy.integrate import cumulative_trapezoid
 
 from ..models.structure import ModalModel
 from ._attached import reduced_matrices
@@ -143,21 +143,28 @@ class _OccupiedMode:
         → track (n_p, n_t), slope (n_p, n_t), residue (n_p,) and the node of each pole."""
         nodes = np.asarray(nodes, dtype=float)
         levels = nodes[:, np.newaxis] + (1.0 - nodes[:, np.newaxis]) * _TRACK   # (n, n_t)
-        step = _STEP * np.maximum(levels, _STEP)[..., np.newaxis]
-        states, loads = self.system(levels[..., np.newaxis] + np.array([-1, 0, 1]) * step)
-        poles = np.linalg.eigvals(states)                           # (n, n_t, 3, 2m)
-        centre, vectors = np.linalg.eig(states[:, 0, 1])
-        node, which = np.nonzero(_is_light(centre))
-        modal = (np.linalg.inv(vectors[node]) @ loads[node, 0, 1])[np.arange(node.size), which, 0]
-        residue = np.abs(vectors[node, 0, which] * modal) ** 2
-        track, slope = [], []
-        current = centre[node, which]
+        step = _STEP * np.maximum(levels, _STEP)
+        states, loads = self.system(levels[..., np.newaxis]
+                                    + np.array([-1, 0, 1]) * step[..., np.newaxis])
+        poles, vectors = np.linalg.eig(states[:, :, 1])            # (n, n_t, 2m), (…, 2m, 2m)
+        inverse = np.linalg.inv(vectors)
+        # dp/dλ of every pole: first-order perturbation w_p (dA/dλ) v_p (w_p the rows of V⁻¹),
+        # dA/dλ by central differences (one eigen-decomposition per level, not three)
+        change = (states[:, :, 2] - states[:, :, 0]) / (2 * step[..., np.newaxis, np.newaxis])
+        slopes = np.einsum("...pi,...ij,...jp->...p", inverse, change, vectors)
+        node, which = np.nonzero(_is_light(poles[:, 0]))
+        modal = (inverse[node, 0] @ loads[node, 0, 1])[np.arange(node.size), which, 0]
+        residue = np.abs(vectors[node, 0, 0, which] * modal) ** 2
+        poles, slopes = poles[node], slopes[node]
+        rows = np.arange(node.size)[:, np.newaxis]
+        chosen = np.empty((node.size, _TRACK.size), dtype=int)
+        current = which
         for k in range(_TRACK.size):                # each pole follows its nearest successor
-            near = np.abs(poles[node, k] - current[:, np.newaxis, np.newaxis]).argmin(axis=-1)
-            below, current, above = (poles[node, k, j, near[:, j]] for j in range(3))
-            track.append(current)
-            slope.append((above - below) / (2 * step[node, k, 0]))
-        return np.array(track).T, np.array(slope).T, residue, node
+            current = np.abs(poles[:, k] - poles[rows[:, 0], k - (k > 0), current][:, np.newaxis]
+                             ).argmin(axis=-1)
+            chosen[:, k] = current
+        columns = np.arange(_TRACK.size)
+        return poles[rows, columns, chosen], slopes[rows, columns, chosen], residue, node
 
 
 def _is_light(poles):
@@ -168,7 +175,17 @@ def _is_light(poles):
 
 def _cumulative(values, step):
     """∫₀^u of samples on an even grid (trapezoids), along the last axis."""
-    return cumulative_trapezoid(values, dx=step, axis=-1, initial=0)
+    return values @ (step * _trapezoids(values.shape[-1]).T)
+
+
+@functools.lru_cache(maxsize=8)
+def _trapezoids(count):
+    """The cumulative trapezoid rule of unit step as a matrix: (T f)_i = ∫₀^{u_i} f (a matrix
+    product beats running sums and their end corrections at these sizes)."""
+    rule = np.tril(np.ones((count, count)))
+    rule[:, 0] -= 0.5
+    rule[np.arange(count), np.arange(count)] -= 0.5
+    return rule
 
 
 def _path_grid(path: OccupancyPath, decay: float):
@@ -185,25 +202,27 @@ def _path_grid(path: OccupancyPath, decay: float):
 
 
 def _powers(base, count):
-    """base^k for k = 0 … count − 1 along a new last axis (a running product: no exponentials,
-    rounding grows as k ε)."""
-    factors = np.repeat(base[:, np.newaxis], count, axis=-1)
-    factors[:, 0] = 1.0
-    return np.cumprod(factors, axis=-1)
+    """base^k for k = 0 … count − 1 along a new first axis, by doubling (log₂ count products of
+    blocks: numpy's complex running product is slow; rounding grows as log k ε)."""
+    powers = np.empty((count,) + np.shape(base), dtype=complex)
+    powers[0] = 1.0
+    filled, factor = 1, base
+    while filled < count:
+        block = min(filled, count - filled)
+        np.multiply(powers[:block], factor, out=powers[filled:filled + block])
+        filled, factor = filled + block, factor * factor
+    return powers
 
 
-def _lag_sums(matrix):
-    """L(δ) = Σ_k A[k + δ, k] for δ = −(N−1) … N−1 of (…, N, N) matrices → (…, 2N − 1)."""
-    count = matrix.shape[-1]
-    padded = np.zeros(matrix.shape[:-1] + (2 * count,), dtype=matrix.dtype)
-    padded[..., :count] = matrix[..., ::-1]      # A[j, k] lands in column (j − k) + N − 1
-    skew = padded.reshape(matrix.shape[:-2] + (-1,))[..., :count * (2 * count - 1)]
-    return skew.reshape(matrix.shape[:-2] + (count, 2 * count - 1)).sum(axis=-2)
-
-
-def _cumulative_square(matrix, step):
-    """∫₀^u ∫₀^u' of samples (…, N, N) on an even grid, for every (u, u')."""
-    return _cumulative(np.swapaxes(_cumulative(matrix, step), -1, -2), step).swapaxes(-1, -2)
+@functools.lru_cache(maxsize=8)
+def _lower_by_lag(count):
+    """The lower triangle (j ≥ k) of a count × count matrix ordered by lag δ = j − k, then k:
+    flat indices j·count + k, the transposed k·count + j, j, k, and where each lag begins."""
+    lag = np.repeat(np.arange(count), np.arange(count, 0, -1))
+    starts = np.concatenate(([0], np.cumsum(np.arange(count, 1, -1))))
+    column = np.arange(lag.size) - starts[lag]
+    row = column + lag
+    return row * count + column, column * count + row, row, column, starts
 
 
 def drift_spectrum(track, slope, path: OccupancyPath, omega):
@@ -211,54 +230,83 @@ def drift_spectrum(track, slope, path: OccupancyPath, omega):
     path (``track``, ``slope``: (n_p, n_t) on _TRACK, the first column at λ₀)
     at angular frequencies ``omega`` → (n_p, n_f)."""
     track, slope = np.asarray(track, dtype=complex), np.asarray(slope, dtype=complex)
+    omega = np.asarray(omega, dtype=float)
     decay = float(-track.real.max())                # the longest memory along the mean path
     u, rho, covariance = _path_grid(path, decay)
-    fine = _drift_on_grid(track, slope, path, omega, u, rho, covariance)
-    coarse = _drift_on_grid(track, slope, path, omega, u[::2], rho[::2], covariance[::2, ::2])
+    step, pole = u[1], track[:, :1]
+    # the pole and its slope where the mean path λ₀ + (1 − λ₀)(1 − ρ(u)) is at u (_TRACK is
+    # even: one interpolation weight for every pole)
+    position = np.clip(1.0 - rho, 0.0, 1.0) * (_TRACK.size - 1)
+    below = np.minimum(position.astype(int), _TRACK.size - 2)
+    fraction = position - below
+    along, rate = (rows[:, below] * (1.0 - fraction) + rows[:, below + 1] * fraction
+                   for rows in (track, slope))
+    # e^{iΩu} and e^{−iωu} on the fine grid; the coarse grid (2h) takes every other power
+    spin = _powers(np.exp(1j * pole[:, 0].imag * step), u.size).T     # (n_p, N)
+    rotation = _powers(np.exp(-1j * omega * step), u.size)            # (N, n_f)
+    covariance = path.variance * covariance
+    zh = (pole - 1j * omega) * step
+    growth = np.expm1(zh)                                   # e^{zh} − 1; doubled: e(e + 2)
+    fine = _drift_on_grid(pole, along, rate, covariance, step, spin, rotation,
+                          _filon(zh, growth, step))
+    coarse = _drift_on_grid(pole, along[:, ::2], rate[:, ::2], covariance[::2, ::2], 2 * step,
+                            spin[:, ::2], rotation[::2], _filon(2 * zh, growth * (growth + 2),
+                                                               2 * step))
     return (4 * fine - coarse) / 3
 
 
-def _drift_on_grid(track, slope, path, omega, u, rho, covariance):
-    """drift_spectrum on one grid (u, ρ(u), the path's correlation on it)."""
-    pole = track[:, :1]
-    step, count = u[1], u.size
-    # the pole and its slope where the mean path λ₀ + (1 − λ₀)(1 − ρ(u)) is at u
-    share = 1.0 - rho
-    along, rate = (np.array([np.interp(share, _TRACK, x.real)
-                             + 1j * np.interp(share, _TRACK, x.imag) for x in rows])
-                   for rows in (track, slope))
+def _drift_on_grid(pole, along, rate, covariance, step, spin, rotation, filon):
+    """drift_spectrum on one grid of ``step``: the pole at λ₀ (n_p, 1), the pole and its slope
+    along the mean path (n_p, N), Cov(δλ(u), δλ(u')) (N, N), e^{iΩu} (n_p, N), e^{−iωu}
+    (N, n_f) and Filon's weights (n_p, n_f) on it."""
+    size, count = along.shape
+    u = step * np.arange(count)
+    rule = step * _trapezoids(count)
     # Z(u) = ∫₀^u p₁ δλ = X + iY (X the damping's part, Y the frequency's). The Gaussian
     # cumulant of Z(u) + Z̄(u') less Var(X(u) + X(u'))/2: the damping's fluctuation enters to
     # first order (with the frequency's, as a phase); its square would let rare paths of a
     # linearised pole go undamped. Left: −Var(Y(u) − Y(u'))/2 + i Cov(X(u) + X(u'), Y(u) − Y(u')).
-    weighted_covariance = path.variance * covariance
-
-    def moment(left, right):                                    # E[left(u) right(u')]
-        return _cumulative_square(left[:, :, np.newaxis] * weighted_covariance
-                                  * right[:, np.newaxis, :], step)
-
-    yy, xy = moment(rate.imag, rate.imag), moment(rate.real, rate.imag)
-    diagonal = np.diagonal(2j * xy - yy, axis1=-2, axis2=-1) / 2
-    exponent = _cumulative(along, step) - 1j * pole.imag * u + diagonal
-    cross = yy + 1j * (np.swapaxes(xy, -1, -2) - xy)
+    # E[X(u) Y(u')] + i E[Y(u) Y(u')] in one: the double integral of p₁(u) Cov Im p₁(u'),
+    # over u' first (shared by both), then over u.
+    inner = (covariance * rate.imag[:, np.newaxis, :]).reshape(-1, count) @ rule.T
+    moments = (rule @ (rate[:, :, np.newaxis] * inner.reshape(size, count, count)).view(float)
+               ).view(complex)                                       # XY + i YY, (n_p, N, N)
+    flat_moments = moments.reshape(size, -1)
+    diagonal = flat_moments[:, ::count + 1]
+    exponent = (_cumulative(along, step) - 1j * pole.imag * u
+                + 1j * diagonal.real - diagonal.imag / 2)
     envelope = np.exp(pole.real * u)
+    # The integrand is Hermitian in (u, u'): only u ≥ u' is evaluated, ordered by lag
+    # δ = u − u', as the lag sums L(δ) = Σ_k K(u_k + δ, u_k) need it. Its exponent adds
+    # −Var(Y(u) − Y(u'))/2 + i Cov(…) = i (XY(u', u) − XY(u, u') − i YY(u, u')).
+    flat, transposed, row, column, starts = _lower_by_lag(count)
+    cross = 1j * (flat_moments.view(float)[:, 2 * transposed] - flat_moments[:, flat])
     # one exponential: its real part, Re ∫p + Re ∫p' − Var(Y(u) − Y(u'))/2, cannot overflow
-    weighted = (np.exp(exponent[:, :, np.newaxis] + exponent.conj()[:, np.newaxis, :] + cross)
-                - envelope[:, :, np.newaxis] * envelope[:, np.newaxis, :])
-    sums = _lag_sums(weighted)[:, count - 1:]                   # δ ≥ 0 (Hermitian)
-    # e^{i(Ω − ω) δ}: the ω part shared by all poles, so one matrix product each
-    rotation = _powers(np.exp(-1j * omega * step), count)      # e^{−iωu}, (n_f, N)
-    spin = _powers(np.exp(1j * pole.imag[:, 0] * step), count)  # e^{iΩu}, (n_p, N)
-    total = (sums[:, :1].real
-             + 2 * ((sums[:, 1:] * spin[:, 1:]) @ rotation[:, 1:].T).real)
-    # Filon: K piecewise linear, ∫ hat_j(u) e^{zu} du = e^{z u_j} h(z) inside, b₀ at u = 0.
-    z = pole - 1j * omega
-    y = z * step / 2
-    hat = step * (np.sinh(y) / y) ** 2
-    first = (np.expm1(z * step) - z * step) / (z**2 * step)
-    row = (weighted[:, 0, :] * spin.conj()) @ rotation.conj().T   # Σ_k P₀ₖ e^{−i(Ω−ω) u_k}
-    total = total + 2 * ((first / hat - 1.0) * row).real
+    weighted = (np.exp(exponent[:, row] + exponent.conj()[:, column] + cross)
+                - envelope[:, row] * envelope[:, column])
+    sums = np.add.reduceat(weighted, starts, axis=-1) * spin     # L(δ) e^{iΩδ}, δ ≥ 0
+    sums[:, 0] /= 2                                              # L(0) is real: 2 Re once
+    first_column = weighted[:, starts] * spin                    # K(u_k, 0) e^{iΩu_k}
+    # Σ_δ (…) e^{−iωδ}, the ω part shared by all poles: one real product (complex products of
+    # this skinny shape are slow in OpenBLAS); its columns alternate real and imaginary parts
+    products = (np.concatenate([sums.real, sums.imag, first_column.real, first_column.imag])
+                @ rotation.view(float))
+    rr, ri = products[:, ::2], products[:, 1::2]
+    total = 2 * (rr[:size] - ri[size:2 * size])                  # 2 Re Σ_δ L(δ) e^{i(Ω−ω)δ}
+    # the first row Σ_k K(0, u_k) e^{−i(Ω−ω)u_k}, the conjugate of the first column's sum
+    row_sum = ((rr[2 * size:3 * size] - ri[3 * size:])
+               - 1j * (ri[2 * size:3 * size] + rr[3 * size:]))
+    hat, first = filon
+    total = total + 2 * ((first / hat - 1.0) * row_sum).real
     return np.abs(hat) ** 2 * total
+
+
+def _filon(zh, growth, step):
+    """Filon's weights for K piecewise linear on a grid of ``step``: ∫ hat_j(u) e^{zu} du =
+    e^{z u_j} h(z) inside, b₀(z) at u = 0, from zh and e^{zh} − 1 (``growth``):
+    h = step (sinh(zh/2)/(zh/2))² = step (e^{zh} − 1)²/(e^{zh} (zh)²), b₀ = step (e^{zh} − 1 − zh)/(zh)²."""
+    scale = step / zh**2
+    return scale * growth**2 / (1.0 + growth), scale * (growth - zh)
 
 
 def modulation_correction(structure: ModalModel, attached: tuple, shapes: np.ndarray,
