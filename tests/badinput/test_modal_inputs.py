@@ -133,8 +133,8 @@ def modes_run(tmp_path_factory):
 
 
 def test_modes_reports_only_the_beams_three_modes_and_warns_of_the_others(modes_run, capsys):
-    # Issue 24: two extra pole groups were reported as modes. Their damping is not resolved
-    # (σ_ξ > ξ) nor their frequency within the half-power band (σ_f > ξ f): dropped, named in
+    # Issue 24: two extra pole groups were reported as modes. Neither their damping (σ_ξ > ξ)
+    # nor their frequency within the half-power band (σ_f > ξ f) is resolved: dropped, named in
     # the verdict (docs: theory, Operational modal analysis, from poles to modes).
     out = modes_run / "out"
     assert main(["modes", str(modes_run / "ambient.toml"), "--out", str(out)]) == 0
@@ -144,8 +144,9 @@ def test_modes_reports_only_the_beams_three_modes_and_warns_of_the_others(modes_
     printed = capsys.readouterr().out
     assert "verdict: check before use" in printed
     assert re.search(r"IdentifiabilityWarning: SSI-cov: 2 group\(s\) of stable poles fail the "
-                     r"checks of a physical mode.*2\.83\d Hz \(damping not resolved.*6\.0[34]\d "
-                     r"Hz \(damping not resolved.*dropped", printed)
+                     r"checks of a physical mode.*2\.83\d Hz \(neither damping nor frequency "
+                     r"resolved.*6\.0[34]\d Hz \(neither damping nor frequency resolved.*"
+                     r"dropped", printed)
 
 
 def test_one_stated_modal_mass_for_several_modes_is_refused():
