@@ -22,11 +22,12 @@ Workers are forked by a fork server (POSIX) that has imported crowdvib's studies
 single thread. Forking this process directly was faster to start (two workers in 0.1 s, issue
 14), but it has threads (the pool's own, numba's, BLAS's) whose locks a fork copies as they are,
 possibly held, and Python 3.12 and later warn of the deadlocks that follow; the replacement of a
-dead worker was forked from a pool thread. Measured (issue 24, 2 cores, Python 3.11 and 3.13):
-the first pool of a process waits 2.7–3.4 s for the server to import crowdvib, every later one
-0.15 s like fork; spawning each worker instead took 7 s (each imports crowdvib). Kernels that
-numba has cached on disk load in each worker. Elsewhere (Windows) workers are spawned. Each
-worker's BLAS, OpenMP and numba pools get its share of the cores, cores // workers.
+dead worker was forked from a pool thread. Measured (issue 24, on a shared 2-core machine,
+Python 3.11 and 3.13, first results of two workers): the first pool of a process waits 2.7–3.4 s
+for the server to import crowdvib, every later one 0.15 s, as with fork (0.1–0.2 s); spawning
+each worker instead took 7 s (each imports crowdvib). Kernels that numba has cached on disk load
+in each worker. Elsewhere (Windows) workers are spawned. Each worker's BLAS, OpenMP and numba
+pools get its share of the cores, cores // workers.
 """
 
 import collections

@@ -4,16 +4,22 @@
 
 * one worker: none, the tasks run in this process;
 * several: a :class:`~crowdvib.identification._pool.ProcessPool` of worker processes on this
-  machine, forked from this one (on Linux) so that they start in milliseconds with every module
-  and compiled kernel already loaded; a worker that dies is replaced and its task run again, the
-  workers exit with this process even when it is killed, and they leave Ctrl-C to it;
+  machine, forked by a fork server that has imported crowdvib once (POSIX); a worker that dies or
+  hangs (past max(``timeout_floor``, ``timeout_factor`` × the slowest finished task)) is
+  replaced and its task run again, the workers exit with this process even when it is killed,
+  and they leave Ctrl-C to it;
 * ``scheduler``: a ``dask.distributed`` client of a running cluster, whose scheduler reruns the
-  tasks of a dead worker on another.
+  tasks of a dead worker on another; losing the scheduler ends the study with one
+  :class:`SchedulerLost`.
 
 Why not a local dask cluster as well (it was used until issue 14): its workers are spawned and
-import crowdvib again, 2 s to start two of them and 0.5 s to close them, and its bookkeeping
+each imports crowdvib, 2 s to start two of them and 0.5 s to close them, and its bookkeeping
 runs beside the tasks; on the Eeklo-like sensitivity study (40 s on one worker) that overhead
-alone kept two workers below 1.8× (measured: see ``benchmarks/bench_study_scaling.py``).
+alone kept two workers below 1.8× (measured: see ``benchmarks/bench_study_scaling.py``). The
+pool's fork server imports crowdvib once per process (2.7–3.4 s measured in issue 24 on a
+shared, busy 2-core machine, where dask's 2 s were not measured again), closes in milliseconds,
+and has no bookkeeping beside the tasks; it replaced forking this process (0.1–0.2 s), which has
+threads whose locks a fork copies as they are (Python 3.12+ warns of deadlocks).
 
 Threads: a machine's cores are shared out between its workers. Each local worker runs BLAS
 (OpenMP, OpenBLAS, MKL) and numba with its share, cores // workers, so that two workers on two
