@@ -361,9 +361,12 @@ class ModalModel:
         def sine(x):
             return np.sin(np.pi * np.outer(np.asarray(x, dtype=float), order) / span)
 
-        return cls(frequencies=frequencies,
-                   damping_ratios=np.broadcast_to(damping_ratio, order.shape),
-                   modal_masses=np.broadcast_to(modal_mass, order.shape),
-                   positions=positions, mode_shapes=sine(positions), width=width,
-                   output_names=tuple(outputs),
-                   output_shapes=sine(list(outputs.values())), name=name)
+        with derived():          # warned below, at the caller's line rather than here
+            model = cls(frequencies=frequencies,
+                        damping_ratios=np.broadcast_to(damping_ratio, order.shape),
+                        modal_masses=np.broadcast_to(modal_mass, order.shape),
+                        positions=positions, mode_shapes=sine(positions), width=width,
+                        output_names=tuple(outputs),
+                        output_shapes=sine(list(outputs.values())), name=name)
+        warn_notes(model.implausibilities(), stacklevel=2)
+        return model
