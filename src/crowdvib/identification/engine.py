@@ -150,8 +150,9 @@ class _ClusterExecutor(concurrent.futures.Executor):
         outer = concurrent.futures.Future()
         with self._lock:
             self._pending.add(outer)
-        self._inner.submit(fn, *args, **kwargs).add_done_callback(
-            functools.partial(self._relay, outer))
+        inner = self._inner.submit(fn, *args, **kwargs)
+        inner.add_done_callback(functools.partial(self._relay, outer))
+        outer.add_done_callback(lambda done: inner.cancel() if done.cancelled() else None)
         return outer
 
     def shutdown(self, wait=True, *, cancel_futures=False):
@@ -168,9 +169,9 @@ class _ClusterExecutor(concurrent.futures.Executor):
         scheduler fails with SchedulerLost."""
         if inner.cancelled() and not self._done.is_set() and self._client.status != "running":
             self._lose("its connection closed")
-        if outer.done():
-            return
         with self._lock:
+            if outer not in self._pending:      # failed by _lose already
+                return
             self._pending.discard(outer)
         if inner.cancelled():
             outer.cancel()
@@ -192,7 +193,7 @@ class _ClusterExecutor(concurrent.futures.Executor):
                 "are kept: run the study again (resume) once it is back")
             pending, self._pending = self._pending, set()
         for future in pending:
-            if not future.done():
+            if not future.cancelled():          # cancelled by its caller meanwhile
                 future.set_exception(self._lost)
 
     def _watch(self):
