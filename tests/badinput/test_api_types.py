@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from crowdvib import (Crowd, ModalModel, MSDModel, ParameterError, effective_modal_properties,
-                      estimate_hsi, frf, response_psd, simulate)
+                      estimate_hsi, frf, response_psd, simulate, simulate_many)
 from crowdvib.design import tune_damper
 from crowdvib.response.spectral import modal_accelerance
 
@@ -87,5 +87,13 @@ def test_a_record_that_will_not_fit_is_refused_at_once(paper_bridge, paper_crowd
     # answer comes before any allocation (it took 13 GB and two minutes on 49020a3).
     with pytest.raises(ParameterError, match=r"duration = 1e\+09 s at sample_rate = 100 Hz needs "
                                              r"about .* GB \(1e\+11 samples × 2 rows, 1\.95e\+09 "
-                                             r"walkers\), more than half the .* GB of memory"):
+                                             r"walkers per record\), more than half the .* GB of memory"):
         simulate(paper_bridge, paper_crowd, 1e9)
+
+
+def test_a_batch_that_will_not_fit_is_refused_at_once(paper_bridge, paper_crowd):
+    # simulate_many keeps every record: 10 000 seeds × 1e6 s at 100 Hz × 2 rows × 8 B = 16 TB
+    # of records alone, though each record (1.6 GB) would fit by itself.
+    with pytest.raises(ParameterError, match=r"duration = 1e\+06 s at sample_rate = 100 Hz for "
+                                             r"10000 seeds needs about .* GB .*fewer seeds at a time"):
+        simulate_many(paper_bridge, paper_crowd, 1e6, seeds=list(range(10_000)))

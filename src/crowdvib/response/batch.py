@@ -7,6 +7,7 @@ anything but the read-only structure.
 """
 
 import concurrent.futures
+import inspect
 import numbers
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -18,7 +19,7 @@ from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.structure import ModalModel
 from .results import Simulation
-from .simulation import simulate
+from .simulation import _check_run, simulate
 
 __all__ = ["simulate_many"]
 
@@ -61,6 +62,12 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
         raise ParameterError(f"workers must be an integer >= 1 or None, got {workers!r}")
     if progress is not None and not callable(progress):
         raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
+
+    # Every record is kept: the batch must fit as a whole, which each run alone cannot see.
+    run = {**{name: p.default for name, p in inspect.signature(simulate).parameters.items()},
+           **options}
+    _check_run(structure, crowd, duration, run["pedestrians"], run["msd"], run["force"],
+               run["sample_rate"], run["record_modal_load"], run["warm_up"], records=len(seeds))
 
     def one(seed):
         return simulate(structure, crowd, duration, rng=seed, **options)

@@ -70,11 +70,12 @@ def available_memory() -> float:
 
 
 def _check_memory(structure, crowd, force, duration, warm_up, sample_rate, n_samples,
-                  record_modal_load):
+                  record_modal_load, records=1):
     """Refuse a run whose records and walkers will not fit, before anything is allocated.
 
     A duration of 1e9 s once took 13 GB over two minutes before numpy gave up (issue 24): the
     sizes are known from the inputs, so the answer can come at once, naming the parameter.
+    ``records``: runs whose results are all kept (:func:`crowdvib.simulate_many`'s seeds).
     """
     rows = structure.n_outputs + (structure.n_modes if record_modal_load else 0) + 1   # + time
     walkers = 0.0
@@ -82,14 +83,17 @@ def _check_memory(structure, crowd, force, duration, warm_up, sample_rate, n_sam
         walkers = (crowd.arrival_rate(structure.width) * (duration + warm_up)
                    + crowd.density * structure.area)
     components = np.size(force.ratios)
-    need = 8.0 * rows * n_samples + walkers * _BYTES_PER_WALKER * (1 + components / 10)
+    need = records * (8.0 * rows * n_samples
+                      + walkers * _BYTES_PER_WALKER * (1 + components / 10))
     have = available_memory()
     if need > _MEMORY_SHARE * have:
+        batch = "" if records == 1 else f" for {records} seeds"
         raise ParameterError(
-            f"duration = {duration:g} s at sample_rate = {sample_rate:g} Hz needs about "
+            f"duration = {duration:g} s at sample_rate = {sample_rate:g} Hz{batch} needs about "
             f"{need / 1e9:.3g} GB ({n_samples:.3g} samples × {rows} rows, {walkers:.3g} "
-            f"walkers), more than half the {have / 1e9:.3g} GB of memory available: simulate "
-            "shorter records (simulate_many runs several)")
+            f"walkers per record), more than half the {have / 1e9:.3g} GB of memory available: "
+            "simulate shorter records" + (" (simulate_many runs several)" if records == 1
+                                          else " or fewer seeds at a time"))
 
 
 def _internal_substeps(structure, walkers, msd, sample_rate):
@@ -267,9 +271,10 @@ class _Integrator:
         return self.phi[_slots.NOW].T
 
 
-def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
-             include_static_weight, record_modal_load, warm_up, dampers=()):
-    """Validate everything and build the integrator (no time stepping yet)."""
+def _check_run(structure, crowd, duration, pedestrians, msd, force, sample_rate,
+               record_modal_load, warm_up, records=1):
+    """Validate a run's inputs and its memory (for ``records`` kept runs); return the force
+    model, duration, sample rate and the recorded and warm-up sample counts."""
     _check_structure(structure)
     if crowd is None and pedestrians is None:
         raise ParameterError("crowd or pedestrians must be given, got neither")
@@ -297,7 +302,16 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
             f"{sample_rate:g} Hz")
     warm_up_samples = int(math.ceil(warm_up * sample_rate - 1e-9))
     _check_memory(structure, crowd, force, duration, warm_up, sample_rate,
-                  n_samples + warm_up_samples, record_modal_load)
+                  n_samples + warm_up_samples, record_modal_load, records)
+    return force, duration, sample_rate, n_samples, warm_up_samples
+
+
+def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
+             include_static_weight, record_modal_load, warm_up, dampers=()):
+    """Validate everything and build the integrator (no time stepping yet)."""
+    force, duration, sample_rate, n_samples, warm_up_samples = _check_run(
+        structure, crowd, duration, pedestrians, msd, force, sample_rate, record_modal_load,
+        warm_up)
     pedestrians = list(pedestrians) if pedestrians is not None else []
     rng = np.random.default_rng(seed)
     start = -warm_up_samples / sample_rate
