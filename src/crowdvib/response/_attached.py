@@ -89,19 +89,22 @@ def reduced_matrices(structure, attached):
     size = n_modes + sum(part.factor.shape[1] for part in attached)
     wn = 2 * np.pi * structure.frequencies
     m = structure.modal_masses
-    mass, damping, stiffness = np.zeros((3, size, size))
-    mass[:n_modes, :n_modes] = np.diag(m)
-    damping[:n_modes, :n_modes] = np.diag(2 * structure.damping_ratios * m * wn)
-    stiffness[:n_modes, :n_modes] = np.diag(m * wn**2)
+    # mass, damping and stiffness as one array: each block is set for the three at once
+    matrices = np.zeros((3, size, size))
+    modes = np.arange(n_modes)
+    matrices[:, modes, modes] = (m, 2 * structure.damping_ratios * m * wn, m * wn**2)
     start = n_modes
     for part in attached:
-        block = slice(start, start + part.factor.shape[1])
-        mass[:n_modes, :n_modes] += part.unsprung_mass * part.influence
-        mass[block, block] = part.sprung_mass * np.eye(part.factor.shape[1])
-        for matrix, value in ((damping, part.damping), (stiffness, part.stiffness)):
-            matrix[:n_modes, :n_modes] += value * part.influence
-            matrix[:n_modes, block] = -value * part.factor
-            matrix[block, :n_modes] = -value * part.factor.T
-            matrix[block, block] = value * np.eye(part.factor.shape[1])
+        rank = part.factor.shape[1]
+        block, own = slice(start, start + rank), np.arange(start, start + rank)
+        coupling = np.array([0.0, -part.damping, -part.stiffness])[:, np.newaxis, np.newaxis]
+        matrices[:, :n_modes, :n_modes] += (np.array([part.unsprung_mass, part.damping,
+                                                      part.stiffness])[:, np.newaxis, np.newaxis]
+                                            * part.influence)
+        matrices[:, own, own] = np.array([part.sprung_mass, part.damping,
+                                          part.stiffness])[:, np.newaxis]
+        matrices[:, :n_modes, block] = coupling * part.factor
+        matrices[:, block, :n_modes] = coupling * part.factor.T
         start = block.stop
+    mass, damping, stiffness = matrices
     return mass, damping, stiffness

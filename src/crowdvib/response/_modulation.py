@@ -156,14 +156,16 @@ class _OccupiedMode:
         modal = (inverse[node, 0] @ loads[node, 0, 1])[np.arange(node.size), which, 0]
         residue = np.abs(vectors[node, 0, 0, which] * modal) ** 2
         poles, slopes = poles[node], slopes[node]
-        rows = np.arange(node.size)[:, np.newaxis]
+        # each pole follows its nearest successor: the successor of every pole at each step at
+        # once, then the chain from the light pole at λ₀
+        successor = np.abs(poles[:, 1:, np.newaxis, :]
+                           - poles[:, :-1, :, np.newaxis]).argmin(axis=-1)
+        rows = np.arange(node.size)
         chosen = np.empty((node.size, _TRACK.size), dtype=int)
-        current = which
-        for k in range(_TRACK.size):                # each pole follows its nearest successor
-            current = np.abs(poles[:, k] - poles[rows[:, 0], k - (k > 0), current][:, np.newaxis]
-                             ).argmin(axis=-1)
-            chosen[:, k] = current
-        columns = np.arange(_TRACK.size)
+        chosen[:, 0] = which
+        for k in range(1, _TRACK.size):
+            chosen[:, k] = successor[rows, k - 1, chosen[:, k - 1]]
+        rows, columns = rows[:, np.newaxis], np.arange(_TRACK.size)
         return poles[rows, columns, chosen], slopes[rows, columns, chosen], residue, node
 
 

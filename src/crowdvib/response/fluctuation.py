@@ -117,7 +117,12 @@ def occupancy_law(structure: ModalModel, density: float,
     top = 1.0 + 15.0 * np.sqrt(cumulants[1]) + share.max()
     step = top / _LAW_POINTS
     t = 2 * np.pi * np.fft.fftfreq(_LAW_POINTS, step)
-    exponent = (np.exp(1j * np.outer(t, share)) - 1.0) @ area
+    # ψ is real: the exponent at −t is the conjugate of that at t (fftfreq negates exactly),
+    # so the exponentials are taken for t ≥ 0 and the one at −n/2 only
+    half = _LAW_POINTS // 2
+    positive = (np.exp(1j * np.outer(t[:half], share)) - 1.0) @ area
+    lowest = (np.exp(1j * t[half] * share) - 1.0) @ area
+    exponent = np.concatenate([positive, [lowest], positive[:0:-1].conj()])
     probability = np.maximum(np.fft.fft(np.exp(exponent)).real / _LAW_POINTS, 0.0)
     return step * np.arange(_LAW_POINTS), probability / probability.sum()
 
