@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._plausibility import derived, warn_if_implausible
+from .._plausibility import derived, implausibility, warn_notes
 from .._validation import as_float_array, check_non_negative, check_positive
 from ..errors import ParameterError
 from .loading import STANDARD_GRAVITY
@@ -104,12 +104,20 @@ class Crowd:
         for name in ("density", "walking_speed", "step_frequency_mean", "step_frequency_std",
                      "body_mass", "forward_fraction", "body_mass_std"):
             object.__setattr__(self, name, float(getattr(self, name)))
-        # Legal but doubtful values (docs: theory, Plausible ranges): a unit mix-up, named with
-        # the value it would then be. A rad/s or steps-per-minute step frequency, for one, puts
-        # the whole load spectrum above the modes: an all-zero response, and no error.
-        # The density has its error (the jam density) here and its design range in design_check.
-        for name in ("walking_speed", "step_frequency_mean", "step_frequency_std", "body_mass"):
-            warn_if_implausible(name, getattr(self, name), stacklevel=3)
+        warn_notes(self.implausibilities(), stacklevel=3)
+
+    def implausibilities(self) -> list[str]:
+        """Legal but doubtful values, each with its likely unit mix-up and the value it would
+        then be (docs: theory, Plausible ranges); the constructor warns with them.
+
+        Walking speed (km/h?), mean and spread of the step frequencies (rad/s or steps per
+        minute? — either puts the whole load spectrum above the modes: an all-zero response) and
+        body mass (tonnes, grams or pounds?). The density has its error here (the jam density)
+        and its design range in :func:`crowdvib.design.design_check`.
+        """
+        notes = [implausibility(name, getattr(self, name)) for name in (
+            "walking_speed", "step_frequency_mean", "step_frequency_std", "body_mass")]
+        return [note for note in notes if note is not None]
 
     @classmethod
     def from_density(cls, density: float, *, body_mass: float = 70.0,
@@ -122,10 +130,13 @@ class Crowd:
         (1.298, 1.89)
         """
         speed = float(weidmann_speed(density))
-        return cls(density=density, walking_speed=speed,
-                   step_frequency_mean=float(bruno_venuti_step_frequency(speed)),
-                   step_frequency_std=step_frequency_std, body_mass=body_mass,
-                   forward_fraction=forward_fraction, body_mass_std=body_mass_std)
+        with derived():          # warned below, at the caller's line rather than here
+            crowd = cls(density=density, walking_speed=speed,
+                        step_frequency_mean=float(bruno_venuti_step_frequency(speed)),
+                        step_frequency_std=step_frequency_std, body_mass=body_mass,
+                        forward_fraction=forward_fraction, body_mass_std=body_mass_std)
+        warn_notes(crowd.implausibilities(), stacklevel=2)
+        return crowd
 
     def with_density(self, density: float) -> Crowd:
         """The same walkers at another density (speed and step frequencies unchanged).
