@@ -85,7 +85,7 @@ def cross_power_coefficients(poles, left, right):
     (n_outputs, n_outputs, n_poles); its diagonal is :func:`power_coefficients`.
     """
     mixed = (right @ right.conj().T) / (poles[:, np.newaxis] + poles.conj()[np.newaxis])
-    return -np.einsum("ap,pq,bq->abp", left, mixed, left.conj())
+    return -left[:, np.newaxis, :] * (left.conj() @ mixed.T)      # a matrix product: no einsum
 
 
 def power_coefficients(poles, left, right):
@@ -98,7 +98,7 @@ def power_coefficients(poles, left, right):
     gram = right @ right.conj().T                                    # (2N, 2N)
     denominator = poles[:, np.newaxis] + poles.conj()[np.newaxis]
     mixed = gram / denominator
-    return -np.einsum("op,pq,oq->op", left, mixed, left.conj())
+    return -left * (left.conj() @ mixed.T)                            # a matrix product: no einsum
 
 
 def _ratio_series(z):
