@@ -54,6 +54,11 @@ class ObjectiveMap:
         Second differences of J over the relative parameter change, ∂²J/∂(ln f)² divided by
         ∂²J/∂(ln ξ)², at the grid minimum (interior grid points only).
         """
+        for name, grid in (("frequencies", self.frequencies),
+                           ("damping_ratios", self.damping_ratios)):
+            if grid.size < 3:      # a second difference takes 3 points
+                raise ParameterError(f"curvature_ratio needs at least 3 grid points along "
+                                     f"{name}, the map has {grid.size}")
         row, col = np.unravel_index(np.argmin(self.cost), self.cost.shape)
         row = int(np.clip(row, 1, self.damping_ratios.size - 2))
         col = int(np.clip(col, 1, self.frequencies.size - 2))
@@ -117,8 +122,8 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
                                  unit="Hz")
     damping_ratios = as_float_array("damping_ratios", damping_ratios, ndim=1)
     for name, grid in (("frequencies", frequencies), ("damping_ratios", damping_ratios)):
-        if grid.size < 3:    # the curvature at the minimum takes 3 points along each axis
-            raise ParameterError(f"{name} must hold at least 3 grid points, got {grid.size}")
+        if grid.size < 1:
+            raise ParameterError(f"{name} must hold at least 1 grid point, got {grid.size}")
     for value in damping_ratios:
         MSDModel(damping_ratio=value)          # validates each ξ with the model's own rule
     shape = (damping_ratios.size, frequencies.size)
