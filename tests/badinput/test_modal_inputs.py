@@ -6,14 +6,13 @@ Every case failed on 49020a3 (silent, or a TypeError/IndexError/QhullError/LinAl
 """
 
 import re
-import warnings
 
 import numpy as np
 import pytest
 
 from crowdvib import ModalModel, Record, write_record
 from crowdvib.cli import main
-from crowdvib.errors import (DataError, EstimationError, IdentifiabilityWarning, ParameterError,
+from crowdvib.errors import (DataError, ParameterError,
                              PlausibilityWarning)
 from crowdvib.io import read_modal_model
 from tests.unit.test_femodes import write_uff

@@ -347,8 +347,8 @@ def test_map_ctrl_c_is_one_line_exit_130_and_leaves_nothing(tmp_path):
     ("--frequencies", "1:6:1", "count must be 3 to 100000 points, got 1"),
     ("--damping-ratios", "0.1:0.8:10000000000",
      "count must be 3 to 100000 points, got 10000000000"),
-    ("--max-minutes", "nan", "expected a number of minutes > 0, got 'nan'"),
-    ("--max-minutes", "-5", "expected a number of minutes > 0, got '-5'"),
+    ("--max-minutes", "nan", "expected a finite number > 0, got 'nan'"),
+    ("--max-minutes", "-5", "expected a finite number > 0, got '-5'"),
 ])
 def test_map_refuses_a_grid_axis_it_cannot_use(tmp_path, capsys, option, value, message):
     # Issue 24: 1:6:0 and 1:6:1 ended in numpy tracebacks (the curvature at the minimum takes 3

@@ -319,6 +319,17 @@ def say_verdict(directory):
         say(f"    - {text}")
 
 
+def positive_float(text):
+    """argparse type: a finite number > 0 (a bad value is a usage error, exit 2)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
+    return value
+
+
 def positive_int(text):
     """argparse type: an integer >= 1 (a bad value is a usage error, exit 2)."""
     try:
@@ -346,6 +357,11 @@ def add_workers_argument(parser):
         "--workers", type=positive_int, default=default_workers(),
         help=f"local worker processes, each with its share of the cores for BLAS and numba "
              f"(default: the physical cores, {cores} on this machine; 1 runs in this process)")
+    parser.add_argument(
+        "--hung-after", type=positive_float, default=60.0, metavar="SECONDS",
+        help="local workers: a task running longer than this and than 10 times the slowest "
+             "finished task is taken as hung; its worker is replaced and the task run again, "
+             "three tries in all (default: 60)")
 
 
 def record_formats(text):

@@ -9,8 +9,8 @@ import numpy as np
 from .. import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
-from .common import (ESTIMATION_TABLES, add_output_arguments, case_inputs, progress_printer, say,
-                     say_verdict, staged_output, versions, warning_texts)
+from .common import (ESTIMATION_TABLES, add_output_arguments, case_inputs, positive_float,
+                     progress_printer, say, say_verdict, staged_output, versions, warning_texts)
 from .estimate import case_crowd, case_measurement, estimate_options
 
 
@@ -34,17 +34,6 @@ def grid(text):
     return np.linspace(lower, upper, count)
 
 
-def _minutes(text):
-    """argparse type: a time limit in minutes, finite and > 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not 0 < value < float("inf"):
-        raise argparse.ArgumentTypeError(f"expected a number of minutes > 0, got {text!r}")
-    return value
-
-
 def add_arguments(parser):
     parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
     add_output_arguments(parser)
@@ -53,7 +42,7 @@ def add_arguments(parser):
     parser.add_argument("--damping-ratios", type=grid, default=np.linspace(0.1, 0.8, 36),
                         metavar="LOW:HIGH:N",
                         help="grid of ξ_h1 [-] (default 0.1:0.8:36, paper)")
-    parser.add_argument("--max-minutes", type=_minutes, default=10.0, metavar="MIN",
+    parser.add_argument("--max-minutes", type=positive_float, default=10.0, metavar="MIN",
                         help="refuse a grid that would take longer, timed on its first point "
                              "(default 10)")
 

@@ -146,7 +146,8 @@ def _study(args, case, levels):
     if done:
         say(f"  resuming: {done} finished task(s) found in {store.directory}")
     try:
-        with _warnings_as_lines(), study_executor(args.workers, args.scheduler) as executor:
+        with _warnings_as_lines(), study_executor(args.workers, args.scheduler,
+                                                   timeout_floor=args.hung_after) as executor:
             # The record's own estimate with its interval, beside the studies on a worker (it
             # was the longest step left in this process, measured in issue 14).
             record_estimate = (measured, case.structure, crowd, estimate_options(case))
