@@ -85,15 +85,17 @@ def test_a_record_that_will_not_fit_is_refused_at_once(paper_bridge, paper_crowd
     # 1e9 s at 100 Hz is 1e11 samples of the one output and of the time axis, 8 bytes each:
     # 1.6e12 B, plus λ·T = 0.5 × 3 × 1.30 × 1e9 = 1.95e9 walkers. No machine has that; the
     # answer comes before any allocation (it took 13 GB and two minutes on 49020a3).
-    with pytest.raises(ParameterError, match=r"duration = 1e\+09 s at sample_rate = 100 Hz needs "
-                                             r"about .* GB \(1e\+11 samples × 2 rows, 1\.95e\+09 "
-                                             r"walkers per record\), more than half the .* GB of memory"):
+    with pytest.raises(ParameterError, match=r"duration = 1e\+09 s at sample_rate = 100 Hz "
+                                             r"needs about .* GB \(1e\+11 samples × 2 rows, "
+                                             r"1\.95e\+09 walkers per record\), more than half "
+                                             r"the .* GB of memory"):
         simulate(paper_bridge, paper_crowd, 1e9)
 
 
 def test_a_batch_that_will_not_fit_is_refused_at_once(paper_bridge, paper_crowd):
     # simulate_many keeps every record: 10 000 seeds × 1e6 s at 100 Hz × 2 rows × 8 B = 16 TB
     # of records alone, though each record (1.6 GB) would fit by itself.
-    with pytest.raises(ParameterError, match=r"duration = 1e\+06 s at sample_rate = 100 Hz for "
-                                             r"10000 seeds needs about .* GB .*fewer seeds at a time"):
+    with pytest.raises(ParameterError, match=r"duration = 1e\+06 s at sample_rate = 100 Hz "
+                                             r"for 10000 seeds needs about .* GB .*fewer seeds "
+                                             r"at a time"):
         simulate_many(paper_bridge, paper_crowd, 1e6, seeds=list(range(10_000)))
