@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 from scipy import linalg
+from scipy.optimize import brentq
 
 from crowdvib import Crowd, ModalModel, MSDModel, ParameterError, effective_modal_properties, frf
 from crowdvib import response_psd, ZivanovicForce
@@ -127,8 +128,53 @@ def test_tuning_check_values():
     # docs: theory, Why modes just above f_h1 feel the crowd most / §8.5 check values (Asami et al. 2002 acceleration optimum).
     assert optimal_tuning(0.05) == pytest.approx((0.9759, 0.1353), abs=5e-5)
     assert optimal_tuning(0.1) == pytest.approx((0.9535, 0.1890), abs=5e-5)
-    # Den Hartog (1956): γ = 1/(1+μ), ζ = sqrt(3μ/(8(1+μ)³)); μ = 0.1 → 0.90909, 0.16785.
-    assert optimal_tuning(0.1, "displacement") == pytest.approx((1 / 1.1, 0.167852), abs=1e-6)
+    # Den Hartog (1956): γ = 1/(1+μ), (c/(2 m_d ω_j))² = 3μ/(8(1+μ)³); referred to the damper's
+    # own frequency ζ = sqrt(3μ/(8(1+μ))): μ = 0.1 → 0.90909, 0.184637 (not 0.167852, issue 25 §2).
+    assert optimal_tuning(0.1, "displacement") == pytest.approx((1 / 1.1, 0.184637), abs=1e-6)
+
+
+def two_dof_response(g, mu, gamma, zeta, power):
+    """|(ω/ω_j)^power X / X_st| of an undamped primary (mass 1, ω_j = 1) with an absorber of mass
+    μ, frequency γ and its OWN damping ratio ζ = c/(2 μ γ), at frequency ratios g: the closed-form
+    2-DOF receptance (Den Hartog 1956, §3.3), independent of crowdvib's FRF."""
+    k, c = mu * gamma**2, 2 * zeta * mu * gamma
+    absorber = k + 1j * c * g - mu * g**2
+    return np.abs(g**power * absorber / ((1 - g**2) * absorber - mu * g**2 * (k + 1j * c * g)))
+
+
+def flat_damping(mu, gamma, g, power):
+    """The absorber damping ratio ζ (its own) that makes the response curve horizontal at g."""
+    def slope(zeta):
+        step = 1e-6 * g
+        return (two_dof_response(g + step, mu, gamma, zeta, power)
+                - two_dof_response(g - step, mu, gamma, zeta, power))
+    return brentq(slope, 1e-3, 1.0, xtol=1e-12)
+
+
+@pytest.mark.parametrize("mu", [0.01, 0.02, 0.05])
+@pytest.mark.parametrize("criterion, power", [("displacement", 0), ("acceleration", 2)])
+def test_optimal_damping_is_the_fixed_point_construction(criterion, power, mu):
+    # Den Hartog's construction (Mechanical Vibrations, 1956, §3.3; Asami et al. 2002 for the
+    # accelerance): with the optimal γ the fixed points P and Q have equal heights; the damping
+    # that makes the curve horizontal at P and at Q, found here numerically from the closed-form
+    # FRF and averaged in square as Den Hartog does, is the optimum. Referred to the damper's
+    # own frequency it is optimal_tuning's ζ; Den Hartog's sqrt(3μ/(8(1+μ)³)), referred to the
+    # structure's, is (1+μ) smaller: 1 / 2 / 4.8 % too small for μ = 0.01 / 0.02 / 0.05.
+    gamma, zeta = optimal_tuning(mu, criterion)
+    p, q = fixed_points(mu, gamma, criterion)
+    heights = [two_dof_response(g, mu, gamma, 0.1, power) for g in (p, q)]
+    assert heights[0] == pytest.approx(heights[1], rel=1e-9)
+    for other in (1e-4, 0.5):                          # P and Q are fixed: any damping passes
+        assert two_dof_response(p, mu, gamma, other, power) == pytest.approx(heights[0],
+                                                                              rel=1e-9)
+    construction = np.sqrt((flat_damping(mu, gamma, p, power) ** 2
+                            + flat_damping(mu, gamma, q, power) ** 2) / 2)
+    assert zeta == pytest.approx(construction, rel=1e-6)
+    if criterion == "displacement":
+        structure_referred = np.sqrt(3 * mu / (8 * (1 + mu) ** 3))
+        assert zeta / structure_referred == pytest.approx(1 + mu, rel=1e-12)
+    bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+    assert tune_damper(bridge, 0, mu, criterion=criterion).damping_ratio == zeta
 
 
 def fixed_points(mu, gamma, output):

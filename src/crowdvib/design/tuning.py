@@ -33,9 +33,15 @@ TUNING_CRITERIA = ("acceleration", "displacement")
 def optimal_tuning(mass_ratio, criterion="acceleration"):
     """Optimal frequency ratio γ = f_d/f_j and damping ratio ζ of a damper (docs: theory, Why modes just above f_h1 feel the crowd most).
 
-    * ``"displacement"`` (Den Hartog 1956): γ = 1/(1+μ), ζ = sqrt(3μ / (8 (1+μ)³)).
-    * ``"acceleration"`` (Asami et al. 2002, fixed-point form DERIVED in docs: theory, Why modes just above f_h1 feel the crowd most):
-      γ = 1/sqrt(1+μ), ζ = sqrt(3μ / (8 (1 + μ/2))).
+    * ``"displacement"`` (Den Hartog 1956): γ = 1/(1+μ), ζ = sqrt(3μ / (8 (1+μ))). Den Hartog
+      tabulates (c/c_c)² = 3μ / (8 (1+μ)³) with c_c = 2 m_d ω_j, the *structure's* frequency;
+      the damper's own ratio c/(2 m_d ω_d), ω_d = γ ω_j, is (1+μ) times that.
+    * ``"acceleration"`` (Asami et al. 2002, fixed-point form DERIVED in docs: theory, Why modes
+      just above f_h1 feel the crowd most): γ = 1/sqrt(1+μ), ζ = sqrt(3μ / (8 (1 + μ/2))),
+      already the damper's own ratio.
+
+    ζ is the damper's own damping ratio c/(2 m_d ω_d), as :class:`TunedMassDamper` takes it
+    (both checked by the fixed-point construction in docs: theory, Design checks, Tuning).
 
     Parameters
     ----------
@@ -55,7 +61,7 @@ def optimal_tuning(mass_ratio, criterion="acceleration"):
     """
     mu = check_positive("mass_ratio", mass_ratio)
     if criterion == "displacement":
-        return 1.0 / (1.0 + mu), float(np.sqrt(3 * mu / (8 * (1 + mu) ** 3)))
+        return 1.0 / (1.0 + mu), float(np.sqrt(3 * mu / (8 * (1 + mu))))
     if criterion == "acceleration":
         return float(1.0 / np.sqrt(1.0 + mu)), float(np.sqrt(3 * mu / (8 * (1 + mu / 2))))
     raise ParameterError(f"criterion must be one of {list(TUNING_CRITERIA)}, got {criterion!r}")
