@@ -1,9 +1,15 @@
-"""Time of one estimate with its intervals (issue 12 speed targets), both crowd models.
+"""Time of one estimate with its intervals (issue 12 and issue 25 §1 speed targets).
 
-Paper example: a one-hour Gaussian record with the model's PSD (target < 2 s with profile
-intervals). Eeklo-like: the example case's record, 14 modes × 2 outputs (target < 20 s).
-Prints wall-clock and CPU seconds per estimate (best of ``repeat``) and the load average: on a
-shared machine the CPU time of this process is the fairer figure. Usage: ``python benchmarks/bench_estimate_speed.py [repeat]``.
+Paper example: a one-hour Gaussian record with the model's PSD. Eeklo-like: the example case's
+record, 14 modes × 2 outputs. Every estimator with profile intervals (and bootstrap for least
+squares on the paper example), then the default to be: ``method="likelihood"``,
+``crowd_model="fluctuating"``, ``free_step_frequencies=True``, ``interval="profile"``, whose
+targets are 2 s of CPU on the paper example and 20 s on the Eeklo-like case, on one core.
+
+One thread (BLAS and numba, set before numpy loads): on a shared machine the CPU time of this
+process (``time.process_time``) is the fairer figure; wall time and the load average are
+printed beside it. Best of ``repeat``. Usage:
+``python benchmarks/bench_estimate_speed.py [repeat] [--default-only]``.
 """
 
 import os
@@ -12,13 +18,22 @@ import time
 import warnings
 from pathlib import Path
 
-from crowdvib import BoundWarning, estimate_hsi, response_psd, welch_psd
-from crowdvib.cli.estimate import case_measurement, estimate_options
-from crowdvib.io.casefile import load_case
-from crowdvib.models.examples import paper_example
-from crowdvib.signals.synthesis import gaussian_record, record_frequencies
+# one thread, set before numpy loads (BLAS reads it once)
+for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                  "NUMBA_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")
+
+from crowdvib import BoundWarning, estimate_hsi, response_psd, welch_psd  # noqa: E402
+from crowdvib.cli.estimate import case_measurement, estimate_options  # noqa: E402
+from crowdvib.io.casefile import load_case  # noqa: E402
+from crowdvib.models.examples import paper_example  # noqa: E402
+from crowdvib.signals.synthesis import gaussian_record, record_frequencies  # noqa: E402
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+#: The estimator that is to become the default (issue 25), and its CPU targets [s].
+DEFAULT = dict(method="likelihood", crowd_model="fluctuating", free_step_frequencies=True,
+               interval="profile")
+TARGETS = {"paper example": 2.0, "eeklo_like (14 modes, 2 outputs)": 20.0}
 
 
 def _paper():
@@ -38,30 +53,47 @@ def _eeklo():
     return measured, case.structure, case.crowd, dict(options, outputs=record.channel_names)
 
 
-def main(repeat=2):
+def _settings(label, default_only):
+    """(method, crowd model, interval, free step frequencies) to time on a case."""
+    rows = [] if default_only else [
+        (method, model, interval, False)
+        for method in ("least_squares", "likelihood") for model in ("smeared", "fluctuating")
+        for interval in ("profile",) + (("bootstrap",) if label == "paper example"
+                                        and method == "least_squares" else ())]
+    return rows + [(DEFAULT["method"], DEFAULT["crowd_model"], DEFAULT["interval"], True)]
+
+
+def timed(measured, structure, crowd, options, repeat, **settings):
+    """Best wall-clock and CPU seconds of ``repeat`` estimates."""
+    best, cpu = float("inf"), float("inf")
+    for _ in range(repeat):
+        started, cpu_started = time.perf_counter(), time.process_time()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", BoundWarning)
+            estimate_hsi(measured, structure, crowd, rng=1, **settings, **options)
+        best = min(best, time.perf_counter() - started)
+        cpu = min(cpu, time.process_time() - cpu_started)
+    return best, cpu
+
+
+def main(repeat=2, default_only=False):
     rows = []
     for label, make in (("paper example", _paper), ("eeklo_like (14 modes, 2 outputs)", _eeklo)):
         measured, structure, crowd, options = make()
-        for method in ("least_squares", "likelihood"):
-            for model in ("smeared", "fluctuating"):
-                for interval in ("profile",) + (("bootstrap",) if label == "paper example"
-                                                and method == "least_squares" else ()):
-                    best, cpu = float("inf"), float("inf")
-                    for _ in range(repeat):
-                        started, cpu_started = time.perf_counter(), time.process_time()
-                        with warnings.catch_warnings():
-                            warnings.simplefilter("ignore", BoundWarning)
-                            estimate_hsi(measured, structure, crowd, method=method,
-                                         crowd_model=model, interval=interval, rng=1, **options)
-                        best = min(best, time.perf_counter() - started)
-                        cpu = min(cpu, time.process_time() - cpu_started)
-                    rows.append((label, method, model, interval, best, cpu))
-    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
-    print(f"{'case':34s}{'method':15s}{'crowd':13s}{'interval':11s}{'wall [s]':>10s}"
-          f"{'CPU [s]':>9s}")
-    for label, method, model, interval, seconds, cpu in rows:
-        print(f"{label:34s}{method:15s}{model:13s}{interval:11s}{seconds:10.2f}{cpu:9.2f}")
+        for method, model, interval, free in _settings(label, default_only):
+            seconds, cpu = timed(measured, structure, crowd, options, repeat, method=method,
+                                 crowd_model=model, interval=interval,
+                                 free_step_frequencies=free)
+            rows.append((label, method, model, interval, free, seconds, cpu))
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores, one thread")
+    print(f"{'case':34s}{'method':15s}{'crowd':13s}{'interval':11s}{'steps':7s}"
+          f"{'wall [s]':>10s}{'CPU [s]':>9s}{'target':>8s}")
+    for label, method, model, interval, free, seconds, cpu in rows:
+        target = f"{TARGETS[label]:8.0f}" if free else ""
+        print(f"{label:34s}{method:15s}{model:13s}{interval:11s}"
+              f"{'free' if free else 'fixed':7s}{seconds:10.2f}{cpu:9.2f}{target}")
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 2)
+    arguments = [a for a in sys.argv[1:] if a != "--default-only"]
+    main(int(arguments[0]) if arguments else 2, "--default-only" in sys.argv)
