@@ -211,3 +211,15 @@ def test_check_cli_verdict_names_the_damping_in_percent(tmp_path, capsys):
     assert "verdict: no warnings" not in printed
     assert ("PlausibilityWarning: damping_ratios[0] = 0.5 is above 0.1, unusual for a footbridge "
             "mode: percent instead of fraction? (0.5 % is 0.005)") in printed
+
+
+def test_a_mode_shape_zero_at_every_station_is_refused():
+    # Issue 24 §4: all-zero mode shapes were accepted; ∫φ² dA = 0 made the deck-mass check
+    # divide by zero (a RuntimeWarning), and the mode can be neither loaded nor felt by walkers.
+    stations = np.linspace(0.0, 50.0, 11)
+    shapes = np.c_[np.sin(np.pi * stations / 50.0), np.zeros(11)]
+    with pytest.raises(ParameterError, match=r"mode_shapes must not be zero at every station: "
+                                             r"mode\(s\) \[1\]"):
+        ModalModel(frequencies=[2.0, 3.0], damping_ratios=[0.005, 0.005],
+                   modal_masses=[50e3, 50e3], positions=stations, mode_shapes=shapes, width=3.0,
+                   output_names=["midspan"], output_shapes=[[1.0, 0.0]])

@@ -110,6 +110,11 @@ class ModalModel:
                 "mode_shapes must have shape (n_positions, n_modes) = "
                 f"({positions.size}, {n_modes}) or (n_lanes, {positions.size}, {n_modes}), "
                 f"got {np.shape(self.mode_shapes)}")
+        silent = np.flatnonzero(~np.any(shapes != 0, axis=(0, 1)))
+        if silent.size:     # ∫φ² dA = 0: no walker loads or feels it, its deck mass is m/0
+            raise ParameterError(
+                f"mode_shapes must not be zero at every station: mode(s) {silent.tolist()} "
+                "(walkers can neither load nor feel such a mode; leave it out of the model)")
         lanes = (np.array([width / 2]) if self.lanes is None
                  else check_non_negative("lanes", np.atleast_1d(self.lanes), unit="m"))
         if lanes.shape != (shapes.shape[0],):
