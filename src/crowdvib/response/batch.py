@@ -39,7 +39,7 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
         One non-negative seed per record; record i is ``simulate(..., rng=seeds[i])`` bit for bit.
     workers : int, optional
         Threads (records running at once). Default: the cores this process may use (its share
-        on a study worker, ``NUMBA_NUM_THREADS``; else the physical cores), at most one per seed.
+        on a study worker, ``CROWDVIB_THREADS``; else the physical cores), at most one per seed.
     progress : callable, optional
         ``progress(done, total)`` in records, after each finished record.
     **options
