@@ -112,6 +112,36 @@ def test_hsi_check_on_the_paper_example(paper_bridge):
     assert check.primary == "hsi" and check.comfort_class == ("CL3",)
 
 
+def test_equivalent_crowd_with_the_occupied_or_the_empty_damping(paper_bridge):
+    # Issue 25 §2 / docs: theory, Design checks, The equivalent crowd with HSI. HiVoSS TC3 on the
+    # paper example with HSI: n_eq = 10.8 sqrt(ξ n) read at the occupied ξ (1.198 %, default)
+    # or at the empty 0.5 %; the resonant 1/(2 ξ m) keeps the occupied ξ and engaged mass in
+    # both, so the readings differ by sqrt(ξ_occ / 0.005) = 1.55 (1.38 against 0.89 m/s²).
+    msd = MSDModel(3.0, 0.3, 0.95)
+    occupied = effective_modal_properties(paper_bridge, Crowd.from_density(0.5), msd)
+    xi, mass = occupied.damping_ratios[0], occupied.modal_masses[0]
+    # Closed form of test_hsi_check_on_the_paper_example with n_eq from ξ_empty.
+    empty_reading = closed_form(0.5, 280.0, damping=DAMPING) * DAMPING / xi * MASS / mass
+    default = design_check(paper_bridge, "hivoss", traffic_class="TC3", msd=msd)
+    empty = design_check(paper_bridge, "hivoss", traffic_class="TC3", msd=msd,
+                         neq_damping="empty")
+    assert empty.governing[0] == pytest.approx(empty_reading, rel=1e-4)
+    assert default.governing[0] / empty.governing[0] == pytest.approx(np.sqrt(xi / DAMPING),
+                                                                        rel=1e-9)
+    assert default.governing[0] == pytest.approx(1.38, abs=0.005)
+    assert empty.governing[0] == pytest.approx(0.89, abs=0.005)
+    # The empty and added-mass models have the empty damping: both readings agree there.
+    np.testing.assert_array_equal(empty.peak_accelerations[:2], default.peak_accelerations[:2])
+    # Both readings are reported, whichever is chosen.
+    for check, chosen in ((default, "occupied"), (empty, "empty")):
+        info = check.details["equivalent_pedestrians"]
+        assert info["damping"] == chosen
+        assert info["governing"]["occupied"][2] == pytest.approx(default.governing.tolist())
+        assert info["governing"]["empty"][2] == pytest.approx(empty.governing.tolist())
+        assert info["n_eq"]["empty"][2][0] == pytest.approx(10.8 * np.sqrt(DAMPING * 75.0))
+        assert info["n_eq"]["occupied"][2][0] == pytest.approx(10.8 * np.sqrt(xi * 75.0))
+
+
 def test_to_dict_is_json_ready(paper_bridge):
     import json
 
@@ -140,6 +170,12 @@ def test_bad_design_inputs(paper_bridge):
         design_check(paper_bridge, "en1990", traffic_class="TC2", comfort_class="CL1")
     with pytest.raises(ParameterError, match="msd must be an MSDModel"):
         design_check(paper_bridge, "hivoss", traffic_class="TC2", msd=(3.0, 0.3, 0.95))
+    # neq_damping: a reading of the Sétra/HiVoSS n_eq only (the UK NA has γ instead).
+    with pytest.raises(ParameterError, match=r"neq_damping must be one of \['occupied', "
+                                             r"'empty'\] .* got neq_damping='structure'"):
+        design_check(paper_bridge, "hivoss", traffic_class="TC2", neq_damping="structure")
+    with pytest.raises(ParameterError, match="neq_damping='empty' with code 'ukna'"):
+        design_check(paper_bridge, "ukna", traffic_class="B", neq_damping="empty")
 
 
 def test_a_negligible_damper_reproduces_the_modal_check(paper_bridge):

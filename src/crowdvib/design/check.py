@@ -43,6 +43,9 @@ _RESONANCE_BAND = 0.25
 #: Frequency steps per half-power half-width ξ_j f_j of the narrowest mode: the sampled peak is
 #: then within (1/16)²/2 ≈ 0.2 % of the true one.
 _STEPS_PER_HALF_WIDTH = 16
+#: Readings of the damping ratio in n_eq = 10.8 sqrt(ξ n) (docs: theory, Design checks, The
+#: equivalent crowd with HSI): that of the model's own mode, or the empty structure's.
+NEQ_DAMPINGS = ("occupied", "empty")
 #: Most frequencies of that grid (a 14-mode model solves 2e5 of them in about half a second);
 #: modes damped so little that the cap coarsens the grid get a ResolutionWarning.
 _MAX_GRID = 200_000
@@ -80,9 +83,11 @@ class DesignCheck:
     case_accelerations : ndarray, shape (n_cases, n_models, n_outputs, n_modes)
         "ukna" only: the peak accelerations of each load case [m/s²].
     details : dict
-        Code-specific, JSON-ready intermediate values ("ukna": S_eff, λ, k, γ, group sizes,
-        site factors, per-case modal properties, and with ``weighting`` the largest running
-        RMS values).
+        Code-specific, JSON-ready intermediate values ("ukna": S_eff, λ, k, γ and the figure
+        it is read from, group sizes, site factors, per-case modal properties, and with
+        ``weighting`` the largest running RMS values; Sétra/HiVoSS/EN 1990:
+        "equivalent_pedestrians", the damping reading used and, for both readings, n_eq per
+        model and mode and the governing acceleration per model and output).
     """
 
     code: str
@@ -337,7 +342,7 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
                  density: float | None = None, crowd: Crowd | None = None,
                  msd: MSDModel | None = None, dampers: Sequence | None = None,
                  comfort_class: str | None = None, site_factors: dict | Sequence | None = None,
-                 weighting: str | None = None) -> DesignCheck:
+                 weighting: str | None = None, neq_damping: str | None = None) -> DesignCheck:
     """Comfort check of a footbridge to a design guide, without and with HSI.
 
     Parameters
@@ -372,6 +377,14 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
         UK NA only: also report the largest 1-s running RMS of the W_b-weighted accelerations
         of the walkers' and joggers' crossings (``details["running_rms"]``;
         :mod:`crowdvib.signals.weighting`).
+    neq_damping : {"occupied", "empty"}, optional
+        Sétra/HiVoSS/EN 1990 only: the damping ratio ξ of n_eq = 10.8 sqrt(ξ n) (d < 1 P/m²).
+        "occupied" (default): each model's own mode, so with HSI the occupied (crowd-damped)
+        ξ, as the guides' derivation of n_eq from the mode that filters the random walkers
+        implies; "empty": the empty structure's ξ (with the dampers, if any) for every model,
+        the guides' tabulated damping. The two differ by sqrt(ξ_occupied / ξ_empty) on the HSI
+        model only (1.55 on the paper example); ``details["equivalent_pedestrians"]`` holds
+        both (docs: theory, Design checks, The equivalent crowd with HSI).
 
     Returns
     -------
@@ -387,6 +400,10 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
     """
     _check_inputs(structure, code, crowd, msd)
     dampers = as_dampers(dampers)
+    if neq_damping is not None and (code == "ukna" or neq_damping not in NEQ_DAMPINGS):
+        raise ParameterError(f"neq_damping must be one of {list(NEQ_DAMPINGS)} with a Sétra, "
+                             f"HiVoSS or EN 1990 code, got neq_damping={neq_damping!r} with "
+                             f"code {code!r}")
     if code == "ukna":
         if comfort_class is not None:
             raise ParameterError(f"comfort_class applies to 'setra' and 'hivoss'; the UK NA "
@@ -403,25 +420,46 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
     density = _check_density(code, structure, traffic_class, density, crowd)
     crowd = Crowd.from_density(density) if crowd is None else crowd
     models = structure_models(structure, crowd, density, msd)
+    neq_damping = "occupied" if neq_damping is None else neq_damping
+    empty_damping = effective_modal_properties(structure, dampers=dampers).damping_ratios
     columns: dict[str, list] = {name: [] for name in (
         "frequencies", "damping_ratios", "modal_masses", "modal_forces", "harmonics",
         "peak_accelerations")}
+    readings: dict[str, dict[str, list]] = {name: {"n_eq": [], "peak": []}
+                                            for name in NEQ_DAMPINGS}
     for model, model_crowd, model_msd in models.values():
         modal = effective_modal_properties(model, model_crowd, model_msd, dampers=dampers)
         if dampers:
-            response = damped_response(model, density, modal.frequencies, modal.damping_ratios,
-                                       crowd=model_crowd, msd=model_msd, dampers=dampers)
+            forces, harmonics, peaks = damped_response(
+                model, density, modal.frequencies, modal.damping_ratios, crowd=model_crowd,
+                msd=model_msd, dampers=dampers)
         else:
-            response = resonant_response(model, density, modal.frequencies,
-                                         modal.damping_ratios, modal.modal_masses)
-        values = (modal.frequencies, modal.damping_ratios, modal.modal_masses) + response
+            forces, harmonics, peaks = resonant_response(
+                model, density, modal.frequencies, modal.damping_ratios, modal.modal_masses)
+        # Mode j's load, hence its response, is linear in n_eq: the other reading rescales it.
+        n_eq = {"occupied": equivalent_pedestrians(density, structure.area, modal.damping_ratios),
+                "empty": equivalent_pedestrians(density, structure.area, empty_damping)}
+        for name in NEQ_DAMPINGS:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                scale = np.where(n_eq["occupied"] > 0, n_eq[name] / n_eq["occupied"], 1.0)
+            readings[name]["n_eq"].append(n_eq[name])
+            readings[name]["peak"].append(peaks * scale)
+            if name == neq_damping:
+                forces, peaks = forces * scale, peaks * scale
+        values = (modal.frequencies, modal.damping_ratios, modal.modal_masses, forces,
+                  harmonics, peaks)
         for name, value in zip(columns, values):
             columns[name].append(value)
     arrays = {name: np.array(value) for name, value in columns.items()}
+    details = {"equivalent_pedestrians": {
+        "damping": neq_damping,
+        "n_eq": {name: np.array(r["n_eq"]).tolist() for name, r in readings.items()},
+        "governing": {name: np.array(r["peak"]).max(axis=-1).tolist()
+                      for name, r in readings.items()}}}
     return DesignCheck(code=code, traffic_class=traffic_class, density=density, limit=limit,
                        output_names=structure.output_names, models=tuple(models),
                        frequencies=arrays["frequencies"],
                        damping_ratios=arrays["damping_ratios"],
                        modal_masses=arrays["modal_masses"], modal_forces=arrays["modal_forces"],
                        harmonics=arrays["harmonics"],
-                       peak_accelerations=arrays["peak_accelerations"])
+                       peak_accelerations=arrays["peak_accelerations"], details=details)
