@@ -59,6 +59,16 @@ def test_walkers_against_solve_ivp(traffic_class, frequency, reference):
     assert check.details["cases"]["walkers"]["group_size"] == size
 
 
+def test_the_check_names_the_uncorrected_gamma_figure():
+    # Issue 25 §2: γ is read from Figure NA.9 as published (DynSys digitisation), 0.19 for a
+    # 2 Hz, 0.5 % beam of S_eff = 50.2 m, where PD 6688-2's corrected figure is said to give
+    # 0.27; the corrected values were not available, so the result must say which figure it used.
+    check = design_check(beam(2.0), "ukna", traffic_class="B")
+    assert check.details["cases"]["walkers"]["gamma"][0][0] == pytest.approx(0.1918, abs=1e-4)
+    assert "uncorrected" in check.details["gamma_figure"]
+    assert "non-conservative" in check.to_dict()["details"]["gamma_figure"]
+
+
 def test_joggers_against_solve_ivp(reference):
     check = design_check(beam(2.4), "ukna", traffic_class="D")
     s_eff = 2 * SPAN / np.pi / 0.634

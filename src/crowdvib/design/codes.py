@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 __all__ = ["CODES", "TRAFFIC_CLASSES", "COMFORT_CLASSES", "EN1990_VERTICAL_LIMIT",
            "HARMONIC_FORCES", "reduction_factor", "equivalent_pedestrians", "class_density",
            "comfort_class", "comfort_limit", "UKNA_CLASSES", "UKNA_GROUPS", "ukna_k_factor",
-           "ukna_gamma", "ukna_crowd_gamma", "ukna_limit", "effective_span"]
+           "ukna_gamma", "ukna_crowd_gamma", "ukna_limit", "effective_span", "UKNA_GAMMA_FIGURE"]
 
 #: Codes understood by :func:`crowdvib.design.design_check`.
 CODES = ("setra", "hivoss", "en1990", "ukna")
@@ -202,10 +202,15 @@ UKNA_K_CURVES = {
 #: (columns); bilinear interpolation, δ and S_eff clamped to the grid (S_eff below 10 m takes
 #: the 10 m curve, the larger γ: conservative; above 300 m the 300 m curve; δ above 0.2 the
 #: 0.2 row, with a warning as γ grows with δ). SOURCED (DynSys UKNA_BSEN1991_2_Figure_NA_9
-#: digitisation). PD 6688-2:2011 (Background to the NA) replaces Figure NA.9 by its corrected
-#: Figure 2 (SOURCED: the PD's list of figures); whether DynSys digitised the corrected curves
-#: could not be verified here, so the PD 6688-2 correction is RECALLED-UNVERIFIED: compare
-#: ``UKNA_GAMMA_TABLE`` with PD 6688-2 Figure 2 before a design relies on it.
+#: digitisation, whose docstring cites "Figure NA.9, UK NA to BS EN 1991-2:2003": the NA's own,
+#: UNCORRECTED figure). PD 6688-2:2011 (Background to the NA) corrects Figure NA.9 (its Figure
+#: 2); the corrected values could not be found in any source reachable here, so they are not
+#: implemented (issue 25 §2: the uncorrected γ is lower, 0.19 against 0.27 for a 2 Hz, 0.5 %
+#: beam, and the walker peaks 3.5–14 % low for classes A–D: NON-CONSERVATIVE). Every "ukna"
+#: check names the figure in ``details["gamma_figure"]``.
+UKNA_GAMMA_FIGURE = ("Figure NA.9 of the UK NA as published (uncorrected; DynSys digitisation); "
+                     "PD 6688-2:2011 Figure 2 corrects it with larger γ, not available here: "
+                     "the walkers' and joggers' peaks may be non-conservative")
 UKNA_GAMMA_DECREMENTS = tuple(round(0.02 * i, 2) for i in range(11))
 UKNA_GAMMA_SPANS = (10.0, 12.0, 15.0, 20.0, 30.0, 40.0, 60.0, 100.0, 200.0, 300.0)
 UKNA_GAMMA_TABLE = (

@@ -32,8 +32,8 @@ from ..errors import ParameterError, ResolutionWarning
 from ..models.crowd import Crowd
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
-from .codes import (UKNA_CLASSES, UKNA_CROWD_FACTOR, UKNA_GAMMA_DECREMENTS, UKNA_GROUPS,
-                    effective_span, ukna_crowd_gamma, ukna_gamma, ukna_k_factor)
+from .codes import (UKNA_CLASSES, UKNA_CROWD_FACTOR, UKNA_GAMMA_DECREMENTS, UKNA_GAMMA_FIGURE,
+                    UKNA_GROUPS, effective_span, ukna_crowd_gamma, ukna_gamma, ukna_k_factor)
 
 if TYPE_CHECKING:
     from .check import DesignCheck
@@ -259,7 +259,7 @@ def ukna_check(structure: ModalModel, *, traffic_class: str | None, density: flo
     models_idx, modes_idx = np.indices(governing.shape)
     chosen = case_props[governing, models_idx, :, modes_idx]         # (n_models, n_modes, 3)
     details = {"effective_span": spans.tolist(), "lambda": lam.tolist(),
-               "site_factors": factors, "cases": per_case,
+               "site_factors": factors, "cases": per_case, "gamma_figure": UKNA_GAMMA_FIGURE,
                "governing_case": [[cases[i][0] for i in row] for row in governing]}
     if running:
         details["running_rms"] = {"weighting": weighting, "window": RUNNING_RMS_WINDOW,
