@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ..errors import EstimationError, IdentifiabilityWarning, ParameterError
+from ..errors import DataError, EstimationError, IdentifiabilityWarning, ParameterError
 from .modeid import PAIRING_TOLERANCE, ModeIdentification, compare_identifications
 
 __all__ = ["identify_setups", "merge_setups", "REFERENCE_SHARE"]
@@ -27,14 +27,35 @@ __all__ = ["identify_setups", "merge_setups", "REFERENCE_SHARE"]
 REFERENCE_SHARE = 0.1
 
 
+def _signals(name, signals):
+    """One setup's signals, checked: a finite (n_sensors, n_samples) array, n_samples >= 100."""
+    try:
+        data = np.array(signals, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a numeric array (n_sensors, n_samples), got ragged "
+                             f"or non-numeric rows") from None
+    if data.ndim != 2 or data.shape[0] < 1 or data.shape[1] < 100:
+        raise ParameterError(f"{name} must have shape (n_sensors, n_samples) with at least 100 "
+                             f"samples, got {data.shape}")
+    if not np.all(np.isfinite(data)):
+        raise DataError(f"{name} must be finite")
+    return data
+
+
+def _names(sensor_names, count, name):
+    names = (tuple(f"sensor_{i + 1}" for i in range(count)) if sensor_names is None
+             else tuple(str(n) for n in sensor_names))
+    if len(names) != count:
+        raise ParameterError(f"{name} must name {count} sensors, got {len(names)}")
+    return names
+
+
 def identify_setups(signals: Sequence, reference_sensors: Sequence[Sequence[int]],
                     sensor_names: Sequence[Sequence[str]] | None,
                     single: Callable[[np.ndarray, tuple], ModeIdentification]
                     ) -> ModeIdentification:
     """Identify every setup with ``single(data, names)`` and merge them (:func:`merge_setups`);
     with a cross-check in every setup, the other method's setups are merged and compared too."""
-    from .oma import _names, _signals
-
     if isinstance(signals, np.ndarray) or not isinstance(signals, Sequence) or len(signals) < 2:
         raise ParameterError("signals must be a sequence of at least 2 setups (each an array "
                              "(n_sensors, n_samples)) when reference_sensors is given, got "

@@ -36,6 +36,7 @@ from ..models.structure import ModalModel
 from .efdd import MAC_THRESHOLD, efdd_modes
 from .modeid import (ModeIdentification, compare_identifications, identified_error_levels,
                      information_bound)
+from .multisetup import _names, _signals, identify_setups
 
 __all__ = ["ModeIdentification", "ambient_response", "identified_error_levels", "identify_modes",
            "METHODS"]
@@ -121,8 +122,6 @@ def identify_modes(signals: ArrayLike | Sequence[ArrayLike], sample_rate: float,
         raise ParameterError(f"n_modes must be a positive integer, got {n_modes!r}")
     options = _options(block_rows, max_order, n_blocks, segment_length, mac_threshold)
     if reference_sensors is not None:
-        from .multisetup import identify_setups
-
         def single(data, names):
             return _identify(data, sample_rate, names, band, n_modes, method, cross_check,
                              options)
@@ -152,29 +151,6 @@ def _options(block_rows, max_order, n_blocks, segment_length, mac_threshold):
     return {"block_rows": block_rows, "max_order": int(max_order), "n_blocks": int(n_blocks),
             "segment_length": None if segment_length is None else int(segment_length),
             "mac_threshold": float(mac_threshold)}
-
-
-def _signals(name, signals):
-    """One setup's signals, checked: a finite (n_sensors, n_samples) array, n_samples >= 100."""
-    try:
-        data = np.array(signals, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a numeric array (n_sensors, n_samples), got ragged "
-                             f"or non-numeric rows") from None
-    if data.ndim != 2 or data.shape[0] < 1 or data.shape[1] < 100:
-        raise ParameterError(f"{name} must have shape (n_sensors, n_samples) with at least 100 "
-                             f"samples, got {data.shape}")
-    if not np.all(np.isfinite(data)):
-        raise DataError(f"{name} must be finite")
-    return data
-
-
-def _names(sensor_names, count, name):
-    names = (tuple(f"sensor_{i + 1}" for i in range(count)) if sensor_names is None
-             else tuple(str(n) for n in sensor_names))
-    if len(names) != count:
-        raise ParameterError(f"{name} must name {count} sensors, got {len(names)}")
-    return names
 
 
 def _identify(data, sample_rate, names, band, n_modes, method, cross_check, options):

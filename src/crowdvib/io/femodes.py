@@ -23,6 +23,7 @@ from ..errors import DataError, DataWarning, ParameterError, PlausibilityWarning
 from ..models.structure import ModalModel
 from .._files import require_file
 from ._common import quote, reading
+from .csvtables import number_columns, output_rows, quietly_built, read_csv_table, require_columns
 
 __all__ = ["UFF_SUFFIXES", "FEModes", "read_fe_modes"]
 
@@ -170,8 +171,6 @@ class FEModes:
         if (outputs is None) == (output_nodes is None):
             raise ParameterError("give exactly one of outputs (name → position) and output_nodes "
                                  "(name → node number)")
-        from .modalfiles import quietly_built
-
         # Unity at the antinode: a mass-normalised export gets its engaged modal mass.
         base = quietly_built(frequencies=self.frequencies[keep], damping_ratios=damping,
                              modal_masses=self.modal_masses[keep] / antinode**2,
@@ -187,9 +186,7 @@ class FEModes:
                                          f"{self.source}, got {quote(node)}")
                 names.append(label)
                 out_rows.append(vertical_shapes[hit[0]] / antinode)
-        else:
-            from .modalfiles import output_rows  # the CSV route's positional outputs
-
+        else:                       # the CSV route's positional outputs
             names, out_rows = output_rows(base, outputs)
         return base.replace(output_names=tuple(names), output_shapes=np.array(out_rows))
 
@@ -314,13 +311,11 @@ def _read_uff_modes(path):
 
 
 def _read_csv_modes(path, modal_table):
-    from .modalfiles import _missing, _numbers, _read_csv_table
-
-    header, rows = _read_csv_table(path)
-    _missing(path, header, ("node",) + AXES)
+    header, rows = read_csv_table(path)
+    require_columns(path, header, ("node",) + AXES)
     columns = [c for c in header if c not in ("node",) + AXES]
-    table_header, table_rows = _read_csv_table(modal_table)
-    _missing(modal_table, table_header, ("frequency",))
+    table_header, table_rows = read_csv_table(modal_table)
+    require_columns(modal_table, table_header, ("frequency",))
     n_modes = len(table_rows)
     triples = len(columns) == 3 * n_modes and all(
         columns[3 * j + k].endswith(f"_{a}") for j in range(n_modes) for k, a in enumerate(AXES))
@@ -328,14 +323,14 @@ def _read_csv_modes(path, modal_table):
         raise DataError(f"{Path(path).name}: must have one column per mode of "
                         f"{Path(modal_table).name} ({n_modes}), or three ending in _x, _y, _z, "
                         f"besides node, x, y, z; got {len(columns)}")
-    values = _numbers(path, header, rows, columns)
+    values = number_columns(path, header, rows, columns)
     shapes = values.reshape(len(rows), n_modes, 3 if triples else 1)
-    node_values = _numbers(path, header, rows, ["node"])[:, 0]
+    node_values = number_columns(path, header, rows, ["node"])[:, 0]
     if np.any(node_values != np.round(node_values)):
         raise DataError(f"{Path(path).name}: column 'node' must hold integer node numbers")
-    coordinates = _numbers(path, header, rows, list(AXES))
+    coordinates = number_columns(path, header, rows, list(AXES))
     table = np.column_stack([
-        _numbers(modal_table, table_header, table_rows, [c])[:, 0] if c in table_header
+        number_columns(modal_table, table_header, table_rows, [c])[:, 0] if c in table_header
         else np.full(n_modes, default)
         for c, default in (("frequency", 0.0), ("damping_ratio", 0.0), ("modal_mass", 1.0))])
     if "modal_mass" not in table_header:

@@ -13,67 +13,25 @@ import csv
 import difflib
 import inspect
 import os
-import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..errors import DataError, ParameterError, PlausibilityWarning
+from .._files import atomic_path
+from ..errors import DataError, ParameterError
 from ..models.structure import ModalModel
-from .._files import require_file
-from ._common import quote, reading
+from .csvtables import number_columns, output_rows, quietly_built, read_csv_table, require_columns
+from .femodes import UFF_SUFFIXES, FEModes, read_fe_modes
 
 __all__ = ["read_modal_model", "write_modal_model"]
 
 
-def _read_csv_table(path):
-    """Header and rows (as strings) of a small CSV file; ``#`` lines are comments.
-
-    The one guard of this reader: a missing, binary or malformed file is a :class:`DataError`
-    naming it. Messages never repeat the file's lines (issue 9: a case could name any file).
-    """
-    path = require_file(path, "modal CSV")
-    with reading(path, "a CSV"):
-        with open(path, encoding="utf-8", newline="") as handle:
-            lines = [line for line in handle
-                     if line.strip() and not line.lstrip().startswith("#")]
-        rows = [[cell.strip() for cell in row] for row in csv.reader(lines)]
-        if len(rows) < 2:
-            raise DataError(f"{path.name}: must hold a header line and at least one row")
-        header, body = rows[0], rows[1:]
-        for number, row in enumerate(body, start=1):
-            if len(row) != len(header):
-                raise DataError(f"{path.name}: row {number} has {len(row)} field(s), the header "
-                                f"has {len(header)}")
-    return header, body
 
 
-def _missing(path, header, columns):
-    """DataError for required columns absent from ``header``; a near miss is named as such."""
-    missing = [c for c in columns if c not in header]
-    if missing:
-        hints = "".join(f" ({quote(guess[0])}: did you mean {c!r}?)" for c in missing
-                        for guess in [difflib.get_close_matches(c, header, n=1)] if guess)
-        raise DataError(f"{Path(path).name}: missing column(s) {missing}{hints}; the header has "
-                        f"{len(header)} column(s)")
 
 
-def _numbers(path, header, rows, columns):
-    """The named columns as finite floats; the first bad cell is named by row and column."""
-    values = np.empty((len(rows), len(columns)))
-    for i, row in enumerate(rows):
-        for j, column in enumerate(columns):
-            cell = row[header.index(column)]
-            try:
-                values[i, j] = float(cell)
-            except ValueError:
-                values[i, j] = np.nan
-            if not np.isfinite(values[i, j]):
-                raise DataError(f"{Path(path).name}: row {i + 1}, column {quote(column)} must "
-                                f"hold a finite number, got {quote(cell)}")
-    return values
 
 
 def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathLike | None = None,
@@ -114,8 +72,6 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
     -------
     ModalModel
     """
-    from .femodes import UFF_SUFFIXES, FEModes, read_fe_modes
-
     known = set(inspect.signature(FEModes.modal_model).parameters) - {"self", "width",
                                                                        "outputs", "name"}
     for option in sorted(set(fe_options) - known):
@@ -125,7 +81,7 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
                              f"options are {sorted(known)}")
     fe_route = Path(modal_table).suffix.lower() in UFF_SUFFIXES or (
         mode_shapes is not None and Path(mode_shapes).is_file()
-        and "node" in _read_csv_table(mode_shapes)[0])
+        and "node" in read_csv_table(mode_shapes)[0])
     if fe_route:
         if output_points is not None:
             raise ParameterError("output_points is for station CSVs; name FE outputs with "
@@ -142,25 +98,25 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
                              "CSV node table with a 'node' column)")
     if mode_shapes is None:
         raise ParameterError("mode_shapes must be given with a modal table CSV")
-    header, rows = _read_csv_table(modal_table)
-    _missing(modal_table, header, ("frequency", "damping_ratio", "modal_mass"))
-    table = _numbers(modal_table, header, rows, ["frequency", "damping_ratio", "modal_mass"])
+    header, rows = read_csv_table(modal_table)
+    require_columns(modal_table, header, ("frequency", "damping_ratio", "modal_mass"))
+    table = number_columns(modal_table, header, rows, ["frequency", "damping_ratio", "modal_mass"])
     n_modes = table.shape[0]
-    shape_header, shape_rows = _read_csv_table(mode_shapes)
-    _missing(mode_shapes, shape_header, ("position",))
+    shape_header, shape_rows = read_csv_table(mode_shapes)
+    require_columns(mode_shapes, shape_header, ("position",))
     mode_columns = [c for c in shape_header if c not in ("position", "lane")]
     if len(mode_columns) != n_modes:
         raise DataError(f"{Path(mode_shapes).name}: must have one column per mode of "
                         f"{Path(modal_table).name} ({n_modes}) besides 'position' and 'lane', "
                         f"got {len(mode_columns)}")
-    values = _numbers(mode_shapes, shape_header, shape_rows, mode_columns)
+    values = number_columns(mode_shapes, shape_header, shape_rows, mode_columns)
     still = [c for c, column in zip(mode_columns, values.T) if not np.any(column)]
     if still:
         raise DataError(f"{Path(mode_shapes).name}: mode column(s) {still} are all zero: a mode "
                         "must move the walkway somewhere")
-    position = _numbers(mode_shapes, shape_header, shape_rows, ["position"])[:, 0]
+    position = number_columns(mode_shapes, shape_header, shape_rows, ["position"])[:, 0]
     if "lane" in shape_header:
-        lane = _numbers(mode_shapes, shape_header, shape_rows, ["lane"])[:, 0]
+        lane = number_columns(mode_shapes, shape_header, shape_rows, ["lane"])[:, 0]
         lanes = np.unique(lane)
         blocks = [np.flatnonzero(lane == y) for y in lanes]
         positions = position[blocks[0]]
@@ -178,51 +134,25 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
         raise ParameterError("give exactly one of outputs (name → position) and output_points "
                              "(a CSV of mode-shape rows)")
     if output_points is not None:
-        point_header, point_rows = _read_csv_table(output_points)
-        _missing(output_points, point_header, ("name",))
+        point_header, point_rows = read_csv_table(output_points)
+        require_columns(output_points, point_header, ("name",))
         columns = [c for c in point_header if c != "name"]
         if len(columns) != n_modes:
             raise DataError(f"{Path(output_points).name}: must have one column per mode "
                             f"({n_modes}) besides 'name', got {len(columns)}")
         names = [row[point_header.index("name")] for row in point_rows]
-        rows_ = _numbers(output_points, point_header, point_rows, columns)
+        rows_ = number_columns(output_points, point_header, point_rows, columns)
     else:
         names, rows_ = output_rows(base, outputs)
     return base.replace(output_names=tuple(names), output_shapes=np.array(rows_, dtype=float))
 
 
-def quietly_built(**fields):
-    """The walkway's ModalModel without outputs, built only to place them: its plausibility is
-    judged once, on the complete model the reader returns (each doubt warned once)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PlausibilityWarning)
-        return ModalModel(output_names=(), output_shapes=np.zeros((0, fields["frequencies"].size)),
-                          **fields)
 
 
-def output_rows(base, outputs):
-    """Names and mode-shape rows of output points given as name → x or (x, y) on the walkway."""
-    positions = base.positions
-    names, rows = [], []
-    for label, where in outputs.items():
-        try:
-            x, y = (float(where), None) if np.ndim(where) == 0 else (float(where[0]),
-                                                                   float(where[1]))
-        except (TypeError, ValueError, IndexError):
-            raise ParameterError(f"outputs[{label!r}] must be a position x [m] or [x, y], "
-                                 f"got {quote(where)}") from None
-        if not positions[0] <= x <= positions[-1]:
-            raise ParameterError(f"outputs[{label!r}] must lie on the walkway "
-                                 f"[{positions[0]:g}, {positions[-1]:g}] m, got {x:g}")
-        names.append(label)
-        rows.append(base.shapes_at(np.array([x]), None if y is None else np.array([y]))[0])
-    return names, np.array(rows, dtype=float).reshape(len(names), base.n_modes)
 
 
 def write_modal_model(structure, modal_table, mode_shapes, output_points=None, *, digits=10):
     """Write a :class:`ModalModel` as the CSV files :func:`read_modal_model` reads (atomically)."""
-    from .._files import atomic_path
-
     modes = [f"mode_{j + 1}" for j in range(structure.n_modes)]
     fmt = f"{{:.{digits}g}}"
 

@@ -49,6 +49,12 @@ YOUNG_SLOPE = (0.41, 0.0056, 0.0064, 0.0065)
 YOUNG_DLF1_CAP = 0.56
 
 
+class _ReplayedForce:
+    """Base of the forces that replay measured histories, time domain only
+    (:class:`~crowdvib.models.measured.MeasuredForce`): named here so that
+    :func:`as_force_model` knows them without importing measured.py, which builds on this module."""
+
+
 class _WalkingForce:
     """Shared machinery: crowd spectrum and time histories from per-component DLF statistics."""
 
@@ -299,8 +305,7 @@ def as_force_model(force, *, time_domain=False):
     """
     if force is None:
         return ZivanovicForce()
-    from .measured import MeasuredForce  # here: measured.py imports this module
-    if isinstance(force, MeasuredForce):
+    if isinstance(force, _ReplayedForce):
         if time_domain:
             return force
         raise ParameterError(

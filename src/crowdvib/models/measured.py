@@ -28,7 +28,7 @@ from scipy import signal
 
 from .._validation import as_float_array, check_non_negative, check_positive
 from ..errors import DataError, ParameterError
-from .loading import STANDARD_GRAVITY, ZivanovicForce
+from .loading import STANDARD_GRAVITY, ZivanovicForce, _ReplayedForce
 
 __all__ = ["MeasuredForce", "builtin_walking_forces"]
 
@@ -105,7 +105,7 @@ class ReplayDraws(NamedTuple):
 
 
 @dataclass(frozen=True, eq=False)
-class MeasuredForce:
+class MeasuredForce(_ReplayedForce):
     """Measured vertical walking forces replayed per walker (docs: theory, Measured walking forces).
 
     Parameters
