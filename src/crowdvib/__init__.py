@@ -6,17 +6,13 @@ inverse problem of Van Nimmen & Van den Broeck (2023): ``estimate_hsi``.
 """
 
 import importlib
-from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING
+
+from ._version import __version__
 
 from .errors import (BoundWarning, ConvergenceWarning, CrowdvibError, CrowdvibWarning, DataError,
                      DataWarning, EstimationError, IdentifiabilityWarning, ParameterError,
                      PlausibilityWarning, ResolutionWarning)
-
-try:
-    __version__ = version("crowdvib")
-except PackageNotFoundError:  # running from a source tree that was not installed
-    __version__ = "0+unknown"
 
 #: Public name → the subpackage that defines it. The subpackages (and scipy and numba behind them)
 #: are imported on first use, so that ``crowdvib --help`` and an error message come at once.

@@ -23,7 +23,7 @@ import os
 import re
 from pathlib import Path
 
-from . import __version__
+from ._version import __version__
 from ._files import sha256_file, write_json
 from .errors import ParameterError
 

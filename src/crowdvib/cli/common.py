@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from .. import __version__
+from .._version import __version__
 from .._files import folder_lock, output_error
 
 __all__ = ["add_output_arguments", "ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "say",

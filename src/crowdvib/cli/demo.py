@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
+from .._version import __version__
 from .._files import write_json
 from ..errors import ParameterError
 from ..reporting.report import provenance, write_report

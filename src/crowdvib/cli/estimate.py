@@ -3,7 +3,7 @@
 import sys
 from pathlib import Path
 
-from .. import __version__
+from .._version import __version__
 from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
 from ..reporting.text import interval_of, with_interval

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
+from .._version import __version__
 from .._files import write_json
 from ..reporting.report import provenance, write_report
 from .common import (ESTIMATION_TABLES, add_output_arguments, case_inputs, positive_float,

@@ -11,7 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .. import __version__
+from .._version import __version__
 from .._files import os_error_text, require_file
 from ..errors import CrowdvibError
 from ..reporting.report import write_report

@@ -45,7 +45,7 @@ import time
 import warnings
 from pathlib import Path
 
-from .. import __version__
+from .._version import __version__
 from .._files import write_json
 from ..reporting.report import write_report
 from .common import (add_output_arguments, say, say_verdict, staged_output, versions,

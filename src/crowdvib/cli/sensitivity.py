@@ -5,7 +5,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from .. import __version__
+from .._version import __version__
 from .._files import folder_lock, require_file, write_json
 from .._manifest import record_file
 from ..reporting.report import provenance, write_report

@@ -3,7 +3,7 @@
 import time
 from pathlib import Path
 
-from .. import __version__
+from .._version import __version__
 from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
 from .common import (SIMULATION_TABLES, add_output_arguments, case_inputs, progress_printer,

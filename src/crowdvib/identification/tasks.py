@@ -58,7 +58,7 @@ def fingerprint(function, payload, *, memo=None):
         Input path (``"crowd.density"``, ``"options.band"``, ``"measured.psd"`` …) → 16 hex
         digits, to name what differs between two tasks of the same name.
     """
-    from .. import __version__
+    from .._version import __version__
 
     memo = {} if memo is None else memo
     parts = {path: hashlib.sha256(_token(value, memo).encode()).hexdigest()[:16]

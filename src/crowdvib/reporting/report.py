@@ -26,7 +26,7 @@ does not know. Keys it understands (top level, or under ``diagnostics`` for the 
 import datetime
 from pathlib import Path
 
-from .. import __version__
+from .._version import __version__
 from .._files import atomic_path, sha256_file
 from .._manifest import foreign_files, read_manifest, record_file
 from ..errors import DataError, ParameterError

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
+from .._version import __version__
 from .._files import sha256_file
 from .html import Markup, html, join, label, number, span, table, value
 from .reading import case_name, estimate, get, hsi, sensitivity, summary
