@@ -25,7 +25,8 @@ __all__ = ["WB_CONSTANTS", "wb_response", "weight_wb", "running_rms"]
 #: W_b constants: corner frequencies [Hz], quality factors [-] and gain K [-]. f3…f6, Q4…Q6 and
 #: K = 0.4: SOURCED (a public BS 6841:1987 implementation, bs6841freqweight.m, "PY 23/05/02",
 #: weighting 'b'). Band limits f1 = 0.4 Hz, f2 = 100 Hz: SOURCED (same file); their Q1 = Q2 =
-#: 1/√2 (Butterworth): RECALLED (the file rounds it to 0.71 for f1).
+#: 1/√2: SOURCED (ISO 8041's table of weighting parameters, reproduced in the Larson Davis HVM200
+#: manual, Table 3.1; ISO 2631-4 rounds Q1 to 0.71), tested in tests/design/test_weighting_wb.py.
 WB_CONSTANTS = {"f1": 0.4, "q1": 1 / np.sqrt(2), "f2": 100.0, "q2": 1 / np.sqrt(2),
                 "f3": 16.0, "f4": 16.0, "q4": 0.55, "f5": 2.5, "q5": 0.9, "f6": 4.0,
                 "q6": 0.95, "k": 0.4}
