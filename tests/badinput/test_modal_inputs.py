@@ -165,7 +165,7 @@ def test_one_stated_modal_mass_for_several_modes_is_refused():
                                         ("segment_length", "1024.5")])
 def test_modes_file_counts_must_be_integers(tmp_path, key, value):
     # Issue 24: n_modes = 2.5 was cut to 2 (int()); a count is refused unless whole.
-    from crowdvib.cli.modes import read_ambient
+    from crowdvib.io.ambient import read_ambient
 
     write_record(Record(np.random.default_rng(1).normal(size=(2, 400)), 20.0, ("a", "b")),
                  tmp_path / "ambient.csv")

@@ -297,12 +297,9 @@ def say_if_compiling(structure, hsi):
     kind ``structure`` and ``hsi`` need and nothing compiled in this process, the first call
     compiles for a while, which must not look like a hang.
     """
-    from ..response import _kernels
-    from ..response.simulation import kernel_for
+    from ..response.simulation import kernel_needs_compiling
 
-    kernel = kernel_for(structure, hsi)
-    cache = Path(_kernels.__file__).parent / "__pycache__"
-    if not kernel.signatures and not list(cache.glob(f"_kernels.{kernel.__name__}-*.nbi")):
+    if kernel_needs_compiling(structure, hsi):
         say("  compiling the simulation kernel (first run of this kind only, some 10–30 s) …")
 
 

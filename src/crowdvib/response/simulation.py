@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -141,6 +142,14 @@ def kernel_for(structure, hsi):
     return _kernels.entry_point(hsi, structure.n_modes,
                                 _uniform_spacing(structure.positions) > 0.0,
                                 structure.lanes.size)
+
+
+def kernel_needs_compiling(structure, hsi):
+    """Whether the first run of this kind compiles its kernel (for a while): nothing compiled in
+    this process and no numba cache index beside ``_kernels.py`` (``cache=True``) for it."""
+    kernel = kernel_for(structure, hsi)
+    cache = Path(_kernels.__file__).parent / "__pycache__"
+    return not kernel.signatures and not list(cache.glob(f"_kernels.{kernel.__name__}-*.nbi"))
 
 
 class _Integrator:

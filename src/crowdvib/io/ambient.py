@@ -1,0 +1,99 @@
+"""The ambient-test file of ``crowdvib modes`` (its format: :mod:`crowdvib.cli.modes`): the
+records, one per setup, the identification options and the modal-model table, every key checked
+through :class:`crowdvib.io._toml.Table` and refused with the file and key named."""
+
+from pathlib import Path
+
+from ._toml import Table, read_toml
+from .records import read_record
+
+__all__ = ["read_ambient"]
+
+
+def _records(root):
+    """One ``[record]`` table, or several ``[[record]]`` blocks (setups)."""
+    blocks = root.raw("record")
+    tables = ([Table(b, f"record[{i}]", root.path) for i, b in enumerate(blocks, start=1)]
+              if isinstance(blocks, list) else [root.table("record", required=True)])
+    if not tables:
+        raise root.error("record", "must hold at least one [[record]] block", blocks)
+    records = []
+    for table in tables:
+        channels = table.raw("channels", None)
+        if channels is not None and not isinstance(channels, dict):
+            channels = table.strings("channels", None)
+        elif channels is not None and not all(isinstance(v, str) for v in channels.values()):
+            raise table.error("channels", "must be a list of channels or a table sensor = "
+                                          "\"channel in file\"", channels)
+        records.append(read_record(table.file("file"), channels=channels,
+                                   sample_rate=table.number("sample_rate", None,
+                                                            rule="positive")))
+        table.finish()
+    return records
+
+
+def read_ambient(path):
+    """The ambient file's records (one per setup), identification options and modal-model
+    table (checked)."""
+    path = Path(path)
+    root = Table(read_toml(path), "", path)
+    name = root.string("name", path.stem)
+    records = _records(root)
+    ident = root.table("identification")
+    options = {"n_modes": _count(ident, "n_modes", None, 1),
+               "frequency_band": ident.pair("frequency_band", None),
+               "max_order": _count(ident, "max_order", 40, 2),
+               "method": ident.string("method", "ssi-cov", choices=("ssi-cov", "efdd")),
+               "cross_check": ident.boolean("cross_check", False),
+               "segment_length": _count(ident, "segment_length", None, 64)}
+    references = ident.strings("reference_channels", None)
+    if len(records) > 1:
+        if references is None:
+            raise ident.error("reference_channels", "is required with several [[record]] "
+                                                    "blocks (the channels they share)", None)
+        options["reference_sensors"] = _reference_rows(records, references, ident)
+    elif references is not None:
+        raise ident.error("reference_channels", "needs several [[record]] blocks", references)
+    ident.finish()
+    if len({r.sample_rate for r in records}) > 1:
+        raise root.error("record", "blocks must share one sample rate",
+                         [r.sample_rate for r in records])
+    model = root.table("modal_model")
+    spec = None
+    if model.data:
+        spec = {"width": model.number("width", rule="positive"),
+                "fe_model": model.file("fe_model", None),
+                "output_nodes": _output_nodes(model),
+                "modal_masses": model.numbers("modal_masses", None, rule="positive"),
+                "sensor_positions": model.numbers("sensor_positions", None),
+                "walkway": model.pair("walkway", None)}
+        model.finish()
+    root.finish()
+    return name, records, options, spec
+
+
+def _count(table, name, default, least):
+    """A count of the file as int: 2.5 modes is refused, not cut to 2."""
+    value = table.number(name, default)
+    if value is not None and (int(value) != value or value < least):
+        raise table.error(name, f"must be an integer >= {least}", value)
+    return None if value is None else int(value)
+
+
+def _reference_rows(records, references, table):
+    rows = []
+    for s, record in enumerate(records, start=1):
+        missing = [c for c in references if c not in record.channel_names]
+        if missing:
+            raise table.error("reference_channels", f"must name channels of every record; "
+                                                    f"record {s} lacks {missing}", references)
+        rows.append([record.channel_names.index(c) for c in references])
+    return rows
+
+
+def _output_nodes(table):
+    nodes = table.raw("output_nodes", None)
+    if nodes is not None and not (isinstance(nodes, dict) and all(
+            isinstance(v, int) and not isinstance(v, bool) for v in nodes.values())):
+        raise table.error("output_nodes", "must be a table of sensor = node number", nodes)
+    return nodes
