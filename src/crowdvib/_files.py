@@ -86,7 +86,8 @@ def _fsync(path, flags):
         os.close(descriptor)
 
 
-def _json_default(value):
+def json_default(value):
+    """``json.dumps``'s ``default``: numpy arrays and scalars as lists and Python numbers."""
     if isinstance(value, np.ndarray):
         return value.tolist()
     if isinstance(value, np.generic):
@@ -96,7 +97,7 @@ def _json_default(value):
 
 def write_json(path, data, *, fsync=False):
     """Write ``data`` as indented JSON, atomically (NaN written as null); see :func:`atomic_path`."""
-    text = json.dumps(_replace_nan(data), indent=2, default=_json_default, allow_nan=False)
+    text = json.dumps(_replace_nan(data), indent=2, default=json_default, allow_nan=False)
     with atomic_path(path, fsync=fsync) as temporary:
         temporary.write_text(text + "\n", encoding="utf-8")
     return Path(path)
@@ -105,7 +106,7 @@ def write_json(path, data, *, fsync=False):
 def canonical_json(data):
     """``data`` as :func:`write_json` stores it, in one canonical line (sorted keys, no spaces):
     the same text for the data written and the data read back, for content hashes."""
-    return json.dumps(_replace_nan(data), default=_json_default, allow_nan=False,
+    return json.dumps(_replace_nan(data), default=json_default, allow_nan=False,
                       sort_keys=True, separators=(",", ":"))
 
 

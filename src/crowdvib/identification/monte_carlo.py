@@ -20,13 +20,13 @@ from typing import Any
 
 import numpy as np
 
-from .._files import _json_default
+from .._files import json_default
 from ..errors import CrowdvibError, ParameterError
 from ..models.crowd import Crowd
 from ..models.structure import ModalModel
-from ..response.batch import _check_seeds, simulate_many
+from ..response.batch import check_seeds, simulate_many
 from ..response.results import Simulation
-from ..response.traffic import _check_duration
+from ..response.traffic import check_duration
 from .tasks import TaskStore, run_tasks
 
 __all__ = ["monte_carlo", "record_statistics"]
@@ -57,7 +57,7 @@ def _batch_task(batch):
     records = simulate_many(batch.structure, batch.crowd, batch.duration,
                             seeds=list(batch.seeds), **dict(batch.options))
     # Through JSON and back: a fresh result has the same types as one read from the store.
-    rows = [json.loads(json.dumps(summary(record), default=_json_default)) for record in records]
+    rows = [json.loads(json.dumps(summary(record), default=json_default)) for record in records]
     return {"records": rows}
 
 
@@ -119,12 +119,12 @@ def monte_carlo(structure: ModalModel, crowd: Crowd | None, duration: float, *,
     CrowdvibError
         If a batch failed (its error names the seeds); finished batches stay in ``store``.
     """
-    seeds = _check_seeds(seeds)
+    seeds = check_seeds(seeds)
     name = _summary_name(summary)
     if isinstance(batch_size, bool) or not isinstance(batch_size, numbers.Integral) \
             or batch_size < 1:
         raise ParameterError(f"batch_size must be an integer >= 1, got {batch_size!r}")
-    duration, _ = _check_duration(duration, 0.0)
+    duration, _ = check_duration(duration, 0.0)
     frozen = tuple(sorted(options.items()))
     tasks = []
     for start in range(0, len(seeds), batch_size):

@@ -52,7 +52,7 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
     list of Simulation
         In the order of ``seeds``.
     """
-    seeds = _check_seeds(seeds)
+    seeds = check_seeds(seeds)
     for name in ("rng", "progress", "chunk_duration"):
         if name in options:
             raise ParameterError(f"{name} is not an option of simulate_many (given {name}=...)")
@@ -93,8 +93,8 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
             raise
 
 
-def _check_seeds(seeds):
-    """A non-empty list of non-negative integer seeds."""
+def check_seeds(seeds):
+    """A non-empty list of non-negative integer seeds (also the Monte Carlo studies' check)."""
     if isinstance(seeds, np.ndarray):
         seeds = seeds.tolist()
     if isinstance(seeds, (str, bytes)) or not isinstance(seeds, Sequence):

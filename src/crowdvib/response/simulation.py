@@ -27,7 +27,7 @@ from ..models.loading import STANDARD_GRAVITY, as_force_model
 from ..models.measured import REPLAY_HARMONICS
 from ..models.pedestrian import MSDModel
 from .results import Simulation
-from .traffic import (Pedestrian, _check_duration, _check_structure, _seed_from, _walkers,
+from .traffic import (Pedestrian, check_duration, _check_structure, _seed_from, _walkers,
                       _with_dampers)
 
 if TYPE_CHECKING:
@@ -296,7 +296,7 @@ def _check_run(structure, crowd, duration, pedestrians, msd, force, sample_rate,
     if msd is not None and not isinstance(msd, MSDModel):
         raise ParameterError(f"msd must be an MSDModel or None, got {type(msd).__name__}")
     force = as_force_model(force, time_domain=True)
-    duration, warm_up = _check_duration(duration, warm_up)
+    duration, warm_up = check_duration(duration, warm_up)
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
     highest = float(np.max(structure.frequencies))
     if sample_rate / 2 <= highest:

@@ -279,7 +279,7 @@ def generate_traffic(structure, crowd, duration, *, force=None, rng=None, warm_u
     """
     _check_structure(structure)
     check_type("crowd", crowd, Crowd)
-    duration, warm_up = _check_duration(duration, warm_up)
+    duration, warm_up = check_duration(duration, warm_up)
     force = as_force_model(force, time_domain=True)
     if isinstance(force, MeasuredForce):
         raise ParameterError("force: generate_traffic lists harmonic pedestrians; a MeasuredForce "
@@ -303,7 +303,8 @@ def generate_traffic(structure, crowd, duration, *, force=None, rng=None, warm_u
     return result
 
 
-def _check_duration(duration, warm_up):
+def check_duration(duration, warm_up):
+    """A run's duration (> 0 s) and warm-up (>= 0 s) as floats, or a ParameterError."""
     if duration is None:
         raise ParameterError("duration must be given (> 0 s), got None")
     duration = float(as_float_array("duration", duration, ndim=0))
