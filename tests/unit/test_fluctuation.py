@@ -135,3 +135,18 @@ def test_occupancy_law_is_the_direct_inversion(paper_bridge):
                                        ).real / _LAW_POINTS, 0.0)
         np.testing.assert_allclose(probabilities, direct / direct.sum(), rtol=0, atol=1e-15)
         assert probabilities.max() > 1e-4
+
+
+def test_one_mode_crowd_factor_is_the_eigen_decompositions():
+    # psd_factor skips eigh for a 1 × 1 Ψ (the fluctuating estimate asks thousands of times):
+    # the same B with Ψ = B Bᵀ as from eigh (the computation before, commit 0e6e805), empty
+    # where Ψ carries no crowd.
+    from crowdvib.response._attached import psd_factor
+    for value in (37.5, 5e-7, 0.0):
+        psi = np.array([[value]])
+        values, vectors = np.linalg.eigh(psi)
+        keep = values > values.max(initial=0.0) * 1e-12
+        expected = vectors[:, keep] * np.sqrt(values[keep])
+        assert psd_factor(psi).shape == expected.shape
+        np.testing.assert_allclose(psd_factor(psi), expected, rtol=1e-15)
+        np.testing.assert_allclose(psd_factor(psi) @ psd_factor(psi).T, psi, rtol=1e-15)

@@ -72,10 +72,9 @@ def attachments(structure, crowd, msd, dampers):
 
 def psd_factor(psi):
     """B with Ψ = B Bᵀ (B: n_modes × rank), from the eigen-decomposition of the PSD matrix Ψ."""
-    if psi.shape == (1, 1):     # its own eigenvalue, as eigh returns it (without eigh's overhead)
-        values, vectors = psi[0], np.ones((1, 1))
-    else:
-        values, vectors = np.linalg.eigh(psi)
+    if psi.shape == (1, 1):     # one mode: what eigh gives, without its overhead
+        return np.sqrt(psi) if psi[0, 0] > 0 else np.zeros((1, 0))
+    values, vectors = np.linalg.eigh(psi)
     keep = values > values.max(initial=0.0) * 1e-12
     return vectors[:, keep] * np.sqrt(values[keep])
 
