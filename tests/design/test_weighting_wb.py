@@ -1,4 +1,5 @@
-"""W_b against the parameters ISO 8041 tabulates for it (issue 25 §2: the band-limit Q was recalled)."""
+"""W_b against the parameters ISO 8041 tabulates for it (issue 25 §2: its band-limit Q was
+recalled)."""
 
 import numpy as np
 import pytest

@@ -32,8 +32,9 @@ from ..models.damper import as_dampers
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ..response.spectral import effective_modal_properties, modal_accelerance
-from .codes import (CODES, HARMONIC_FORCES, REDUCTION_FACTOR_CORNERS, class_density,
-                    comfort_class, comfort_limit, equivalent_pedestrians, reduction_factor)
+from .codes import (HARMONIC_FORCES, REDUCTION_FACTOR_CORNERS, class_density, comfort_class,
+                    comfort_limit, equivalent_pedestrians, reduction_factor)
+from .registry import DesignCode, design_code, register_code
 
 __all__ = ["DesignCheck", "design_check", "resonant_response", "damped_response"]
 
@@ -321,11 +322,9 @@ def structure_models(structure: ModalModel, crowd: Crowd, density: float,
     return models
 
 
-def _check_inputs(structure, code, crowd, msd):
+def _check_inputs(structure, crowd, msd):
     if not isinstance(structure, ModalModel):
         raise ParameterError(f"structure must be a ModalModel, got {type(structure).__name__}")
-    if code not in CODES:
-        raise ParameterError(f"code must be one of {list(CODES)}, got {code!r}")
     if crowd is not None and not isinstance(crowd, Crowd):
         raise ParameterError(f"crowd must be a Crowd or None, got {type(crowd).__name__}")
     if msd is not None and not isinstance(msd, MSDModel):
@@ -349,10 +348,13 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
     ----------
     structure : ModalModel
         The empty footbridge.
-    code : {"setra", "hivoss", "en1990", "ukna"}
-        Sétra/AFGC 2006, HiVoSS 2008, EN 1990 Annex A2's limit (0.7 m/s²) with the HiVoSS
-        load and classes, or the UK National Annex to BS EN 1991-2 (NA.2.44: walkers and
-        joggers in the time domain, the steady-state crowd; :mod:`crowdvib.design.ukna`).
+    code : str
+        A registered design code (:func:`crowdvib.design.code_names`). Built in: "setra",
+        "hivoss", "en1990" (Sétra/AFGC 2006, HiVoSS 2008, EN 1990 Annex A2's limit 0.7 m/s²
+        with the HiVoSS load and classes) and "ukna" (the UK National Annex to BS EN 1991-2,
+        NA.2.44: walkers and joggers in the time domain, the steady-state crowd;
+        :mod:`crowdvib.design.ukna`); others via :func:`crowdvib.design.register_code`. An
+        option below that the code does not take is refused.
     traffic_class : str, optional
         "I", "II", "III" (Sétra), "TC1"…"TC5" (HiVoSS, EN 1990) or the bridge class "A"…"D"
         (UK NA, Table NA.7: group sizes and crowd density).
@@ -398,68 +400,84 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
     >>> check.comfort_class, round(float(check.ratios["hsi/empty"][0]), 2)
     (('CL3',), 0.58)
     """
-    _check_inputs(structure, code, crowd, msd)
-    dampers = as_dampers(dampers)
-    if neq_damping is not None and (code == "ukna" or neq_damping not in NEQ_DAMPINGS):
-        raise ParameterError(f"neq_damping must be one of {list(NEQ_DAMPINGS)} with a Sétra, "
-                             f"HiVoSS or EN 1990 code, got neq_damping={neq_damping!r} with "
-                             f"code {code!r}")
-    if code == "ukna":
-        if comfort_class is not None:
-            raise ParameterError(f"comfort_class applies to 'setra' and 'hivoss'; the UK NA "
-                                 f"limit comes from site_factors, got {comfort_class!r}")
-        from .ukna import ukna_check
-        return ukna_check(structure, traffic_class=traffic_class, density=density,
-                          crowd=crowd, msd=msd, dampers=dampers, site_factors=site_factors,
-                          weighting=weighting)
-    for name, value in (("site_factors", site_factors), ("weighting", weighting)):
-        if value is not None:
-            raise ParameterError(f"{name} applies to code 'ukna' only, got {name}={value!r} "
-                                 f"with code {code!r}")
-    limit = comfort_limit(code, comfort_class)
-    density = _check_density(code, structure, traffic_class, density, crowd)
-    crowd = Crowd.from_density(density) if crowd is None else crowd
-    models = structure_models(structure, crowd, density, msd)
-    neq_damping = "occupied" if neq_damping is None else neq_damping
-    empty_damping = effective_modal_properties(structure, dampers=dampers).damping_ratios
-    columns: dict[str, list] = {name: [] for name in (
-        "frequencies", "damping_ratios", "modal_masses", "modal_forces", "harmonics",
-        "peak_accelerations")}
-    readings: dict[str, dict[str, list]] = {name: {"n_eq": [], "peak": []}
-                                            for name in NEQ_DAMPINGS}
-    for model, model_crowd, model_msd in models.values():
-        modal = effective_modal_properties(model, model_crowd, model_msd, dampers=dampers)
-        if dampers:
-            forces, harmonics, peaks = damped_response(
-                model, density, modal.frequencies, modal.damping_ratios, crowd=model_crowd,
-                msd=model_msd, dampers=dampers)
-        else:
-            forces, harmonics, peaks = resonant_response(
-                model, density, modal.frequencies, modal.damping_ratios, modal.modal_masses)
-        # Mode j's load, hence its response, is linear in n_eq: the other reading rescales it.
-        n_eq = {"occupied": equivalent_pedestrians(density, structure.area, modal.damping_ratios),
-                "empty": equivalent_pedestrians(density, structure.area, empty_damping)}
-        for name in NEQ_DAMPINGS:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                scale = np.where(n_eq["occupied"] > 0, n_eq[name] / n_eq["occupied"], 1.0)
-            readings[name]["n_eq"].append(n_eq[name])
-            readings[name]["peak"].append(peaks * scale)
-            if name == neq_damping:
-                forces, peaks = forces * scale, peaks * scale
-        values = (modal.frequencies, modal.damping_ratios, modal.modal_masses, forces,
-                  harmonics, peaks)
-        for name, value in zip(columns, values):
-            columns[name].append(value)
-    arrays = {name: np.array(value) for name, value in columns.items()}
-    details = {"equivalent_pedestrians": {
-        "damping": neq_damping,
-        "n_eq": {name: np.array(r["n_eq"]).tolist() for name, r in readings.items()},
-        "governing": {name: np.array(r["peak"]).max(axis=-1).tolist()
-                      for name, r in readings.items()}}}
-    return DesignCheck(code=code, traffic_class=traffic_class, density=density, limit=limit,
-                       output_names=structure.output_names, models=tuple(models),
-                       frequencies=arrays["frequencies"],
-                       damping_ratios=arrays["damping_ratios"],
-                       modal_masses=arrays["modal_masses"], modal_forces=arrays["modal_forces"],
-                       harmonics=arrays["harmonics"],
-                       peak_accelerations=arrays["peak_accelerations"], details=details)
+    _check_inputs(structure, crowd, msd)
+    implementation = design_code(code)
+    options = {name: value for name, value in (
+        ("comfort_class", comfort_class), ("site_factors", site_factors),
+        ("weighting", weighting), ("neq_damping", neq_damping)) if value is not None}
+    for name, value in options.items():
+        if name not in implementation.options:
+            raise ParameterError(f"{name} does not apply to code {code!r} (it takes "
+                                 f"{sorted(implementation.options)}), got {name}={value!r}")
+    return implementation.check(structure, traffic_class=traffic_class, density=density,
+                                crowd=crowd, msd=msd, dampers=as_dampers(dampers), **options)
+
+
+class GuideCode(DesignCode):
+    """Sétra/AFGC 2006, HiVoSS 2008 or EN 1990 A2: the resonant equivalent-crowd load of
+    :func:`resonant_response` (:func:`damped_response` with dampers) on every model."""
+
+    options = frozenset({"comfort_class", "neq_damping"})
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def check(self, structure, *, traffic_class, density, crowd, msd, dampers,
+              comfort_class=None, neq_damping=None) -> DesignCheck:
+        """The comfort check of :func:`design_check` for this guide."""
+        code = self.name
+        if neq_damping is not None and neq_damping not in NEQ_DAMPINGS:
+            raise ParameterError(f"neq_damping must be one of {list(NEQ_DAMPINGS)}, got "
+                                 f"neq_damping={neq_damping!r}")
+        limit = comfort_limit(code, comfort_class)
+        density = _check_density(code, structure, traffic_class, density, crowd)
+        crowd = Crowd.from_density(density) if crowd is None else crowd
+        models = structure_models(structure, crowd, density, msd)
+        neq_damping = "occupied" if neq_damping is None else neq_damping
+        empty_damping = effective_modal_properties(structure, dampers=dampers).damping_ratios
+        columns: dict[str, list] = {name: [] for name in (
+            "frequencies", "damping_ratios", "modal_masses", "modal_forces", "harmonics",
+            "peak_accelerations")}
+        readings: dict[str, dict[str, list]] = {name: {"n_eq": [], "peak": []}
+                                                for name in NEQ_DAMPINGS}
+        for model, model_crowd, model_msd in models.values():
+            modal = effective_modal_properties(model, model_crowd, model_msd, dampers=dampers)
+            if dampers:
+                forces, harmonics, peaks = damped_response(
+                    model, density, modal.frequencies, modal.damping_ratios, crowd=model_crowd,
+                    msd=model_msd, dampers=dampers)
+            else:
+                forces, harmonics, peaks = resonant_response(
+                    model, density, modal.frequencies, modal.damping_ratios, modal.modal_masses)
+            # Mode j's load, hence its response, is linear in n_eq: the other reading rescales it.
+            n_eq = {name: equivalent_pedestrians(density, structure.area, ratios)
+                    for name, ratios in (("occupied", modal.damping_ratios),
+                                         ("empty", empty_damping))}
+            for name in NEQ_DAMPINGS:
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    scale = np.where(n_eq["occupied"] > 0, n_eq[name] / n_eq["occupied"], 1.0)
+                readings[name]["n_eq"].append(n_eq[name])
+                readings[name]["peak"].append(peaks * scale)
+                if name == neq_damping:
+                    forces, peaks = forces * scale, peaks * scale
+            values = (modal.frequencies, modal.damping_ratios, modal.modal_masses, forces,
+                      harmonics, peaks)
+            for name, value in zip(columns, values):
+                columns[name].append(value)
+        arrays = {name: np.array(value) for name, value in columns.items()}
+        details = {"equivalent_pedestrians": {
+            "damping": neq_damping,
+            "n_eq": {name: np.array(r["n_eq"]).tolist() for name, r in readings.items()},
+            "governing": {name: np.array(r["peak"]).max(axis=-1).tolist()
+                          for name, r in readings.items()}}}
+        return DesignCheck(code=code, traffic_class=traffic_class, density=density, limit=limit,
+                           output_names=structure.output_names, models=tuple(models),
+                           frequencies=arrays["frequencies"],
+                           damping_ratios=arrays["damping_ratios"],
+                           modal_masses=arrays["modal_masses"], modal_forces=arrays["modal_forces"],
+                           harmonics=arrays["harmonics"],
+                           peak_accelerations=arrays["peak_accelerations"], details=details)
+
+
+for _name in ("setra", "hivoss", "en1990"):
+    register_code(GuideCode(_name))

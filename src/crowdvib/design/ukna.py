@@ -20,7 +20,6 @@ logarithmic decrement δ = 2πξ of γ are those of each model's mode.
 import warnings
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -32,13 +31,16 @@ from ..errors import ParameterError, ResolutionWarning
 from ..models.crowd import Crowd
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
+from ..response.spectral import effective_modal_properties
+from ..signals.weighting import running_rms, weight_wb
+from .check import DesignCheck, structure_models
 from .codes import (UKNA_CLASSES, UKNA_CROWD_FACTOR, UKNA_GAMMA_DECREMENTS, UKNA_GAMMA_FIGURE,
-                    UKNA_GROUPS, effective_span, ukna_crowd_gamma, ukna_gamma, ukna_k_factor)
+                    UKNA_GROUPS, effective_span, ukna_crowd_gamma, ukna_gamma, ukna_k_factor,
+                    ukna_limit)
+from .registry import DesignCode, register_code
 
-if TYPE_CHECKING:
-    from .check import DesignCheck
-
-__all__ = ["sdof_acceleration", "group_response", "crowd_response", "ukna_cases", "ukna_check"]
+__all__ = ["sdof_acceleration", "group_response", "crowd_response", "ukna_cases", "ukna_check",
+           "UKNACode"]
 
 #: Samples per period of the loading frequency: the force is linear between samples (exact
 #: first-order-hold discretisation), whose fundamental is sinc²(π/64) ≈ 1 − 8e-4 of the sine, and
@@ -202,12 +204,8 @@ def _occupancy(kind, size_or_density, area):
 
 def ukna_check(structure: ModalModel, *, traffic_class: str | None, density: float | None,
                crowd: Crowd | None, msd: MSDModel | None, dampers: Sequence,
-               site_factors: dict | Sequence | None, weighting: str | None) -> "DesignCheck":
+               site_factors: dict | Sequence | None, weighting: str | None) -> DesignCheck:
     """UK NA check of :func:`crowdvib.design.design_check` (inputs already validated there)."""
-    from ..response.spectral import effective_modal_properties
-    from .check import DesignCheck, structure_models
-    from .codes import ukna_limit
-
     if density is not None:
         density = float(check_non_negative("density", density, unit="persons/m²"))
         warn_if_implausible("density", density, stacklevel=3)
@@ -283,9 +281,24 @@ RUNNING_RMS_WINDOW = 1.0
 def _largest_running_rms(structure, result):
     """Largest 1-s running RMS of the W_b-weighted output accelerations, mode by mode
     (n_outputs, n_modes) [m/s²], from a group crossing's modal acceleration histories."""
-    from ..signals.weighting import running_rms, weight_wb
-
     rate = 1.0 / result["dt"]
     weighted = weight_wb(result["history"], rate)               # (n_modes, n_t)
     largest = running_rms(weighted, rate, RUNNING_RMS_WINDOW).max(axis=-1, initial=0.0)
     return np.abs(structure.output_shapes) * largest
+
+
+class UKNACode(DesignCode):
+    """The UK National Annex to BS EN 1991-2 (NA.2.44) as a design code: :func:`ukna_check`."""
+
+    name = "ukna"
+    options = frozenset({"site_factors", "weighting"})
+
+    def check(self, structure, *, traffic_class, density, crowd, msd, dampers,
+              site_factors=None, weighting=None) -> DesignCheck:
+        """The comfort check of :func:`crowdvib.design.design_check` to the UK NA."""
+        return ukna_check(structure, traffic_class=traffic_class, density=density, crowd=crowd,
+                          msd=msd, dampers=dampers, site_factors=site_factors,
+                          weighting=weighting)
+
+
+register_code(UKNACode())
