@@ -191,7 +191,7 @@ def _table_lines(rows):
 
 def _figures(checks, staging, name):
     from ..reporting.design_plots import plot_mode_accelerations, plot_utilisation
-    from ..reporting.figure_base import save_figure
+    from .._figures import save_figure
 
     return [save_figure(plot_utilisation(checks, title=f"{name}: design checks"),
                         staging / "design_utilisation.png").name,

@@ -73,7 +73,7 @@ class ObjectiveMap:
 
     def plot(self, *, uncertainty=None, search_bounds=None, ax=None, title=None):
         """Draw the map with its optimum (see :func:`crowdvib.reporting.plotting.plot_objective_map`)."""
-        from ..reporting.plotting import plot_objective_map
+        from .plots import plot_objective_map
 
         return plot_objective_map(self, uncertainty=uncertainty, search_bounds=search_bounds,
                                   ax=ax, title=title)

@@ -81,7 +81,7 @@ class ParametricResult:
 
     def plot(self, *, parameters=None, axes=None, title=None):
         """Draw estimated/true ratios (see :func:`crowdvib.reporting.plotting.plot_parametric_ratios`)."""
-        from ..reporting.plotting import plot_parametric_ratios
+        from .plots import plot_parametric_ratios
 
         return plot_parametric_ratios(self, parameters=parameters, axes=axes, title=title)
 

@@ -240,7 +240,7 @@ class SensitivityResult:
 
     def plot(self, *, axes=None, title=None):
         """Draw Δ per error case (see :func:`crowdvib.reporting.plotting.plot_estimation_errors`)."""
-        from ..reporting.plotting import plot_estimation_errors
+        from .plots import plot_estimation_errors
 
         return plot_estimation_errors(self, axes=axes, title=title)
 

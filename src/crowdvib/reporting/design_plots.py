@@ -3,7 +3,7 @@ peak acceleration of every mode."""
 
 import numpy as np
 
-from .figure_base import _DARK, FigureAxes, _panels
+from .._figures import DARK, FigureAxes, panels
 
 __all__ = ["plot_utilisation", "plot_mode_accelerations"]
 
@@ -25,7 +25,7 @@ def plot_utilisation(checks: dict, *, axes: object = None, title: str | None = N
     -------
     FigureAxes
     """
-    handles = _panels(axes, 1, 1, (7.5, 4.0))
+    handles = panels(axes, 1, 1, (7.5, 4.0))
     ax = handles.axes[0]
     models = ("empty", "added_mass", "hsi")
     width = 0.8 / len(models)
@@ -33,8 +33,8 @@ def plot_utilisation(checks: dict, *, axes: object = None, title: str | None = N
         values = [float(np.max(check.governing_of(model) / check.limit))
                   if model in check.models else np.nan for check in checks.values()]
         ax.bar(np.arange(len(checks)) + (k - 1) * width, values, width, color=_SHADES[model],
-               edgecolor=_DARK, label=_MODEL_LABELS[model])
-    ax.axhline(1.0, color=_DARK, ls="--", lw=1.0, label="limit")
+               edgecolor=DARK, label=_MODEL_LABELS[model])
+    ax.axhline(1.0, color=DARK, ls="--", lw=1.0, label="limit")
     ax.set_xticks(np.arange(len(checks)), [_code_label(c) for c in checks.values()])
     ax.set_ylabel("Utilisation a / a_limit [-]")
     ax.grid(True, axis="y", alpha=0.3)
@@ -52,15 +52,15 @@ def plot_mode_accelerations(checks: dict, *, axes: object = None,
     FigureAxes
         One panel per code.
     """
-    handles = _panels(axes, 1, len(checks), (3.6 * len(checks) + 1.0, 3.8), sharey=False)
+    handles = panels(axes, 1, len(checks), (3.6 * len(checks) + 1.0, 3.8), sharey=False)
     for ax, check in zip(handles.axes, checks.values()):
         output = int(np.argmax(check.governing))
         modes = np.arange(1, check.peak_accelerations.shape[-1] + 1)
         for model in check.models:
             index = check.models.index(model)
             ax.plot(modes, check.peak_accelerations[index, output], "o-",
-                    color=_SHADES[model], mec=_DARK, label=_MODEL_LABELS[model])
-        ax.axhline(check.limit, color=_DARK, ls="--", lw=1.0, label="limit")
+                    color=_SHADES[model], mec=DARK, label=_MODEL_LABELS[model])
+        ax.axhline(check.limit, color=DARK, ls="--", lw=1.0, label="limit")
         ax.set_xlabel("Mode [-]")
         ax.set_title(f"{_code_label(check)}, {check.output_names[output]}", fontsize="medium")
         ax.grid(True, alpha=0.3)

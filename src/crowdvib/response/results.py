@@ -19,7 +19,7 @@ from ..signals.welch import welch_psd
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..reporting.figure_base import FigureAxes
+    from .._figures import FigureAxes
     from ..signals.spectrum import ResponsePSD
     from ..signals.welch import LowPassFilter
 
@@ -58,7 +58,7 @@ class FRF:
              ax: Axes | None = None, title: str | None = None) -> Axes:
         """Draw |H| of one output/input pair, with an occupied FRF beside it if given
         (see :func:`crowdvib.reporting.plotting.plot_frf`)."""
-        from ..reporting.plotting import plot_frf
+        from .plots import plot_frf
 
         return plot_frf(self, occupied, output=output, input=input, band=band, ax=ax,
                         title=title)
@@ -213,7 +213,7 @@ class Simulation:
              weighting: str | None = None) -> FigureAxes:
         """Draw the record, its running RMS (``weighting="Wb"``: of the W_b-weighted record)
         and the people on the deck (see :func:`crowdvib.reporting.plotting.plot_time_history`)."""
-        from ..reporting.plotting import plot_time_history
+        from .plots import plot_time_history
 
         return plot_time_history(self, output=output, window=window, axes=axes, title=title,
                                  weighting=weighting)

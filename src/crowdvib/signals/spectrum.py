@@ -156,7 +156,7 @@ class ResponsePSD:
     def plot(self, *, output: str | None = None, band: tuple[float, float] | None = None,
              ax: Axes | None = None, title: str | None = None, label: str | None = None) -> Axes:
         """Draw the PSD of one output (see :func:`crowdvib.reporting.plotting.plot_psd_comparison`)."""
-        from ..reporting.plotting import plot_psd_comparison
+        from .plots import plot_psd_comparison
 
         return plot_psd_comparison({label or self.source: self}, output=output, band=band,
                                    ax=ax, title=title)

@@ -1,12 +1,68 @@
-"""Figures of the studies: the objective landscape, the modelling errors and the parametric study
-(paper Figs. 4–6, 10, 11, 19)."""
+"""Figures of the identification: a fit's residuals, the objective landscape, the modelling
+errors and the parametric study (paper Figs. 4–6, 10, 11, 19), drawn by the results' ``plot()``.
+
+Every function takes result objects and an optional ``ax`` or ``axes``, returns them and never
+calls ``plt.show()``; matplotlib is imported only when a plot is asked for
+(:mod:`crowdvib._figures`). All figures are importable from :mod:`crowdvib.reporting.plotting`.
+"""
+
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .figure_base import _axes, _panels, _positive
+from .._figures import axes_or_new, in_band, panels, positive_or_nan
+from ..signals.welch import welch_degrees_of_freedom
 
-__all__ = ["plot_objective_map", "plot_estimation_errors", "plot_parametric_ratios"]
+if TYPE_CHECKING:
+    from ..signals.spectrum import ResponsePSD
 
+__all__ = ["plot_psd_residuals", "plot_objective_map", "plot_estimation_errors",
+           "plot_parametric_ratios"]
+
+
+def plot_psd_residuals(measured: "ResponsePSD", fitted: "ResponsePSD", *,
+                       output: str | None = None, band: tuple | None = None, ax=None,
+                       title: str | None = None):
+    """Relative residuals Ĝ/G − 1 of a fit, with the 95 % band of the Welch scatter.
+
+    For a Welch estimate of ν equivalent degrees of freedom, Ĝ/G ~ χ²_ν/ν: residuals that stay
+    within its 2.5–97.5 % quantiles are what the record's length explains
+    (docs: theory, Statistical uncertainty of an estimate).
+
+    Parameters
+    ----------
+    measured, fitted : ResponsePSD
+        The measured (Welch) PSD and the fitted model on the same grid.
+    output : str, optional
+    band : (float, float), optional
+    ax : matplotlib.axes.Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from scipy import stats
+
+    ax = axes_or_new(ax)
+    name = output or measured.output_names[0]
+    data, model = measured.select(name), fitted.select(name)
+    keep = in_band(data.frequency, band) & (model.psd[0] > 0)
+    ax.plot(data.frequency[keep], data.psd[0][keep] / model.psd[0][keep] - 1, color="black",
+            lw=0.9, label="measured / fitted − 1")
+    if measured.n_windows:
+        nu = welch_degrees_of_freedom(measured.n_windows)
+        low, high = stats.chi2.ppf([0.025, 0.975], nu) / nu - 1
+        ax.axhspan(low, high, color="tab:green", alpha=0.15,
+                   label=f"95 % Welch scatter (ν = {nu:.0f})")
+    ax.axhline(0.0, color="0.4", lw=0.8)
+    ax.set_xlabel("Frequency [Hz]")
+    ax.set_ylabel("Relative residual [-]")
+    if title:
+        ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    return ax
 
 
 def _uncertainty_bounds(uncertainty):
@@ -43,7 +99,7 @@ def plot_objective_map(objective_map, *, uncertainty=None, search_bounds=None, r
     """
     from matplotlib.colors import LogNorm
 
-    ax = _axes(ax, figsize=(7.0, 5.0))
+    ax = axes_or_new(ax, figsize=(7.0, 5.0))
     cost = np.asarray(objective_map.cost, dtype=float)
     scale = objective_map.cost_no_hsi if relative and objective_map.cost_no_hsi > 0 else 1.0
     values = cost / scale
@@ -54,7 +110,7 @@ def plot_objective_map(objective_map, *, uncertainty=None, search_bounds=None, r
         # valley's shape visible instead of spending the whole scale on one grid point.
         norm = LogNorm(max(finite.min(), finite.max() * 1e-5), finite.max(), clip=True)
     mesh = ax.pcolormesh(objective_map.frequencies, objective_map.damping_ratios,
-                         _positive(values), norm=norm, cmap="Greys_r", shading="nearest")
+                         positive_or_nan(values), norm=norm, cmap="Greys_r", shading="nearest")
     if norm is not None and min(values.shape) > 1:
         levels = np.geomspace(norm.vmin, norm.vmax, 9)[1:-1]
         ax.contour(objective_map.frequencies, objective_map.damping_ratios, values,
@@ -133,7 +189,7 @@ def plot_estimation_errors(sensitivity, *, axes=None, title=None):
     levels = sorted({c["level"] for c in done})
     colors = dict(zip(levels, _level_colors(len(levels))))
     width = 0.8 / max(len(levels), 1)
-    handles = _panels(axes, 1, 2, (11.0, 4.2))
+    handles = panels(axes, 1, 2, (11.0, 4.2))
     for ax, key, label in zip(handles.axes, ("delta_frequency", "delta_damping_ratio"),
                               ("$\\Delta f_{h1}$ [%]", "$\\Delta \\xi_{h1}$ [%]")):
         for i, group in enumerate(groups):
@@ -204,7 +260,7 @@ def plot_parametric_ratios(parametric, *, parameters=None, axes=None, title=None
     quantities = (("frequency_ratio", "$\\hat f_{h1}/f_{h1}$ [-]"),
                   ("damping_ratio_ratio", "$\\hat \\xi_{h1}/\\xi_{h1}$ [-]"))
     n_rows, n_cols = 2 * len(parameters), max(len(mass_ratios), 1)
-    handles = _panels(axes, n_rows, n_cols, (3.6 * n_cols + 1.0, 2.3 * n_rows + 0.6),
+    handles = panels(axes, n_rows, n_cols, (3.6 * n_cols + 1.0, 2.3 * n_rows + 0.6),
                       sharex=True)
     for p, parameter in enumerate(parameters):
         for q, (key, ylabel) in enumerate(quantities):

@@ -1,19 +1,21 @@
 """What every figure shares: matplotlib on first use, axes and panels, saving and embedding.
 
-This and the plotting modules are the only ones that import matplotlib, and only when a plot is
-asked for; no figure function calls ``plt.show()``.
+The base of the figures of every layer (the ``plots`` modules of ``signals``, ``response`` and
+``identification``, ``reporting``'s design figures), so that a result's ``plot()`` draws
+without importing a layer above its own. This and the plotting modules are the only ones that
+import matplotlib, and only when a plot is asked for; no figure function calls ``plt.show()``.
 """
 
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FigureAxes", "save_figure", "figure_bytes"]
+__all__ = ["FigureAxes", "save_figure", "figure_bytes", "pyplot", "axes_or_new", "in_band", "panels",
+           "positive_or_nan", "DARK", "LIGHT"]
 
 # The paper's figures are black and gray; a colour-blind-safe dark/light pair keeps them legible
 # on screen and in a grayscale print.
-_DARK, _LIGHT = "black", "0.6"
-
+DARK, LIGHT = "black", "0.6"
 
 
 @dataclass(frozen=True)
@@ -31,7 +33,7 @@ class FigureAxes:
     axes: tuple
 
 
-def _pyplot():
+def pyplot():
     import matplotlib
 
     # A library must not pop up windows or need a display; Agg renders anywhere. force=False
@@ -42,35 +44,35 @@ def _pyplot():
     return plt
 
 
-def _axes(ax, figsize=(7.5, 4.2)):
+def axes_or_new(ax, figsize=(7.5, 4.2)):
     if ax is not None:
         return ax
-    _, ax = _pyplot().subplots(figsize=figsize, layout="constrained")
+    _, ax = pyplot().subplots(figsize=figsize, layout="constrained")
     return ax
 
 
-def _in_band(frequency, band):
+def in_band(frequency, band):
     """Index of the frequencies within [lower, upper] [Hz]; everything for band None."""
     if band is None:
         return slice(None)
     return (frequency >= band[0]) & (frequency <= band[1])
 
 
-def _panels(axes, nrows, ncols, figsize, **options):
+def panels(axes, nrows, ncols, figsize, **options):
     """Given panels (checked for their number) or a new figure of nrows × ncols."""
     if axes is not None:
         axes = tuple(np.ravel(axes))
         if len(axes) != nrows * ncols:
-            from ..errors import ParameterError
+            from .errors import ParameterError
 
             raise ParameterError(f"axes must hold {nrows * ncols} panels, got {len(axes)}")
         return FigureAxes(axes[0].figure, axes)
-    figure, grid = _pyplot().subplots(nrows, ncols, figsize=figsize, layout="constrained",
+    figure, grid = pyplot().subplots(nrows, ncols, figsize=figsize, layout="constrained",
                                       squeeze=False, **options)
     return FigureAxes(figure, tuple(grid.ravel()))
 
 
-def _positive(values):
+def positive_or_nan(values):
     """Values with non-positive entries as NaN: a log axis would otherwise drop or warn."""
     values = np.asarray(values, dtype=float)
     return np.where(values > 0, values, np.nan)
@@ -92,7 +94,7 @@ def save_figure(ax, path):
     """
     import matplotlib.pyplot as plt
 
-    from .._files import atomic_path
+    from ._files import atomic_path
 
     figure = ax.figure
     with atomic_path(path) as temporary:
