@@ -7,7 +7,8 @@ import warnings
 import numpy as np
 import pytest
 
-from crowdvib import Crowd, ModalModel, MSDModel, effective_modal_properties
+from crowdvib import (Crowd, ModalModel, MSDModel, TunedMassDamper,
+                      effective_modal_properties)
 from crowdvib.errors import ParameterError, PlausibilityWarning
 import crowdvib.response._modulation as module
 from crowdvib.response._modulation import (OccupancyPath, _OccupiedMode, drift_spectrum,
@@ -410,9 +411,13 @@ def test_slopes_by_perturbation_keep_the_quadrature_accuracy(paper_bridge, paper
     # dp/dλ from one eigen-decomposition per level (first-order perturbation of the state
     # matrix's central difference) against the poles' own central differences (the reference
     # above): both err as h² (h = 1e-3 λ), here within 1e-5, and the correction moves by less
-    # than the 7e-4 of its quadrature (module docstring of _modulation), three MSDs.
-    for msd in (paper_msd, MSDModel(1.9, 0.1, 0.95), MSDModel(2.5, 0.5, 0.95)):
-        model = FluctuatingSpectralModel(paper_bridge, Crowd.from_density(0.25), GRID)
+    # than the 7e-4 of its quadrature (module docstring of _modulation): three MSDs, and a
+    # tuned mass damper beside the MSD tuned near the mode (two light poles per node).
+    damper = TunedMassDamper(mass=1000.0, frequency=1.95, damping_ratio=0.06, position=25.0)
+    for msd, dampers in ((paper_msd, ()), (MSDModel(1.9, 0.1, 0.95), ()),
+                         (MSDModel(2.5, 0.5, 0.95), ()), (MSDModel(2.0, 0.15, 0.95), (damper,))):
+        model = FluctuatingSpectralModel(paper_bridge, Crowd.from_density(0.25), GRID,
+                                         dampers=dampers, modulation=True)
         occupied = _OccupiedMode(paper_bridge, model._base._attached(msd), 0)
         track, slope, _, _ = occupied.drifting_poles(model.nodes)
         reference = _reference_slopes(occupied, model.nodes)
