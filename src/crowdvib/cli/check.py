@@ -49,6 +49,7 @@ def _run(args, caught):
     if spec is None:
         raise ParameterError(f"{args.case.name}: crowdvib check needs a [design] table "
                              "(design.codes at least)")
+    _check_design_table(case.path, spec)
     msd, msd_source = _msd(case, spec, args.msd_from)
     inputs = case_inputs(case) + ([] if args.msd_from is None
                                   else [("the MSD results", args.msd_from / "results.json")])
@@ -116,6 +117,33 @@ def _msd(case, spec, msd_from):
     if spec.msd is not None:
         return spec.msd, "[design.msd]"
     return case.msd, "[hsi]"
+
+
+def _check_design_table(path, spec):
+    """Refuse, against the case file and before anything is written, the ``[design]`` values
+    only the design layer can judge: the registered codes (and a class given per code), the
+    comfort class, the UK NA site factors (io reads the table without importing ``design``,
+    issue 26 §4)."""
+    from ..design import code_names
+    from ..design.codes import COMFORT_CLASSES, ukna_limit
+    from ..errors import ParameterError
+
+    def refused(rule):
+        return ParameterError(f"{path.name}: design.{rule}")
+
+    if any(code not in code_names() for code in spec.codes):
+        raise refused(f"codes must list codes among {list(code_names())}, got {list(spec.codes)}")
+    for code in spec.classes:
+        if code not in spec.codes:
+            raise refused(f"classes.{code} is given but {code!r} is not in design.codes "
+                          f"{list(spec.codes)}")
+    classes = [name for name, _ in COMFORT_CLASSES[:-1]]
+    if spec.comfort_class is not None and spec.comfort_class not in classes:
+        raise refused(f"comfort_class must be one of {classes}, got {spec.comfort_class!r}")
+    try:
+        ukna_limit(spec.site_factors)
+    except ParameterError as exc:
+        raise refused(str(exc)) from None
 
 
 def _dampers(case, spec, msd):

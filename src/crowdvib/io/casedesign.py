@@ -1,8 +1,6 @@
 """The ``[design]`` table of a case file (``crowdvib check``, issue 11), parsed apart from the
 tables of the estimation and the simulation; every key through :class:`crowdvib.io._toml.Table`."""
 
-from ..errors import ParameterError
-from ._toml import wrap
 from .casespecs import DesignSpec
 
 __all__ = ["_design"]
@@ -10,13 +8,10 @@ __all__ = ["_design"]
 
 def _design(table, path, read_msd):
     """``[design]`` → :class:`DesignSpec`; ``read_msd`` reads its ``[design.msd]`` table with the
-    keys (and checks) of ``[hsi]``."""
-    from ..design.codes import CODES, COMFORT_CLASSES
-
+    keys (and checks) of ``[hsi]``. The codes (and the classes given per code), the comfort class
+    and the site factors are judged where the design layer uses them (``crowdvib check``; a code
+    may be registered there), not here: io imports no analysis layer (issue 26 §4)."""
     codes = table.strings("codes")
-    for code in codes:
-        if code not in CODES:
-            raise table.error("codes", f"must list codes among {list(CODES)}", list(codes))
     classes_table = table.table("classes")
     classes = {"setra": classes_table.string("setra", None),
                "hivoss": classes_table.string("hivoss", None),
@@ -40,23 +35,12 @@ def _design(table, path, read_msd):
     spec = DesignSpec(
         codes=codes, classes={k: v for k, v in classes.items() if v is not None},
         density=table.number("density", None, rule="positive"),
-        comfort_class=table.string("comfort_class", None,
-                                   choices=[name for name, _ in COMFORT_CLASSES[:-1]]),
+        comfort_class=table.string("comfort_class", None),
         hsi=table.boolean("hsi", True), msd=msd, site_factors=factors,
         weighting=table.string("weighting", None, choices=("Wb",)), damper=damper,
         prediction=table.boolean("prediction", True),
         duration=table.number("duration", 600.0, rule="positive"))
     table.finish()
-    try:                       # the checks' own validation, reported against the case file
-        from ..design.codes import ukna_limit
-
-        ukna_limit(factors)
-        for code, traffic_class in spec.classes.items():
-            if code not in codes:
-                raise ParameterError(f"classes.{code} is given but {code!r} is not in "
-                                     f"design.codes {list(codes)}")
-    except ParameterError as exc:
-        raise wrap(path, "design", exc) from None
     return spec
 
 
