@@ -211,7 +211,7 @@ def _powers(base, count):
     return powers
 
 
-@functools.lru_cache(maxsize=4)
+@functools.lru_cache(maxsize=2)     # the fine and the coarse grid of the estimate at hand
 def _lower_by_lag(count):
     """The lower triangle (j ≥ k) of a count × count matrix ordered by lag δ = j − k, then k:
     flat indices j·count + k, those of the real parts of the transposed elements in a complex
