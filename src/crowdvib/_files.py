@@ -124,7 +124,7 @@ def _replace_nan(value):
 #: Descriptors of the locks this process holds. A forked worker inherits them and with them the
 #: lock (flock belongs to the open file, not the process): it closes its copies at once, so a
 #: killed run's orphaned worker cannot keep its folder locked.
-_HELD = set()
+_HELD: set[int] = set()
 if hasattr(os, "register_at_fork"):
     def _drop_inherited_locks():
         for descriptor in _HELD:

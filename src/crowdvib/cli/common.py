@@ -254,7 +254,7 @@ def warning_texts(caught):
 
 #: Progress bars drawn and not yet closed: a command that ends early closes them
 #: (:func:`close_progress`), so its last line starts a line of its own.
-_BARS = weakref.WeakSet()
+_BARS: weakref.WeakSet = weakref.WeakSet()
 
 
 def close_progress():

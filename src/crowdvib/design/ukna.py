@@ -293,7 +293,7 @@ class UKNACode(DesignCode):
     name = "ukna"
     options = frozenset({"site_factors", "weighting"})
 
-    def check(self, structure, *, traffic_class, density, crowd, msd, dampers,
+    def check(self, structure, *, traffic_class, density, crowd, msd, dampers,  # type: ignore[override]
               site_factors=None, weighting=None) -> DesignCheck:
         """The comfort check of :func:`crowdvib.design.design_check` to the UK NA."""
         return ukna_check(structure, traffic_class=traffic_class, density=density, crowd=crowd,
