@@ -20,10 +20,12 @@ The layer order, lowest first; a module may import its own layer and the layers 
 5. ``response``: simulation and spectral response
 6. ``identification``: OMA, estimation and the studies
 7. ``design``: the code checks and the damper design
-8. ``_manifest``: a results directory's manifest (it reads the identification's task files)
-9. ``reporting``: figures and the HTML report
-10. ``cli``: the command line
-11. the package itself (``crowdvib/__init__``, ``__main__``): it re-exports the public API.
+8. ``cases``: what a case file describes, run from Python (the commands' pipelines: it reads
+   with ``io`` and computes with the layers below it, so each command only prints and writes)
+9. ``_manifest``: a results directory's manifest (it reads the identification's task files)
+10. ``reporting``: figures and the HTML report
+11. ``cli``: the command line
+12. the package itself (``crowdvib/__init__``, ``__main__``): it re-exports the public API.
 """
 
 import ast
@@ -38,7 +40,7 @@ BASE = ("crowdvib.errors", "crowdvib._validation", "crowdvib._plausibility", "cr
 #: Lowest first; each entry is the set of units (subpackages or top-level modules) of one layer.
 LAYERS = (BASE, ("crowdvib.models",), ("crowdvib.signals",), ("crowdvib.io",),
           ("crowdvib.response",), ("crowdvib.identification",), ("crowdvib.design",),
-          ("crowdvib._manifest",), ("crowdvib.reporting",), ("crowdvib.cli",),
+          ("crowdvib.cases",), ("crowdvib._manifest",), ("crowdvib.reporting",), ("crowdvib.cli",),
           ("crowdvib", "crowdvib.__main__"))
 
 def _module_name(path):

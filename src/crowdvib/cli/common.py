@@ -6,11 +6,10 @@ import sys
 import weakref
 from pathlib import Path
 
-import numpy as np
 from tqdm import tqdm
 
-from .._version import __version__
 from .._files import folder_lock, output_error
+from ..cases import ESTIMATION_TABLES, software_versions as versions
 
 __all__ = ["add_output_arguments", "ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "say",
            "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output",
@@ -28,7 +27,6 @@ def say(message=""):
 # then refuse and name it rather than delete it or list it as crowdvib's in the next manifest.
 
 #: The case tables each kind of command reads; its report shows no others.
-ESTIMATION_TABLES = ("structure", "crowd", "hsi", "measurement", "estimation", "expected")
 SIMULATION_TABLES = ("structure", "crowd", "hsi", "simulation", "expected")
 DESIGN_TABLES = ("structure", "crowd", "hsi", "design")
 
@@ -237,15 +235,6 @@ def _publish(staging, out, *, force, inputs, command):
         if left:
             print(f"crowdvib: kept {old}: it holds files crowdvib did not write: "
                   f"{', '.join(left[:5])}", file=sys.stderr)
-
-
-def versions():
-    import platform
-
-    import scipy
-
-    return {"crowdvib": __version__, "numpy": np.__version__, "scipy": scipy.__version__,
-            "python": platform.python_version()}
 
 
 def warning_texts(caught):

@@ -12,7 +12,7 @@ from ..reporting.report import provenance, write_report
 from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, check_clash,
                      close_progress, dask_address, finish_output, prepare_output,
                      progress_printer, say, versions)
-from .estimate import case_crowd, case_measurement, estimate_options
+from .estimate import say_crowd, say_measurement
 
 
 #: Task-store subdirectories of --out (files a resumable study writes while it runs).
@@ -123,6 +123,7 @@ def run(args):
 
 
 def _study(args, case, levels):
+    from ..cases import case_crowd, estimate_options, measure_case
     from ..reporting.plotting import plot_estimation_errors, save_figure
     from ..identification import (TaskStore, modelling_error_study, record_length_study,
                                   study_executor)
@@ -136,11 +137,12 @@ def _study(args, case, levels):
             f"{', '.join(f'{v:.2%}' for v in levels['frequencies'])}, damping ratios "
             f"{', '.join(f'{v:.1%}' for v in levels['damping_ratios'])} (1 and 2 σ of the least "
             "certain identified mode)")
-    record, measured, lowpass = case_measurement(case)
-    crowd, _ = case_crowd(case, record)
-    options = estimate_options(case)
-    for key in ("interval", "level", "n_boot", "rng"):    # the study compares point estimates
-        options.pop(key)
+    measurement = measure_case(case)
+    say_measurement(measurement)
+    record, measured, lowpass = measurement.record, measurement.psd, measurement.lowpass
+    crowd, fitted = case_crowd(case, record)
+    say_crowd(case, crowd, fitted)
+    options = estimate_options(case, point_only=True)    # the study compares point estimates
     store = TaskStore(out / "tasks")
     done = len(store.keys())
     if done:

@@ -1,0 +1,412 @@
+"""What a case file describes, run from Python: the estimate pipeline of ``crowdvib estimate``.
+
+A :class:`~crowdvib.io.casefile.Case` names its records, the structure, the crowd and the
+estimator's options; the functions here turn it into the objects ``crowdvib estimate`` computes
+(the filtered record, its Welch PSD, the crowd, the :class:`HSIEstimate`), so that a Python user
+holding a case gets the same estimate as the command line, bit for bit. The command line only
+prints and writes what they return (issue 26 §1).
+
+The pipeline (docs: theory, *Estimating the MSD from a measured PSD*): read the records → select
+the fitted outputs → zero-phase low-pass → Welch PSD → convergence of the PSD with the record
+length → step frequencies fitted below a cut-off (optional, the paper's Waalse Krook procedure)
+→ estimate of f_h1, ξ_h1 (and μ_h1) with intervals.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from ._version import __version__
+from .errors import ParameterError
+
+__all__ = ["CaseMeasurement", "CaseRecordFit", "CaseEstimate", "measure_case", "case_crowd",
+           "estimate_options", "estimate_case", "CaseMap", "map_case", "software_versions", "ESTIMATION_TABLES"]
+
+#: The case tables an estimate reads (the results keep only these as its inputs).
+ESTIMATION_TABLES = ("structure", "crowd", "hsi", "measurement", "estimation", "expected")
+
+
+@dataclass(frozen=True)
+class CaseMeasurement:
+    """A case's record reduced to the fitted outputs, and its measured PSD.
+
+    Attributes
+    ----------
+    record : Record
+        The outputs to be fitted (``estimation.outputs``, else every channel), unfiltered.
+    psd : ResponsePSD
+        The Welch estimate of ``[measurement]`` after the low-pass filter; with the
+        cross-spectra when several outputs are fitted by the likelihood.
+    lowpass : LowPassFilter or None
+        The zero-phase low-pass filter applied before Welch (None: none).
+    """
+
+    record: Any
+    psd: Any
+    lowpass: Any
+
+
+@dataclass(frozen=True)
+class CaseRecordFit:
+    """One record's share of an estimate: its measurement and the crowd it was fitted with.
+
+    Attributes
+    ----------
+    case : Case
+        The case (for a joint fit, the ``[[measurement]]`` block as a case of its own).
+    measurement : CaseMeasurement
+    crowd : Crowd
+        The crowd the estimator was given (the case file's, or the fitted step frequencies).
+    step_frequencies : StepFrequencyEstimate or None
+        The step frequencies fitted below the cut-off, if the case asks for them.
+    """
+
+    case: Any
+    measurement: CaseMeasurement
+    crowd: Any
+    step_frequencies: Any
+
+
+@dataclass(frozen=True)
+class CaseEstimate:
+    """What ``crowdvib estimate`` computes for a case (:func:`estimate_case`).
+
+    Attributes
+    ----------
+    case : Case
+    records : tuple of CaseRecordFit
+        One per record: one for a single ``[measurement]``, one per ``[[measurement]]`` block
+        of a joint fit.
+    estimate : HSIEstimate
+        The MSD with its intervals (``estimate.msd``; a joint fit's is one MSD for all records).
+    convergence : PSDConvergence or None
+        The PSD's convergence with the record length (single record only).
+    """
+
+    case: Any
+    records: tuple[CaseRecordFit, ...]
+    estimate: Any
+    convergence: Any = None
+
+    @property
+    def joint(self) -> bool:
+        """True for a joint fit of several ``[[measurement]]`` blocks."""
+        return bool(self.case.records)
+
+    @property
+    def crowd(self):
+        """The single record's crowd from the estimate on: the step frequencies fitted with the
+        MSD when ``estimation.free_parameters`` frees them, else the crowd the estimator had."""
+        return self.estimate.crowd if self.estimate.crowd is not None else self.records[0].crowd
+
+    def model_psds(self, part: CaseRecordFit | None = None):
+        """The fitted and the no-HSI model PSDs of one record, as the estimator compared them.
+
+        Parameters
+        ----------
+        part : CaseRecordFit, optional
+            The record (default: the single record, with :attr:`crowd`).
+
+        Returns
+        -------
+        (ResponsePSD, ResponsePSD)
+            The model PSD with the estimated MSD, and without HSI.
+        """
+        from .response.fluctuation import spectral_model
+
+        crowd = self.crowd if part is None else part.crowd
+        part = self.records[0] if part is None else part
+        est, measured = self.case.estimation, part.measurement.psd
+        model = spectral_model(self.case.structure, crowd, measured.frequency,
+                               outputs=part.measurement.record.channel_names,
+                               welch_window_length=measured.window_length if est.match_welch
+                               else None,
+                               lowpass=part.measurement.lowpass if est.match_welch else None,
+                               crowd_model=est.crowd_model)
+        return model.psd(self.estimate.msd), model.psd(None)
+
+    def to_dict(self) -> dict:
+        """The results ``crowdvib estimate`` writes to results.json, without its figures and
+        provenance (docs: cli, *crowdvib estimate*)."""
+        case, hsi = self.case, self.estimate.to_dict()
+        diagnostics = {k: v for k, v in hsi.items() if k != "estimate"}
+        head = {"command": "estimate", "crowdvib_version": __version__,
+                "versions": software_versions(), "seed": case.seed, "case": str(case.path)}
+        if self.joint:
+            records = [_record_entry(part) for part in self.records]
+            diagnostics["records"] = records
+            return {**head, "inputs": case.to_dict(), "records": records,
+                    "estimate": hsi["estimate"], "expected": dict(case.expected),
+                    "diagnostics": diagnostics}
+        measurement, step = self.records[0].measurement, self.records[0].step_frequencies
+        diagnostics["convergence"] = self.convergence.to_dict()
+        diagnostics["measured_psd"] = {
+            "window_length": measurement.psd.window_length,
+            "n_windows": measurement.psd.n_windows,
+            "lowpass": None if measurement.lowpass is None else measurement.lowpass.to_dict()}
+        if step is not None:
+            diagnostics["step_frequencies"] = step.to_dict()
+        crowd = self.crowd
+        return {**head, "inputs": case.to_dict(ESTIMATION_TABLES),
+                "record": measurement.record.to_dict(), "crowd_used": {
+                    "step_frequency_mean": crowd.step_frequency_mean,
+                    "step_frequency_std": crowd.step_frequency_std},
+                "estimate": hsi["estimate"], "expected": dict(case.expected),
+                "diagnostics": diagnostics}
+
+
+def _record_entry(part: CaseRecordFit) -> dict:
+    """One record of a joint fit as results.json lists it."""
+    crowd, psd = part.crowd, part.measurement.psd
+    return {"name": part.case.name, "record": part.measurement.record.to_dict(),
+            "crowd_used": {"density": crowd.density,
+                           "step_frequency_mean": crowd.step_frequency_mean,
+                           "step_frequency_std": crowd.step_frequency_std},
+            "n_windows": psd.n_windows,
+            "step_frequencies": None if part.step_frequencies is None
+            else part.step_frequencies.to_dict()}
+
+
+def software_versions() -> dict:
+    """The versions of crowdvib, numpy, scipy and Python, as every results.json records them."""
+    import platform
+
+    import numpy as np
+    import scipy
+
+    return {"crowdvib": __version__, "numpy": np.__version__, "scipy": scipy.__version__,
+            "python": platform.python_version()}
+
+
+def measure_case(case) -> CaseMeasurement:
+    """Read a case's records, keep the fitted outputs and make their measured PSD.
+
+    Parameters
+    ----------
+    case : Case
+        A loaded case with one ``[measurement]`` (for ``[[measurement]]`` blocks, each of
+        ``case.blocks()``).
+
+    Returns
+    -------
+    CaseMeasurement
+        The record of the outputs ``estimation.outputs`` (else every channel), the zero-phase
+        low-pass filter of ``measurement.lowpass_cutoff`` (or None) and the Welch PSD of
+        ``measurement.window_length`` and ``overlap`` after it (docs: theory, *The measured
+        PSD*).
+
+    Raises
+    ------
+    ParameterError
+        A fitted channel that is no output of the structure.
+    """
+    from .io.casefile import load_measurement
+    from .signals import LowPassFilter, welch_psd
+
+    spec, est = case.measurement, case.estimation
+    record = load_measurement(case)
+    outputs = tuple(est.outputs or record.channel_names)
+    unknown = [name for name in outputs if name not in case.structure.output_names]
+    if unknown:
+        raise ParameterError(
+            f"{case.path.name}: record channel(s) {unknown} are not outputs of the structure "
+            f"{list(case.structure.output_names)}: map them with measurement.channels "
+            "(output = \"channel in file\") or list the outputs in estimation.outputs")
+    record = record.select(outputs)
+    lowpass = (None if spec.lowpass_cutoff is None else
+               LowPassFilter(spec.lowpass_cutoff, spec.lowpass_order, record.sample_rate))
+    # Several outputs fitted by the likelihood: keep the cross-spectra, so that the estimator
+    # uses their complex-Wishart likelihood (docs: theory, The likelihood of several outputs),
+    # which weighs coherent outputs once; it takes no output weights.
+    cross = est.method == "likelihood" and len(outputs) > 1 and est.output_weights is None
+    measured = welch_psd(record.data, record.sample_rate, window_length=spec.window_length,
+                         overlap=spec.overlap, output_names=outputs, lowpass=lowpass,
+                         cross=cross)
+    return CaseMeasurement(record, measured, lowpass)
+
+
+def case_crowd(case, record):
+    """The crowd the HSI estimate of a case uses.
+
+    With ``[estimation.step_frequencies]`` the step-frequency distribution is first fitted on
+    the record low-passed at its cut-off, without HSI (the paper's Waalse Krook procedure; docs:
+    theory, *Step frequencies from the record*), and used when ``use_fitted``; otherwise the
+    case file's crowd.
+
+    Parameters
+    ----------
+    case : Case
+    record : Record
+        The fitted outputs (:attr:`CaseMeasurement.record`).
+
+    Returns
+    -------
+    (Crowd, StepFrequencyEstimate or None)
+        The crowd for the estimator, and the step-frequency fit (None without one).
+    """
+    from .identification.step_frequencies import estimate_step_frequencies
+    from .signals import LowPassFilter, welch_psd
+
+    spec, est = case.measurement, case.estimation
+    if est.step_frequencies is None:
+        return case.crowd, None
+    sf = est.step_frequencies
+    low = LowPassFilter(sf.cutoff, spec.lowpass_order, record.sample_rate)
+    measured_low = welch_psd(record.data, record.sample_rate, window_length=spec.window_length,
+                             overlap=spec.overlap, output_names=record.channel_names,
+                             lowpass=low)
+    fitted = estimate_step_frequencies(measured_low, case.structure, case.crowd, cutoff=sf.cutoff,
+                                       band=sf.band, starts=sf.starts, bounds=sf.bounds,
+                                       outputs=sf.outputs, match_welch=est.match_welch)
+    return (fitted.crowd if sf.use_fitted else case.crowd), fitted
+
+
+def estimate_options(case, *, point_only: bool = False) -> dict:
+    """Keyword arguments of :func:`~crowdvib.identification.estimate_hsi` from a case.
+
+    Parameters
+    ----------
+    case : Case
+        Its ``[estimation]`` table, its MSD's mass ratio and its seed.
+    point_only : bool
+        Leave out the interval options (``interval``, ``level``, ``n_boot``, ``rng``): for the
+        studies, which compare point estimates.
+
+    Returns
+    -------
+    dict
+    """
+    est = case.estimation
+    options = dict(band=est.band, outputs=est.outputs, output_weights=est.output_weights,
+                   starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
+                   match_welch=est.match_welch, method=est.method)
+    if not point_only:
+        options.update(interval=None if est.interval == "none" else est.interval,
+                       level=est.level, n_boot=est.n_boot, rng=case.seed)
+    return options
+
+
+def estimate_case(case) -> CaseEstimate:
+    """Run ``crowdvib estimate``'s pipeline on a loaded case, without writing anything.
+
+    Parameters
+    ----------
+    case : Case
+        From :func:`~crowdvib.io.load_case`. One ``[measurement]`` is fitted by
+        :func:`~crowdvib.identification.estimate_hsi`; several ``[[measurement]]`` blocks by
+        one MSD for all (:func:`~crowdvib.identification.estimate_hsi_joint`).
+
+    Returns
+    -------
+    CaseEstimate
+        The records, their PSDs and crowds, the estimate with its intervals and (single
+        record) the PSD's convergence; ``to_dict()`` is what results.json holds.
+
+    Examples
+    --------
+    >>> from crowdvib.io import load_case
+    >>> fit = estimate_case(load_case("examples/paper_example.toml"))  # doctest: +SKIP
+    >>> fit.estimate.msd.frequency                                     # doctest: +SKIP
+    """
+    from .identification.estimation import estimate_hsi, estimate_hsi_joint
+    from .signals import psd_convergence
+
+    est = case.estimation
+    options = dict(estimate_options(case), crowd_model=est.crowd_model)
+    free_mass = "mass_ratio" in est.free_parameters
+    parts = []
+    for block in case.blocks():
+        measurement = measure_case(block)
+        crowd, step = case_crowd(block, measurement.record)
+        parts.append(CaseRecordFit(block, measurement, crowd, step))
+    if case.records:
+        estimate = estimate_hsi_joint([p.measurement.psd for p in parts], case.structure,
+                                      [p.crowd for p in parts], free_mass_ratio=free_mass,
+                                      **options)
+        return CaseEstimate(case, tuple(parts), estimate)
+    (part,) = parts
+    record, spec = part.measurement.record, case.measurement
+    convergence = psd_convergence(record.data, record.sample_rate,
+                                  window_length=spec.window_length, band=est.band,
+                                  norm=est.convergence_norm, overlap=spec.overlap,
+                                  output_names=record.channel_names,
+                                  lowpass=part.measurement.lowpass)
+    options["outputs"] = record.channel_names
+    estimate = estimate_hsi(part.measurement.psd, case.structure, part.crowd,
+                            free_mass_ratio=free_mass,
+                            free_step_frequencies="step_frequency_mean" in est.free_parameters,
+                            **options)
+    return CaseEstimate(case, (part,), estimate, convergence)
+
+
+
+@dataclass(frozen=True)
+class CaseMap:
+    """What ``crowdvib map`` computes for a case (:func:`map_case`).
+
+    Attributes
+    ----------
+    record : CaseRecordFit
+        The record, its PSD and the crowd the map uses.
+    estimate : HSIEstimate
+        The optimiser's estimate (the case's options, the paper's smeared crowd model).
+    landscape : ObjectiveMap
+        The objective on the grid, carrying the estimate.
+    seconds : float
+        Wall-clock time of the grid alone [s].
+    """
+
+    record: CaseRecordFit
+    estimate: Any
+    landscape: Any
+    seconds: float
+
+    def to_dict(self) -> dict:
+        """The results ``crowdvib map`` writes to results.json, without its figures, warnings
+        and provenance."""
+        case, estimate = self.record.case, self.estimate
+        return {"command": "map", "crowdvib_version": __version__,
+                "versions": software_versions(), "seed": case.seed, "case": str(case.path),
+                "inputs": case.to_dict(ESTIMATION_TABLES), "estimate": estimate.msd.to_dict(),
+                "expected": dict(case.expected),
+                "diagnostics": {k: v for k, v in estimate.to_dict().items() if k != "estimate"},
+                "objective_map": self.landscape.to_dict(),
+                "curvature_ratio": self.landscape.curvature_ratio()}
+
+
+def map_case(case, *, frequencies, damping_ratios, progress=None, max_seconds=None) -> CaseMap:
+    """Run ``crowdvib map``'s pipeline: a case's estimate and its objective on a grid.
+
+    Parameters
+    ----------
+    case : Case
+        One ``[measurement]`` (the map is of one record's objective).
+    frequencies, damping_ratios : array_like
+        The grid of f_h1 [Hz] and ξ_h1 [-] (docs: theory, *The objective landscape*).
+    progress : callable, optional
+        ``progress(done, total)`` [grid points], as :func:`~crowdvib.identification.objective_map`.
+    max_seconds : float, optional
+        Refuse a grid estimated to take longer.
+
+    Returns
+    -------
+    CaseMap
+    """
+    import time
+
+    from .identification.estimation import estimate_hsi
+    from .identification.landscape import objective_map
+
+    measurement = measure_case(case)
+    crowd, step = case_crowd(case, measurement.record)
+    options = estimate_options(case)
+    estimate = estimate_hsi(measurement.psd, case.structure, crowd, **options)
+    for key in ("starts", "bounds", "interval", "level", "n_boot", "rng"):
+        options.pop(key)
+    started = time.perf_counter()
+    landscape = objective_map(measurement.psd, case.structure, crowd, frequencies=frequencies,
+                              damping_ratios=damping_ratios, estimate=estimate,
+                              progress=progress, max_seconds=max_seconds, **options)
+    return CaseMap(CaseRecordFit(case, measurement, crowd, step), estimate, landscape,
+                   time.perf_counter() - started)

@@ -1,0 +1,96 @@
+"""What a case file describes, run from Python (issue 26 §1): ``crowdvib.cases`` gives the objects
+the commands compute, and the same numbers the commands write.
+
+Reference: the command line itself. ``crowdvib estimate`` and ``crowdvib map`` are run on the same
+case files and their results.json must equal the library's ``to_dict()`` (every number to 1e-12
+relative: the same pipeline, so the same floating-point operations; only the provenance stamp,
+the figures and the warnings are the command's own).
+"""
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from crowdvib._files import json_default
+from crowdvib.cases import CaseEstimate, estimate_case, estimate_options, map_case
+from crowdvib.cli import main
+from crowdvib.io.casefile import load_case
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+#: Keys of results.json that are the command's and not the computation's (the provenance stamp
+#: of reporting.report.provenance, the figures drawn, the warnings caught).
+COMMAND_KEYS = {"created", "case_sha256", "figures", "warnings"}
+
+
+def _as_json(value):
+    return json.loads(json.dumps(value, default=json_default))
+
+
+def _assert_same(library, written, where="results"):
+    """Equal structure, equal strings, numbers equal to 1e-12 relative."""
+    if isinstance(library, dict):
+        assert set(library) == set(written), where
+        for key in library:
+            _assert_same(library[key], written[key], f"{where}.{key}")
+    elif isinstance(library, list):
+        assert len(library) == len(written), where
+        for i, (a, b) in enumerate(zip(library, written)):
+            _assert_same(a, b, f"{where}[{i}]")
+    elif isinstance(library, float) and isinstance(written, float) and math.isfinite(library):
+        assert written == pytest.approx(library, rel=1e-12, abs=0.0), where
+    else:
+        assert library == written, where
+
+
+def _written(tmp_path, argv):
+    out = tmp_path / "out"
+    assert main([argv[0], *argv[1:], "--out", str(out)]) == 0
+    results = json.loads((out / "results.json").read_text())
+    assert COMMAND_KEYS <= set(results)
+    return {k: v for k, v in results.items() if k not in COMMAND_KEYS}
+
+
+@pytest.mark.parametrize("name", ["paper_example",
+                                  pytest.param("eeklo_like", marks=pytest.mark.slow)])
+def test_estimate_case_gives_what_crowdvib_estimate_writes(tmp_path, name):
+    case = load_case(EXAMPLES / f"{name}.toml")
+    fit = estimate_case(case)
+    assert isinstance(fit, CaseEstimate) and not fit.joint
+    written = _written(tmp_path, ["estimate", str(case.path)])
+    library = _as_json(fit.to_dict())
+    _assert_same(library, written)
+    # The numbers the issue names, spelled out: f_h1, ξ_h1 and their intervals.
+    for key in ("frequency", "damping_ratio"):
+        assert written["estimate"][key] == pytest.approx(getattr(fit.estimate.msd, key),
+                                                         rel=1e-12)
+    for key in ("frequency", "damping_ratio"):
+        interval = written["estimate"]["interval"][key]
+        assert interval == pytest.approx(list(fit.estimate.intervals[key]), rel=1e-12)
+    # The objects behind them: the record of the fitted outputs and its Welch PSD.
+    part = fit.records[0]
+    assert part.measurement.psd.window_length == case.measurement.window_length
+    assert written["record"]["channel_names"] == list(part.measurement.record.channel_names)
+
+
+def test_map_case_gives_what_crowdvib_map_writes(tmp_path):
+    # A 5 × 3 grid around the paper example's MSD (docs: theory, The paper's numerical example).
+    import numpy as np
+
+    case = load_case(EXAMPLES / "paper_example.toml")
+    found = map_case(case, frequencies=np.linspace(2.0, 4.0, 5),
+                     damping_ratios=np.linspace(0.2, 0.4, 3))
+    assert found.landscape.cost.size == 15 and found.seconds > 0
+    written = _written(tmp_path, ["map", str(case.path), "--frequencies", "2:4:5",
+                                  "--damping-ratios", "0.2:0.4:3"])
+    _assert_same(_as_json(found.to_dict()), written)
+
+
+def test_study_options_leave_out_the_intervals():
+    # The sensitivity study compares point estimates (cli sensitivity): no interval options.
+    case = load_case(EXAMPLES / "paper_example.toml")
+    full, point = estimate_options(case), estimate_options(case, point_only=True)
+    assert set(full) - set(point) == {"interval", "level", "n_boot", "rng"}
+    assert full["rng"] == case.seed and point["band"] == case.estimation.band
+
