@@ -14,7 +14,7 @@ Every constant sits in a table below with its provenance.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -27,7 +27,8 @@ if TYPE_CHECKING:
     from .crowd import Crowd
     from .structure import ModalModel
 
-__all__ = ["ZivanovicForce", "YoungForce", "STANDARD_GRAVITY"]
+__all__ = ["ForceModel", "WalkingForce", "ZivanovicForce", "YoungForce", "STANDARD_GRAVITY",
+           "as_force_model"]
 
 #: Gravitational acceleration g [m/s²] used to turn body mass into weight (docs: theory, Conventions).
 STANDARD_GRAVITY = 9.81
@@ -55,11 +56,46 @@ class _ReplayedForce:
     :func:`as_force_model` knows them without importing measured.py, which builds on this module."""
 
 
-class _WalkingForce:
-    """Shared machinery: crowd spectrum and time histories from per-component DLF statistics."""
+@runtime_checkable
+class ForceModel(Protocol):
+    """What the package calls on a walking-force model (docs: theory, The walking force: your own model).
+
+    * the spectral model (:class:`~crowdvib.response.spectral.SpectralModel`, hence
+      :func:`~crowdvib.response.spectral.response_psd` and the estimator
+      :func:`~crowdvib.identification.estimation.estimate_hsi`) calls ``load_spectrum`` only;
+    * the simulator (:func:`~crowdvib.response.simulation.simulate`) calls ``ratios`` and
+      ``sample``: walker k's force is m_k g Σ_c α_kc sin(2π r_c f_s,k t + θ_kc).
+
+    Any object with these three members works (no base class needed); subclassing
+    :class:`WalkingForce` gives ``load_spectrum`` from ``mean_square_dlf``.
+    """
+
+    @property
+    def ratios(self) -> np.ndarray:
+        """Multiples r_c of the step frequency, shape (n_components,)."""
+
+    def sample(self, step_frequency: ArrayLike,
+               rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+        """DLFs α_c [-] and phases θ_c [rad], each shape (n_pedestrians, n_components)."""
+
+    def load_spectrum(self, frequency: ArrayLike, crowd: Crowd) -> np.ndarray:
+        """One-sided crowd-load PSD per unit influence s(f) [N²/Hz], shape of ``frequency``."""
+
+
+#: The members each side calls (see :class:`ForceModel`).
+_SPECTRAL_MEMBERS = ("load_spectrum",)
+_TIME_DOMAIN_MEMBERS = ("ratios", "sample")
+
+
+class WalkingForce:
+    """Base of a force model from per-component DLF statistics (a :class:`ForceModel`).
+
+    A subclass sets ``ratios``, ``mean_square_dlf`` and ``sample`` (and ``scale``, default 1);
+    the crowd-load spectrum, the modal-load PSD and single time histories follow from them.
+    """
 
     #: Scale factor on every DLF (1 = the model as published); set by each force model.
-    scale: float
+    scale: float = 1.0
 
     @property
     def ratios(self) -> np.ndarray:
@@ -141,7 +177,7 @@ def _check_scale(scale):
 
 
 @dataclass(frozen=True)
-class ZivanovicForce(_WalkingForce):
+class ZivanovicForce(WalkingForce):
     """Živanović, Pavić & Reynolds (2007) probabilistic walking force, harmonic form.
 
     Five harmonics (r = 1…5) and five subharmonics (r = 0.5…4.5) with random DLFs and phases
@@ -250,7 +286,7 @@ def positive_normal(means, stds, rng):
 
 
 @dataclass(frozen=True)
-class YoungForce(_WalkingForce):
+class YoungForce(WalkingForce):
     """Young (2001) mean DLFs of the first four harmonics (docs: theory, Young (2001)).
 
     α₁ = 0.41 (f_s − 0.95) ≤ 0.56, α₂ = 0.069 + 0.0056·2f_s, α₃ = 0.033 + 0.0064·3f_s,
@@ -298,10 +334,12 @@ class YoungForce(_WalkingForce):
 
 
 def as_force_model(force, *, time_domain=False):
-    """``force`` itself, or the default Živanović model for None; refuse anything else.
+    """``force`` itself, or the default Živanović model for None; refuse anything that lacks
+    what the caller needs (a :class:`ForceModel`'s members, see there).
 
-    ``time_domain``: the caller is the simulator, which can also replay a
-    :class:`~crowdvib.models.measured.MeasuredForce`; the spectral side cannot (no load PSD).
+    ``time_domain``: the caller is the simulator, which needs ``ratios`` and ``sample`` (or
+    replays a :class:`~crowdvib.models.measured.MeasuredForce`); the spectral side needs
+    ``load_spectrum``, which a replayed record does not have.
     """
     if force is None:
         return ZivanovicForce()
@@ -311,9 +349,14 @@ def as_force_model(force, *, time_domain=False):
         raise ParameterError(
             "force must be a ZivanovicForce or YoungForce here: a MeasuredForce replays measured "
             "histories and has no load PSD for the spectral model (use it with simulate)")
-    if not isinstance(force, _WalkingForce):
+    needed = _TIME_DOMAIN_MEMBERS if time_domain else _SPECTRAL_MEMBERS
+    missing = [name for name in needed if not hasattr(force, name)]
+    if missing:
         kinds = "ZivanovicForce, YoungForce or MeasuredForce" if time_domain else (
             "ZivanovicForce or YoungForce")
-        raise ParameterError(f"force must be a {kinds}, got {type(force).__name__}")
+        side = "the simulator" if time_domain else "the spectral model"
+        raise ParameterError(
+            f"force must be a {kinds}, got {type(force).__name__} (or any force model with "
+            f"{', '.join(needed)}, which {side} calls: crowdvib.models.loading.ForceModel; it "
+            f"lacks {', '.join(missing)})")
     return force
-

@@ -1,0 +1,105 @@
+"""Open extension points (issue 26 §3): a walking-force model written outside the package, and
+the force chosen by a case file (docs: theory, The walking force)."""
+
+import textwrap
+
+import numpy as np
+import pytest
+
+from crowdvib import (MSDModel, ParameterError, YoungForce, ZivanovicForce, estimate_hsi,
+                      response_psd, simulate)
+from crowdvib.io.casefile import load_case
+from crowdvib.models.loading import STANDARD_GRAVITY, ForceModel
+
+WINDOW = 60.0                      # Welch T [s] (docs: theory, Welch PSDs, filters and convergence)
+GRID = np.arange(0, 601) / WINDOW  # the Welch grid up to 10 Hz
+
+
+class SingleHarmonic:
+    """A user's force model, no crowdvib base class: the first harmonic only, the same DLF α for
+    everybody, a uniform phase. Its crowd-load PSD per unit influence is closed form
+    (docs: theory, Modal load PSD of a Poisson crowd, with one component r = 1):
+    s(f) = E[W²] α²/2 · p_fs(f)."""
+
+    def __init__(self, dlf=0.4):
+        self.dlf = dlf
+
+    @property
+    def ratios(self):
+        return np.array([1.0])
+
+    def sample(self, step_frequency, rng):
+        n = np.asarray(step_frequency).size
+        return np.full((n, 1), self.dlf), rng.uniform(0.0, 2 * np.pi, (n, 1))
+
+    def load_spectrum(self, frequency, crowd):
+        frequency = np.asarray(frequency, dtype=float)
+        return crowd.mean_square_weight() * self.dlf**2 / 2 * crowd.step_frequency_pdf(frequency)
+
+
+def test_user_force_is_a_force_model():
+    # The protocol is structural: the three members the package calls (docs: theory, The walking force).
+    assert isinstance(SingleHarmonic(), ForceModel)
+    assert isinstance(ZivanovicForce(), ForceModel) and isinstance(YoungForce(), ForceModel)
+
+
+def test_user_force_response_psd_closed_form(paper_bridge, paper_crowd):
+    # docs: theory, Response PSD with HSI, without an MSD and one mode: G_ü(f) = ω⁴ φ_o² |H(ω)|² Ψ₁₁ s(f),
+    # H = 1/(m (ω₁² − ω² + 2i ξ ω₁ ω)), φ_o = 1 at midspan (unity-scaled beam), Ψ₁₁ = n/2 = 37.5.
+    force = SingleHarmonic()
+    frequency = np.linspace(0.5, 4.0, 351)
+    psd = response_psd(paper_bridge, paper_crowd, frequency, force=force).psd[0]
+    omega, omega1 = 2 * np.pi * frequency, 2 * np.pi * 2.0
+    receptance = 1 / (50e3 * (omega1**2 - omega**2 + 2j * 0.005 * omega1 * omega))
+    weight = 70.0 * STANDARD_GRAVITY
+    s = weight**2 * 0.4**2 / 2 * np.exp(-0.5 * ((frequency - 1.89) / 0.175) ** 2) / (
+        0.175 * np.sqrt(2 * np.pi))
+    expected = omega**4 * np.abs(receptance) ** 2 * 37.5 * s
+    np.testing.assert_allclose(psd, expected, rtol=1e-6, atol=1e-12 * expected.max())
+
+
+def test_user_force_simulation_matches_spectral(paper_bridge, paper_crowd):
+    # docs: theory, Time domain against spectral model: the simulated modal load's Welch PSD against
+    # Ψ₁₁ s(f). 600 s in 60 s windows (19 with overlap): the band variance of one realisation
+    # scatters by about 1/√19 ≈ 23 % per Welch bin; over the band 1.5–2.3 Hz (48 bins) well inside 15 %.
+    force = SingleHarmonic()
+    record = simulate(paper_bridge, paper_crowd, 600.0, force=force, rng=7,
+                      record_modal_load=True)
+    from crowdvib import welch_psd
+    load = welch_psd(record.modal_load, record.sample_rate, window_length=WINDOW)
+    band = (load.frequency >= 1.5) & (load.frequency <= 2.3)
+    measured = np.trapezoid(load.psd[0, band], load.frequency[band])
+    model = np.trapezoid(37.5 * force.load_spectrum(load.frequency[band], paper_crowd),
+                         load.frequency[band])
+    assert measured / model == pytest.approx(1.0, abs=0.15)
+    # and the acceleration's Welch PSD peaks in the resonant bin of the spectral one
+    spectral = response_psd(paper_bridge, paper_crowd, GRID, force=force,
+                            welch_window_length=WINDOW)
+    assert abs(record.psd(WINDOW).peak_frequency()[0] - spectral.peak_frequency()[0]) \
+        <= 1 / WINDOW + 1e-9
+
+
+def test_user_force_estimate_recovers_msd(paper_bridge, paper_crowd, paper_msd):
+    # A noise-free spectral PSD made with the user's force gives back its MSD (3.0 Hz, 0.30; docs:
+    # theory, Estimating the MSD from a measured PSD): the estimator calls the same load_spectrum.
+    force = SingleHarmonic()
+    measured = response_psd(paper_bridge, paper_crowd, GRID, msd=paper_msd, force=force,
+                            welch_window_length=WINDOW)
+    estimate = estimate_hsi(measured, paper_bridge, paper_crowd, band=(1.0, 3.0), force=force,
+                            interval=None)
+    assert estimate.msd.frequency == pytest.approx(3.0, rel=1e-3)
+    assert estimate.msd.damping_ratio == pytest.approx(0.30, rel=1e-2)
+
+
+def test_force_lacking_members_is_refused(paper_bridge, paper_crowd):
+    # The error names what the caller needs (issue 26 §3): load_spectrum for the spectral model.
+    class NoSpectrum:
+        ratios = np.array([1.0])
+
+        def sample(self, step_frequency, rng):
+            raise AssertionError("not reached")
+
+    with pytest.raises(ParameterError, match="got NoSpectrum .*lacks load_spectrum"):
+        response_psd(paper_bridge, paper_crowd, GRID, force=NoSpectrum())
+    with pytest.raises(ParameterError, match="got NoSample .*lacks sample"):
+        simulate(paper_bridge, paper_crowd, 10.0, force=type("NoSample", (), {"ratios": 1.0})())
