@@ -44,6 +44,8 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "structure.mode_shapes": "CSV of shapes along the walkway, or a CSV node table; left "
                                   "out when modal_table is a UFF file (it holds the shapes)",
          "case.seed": "a non-negative integer", "case.name": "default: the file name",
+         "case.force": "\"zivanovic\" (default), \"young\" or \"measured\" (the packaged "
+                       "PhysioNet walks replayed; simulate only: no load PSD)",
          "design.codes": "registered codes (built in: setra, hivoss, en1990, ukna)",
          "design.comfort_class": "CL1, CL2 or CL3",
          "design.site_factors.k1": "a number > 0 or a named choice (UK NA, NA.2.44.6)",

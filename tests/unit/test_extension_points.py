@@ -10,6 +10,8 @@ from crowdvib import (MSDModel, ParameterError, YoungForce, ZivanovicForce, esti
                       response_psd, simulate)
 from crowdvib.io.casefile import load_case
 from crowdvib.models.loading import STANDARD_GRAVITY, ForceModel
+from crowdvib.models.measured import MeasuredForce
+from tests.unit.test_casefile import write_case
 
 WINDOW = 60.0                      # Welch T [s] (docs: theory, Welch PSDs, filters and convergence)
 GRID = np.arange(0, 601) / WINDOW  # the Welch grid up to 10 Hz
@@ -103,3 +105,38 @@ def test_force_lacking_members_is_refused(paper_bridge, paper_crowd):
         response_psd(paper_bridge, paper_crowd, GRID, force=NoSpectrum())
     with pytest.raises(ParameterError, match="got NoSample .*lacks sample"):
         simulate(paper_bridge, paper_crowd, 10.0, force=type("NoSample", (), {"ratios": 1.0})())
+
+
+# ------------------------------------------------------------------ the case file's force
+def _case(tmp_path, force):
+    """The beam case of test_casefile with ``force`` at the top level (before any table)."""
+    path = write_case(tmp_path, name="beam.toml")
+    path.write_text(f"{force}\n" + path.read_text())
+    return load_case(path)
+
+
+@pytest.mark.parametrize("value, kind", [("young", YoungForce), ("zivanovic", ZivanovicForce),
+                                         ("measured", MeasuredForce)])
+def test_case_chooses_the_force(tmp_path, value, kind):
+    # docs/casefiles.rst, top level: force = "zivanovic" | "young" | "measured" (issue 26 §3).
+    case = _case(tmp_path, f'force = "{value}"')
+    assert type(case.force) is kind
+    assert case.to_dict()["force"] == kind.__name__
+    assert "force" not in case.to_dict()["not_set"]
+
+
+def test_case_force_defaults_to_zivanovic(tmp_path):
+    # Every command used Živanović before the key existed: the default keeps that (issue 26 §3).
+    case = _case(tmp_path, "")
+    assert case.force == ZivanovicForce()
+    assert case.to_dict()["not_set"]["force"] == "default"
+
+
+@pytest.mark.parametrize("value, shown", [('"Young"', "'Young'"), ('"setra"', "'setra'"),
+                                          ("1", "1")])
+def test_case_bad_force_names_key_and_choices(tmp_path, value, shown):
+    # docs/casefiles.rst: a bad value names the file, the key, the allowed values and the value.
+    rule = ("must be one of \\['zivanovic', 'young', 'measured'\\]" if value != "1"
+            else "must be a string")
+    with pytest.raises(ParameterError, match=f"^beam.toml: force {rule}, got {shown}"):
+        _case(tmp_path, f"force = {value}")

@@ -4,6 +4,7 @@ A case file describes one bridge and one crowd, and how its records are read and
 
     name = "eeklo-like"
     seed = 4                                  # seeds every random draw of `crowdvib simulate`
+    force = "zivanovic"                       # walking force: "zivanovic", "young" or "measured"
 
     [structure]                               # a modal model from CSV files …
     modal_table = "eeklo_like_modes.csv"      #   frequency, damping_ratio, modal_mass per mode
@@ -46,6 +47,8 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
+from ..models.loading import ForceModel, YoungForce, ZivanovicForce
+from ..models.measured import MeasuredForce
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ._common import quote, reading
@@ -60,7 +63,11 @@ from .records import RECORD_FORMATS, _unit_key
 __all__ = ["Case", "MeasurementSpec", "MeasurementBlock", "EstimationSpec", "StepFrequencySpec",
            "SimulationSpec", "DesignSpec",
            "load_case", "load_measurement", "read_modal_model", "write_modal_model",
-           "paper_example_case"]
+           "paper_example_case", "FORCE_MODELS"]
+
+#: The case file's ``force`` → the walking-force model every command uses (docs: theory, The
+#: walking force). "measured" replays the packaged PhysioNet walks (time domain only: simulate).
+FORCE_MODELS = {"zivanovic": ZivanovicForce, "young": YoungForce, "measured": MeasuredForce}
 
 # ------------------------------------------------------------------------------------- case
 @dataclass(frozen=True, eq=False)
@@ -83,6 +90,8 @@ class Case:
     design: "DesignSpec | None" = None
     #: The ``[[measurement]]`` blocks of a joint fit (empty for one ``[measurement]`` table).
     records: tuple = ()
+    #: The walking-force model (the file's ``force``; default Živanović 2007).
+    force: ForceModel = field(default_factory=ZivanovicForce)
 
     def blocks(self) -> list[Case]:
         """One case per record: itself, or per ``[[measurement]]`` block the case with that
@@ -112,6 +121,7 @@ class Case:
         s = self.structure
         data = {"name": self.name, "path": None if self.path is None else str(self.path),
                 "description": self.description, "seed": self.seed,
+                "force": type(self.force).__name__,
                 "structure": {"name": s.name, "frequencies": s.frequencies.tolist(),
                               "damping_ratios": s.damping_ratios.tolist(),
                               "modal_masses": s.modal_masses.tolist(), "length": s.length,
@@ -429,6 +439,7 @@ def _case(path, data):
     seed = root.raw("seed", None)
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
         raise root.error("seed", "must be a non-negative integer", seed)
+    force = FORCE_MODELS[root.string("force", "zivanovic", choices=tuple(FORCE_MODELS))]()
     structure = _structure(root.table("structure", required=True), path)
     crowd = _crowd(root.table("crowd", required=True), path)
     msd = _msd(root.table("hsi"), path)
@@ -461,7 +472,7 @@ def _case(path, data):
     return Case(name=name, path=path, structure=structure, crowd=crowd, msd=msd,
                 measurement=measurement, estimation=estimation, simulation=simulation,
                 expected=expected, seed=seed, description=description, not_set=not_set,
-                design=design, records=records)
+                design=design, records=records, force=force)
 
 
 #: Case-file keys whose :meth:`Case.to_dict` name differs.
