@@ -333,7 +333,8 @@ class YoungForce(WalkingForce):
         return amplitudes, phases
 
 
-def as_force_model(force, *, time_domain=False):
+def as_force_model(force: object, *,
+                   time_domain: bool = False) -> ForceModel | _ReplayedForce:
     """``force`` itself, or the default Živanović model for None; refuse anything that lacks
     what the caller needs (a :class:`ForceModel`'s members, see there).
 

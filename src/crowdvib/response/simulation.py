@@ -371,7 +371,7 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
         Explicit pedestrians, in addition to (or instead of) the crowd.
     msd : MSDModel, optional
         Mass-spring-damper model of every pedestrian (HSI); None = moving forces only.
-    force : ZivanovicForce, YoungForce or MeasuredForce, optional
+    force : ZivanovicForce, YoungForce, MeasuredForce or any models.loading.ForceModel, optional
         Walking force model (default Živanović 2007); a :class:`~crowdvib.models.MeasuredForce`
         replays measured force histories instead (docs: theory, Measured walking forces).
     sample_rate : float

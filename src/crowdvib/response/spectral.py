@@ -98,8 +98,8 @@ class SpectralModel:
     crowd : Crowd
     frequency : array_like
         Frequencies [Hz] at which the PSD is wanted, increasing, >= 0.
-    force : ZivanovicForce or YoungForce, optional
-        Walking force model (default Živanović 2007).
+    force : ZivanovicForce, YoungForce or any models.loading.ForceModel, optional
+        Walking force model (default Živanović 2007; docs: theory, Your own model).
     outputs : sequence of str, optional
         Output names (default all outputs of ``structure``).
     welch_window_length : float, optional
@@ -324,8 +324,8 @@ def response_psd(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
         Frequencies [Hz], increasing, >= 0.
     msd : MSDModel, optional
         The pedestrians' mass-spring-damper model; None = no HSI.
-    force : ZivanovicForce or YoungForce, optional
-        Walking force model (default Živanović 2007).
+    force : ZivanovicForce, YoungForce or any models.loading.ForceModel, optional
+        Walking force model (default Živanović 2007; docs: theory, Your own model).
     outputs : sequence of str, optional
         Output names (default all).
     welch_window_length : float, optional
