@@ -94,3 +94,19 @@ def test_study_options_leave_out_the_intervals():
     assert set(full) - set(point) == {"interval", "level", "n_boot", "rng"}
     assert full["rng"] == case.seed and point["band"] == case.estimation.band
 
+
+
+def test_check_case_gives_what_crowdvib_check_writes(tmp_path):
+    # The design checks of examples/check_paper.toml (docs: theory, Design checks with HSI).
+    from crowdvib.cases import CaseCheck, check_case
+
+    case = load_case(EXAMPLES / "check_paper.toml")
+    found = check_case(case)
+    assert isinstance(found, CaseCheck) and list(found.checks) == list(case.design.codes)
+    written = _written(tmp_path, ["check", str(case.path)])
+    library = _as_json(found.to_dict())
+    # Wall-clock time is the run's own; everything else is the computation's.
+    written.pop("elapsed_s"), library.pop("elapsed_s")
+    _assert_same(library, written)
+    assert [row["passes"] for row in written["design"]["verdict"]] == [
+        row["passes"] for row in found.rows]

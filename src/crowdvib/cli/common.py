@@ -9,7 +9,8 @@ from pathlib import Path
 from tqdm import tqdm
 
 from .._files import folder_lock, output_error
-from ..cases import ESTIMATION_TABLES, software_versions as versions
+from ..cases.results import (DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES,
+                             software_versions as versions)
 
 __all__ = ["add_output_arguments", "ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "say",
            "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output",
@@ -26,9 +27,6 @@ def say(message=""):
 # A file a user added to (or edited in) crowdvib's results is foreign: --force and --resume
 # then refuse and name it rather than delete it or list it as crowdvib's in the next manifest.
 
-#: The case tables each kind of command reads; its report shows no others.
-SIMULATION_TABLES = ("structure", "crowd", "hsi", "simulation", "expected")
-DESIGN_TABLES = ("structure", "crowd", "hsi", "design")
 
 
 def case_inputs(case):

@@ -17,14 +17,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from ._version import __version__
-from .errors import ParameterError
+from .._version import __version__
+from ..errors import ParameterError
+from .results import ESTIMATION_TABLES, software_versions
 
 __all__ = ["CaseMeasurement", "CaseRecordFit", "CaseEstimate", "measure_case", "case_crowd",
-           "estimate_options", "estimate_case", "CaseMap", "map_case", "software_versions", "ESTIMATION_TABLES"]
-
-#: The case tables an estimate reads (the results keep only these as its inputs).
-ESTIMATION_TABLES = ("structure", "crowd", "hsi", "measurement", "estimation", "expected")
+           "estimate_options", "estimate_case", "CaseMap", "map_case"]
 
 
 @dataclass(frozen=True)
@@ -113,7 +111,7 @@ class CaseEstimate:
         (ResponsePSD, ResponsePSD)
             The model PSD with the estimated MSD, and without HSI.
         """
-        from .response.fluctuation import spectral_model
+        from ..response.fluctuation import spectral_model
 
         crowd = self.crowd if part is None else part.crowd
         part = self.records[0] if part is None else part
@@ -168,17 +166,6 @@ def _record_entry(part: CaseRecordFit) -> dict:
             else part.step_frequencies.to_dict()}
 
 
-def software_versions() -> dict:
-    """The versions of crowdvib, numpy, scipy and Python, as every results.json records them."""
-    import platform
-
-    import numpy as np
-    import scipy
-
-    return {"crowdvib": __version__, "numpy": np.__version__, "scipy": scipy.__version__,
-            "python": platform.python_version()}
-
-
 def measure_case(case) -> CaseMeasurement:
     """Read a case's records, keep the fitted outputs and make their measured PSD.
 
@@ -201,8 +188,8 @@ def measure_case(case) -> CaseMeasurement:
     ParameterError
         A fitted channel that is no output of the structure.
     """
-    from .io.casefile import load_measurement
-    from .signals import LowPassFilter, welch_psd
+    from ..io.casefile import load_measurement
+    from ..signals import LowPassFilter, welch_psd
 
     spec, est = case.measurement, case.estimation
     record = load_measurement(case)
@@ -245,8 +232,8 @@ def case_crowd(case, record):
     (Crowd, StepFrequencyEstimate or None)
         The crowd for the estimator, and the step-frequency fit (None without one).
     """
-    from .identification.step_frequencies import estimate_step_frequencies
-    from .signals import LowPassFilter, welch_psd
+    from ..identification.step_frequencies import estimate_step_frequencies
+    from ..signals import LowPassFilter, welch_psd
 
     spec, est = case.measurement, case.estimation
     if est.step_frequencies is None:
@@ -309,8 +296,8 @@ def estimate_case(case) -> CaseEstimate:
     >>> fit = estimate_case(load_case("examples/paper_example.toml"))  # doctest: +SKIP
     >>> fit.estimate.msd.frequency                                     # doctest: +SKIP
     """
-    from .identification.estimation import estimate_hsi, estimate_hsi_joint
-    from .signals import psd_convergence
+    from ..identification.estimation import estimate_hsi, estimate_hsi_joint
+    from ..signals import psd_convergence
 
     est = case.estimation
     options = dict(estimate_options(case), crowd_model=est.crowd_model)
@@ -395,8 +382,8 @@ def map_case(case, *, frequencies, damping_ratios, progress=None, max_seconds=No
     """
     import time
 
-    from .identification.estimation import estimate_hsi
-    from .identification.landscape import objective_map
+    from ..identification.estimation import estimate_hsi
+    from ..identification.landscape import objective_map
 
     measurement = measure_case(case)
     crowd, step = case_crowd(case, measurement.record)

@@ -1,0 +1,40 @@
+"""What a case file describes, run from Python (issue 26 §1).
+
+Each command of the command line is a call here that returns the objects it computes; the
+command only prints them and writes them (results.json, figures, report). A Python user holding
+a :class:`~crowdvib.io.casefile.Case` thus gets what the command gets:
+
+- :func:`estimate_case` (``crowdvib estimate``), from :func:`measure_case`, :func:`case_crowd`
+  and :func:`estimate_options`;
+- :func:`map_case` (``crowdvib map``);
+- :func:`check_case` (``crowdvib check``).
+
+The names load with their module on first use: the command line imports
+:mod:`crowdvib.cases.results` at start-up and the rest only when a command runs.
+"""
+
+import importlib
+
+from .results import DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES, software_versions
+
+#: Public name → the module of this package that defines it.
+_MODULES = {
+    **dict.fromkeys(("CaseMeasurement", "CaseRecordFit", "CaseEstimate", "CaseMap",
+                     "measure_case", "case_crowd", "estimate_options", "estimate_case",
+                     "map_case"), "estimate"),
+    **dict.fromkeys(("CaseCheck", "check_case", "check_design_table", "design_msd",
+                     "verdict_rows"), "design"),
+}
+
+__all__ = ["DESIGN_TABLES", "ESTIMATION_TABLES", "SIMULATION_TABLES", "software_versions",
+           *_MODULES]
+
+
+def __getattr__(name):
+    if name not in _MODULES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f".{_MODULES[name]}", __name__), name)
+
+
+def __dir__():
+    return sorted(__all__)
