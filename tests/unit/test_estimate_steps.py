@@ -5,13 +5,13 @@ steps) by running this module's ``_run`` on the untouched code; the steps must r
 to round-off (1e-12 relative), for every main option combination.
 """
 
-import dataclasses
 import warnings
 
 import numpy as np
 import pytest
 
-from crowdvib import Crowd, ModalModel, MSDModel, estimate_hsi, response_psd, welch_psd
+from crowdvib import (Crowd, ModalModel, MSDModel, estimate_hsi, estimate_hsi_joint, response_psd,
+                      welch_psd)
 from crowdvib.identification import PSDObjective
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies
 
@@ -85,3 +85,46 @@ def test_estimate_reproduces_the_recorded_numbers(measured, key):
     assert set(estimate.intervals) == set(expected["intervals"])
     for name, ends in expected["intervals"].items():
         _close(estimate.intervals[name], ends)
+
+
+def test_objective_is_immutable_and_a_refit_gets_a_new_one(measured):
+    # Issue 26 §4: the estimate must not replace the objective's model in place.
+    objective = PSDObjective(measured, BRIDGE, CROWD, band=(0.0, 10.0))
+    with pytest.raises(AttributeError, match="PSDObjective is immutable: model"):
+        objective.model = objective.model_for((1.95, 0.2))
+    refit = objective.with_step_frequencies((1.95, 0.2))
+    assert refit is not objective
+    assert (refit.model.crowd.step_frequency_mean, refit.model.crowd.step_frequency_std) == (
+        1.95, 0.2)
+    assert objective.model.crowd == CROWD       # the original keeps the crowd it was built for
+    # The refit's misfit is the original's evaluated at those step frequencies (the same model).
+    np.testing.assert_array_equal(refit.residuals(TRUTH),
+                                  objective.residuals(TRUTH, steps=(1.95, 0.2)))
+
+
+def test_rescaled_and_redrawn_objectives_leave_the_original_alone(measured):
+    # docs: theory, Parametric bootstrap: a replicate's objective is a new one on new data.
+    objective = PSDObjective(measured, BRIDGE, CROWD, band=(0.0, 10.0))
+    level, cost = objective.level.copy(), objective.cost(TRUTH)
+    louder = objective.with_level(100.0)
+    np.testing.assert_allclose(louder.level, 100.0 * level, rtol=1e-15)
+    # The same data redrawn give the same misfit; doubled data a doubled level (its peak).
+    assert objective.with_target(objective.target).cost(TRUTH) == cost
+    np.testing.assert_allclose(objective.with_target(2.0 * objective.target).level, 2.0 * level,
+                               rtol=1e-15)
+    np.testing.assert_array_equal(objective.level, level)
+    assert objective.cost(TRUTH) == cost
+
+
+def test_joint_estimate_counts_every_records_evaluations(measured):
+    # estimate_hsi_joint (docs: theory, Joint estimation): two identical records cost two forward
+    # models per optimiser call, and their stacked misfit is twice the single record's.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        single = estimate_hsi(measured, BRIDGE, CROWD, band=(0.0, 10.0), interval=None,
+                              starts=[(2.5, 0.4)])
+        joint = estimate_hsi_joint([measured, measured], BRIDGE, [CROWD, CROWD],
+                                   band=(0.0, 10.0), interval=None, starts=[(2.5, 0.4)])
+    assert joint.n_evaluations == 2 * single.n_evaluations
+    assert joint.cost == pytest.approx(2 * single.cost, rel=1e-9)
+    assert joint.msd.frequency == pytest.approx(single.msd.frequency, rel=1e-6)

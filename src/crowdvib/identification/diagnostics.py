@@ -5,7 +5,6 @@ docs: theory, The estimator. The warnings point at the caller of the public esti
 
 from __future__ import annotations
 
-import copy
 import warnings
 
 import numpy as np
@@ -84,8 +83,7 @@ def _check_level(objective, ratio, cost, fit, to_msd):
     hint = "check the units, the sensor gain and the channel mapping"
     found = []
     for factor, cause in _UNIT_MIXUPS:
-        rescaled = copy.copy(objective)
-        rescaled.level = objective.level * factor
+        rescaled = objective.with_level(factor)
         best, _ = fit(rescaled)
         msd = to_msd(best.x)
         ratios = rescaled.level_ratio(msd)

@@ -9,6 +9,7 @@ r_{l,k} = sqrt(γ_l w_k) (G̃_l(f_k) − G_l(f_k; θ)) / ‖G̃_l‖₂ has Σ r
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -223,14 +224,10 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
 
 
 class _Stacked:
-    """Several records' misfits as one: residual vectors stacked, evaluations counted."""
+    """Several records' misfits as one: residual vectors stacked."""
 
     def __init__(self, objectives):
-        self.objectives = objectives
-
-    @property
-    def evaluations(self):
-        return sum(o.evaluations for o in self.objectives)
+        self.objectives = tuple(objectives)
 
     def residuals(self, msd, steps=None):
         return np.concatenate([o.residuals(msd, steps=steps) for o in self.objectives])
@@ -243,105 +240,69 @@ class _Stacked:
 INTERVALS = ("profile", "wald", "bootstrap", None)
 
 
+@dataclasses.dataclass(frozen=True)
+class _Parameters:
+    """The free parameters θ, their bounds and what θ stands for (the held μ_h1)."""
+
+    names: tuple
+    lower: np.ndarray
+    upper: np.ndarray
+    mass_ratio: float
+    free_step_frequencies: bool
+
+    def msd(self, theta):
+        values = dict(zip(self.names, theta))
+        return MSDModel(frequency=values["frequency"], damping_ratio=values["damping_ratio"],
+                        mass_ratio=values.get("mass_ratio", self.mass_ratio))
+
+    def state(self, theta):
+        """θ → (MSD, (μ_fs, σ_fs) or None): what the misfit is evaluated at."""
+        return self.msd(theta), (tuple(theta[-2:]) if self.free_step_frequencies else None)
+
+    def misfit(self, target, theta):
+        msd, steps = self.state(theta)
+        return target.residuals(msd, steps=steps)
+
+
 def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, method,
               interval, level, n_boot=200, rng=None, free_step_frequencies=False):
-    """The estimate from one or several (objective, measured PSD) records (estimate_hsi)."""
-    MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
-    # A switch given as "no" or 0 must not be read by its truth value ("no" frees μ_h1).
-    free_mass_ratio = check_flag("free_mass_ratio", free_mass_ratio)
+    """The estimate from one or several (objective, measured PSD) records (estimate_hsi).
+
+    A sequence of steps, each taking what the one before returned: the options and θ's
+    parametrisation, the fit from every start, the objectives of the fitted crowd (when the
+    step frequencies are free), the diagnostics, the covariance, the intervals, the result.
+    """
     free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
-    if interval not in INTERVALS:
-        raise ParameterError(f"interval must be one of {list(INTERVALS)}, got {interval!r}")
-    if interval == "bootstrap" and not (isinstance(n_boot, (int, np.integer)) and n_boot >= 20):
-        raise ParameterError(f"n_boot must be an integer >= 20 for a percentile interval, got "
-                             f"{n_boot!r}")
-    if not 0 < level < 1:
-        raise ParameterError(f"level must lie in (0, 1), got {level!r}")
+    _check_options(mass_ratio, interval, n_boot, level)
     warn_notes([f"structure: {note}" for note in structure.implausibilities()], stacklevel=2)
-    names = (_PARAMETERS if free_mass_ratio else _PARAMETERS[:2]) + (
-        STEP_PARAMETERS if free_step_frequencies else ())
-    limits = _merge_bounds(bounds, dict(DEFAULT_BOUNDS, **(
-        DEFAULT_STEP_FREQUENCY_BOUNDS if free_step_frequencies else {})))
-    if limits["mass_ratio"][1] >= 1:
-        raise ParameterError(f"bounds['mass_ratio'] must stay below 1, got {limits['mass_ratio']}")
-    lower = np.array([limits[n][0] for n in names])
-    upper = np.array([limits[n][1] for n in names])
-
-    def to_msd(theta):
-        values = dict(zip(names, theta))
-        return MSDModel(frequency=values["frequency"], damping_ratio=values["damping_ratio"],
-                        mass_ratio=values.get("mass_ratio", mass_ratio))
-
-    def state(theta):
-        """θ → (MSD, (μ_fs, σ_fs) or None): what the misfit is evaluated at."""
-        return to_msd(theta), (tuple(theta[-2:]) if free_step_frequencies else None)
-
+    parameters = _parametrisation(bounds, mass_ratio, free_mass_ratio, free_step_frequencies)
     crowd = parts[0][0].model.crowd
     tail = {"mass_ratio": mass_ratio, "step_frequency_mean": crowd.step_frequency_mean,
             "step_frequency_std": crowd.step_frequency_std}
-    points = _starting_points(starts, names, tail, lower, upper)
-
-    def misfit(target, theta):
-        msd, steps = state(theta)
-        return target.residuals(msd, steps=steps)
-
-    def fit(objective):
-        return _multistart(lambda theta: misfit(objective, theta), points, lower, upper,
-                           objective)
-
+    points = _starting_points(starts, parameters.names, tail, parameters.lower, parameters.upper)
     for objective, _ in parts:
-        absurd = objective.level_ratio(None)
-        if np.any(~((absurd > 1e-100) & (absurd < 1e100))):
-            raise ParameterError(
-                "measured PSD level must be within a factor 1e100 of the model's without HSI "
-                f"over the band (no unit or gain mix-up goes further), got measured/model "
-                f"variance {', '.join(f'{v:.3g}' for v in absurd)} for outputs "
-                f"{list(objective.output_names)}")
-    stacked = _Stacked([objective for objective, _ in parts])
-    best, runs = fit(stacked)
-    msd, steps = state(best.x)
-    if steps is not None:
-        # From here on the objective's own model is the fitted crowd's (levels, the crowd-size
-        # term, the bootstrap's replicates); profiles still move (μ_fs, σ_fs) through θ.
-        for objective, _ in parts:
-            objective.model = objective.model_for(steps)
-    active, success, table = _diagnose(best, runs, names, lower, upper,
-                                       "the optimum sits on a bound", "check the model inputs",
-                                       stacklevel=4)
+        _check_measured_level(objective)
+    best, runs = _fit(_Stacked(o for o, _ in parts), parameters, points)
+    parts = _adopt_fitted_crowd(parts, parameters, best.x)
+    stacked = _Stacked(o for o, _ in parts)
+    active, success, table = _diagnose(best, runs, parameters.names, parameters.lower,
+                                       parameters.upper, "the optimum sits on a bound",
+                                       "check the model inputs", stacklevel=4)
+    msd = parameters.msd(best.x)
     ratios = []
-    for objective, _ in parts:
+    for objective, _ in parts:      # the diagnostics warn from here: their stack depth is fixed
         ratios.append(objective.level_ratio(msd))
-        _check_level(objective, ratios[-1], objective.cost(msd), fit, to_msd)
-    covariance, intervals, on_bound, samples = None, {}, (), None
+        _check_level(objective, ratios[-1], objective.cost(msd),
+                     lambda target: _fit(target, parameters, points), parameters.msd)
+    covariance, hessian, occupancies = None, None, None
     # Intervals need the scatter of the ordinates: known for a Welch estimate (its n_windows),
     # not for a PSD of unknown origin (a model curve, a PSD read from a table).
     if interval is not None and all(measured.n_windows for _, measured in parts):
-        variance, hessian, occupancies = 0.0, 0.0, []
-        for objective, measured in parts:      # independent records: information adds
-            gradient = _model_gradient(objective, best.x, state, lower, upper)
-            occupancies.append(_occupancy(objective, msd, measured))
-            part, curvature = objective.information(objective.modelled(msd), gradient,
-                                                    occupancies[-1])
-            variance, hessian = variance + part, hessian + curvature
-        covariance = sandwich_covariance(variance, hessian)
-        _check_identifiability(names, covariance)
-        if interval == "bootstrap":
-            samples = bootstrap_estimates(parts, best.x, state, lower, upper, occupancies,
-                                          n_boot, np.random.default_rng(rng))
-            intervals = {name: percentile_interval(samples[:, i], level)
-                         for i, name in enumerate(names)}
-        if interval == "profile":
-            ends = []
-            for i, name in enumerate(names):
-                intervals[name], hit = profile_interval(
-                    lambda theta: misfit(stacked, theta), best.x, i, lower, upper,
-                    covariance, hessian, level)
-                ends += [f"{name}:{side}" for side, h in zip(("lower", "upper"), hit) if h]
-            on_bound = tuple(ends)
-            if on_bound:
-                warnings.warn(f"the {level:.0%} interval reaches a search bound "
-                              f"({', '.join(on_bound)}): the data do not bound the parameter "
-                              "there; widen the bounds or add data", BoundWarning, stacklevel=3)
+        covariance, hessian, occupancies = _covariance(parts, parameters, best.x)
+        _check_identifiability(parameters.names, covariance)
+    intervals, on_bound, samples = _intervals(
+        interval, parts, stacked, parameters, best.x, covariance, hessian, occupancies, level,
+        n_boot, rng)
     single = len(parts) == 1
     output_names = tuple(name if single else f"record {r + 1}: {name}"
                          for r, (objective, _) in enumerate(parts)
@@ -349,8 +310,9 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     return HSIEstimate(
         msd=msd, cost=float(2 * best.cost), cost_no_hsi=stacked.cost(None),
         n_evaluations=sum(n for _, _, n in runs), success=success, active_bounds=active,
-        free_parameters=names, bounds={n: (float(lo), float(hi)) for n, lo, hi in
-                                       zip(names, lower, upper)},
+        free_parameters=parameters.names,
+        bounds={n: (float(lo), float(hi)) for n, lo, hi in
+                zip(parameters.names, parameters.lower, parameters.upper)},
         band=parts[0][0].band, output_names=output_names,
         output_weights=np.concatenate([o.output_weights for o, _ in parts]) / len(parts),
         starts=table, message=str(best.message), level_ratio=np.concatenate(ratios),
@@ -359,7 +321,107 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         crowd_model_details=tuple(objective.model.details() for objective, _ in parts
                                   if hasattr(objective.model, "details")),
         interval_method=interval if intervals else None, bootstrap_samples=samples,
-        crowd=parts[0][0].model.crowd if steps is not None else None)
+        crowd=parts[0][0].model.crowd if free_step_frequencies else None)
+
+
+def _check_options(mass_ratio, interval, n_boot, level):
+    """The estimate's options, each against its rule (ParameterError naming it)."""
+    MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
+    if interval not in INTERVALS:
+        raise ParameterError(f"interval must be one of {list(INTERVALS)}, got {interval!r}")
+    if interval == "bootstrap" and not (isinstance(n_boot, (int, np.integer)) and n_boot >= 20):
+        raise ParameterError(f"n_boot must be an integer >= 20 for a percentile interval, got "
+                             f"{n_boot!r}")
+    if not 0 < level < 1:
+        raise ParameterError(f"level must lie in (0, 1), got {level!r}")
+
+
+def _parametrisation(bounds, mass_ratio, free_mass_ratio, free_step_frequencies):
+    """θ's names and bounds: (f_h1, ξ_h1), μ_h1 if free, (μ_fs, σ_fs) if free."""
+    # A switch given as "no" or 0 must not be read by its truth value ("no" frees μ_h1).
+    free_mass_ratio = check_flag("free_mass_ratio", free_mass_ratio)
+    names = (_PARAMETERS if free_mass_ratio else _PARAMETERS[:2]) + (
+        STEP_PARAMETERS if free_step_frequencies else ())
+    limits = _merge_bounds(bounds, dict(DEFAULT_BOUNDS, **(
+        DEFAULT_STEP_FREQUENCY_BOUNDS if free_step_frequencies else {})))
+    if limits["mass_ratio"][1] >= 1:
+        raise ParameterError(f"bounds['mass_ratio'] must stay below 1, got {limits['mass_ratio']}")
+    return _Parameters(names, np.array([limits[n][0] for n in names]),
+                       np.array([limits[n][1] for n in names]), mass_ratio,
+                       free_step_frequencies)
+
+
+def _check_measured_level(objective):
+    """Refuse a measured PSD whose level no unit or gain mix-up explains (before any fit)."""
+    absurd = objective.level_ratio(None)
+    if np.any(~((absurd > 1e-100) & (absurd < 1e100))):
+        raise ParameterError(
+            "measured PSD level must be within a factor 1e100 of the model's without HSI "
+            f"over the band (no unit or gain mix-up goes further), got measured/model "
+            f"variance {', '.join(f'{v:.3g}' for v in absurd)} for outputs "
+            f"{list(objective.output_names)}")
+
+
+def _fit(target, parameters, points):
+    """The multistart fit of a misfit (one objective or a stack) → (best result, runs)."""
+    records = len(getattr(target, "objectives", (target,)))
+    return _multistart(lambda theta: parameters.misfit(target, theta), points,
+                       parameters.lower, parameters.upper, records=records)
+
+
+def _adopt_fitted_crowd(parts, parameters, theta):
+    """The records with objectives whose own model is the fitted crowd's (free step frequencies).
+
+    From here on the levels, the crowd-size term and the bootstrap's replicates use the fitted
+    crowd; profiles still move (μ_fs, σ_fs) through θ. Held step frequencies: ``parts`` as given.
+    """
+    _, steps = parameters.state(theta)
+    if steps is None:
+        return parts
+    return [(objective.with_step_frequencies(steps), measured) for objective, measured in parts]
+
+
+def _covariance(parts, parameters, theta):
+    """Sandwich covariance of θ̂ (independent records: information adds) → (covariance,
+    expected Hessian, per-record crowd-size terms) (docs: theory, Sandwich covariance)."""
+    msd = parameters.msd(theta)
+    variance, hessian, occupancies = 0.0, 0.0, []
+    for objective, measured in parts:
+        gradient = _model_gradient(objective, theta, parameters.state, parameters.lower,
+                                   parameters.upper)
+        occupancies.append(_occupancy(objective, msd, measured))
+        part, curvature = objective.information(objective.modelled(msd), gradient,
+                                                occupancies[-1])
+        variance, hessian = variance + part, hessian + curvature
+    return sandwich_covariance(variance, hessian), hessian, occupancies
+
+
+def _intervals(interval, parts, stacked, parameters, theta, covariance, hessian, occupancies,
+               level, n_boot, rng):
+    """The intervals the covariance allows → (name → (low, high), ends on a bound, bootstrap
+    samples or None); none without a covariance or for ``interval`` "wald" or None."""
+    intervals, on_bound, samples = {}, (), None
+    if covariance is None:
+        return intervals, on_bound, samples
+    names, lower, upper = parameters.names, parameters.lower, parameters.upper
+    if interval == "bootstrap":
+        samples = bootstrap_estimates(parts, theta, parameters.state, lower, upper, occupancies,
+                                      n_boot, np.random.default_rng(rng))
+        intervals = {name: percentile_interval(samples[:, i], level)
+                     for i, name in enumerate(names)}
+    if interval == "profile":
+        ends = []
+        for i, name in enumerate(names):
+            intervals[name], hit = profile_interval(
+                lambda values: parameters.misfit(stacked, values), theta, i, lower, upper,
+                covariance, hessian, level)
+            ends += [f"{name}:{side}" for side, h in zip(("lower", "upper"), hit) if h]
+        on_bound = tuple(ends)
+        if on_bound:
+            warnings.warn(f"the {level:.0%} interval reaches a search bound "
+                          f"({', '.join(on_bound)}): the data do not bound the parameter "
+                          "there; widen the bounds or add data", BoundWarning, stacklevel=4)
+    return intervals, on_bound, samples
 
 
 def _occupancy(objective, msd, measured):
@@ -414,20 +476,26 @@ def _merge_bounds(bounds, defaults):
     return limits
 
 
-def _multistart(residuals, points, lower, upper, objective):
+def _multistart(residuals, points, lower, upper, *, records=1):
     """Bounded trust-region least squares from every start → (best result, runs).
 
-    ``runs`` holds (result, start, forward-model evaluations) per start.
+    ``runs`` holds (result, start, forward-model evaluations) per start: the calls of
+    ``residuals`` times the ``records`` each call evaluates.
     """
     runs = []
     for start in points:
-        evaluations_before = objective.evaluations
+        calls = [0]
+
+        def counted(theta):
+            calls[0] += 1
+            return residuals(theta)
+
         try:
-            result = least_squares(residuals, start, method="trf", bounds=(lower, upper),
+            result = least_squares(counted, start, method="trf", bounds=(lower, upper),
                                    x_scale="jac")
         except ValueError as exc:  # non-finite residuals
             raise EstimationError(f"objective could not be evaluated from start {start}: {exc}")
-        runs.append((result, start, objective.evaluations - evaluations_before))
+        runs.append((result, start, calls[0] * records))
         logger.info("start %s -> %s, J = %.4g", start, result.x, 2 * result.cost)
     best, _, _ = min(runs, key=lambda run: run[0].cost)
     return best, runs

@@ -100,7 +100,26 @@ class PSDObjective:
     crowd_model : {"smeared", "fluctuating"}
         The expected PSD of the mean crowd, or the mixture over the Poisson crowd's fluctuating
         occupancy (docs: theory, The fluctuating crowd).
+
+    The objective is immutable: its state is fixed at construction, and an objective for other
+    step frequencies (:meth:`with_step_frequencies`) or another measured PSD
+    (:meth:`with_target`) is a new object, so an estimate's steps can share one without
+    one step changing what the next sees.
     """
+
+    def __setattr__(self, name, value):
+        if self.__dict__.get("_frozen"):
+            raise AttributeError(
+                f"PSDObjective is immutable: {name} cannot be set after construction; use "
+                "with_step_frequencies() or with_target() for a changed objective")
+        object.__setattr__(self, name, value)
+
+    def _evolve(self, **changes):
+        """A copy with some members replaced (the constructor of the ``with_*`` objectives)."""
+        other = copy.copy(self)
+        for name, value in changes.items():
+            object.__setattr__(other, name, value)
+        return other
 
     def __init__(self, measured, structure, crowd, *, band, force=None, outputs=None,
                  output_weights=None, frequency_weights=None, match_welch=True,
@@ -180,8 +199,8 @@ class PSDObjective:
             use = self._likelihood_bins(outputs)
             if cross is not None:
                 self._wishart_terms(cross[..., use])
-        self.evaluations = 0
         self._steps_model = (None, None)     # (μ_fs, σ_fs) → model, the last one (model_for)
+        self._frozen = True
 
     def _wishart_terms(self, cross):
         """Set up the Wishart deviance of the measured cross-spectral matrix (its bins)."""
@@ -242,10 +261,19 @@ class PSDObjective:
             crowd = dataclasses.replace(self.model.crowd, step_frequency_mean=key[0],
                                         step_frequency_std=key[1])
             # The fluctuating mixture keeps its occupancy law (it depends on the density only).
-            self._steps_model = (key, self.model.with_step_frequencies(crowd)
-                                 if self.crowd_model == "fluctuating"
-                                 else self.spectral_model(crowd))
+            # A cache, not state: what the objective computes does not depend on it.
+            object.__setattr__(self, "_steps_model", (
+                key, self.model.with_step_frequencies(crowd)
+                if self.crowd_model == "fluctuating" else self.spectral_model(crowd)))
         return self._steps_model[1]
+
+    def with_step_frequencies(self, steps) -> "PSDObjective":
+        """The same misfit whose own model has the step frequencies ``steps`` = (μ_fs, σ_fs) [Hz].
+
+        For what follows a fit of the step frequencies: the levels, the crowd-size term and
+        the bootstrap's replicates then use the fitted crowd (a new objective; this one is kept).
+        """
+        return self._evolve(model=self.model_for(steps))
 
     def exact_model(self, frequency: np.ndarray):
         """The forward model without the Welch kernel on another grid (same crowd, filter)."""
@@ -261,22 +289,25 @@ class PSDObjective:
         objective's own levels (the deviance does not depend on them).
         """
         if self.wishart is not None:
-            other = copy.copy(self)
             cross = np.asarray(psd, dtype=complex)
-            other.target = np.einsum("aak->ak", cross).real
-            other._target = other.target / self.level[:, np.newaxis]
-            other.wishart = copy.copy(self.wishart)
-            other.wishart.set_target(cross / np.sqrt(np.outer(self.level, self.level))[
+            target = np.einsum("aak->ak", cross).real
+            wishart = copy.copy(self.wishart)
+            wishart.set_target(cross / np.sqrt(np.outer(self.level, self.level))[
                 ..., np.newaxis])
-            return other
-        other = copy.copy(self)
-        other.target = np.asarray(psd, dtype=float)
-        other.level = other.target.max(axis=1)
-        other._target = other.target / other.level[:, np.newaxis]
+            return self._evolve(target=target, _target=target / self.level[:, np.newaxis],
+                                wishart=wishart)
+        target = np.asarray(psd, dtype=float)
+        level = target.max(axis=1)
+        normalised = target / level[:, np.newaxis]
+        scale = self._scale
         if self.method == "least_squares":
-            other._scale = self._scale * (np.linalg.norm(self._target, axis=1)
-                                          / np.linalg.norm(other._target, axis=1))[:, np.newaxis]
-        return other
+            scale = self._scale * (np.linalg.norm(self._target, axis=1)
+                                   / np.linalg.norm(normalised, axis=1))[:, np.newaxis]
+        return self._evolve(target=target, level=level, _target=normalised, _scale=scale)
+
+    def with_level(self, factor) -> "PSDObjective":
+        """The same misfit with the measured PSD read ``factor`` times larger (a unit mix-up undone)."""
+        return self._evolve(level=self.level * factor)
 
     def residuals(self, msd, *, model=None, steps=None):
         """Residual vector r (Σ r² = J) for an MSD model, or for no HSI with ``msd=None``.
@@ -284,7 +315,6 @@ class PSDObjective:
         ``model`` replaces the objective's own forward model (e.g. one for another crowd);
         ``steps`` = (μ_fs, σ_fs) uses :meth:`model_for` those step frequencies.
         """
-        self.evaluations += 1
         modelled = self.modelled(msd, model=model, steps=steps)
         if self.wishart is not None:
             return self.wishart.residuals(modelled)

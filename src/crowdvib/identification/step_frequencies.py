@@ -153,7 +153,7 @@ def estimate_step_frequencies(measured: ResponsePSD, structure: ModalModel, crow
         # The load spectrum depends on (μ_fs, σ_fs): one forward model per evaluation, no HSI.
         return objective.residuals(None, model=objective.spectral_model(to_crowd(theta)))
 
-    best, runs = _multistart(residuals, points, lower, upper, objective)
+    best, runs = _multistart(residuals, points, lower, upper)
     active, success, table = _diagnose(best, runs, STEP_PARAMETERS, lower, upper,
                                        "the step-frequency optimum sits on a bound",
                                        "check the band and cut-off")
