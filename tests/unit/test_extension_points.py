@@ -1,7 +1,7 @@
 """Open extension points (issue 26 §3): a walking-force model written outside the package, and
 the force chosen by a case file (docs: theory, The walking force)."""
 
-import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -9,6 +9,9 @@ import pytest
 from crowdvib import (MSDModel, ParameterError, YoungForce, ZivanovicForce, estimate_hsi,
                       response_psd, simulate)
 from crowdvib.io.casefile import load_case
+from crowdvib.io.femodes import read_fe_modes
+from crowdvib.io.formats import file_formats, suffix_format
+from crowdvib.io.records import RECORD_FORMATS, Record, read_record, write_record
 from crowdvib.models.loading import STANDARD_GRAVITY, ForceModel
 from crowdvib.models.measured import MeasuredForce
 from tests.unit.test_casefile import write_case
@@ -140,3 +143,46 @@ def test_case_bad_force_names_key_and_choices(tmp_path, value, shown):
             else "must be a string")
     with pytest.raises(ParameterError, match=f"^beam.toml: force {rule}, got {shown}"):
         _case(tmp_path, f"force = {value}")
+
+
+# ------------------------------------------------------------------ the formats table
+def _writable(data):
+    """(format name, file name) for every suffix of every format with a writer; a format known
+    by name only (MATLAB v7.3 shares .mat with v5) under a file of its own."""
+    return [(row.name, f"file{suffix}") for row in file_formats(data).values()
+            if row.writer is not None for suffix in (row.suffixes or (f"_{row.name}.mat",))]
+
+
+@pytest.mark.parametrize("name, filename", _writable("record"))
+def test_every_record_format_round_trips(tmp_path, name, filename):
+    # issue 26 §3: the table drives read_record/write_record; a format found by its suffix reads
+    # back what was written (float64: exactly, apart from CSV's and UFF's 17-digit text).
+    row = file_formats("record")[name]
+    record = Record(np.random.default_rng(1).normal(size=(2, 300)), 100.0, ["deck", "pier"])
+    path = write_record(record, tmp_path / filename, format=None if row.suffixes else name)
+    back = read_record(path, format=None if row.suffixes else name)
+    assert back.channel_names == ("deck", "pier") and back.sample_rate == pytest.approx(100.0)
+    np.testing.assert_allclose(back.data, record.data, rtol=1e-12)
+
+
+@pytest.mark.parametrize("name, filename", _writable("modes"))
+def test_every_modal_format_round_trips(tmp_path, paper_bridge, name, filename):
+    # docs/casefiles.rst, [structure] modal_table/mode_shapes/output_points: what the table's writer
+    # writes, its reader reads back (issue 26 §3).
+    row = file_formats("modes")[name]
+    table, shapes, points = (tmp_path / f"{stem}{Path(filename).suffix}"
+                             for stem in ("modes", "shapes", "points"))
+    row.writer(paper_bridge, table, shapes, points)
+    back = row.reader(table, shapes, width=paper_bridge.width, output_points=points)
+    np.testing.assert_allclose(back.frequencies, paper_bridge.frequencies, rtol=1e-9)
+    np.testing.assert_allclose(back.modal_masses, paper_bridge.modal_masses, rtol=1e-9)
+    np.testing.assert_allclose(back.mode_shapes, paper_bridge.mode_shapes, rtol=1e-9, atol=1e-12)
+    assert back.output_names == paper_bridge.output_names
+
+
+def test_formats_table_drives_suffixes():
+    # The table is the one place of suffixes: records, modal files and the CLI read it.
+    assert RECORD_FORMATS == {n: row.suffixes for n, row in file_formats("record").items()}
+    assert suffix_format("walk.UNV", "record").name == "uff"
+    assert suffix_format("modes.unv", "modes").reader is read_fe_modes
+    assert suffix_format("modes.xyz", "modes") is None

@@ -24,10 +24,12 @@ from ..models.structure import ModalModel
 from .._files import require_file
 from ._common import quote, reading
 from .csvtables import number_columns, output_rows, quietly_built, read_csv_table, require_columns
+from .formats import FileFormat, file_formats, register_format
 
 __all__ = ["UFF_SUFFIXES", "FEModes", "read_fe_modes"]
 
-UFF_SUFFIXES = (".uff", ".unv")
+#: A UFF file's suffixes: the formats table's (io.formats.FORMATS), shared with UFF 58 records.
+UFF_SUFFIXES = file_formats("record")["uff"].suffixes
 AXES = ("x", "y", "z")
 #: Modal masses within this of 1 mark a mass-normalised export.
 UNIT_MASS_TOLERANCE = 1e-4
@@ -377,3 +379,8 @@ def _checked(path, nodes, coordinates, shapes, table):
                       stacklevel=4)
     return FEModes(nodes=nodes, coordinates=coordinates, shapes=shapes, frequencies=table[:, 0],
                    damping_ratios=table[:, 1], modal_masses=table[:, 2], source=name)
+
+
+# FE normal modes in the formats table (read only: crowdvib writes modal models as CSV).
+register_format(FileFormat("uff", "modes", UFF_SUFFIXES, "a UFF 15 + 55", read_fe_modes,
+                           extra="uff"))

@@ -34,7 +34,9 @@ import io
 import itertools
 import re
 import warnings
+from collections.abc import Callable
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -43,7 +45,8 @@ from ..errors import DataError, ParameterError
 from ._common import quote, quote_names, sample_rate_from_time, stated_rate, where
 from ._matv5 import check_mat_v5
 
-__all__ = ["READERS", "WRITERS", "check_names"]
+__all__ = ["FileFormat", "FORMATS", "register_format", "file_formats", "suffix_format",
+           "check_names"]
 
 _MAT73_HEADER = b"MATLAB 7.3 MAT-file, Platform: crowdvib, Created by: crowdvib HDF5 schema 1.00 ."
 # A UFF data set starts and ends with the tag "    -1" closing a line (binary data run up to the
@@ -437,8 +440,6 @@ def _read_uff(path, *, sample_rate, time_column):
                          rate_source="the given sample_rate (measurement.sample_rate)")
 
 
-READERS = {"csv": _read_csv, "npz": _read_npz, "mat": _read_mat, "mat73": _read_mat73,
-           "uff": _read_uff}
 
 
 # ------------------------------------------------------------------------------------ writers
@@ -557,5 +558,53 @@ def check_names(names, kind):
                              f"{quote(name)}: rename it, or write CSV or NPZ")
 
 
-WRITERS = {"csv": _write_csv, "npz": _write_npz, "mat": _write_mat, "mat73": _write_mat73,
-           "uff": _write_uff}
+# ------------------------------------------------------------------------- the formats table
+class FileFormat(NamedTuple):
+    """One row of the table of file formats crowdvib reads and writes (issue 26 §3)."""
+
+    #: What the format is called (``format=`` of read_record, ``measurement.format``).
+    name: str
+    #: What the file holds: "record" (acceleration channels) or "modes" (a modal model).
+    data: str
+    #: File suffixes, lower case; the first is the one written (empty: chosen by name only).
+    suffixes: tuple
+    #: How messages name a file of it ("a CSV").
+    description: str
+    #: The reader; for records ``reader(path, *, sample_rate, time_column)`` → (columns, meta).
+    reader: Callable
+    #: The writer, or None; for records ``writer(record, path, dtype)``.
+    writer: Callable | None = None
+    #: The pip extra the format needs (``pip install 'crowdvib[extra]'``), or None.
+    extra: str | None = None
+
+
+#: Every format, keyed by (data, name): records here, modal files registered by modalfiles.py.
+FORMATS: dict[tuple[str, str], FileFormat] = {}
+
+
+def register_format(row: FileFormat) -> FileFormat:
+    """Add a row to :data:`FORMATS` (a format of the same data and name is replaced)."""
+    FORMATS[row.data, row.name] = row
+    return row
+
+
+def file_formats(data: str) -> dict[str, FileFormat]:
+    """The formats of one kind of data ("record" or "modes"), by name, in table order."""
+    return {name: row for (kind, name), row in FORMATS.items() if kind == data}
+
+
+def suffix_format(path, data: str) -> FileFormat | None:
+    """The format of ``data`` whose suffixes hold ``path``'s suffix (case-blind), or None."""
+    suffix = Path(path).suffix.lower()
+    return next((row for row in file_formats(data).values() if suffix in row.suffixes), None)
+
+
+for _row in (FileFormat("csv", "record", (".csv", ".txt"), "a CSV", _read_csv, _write_csv),
+             FileFormat("npz", "record", (".npz",), "an NPZ", _read_npz, _write_npz),
+             FileFormat("mat", "record", (".mat",), "a MATLAB", _read_mat, _write_mat),
+             # v7.3 shares .mat with v5: read_record tells them apart by the header.
+             FileFormat("mat73", "record", (), "a MATLAB v7.3", _read_mat73, _write_mat73,
+                        "mat73"),
+             FileFormat("uff", "record", (".uff", ".unv"), "a UFF 58", _read_uff, _write_uff,
+                        "uff")):
+    register_format(_row)

@@ -23,7 +23,8 @@ from .._files import atomic_path
 from ..errors import DataError, ParameterError
 from ..models.structure import ModalModel
 from .csvtables import number_columns, output_rows, quietly_built, read_csv_table, require_columns
-from .femodes import UFF_SUFFIXES, FEModes, read_fe_modes
+from .femodes import FEModes, read_fe_modes
+from .formats import FileFormat, register_format, suffix_format
 
 __all__ = ["read_modal_model", "write_modal_model"]
 
@@ -79,14 +80,15 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
         raise ParameterError(f"{option!r} is not an option of read_modal_model"
                              f"{f' (did you mean {guess[0]!r}?)' if guess else ''}; the FE "
                              f"options are {sorted(known)}")
-    fe_route = Path(modal_table).suffix.lower() in UFF_SUFFIXES or (
+    uff = getattr(suffix_format(modal_table, "modes"), "name", None) == "uff"
+    fe_route = uff or (
         mode_shapes is not None and Path(mode_shapes).is_file()
         and "node" in read_csv_table(mode_shapes)[0])
     if fe_route:
         if output_points is not None:
             raise ParameterError("output_points is for station CSVs; name FE outputs with "
                                  "output_nodes (name → node number) or outputs (name → x)")
-        if Path(modal_table).suffix.lower() in UFF_SUFFIXES:
+        if uff:
             if mode_shapes is not None:
                 raise ParameterError("mode_shapes must be None with a UFF file (it holds them)")
             modes = read_fe_modes(modal_table)
@@ -175,3 +177,8 @@ def write_modal_model(structure, modal_table, mode_shapes, output_points=None, *
     if output_points is not None:
         write(output_points, ["name"] + modes,
               [[n] + list(row) for n, row in zip(structure.output_names, structure.output_shapes)])
+
+
+# The modal table and mode shapes as CSV in the formats table (io.formats.FORMATS).
+register_format(FileFormat("csv", "modes", (".csv",), "a modal table CSV", read_modal_model,
+                           write_modal_model))

@@ -32,16 +32,13 @@ from ..models.loading import STANDARD_GRAVITY
 from .._files import require_file
 from ._common import (quote, quote_names, reading, same_rate, sample_rate_from_time,
                       where)
-from .formats import READERS, WRITERS, check_names
+from .formats import check_names, file_formats, suffix_format
 
 __all__ = ["Record", "read_record", "write_record", "check_record", "merge_records",
            "RECORD_FORMATS", "convert_units"]
 
-#: File formats by name → file suffixes.
-RECORD_FORMATS = {"csv": (".csv", ".txt"), "npz": (".npz",), "mat": (".mat",),
-                  "mat73": (), "uff": (".uff", ".unv")}
-_FORMAT_NAMES = {"csv": "a CSV", "npz": "an NPZ", "mat": "a MATLAB", "mat73": "a MATLAB v7.3",
-                 "uff": "a UFF 58"}
+#: Record file formats by name → file suffixes (from the formats table, io.formats.FORMATS).
+RECORD_FORMATS = {name: row.suffixes for name, row in file_formats("record").items()}
 _UNIT_ALIASES = {"m/s2": "m/s2", "m/s^2": "m/s2", "m/s²": "m/s2", "m s-2": "m/s2", "mps2": "m/s2",
                  "g": "g", "g0": "g"}
 
@@ -352,10 +349,9 @@ def _format_of(path, format):
         if format not in RECORD_FORMATS:
             raise ParameterError(f"format must be one of {list(RECORD_FORMATS)}, got {format!r}")
         return format
-    suffix = Path(path).suffix.lower()
-    for name, suffixes in RECORD_FORMATS.items():
-        if suffix in suffixes:
-            return name
+    row = suffix_format(path, "record")
+    if row is not None:
+        return row.name
     raise ParameterError(f"cannot tell the format of {Path(path).name!r} from its suffix: "
                          f"give format= one of {list(RECORD_FORMATS)}")
 
@@ -398,8 +394,9 @@ def read_record(path: str | os.PathLike, *, format: str | None = None,
         _unit_key(units, "")
     # The one guard of every reader: whatever goes wrong in the file, the caller gets a
     # DataError naming it (a unit or sample rate stored in the file included).
-    with reading(path, _FORMAT_NAMES[kind]):
-        columns, meta = READERS[kind](path, sample_rate=sample_rate, time_column=time_column)
+    row = file_formats("record")[kind]
+    with reading(path, row.description):
+        columns, meta = row.reader(path, sample_rate=sample_rate, time_column=time_column)
         unit = units if units is not None else (meta.get("units") or "m/s2")
         _unit_key(unit, f"{path.name}: ")
         record = _assemble(path, columns, sample_rate=meta.get("sample_rate"),
@@ -432,5 +429,5 @@ def write_record(record: Record, path: str | os.PathLike, *, format: str | None 
         raise ParameterError(f"dtype must be 'float32' or 'float64', got {dtype!r}")
     kind = _format_of(path, format)
     check_names(record.channel_names, kind)
-    WRITERS[kind](record, Path(path), np.dtype(dtype).type)
+    file_formats("record")[kind].writer(record, Path(path), np.dtype(dtype).type)
     return Path(path)
