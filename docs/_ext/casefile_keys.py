@@ -5,8 +5,8 @@ Every key a case file may hold is read in the parser by a call such as
 ``table.number("window_length", 60.0, rule="positive")``. This extension reads those calls from
 the parser's source (its syntax tree, so nothing can drift: a key added to the parser appears
 here, one removed disappears) and writes ``generated/casefile_keys.rst``: one table per section
-with each key's type, default, rule and unit. Units come from the report's table of quantities,
-the one place crowdvib names them.
+with each key's type, default, rule and unit. Units come from crowdvib.quantities, the one
+table of quantities that the results, the report and the docs share.
 """
 
 import ast
@@ -174,9 +174,9 @@ def write_reference(source_paths, units, target):
 
 
 def _generate(app):
-    from crowdvib.reporting.html import _QUANTITIES
+    from crowdvib.quantities import QUANTITIES
 
-    write_reference(parser_sources(), _QUANTITIES,
+    write_reference(parser_sources(), QUANTITIES,
                     Path(app.srcdir) / "generated" / "casefile_keys.rst")
 
 

@@ -128,3 +128,25 @@ def test_joint_estimate_counts_every_records_evaluations(measured):
     assert joint.n_evaluations == 2 * single.n_evaluations
     assert joint.cost == pytest.approx(2 * single.cost, rel=1e-9)
     assert joint.msd.frequency == pytest.approx(single.msd.frequency, rel=1e-6)
+
+
+def test_results_report_and_reference_share_one_vocabulary(measured):
+    # Issue 26 §4: one table of quantities in the core, read by the result, the report's labels
+    # and the docs' case-file reference (docs/_ext/casefile_keys.py).
+    from crowdvib.quantities import QUANTITIES, describe, unit
+    from crowdvib.reporting.html import label
+
+    assert unit("step_frequency_mean") == "Hz" and unit("damping_ratio") == "-"
+    assert unit("no_such_key") is None
+    assert label("walking_speed") == describe("walking_speed") == "walking speed [m/s]"
+    with pytest.raises(TypeError):
+        QUANTITIES["walking_speed"] = ("speed", "km/h")     # read-only: one table for all
+    estimate = _run(measured, "likelihood/smeared/True/wald")
+    lines = estimate.summary().splitlines()
+    # RECORDED (commit 89c377c): μ_fs = 1.888892... Hz, its Wald interval from the covariance.
+    low, high = estimate.interval("step_frequency_mean")
+    assert lines[2] == (f"mean step frequency [Hz]: {1.888892264946516:.4g} "
+                        f"(95% interval {low:.4g} – {high:.4g})")
+    assert [line.split(":")[0] for line in lines] == [
+        "frequency [Hz]", "damping ratio [-]", "mean step frequency [Hz]",
+        "step-frequency spread [Hz]"]

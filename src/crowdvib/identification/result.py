@@ -12,6 +12,7 @@ import numpy as np
 from scipy import stats
 
 from ..errors import ParameterError
+from ..quantities import describe
 
 if TYPE_CHECKING:
     from ..models.crowd import Crowd
@@ -151,6 +152,18 @@ class HSIEstimate:
         half = stats.norm.ppf(0.5 + level / 2) * self.standard_errors[parameter]
         low, high = self.bounds[parameter]
         return (max(value - half, low), min(value + half, high))
+
+    def summary(self) -> str:
+        """One line per free parameter: its words and unit (:mod:`crowdvib.quantities`), the
+        estimate and, with a covariance, its interval at ``interval_level``."""
+        lines = []
+        for name in self.free_parameters:
+            text = f"{describe(name)}: {self.value(name):.4g}"
+            if self.covariance is not None:
+                low, high = self.interval(name, self.interval_level)
+                text += f" ({self.interval_level:.0%} interval {low:.4g} – {high:.4g})"
+            lines.append(text)
+        return "\n".join(lines)
 
     def __repr__(self):
         parts = []

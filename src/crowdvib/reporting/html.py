@@ -11,6 +11,8 @@ import json
 import numpy as np
 from markupsafe import Markup, escape
 
+from ..quantities import describe
+
 __all__ = ["html", "join", "escape", "number", "value", "label", "span", "table", "page", "CSS"]
 
 
@@ -44,45 +46,10 @@ _TITLES = {"hsi": "HSI (MSD model)", "msd": "MSD model", "crowd_used": "crowd us
            "truth": "truth (MSD of the synthetic measurement)"}
 
 
-#: JSON keys of results and case files → (words, unit) for a reader; "-" is dimensionless.
-_QUANTITIES = {
-    "frequency": ("frequency", "Hz"), "frequencies": ("natural frequencies", "Hz"),
-    "damping_ratio": ("damping ratio", "-"), "damping_ratios": ("damping ratios", "-"),
-    "mass_ratio": ("mass ratio", "-"), "modal_masses": ("modal masses", "kg"),
-    "modal_mass": ("modal mass", "kg"), "modal_mass_ratios": ("crowd-to-mode mass ratios", "-"),
-    "length": ("walkway length", "m"), "span": ("span", "m"), "width": ("walkway width", "m"),
-    "n_lanes": ("lanes", "-"), "density": ("crowd density", "persons/m²"),
-    "walking_speed": ("walking speed", "m/s"),
-    "step_frequency_mean": ("mean step frequency", "Hz"),
-    "step_frequency_std": ("step-frequency spread", "Hz"), "body_mass": ("body mass", "kg"),
-    "body_mass_std": ("body-mass spread", "kg"),
-    "forward_fraction": ("walkers in the forward direction", "-"),
-    "sample_rate": ("sample rate", "Hz"), "record_sample_rate": ("stored sample rate", "Hz"),
-    "time_frame": ("time frame", "s"), "lowpass_cutoff": ("low-pass cut-off", "Hz"),
-    "lowpass_order": ("low-pass order", "-"), "window_length": ("Welch window T", "s"),
-    "overlap": ("window overlap", "-"), "band": ("analysis band", "Hz"),
-    "cutoff": ("low-pass cut-off", "Hz"), "duration": ("duration", "s"),
-    "duration_s": ("duration", "s"), "warm_up": ("warm-up", "s"),
-    "rms": ("RMS acceleration", "m/s²"), "elapsed_s": ("run time", "s"),
-    "n_windows": ("Welch windows", "-"), "level": ("confidence level", "-"),
-    "output_weights": ("output weights γ", "-"), "weights": ("output weights γ", "-"),
-    "n_samples": ("samples", "-"), "start_time": ("start time", "s"),
-    "starts": ("starting points (f_h1, ξ_h1[, μ_h1])", "Hz, -, -"),
-    "mean_on_deck": ("mean number on the deck", "-"), "n_pedestrians": ("pedestrians", "-"),
-    "time_step": ("time step", "s"), "peak": ("peak acceleration", "m/s²"),
-    "k4": ("exposure factor k4", "-"), "n_boot": ("bootstrap refits", "-"),
-}
-
-
 def label(key):
     """A JSON key as a human label with its unit, e.g. "walking speed [m/s]" (plain text)."""
     key = str(key)
-    if key in _TITLES:
-        return _TITLES[key]
-    if key in _QUANTITIES:
-        words, unit = _QUANTITIES[key]
-        return f"{words} [{unit}]"
-    return key.replace("_", " ")
+    return _TITLES.get(key) or describe(key)
 
 
 def value(data, depth=0):
