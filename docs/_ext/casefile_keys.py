@@ -27,6 +27,8 @@ KINDS = {"number": "number", "numbers": "number or list of numbers", "string": "
 RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across lanes)",
          "measurement.channels": "a table output name = \"channel in file\"",
          "measurement.time_frame": "[start, end] with start >= 0",
+         "measurement.format": "a record format of the formats table (io.formats.FORMATS): "
+                               "csv, npz, mat, mat73 or uff; default from the suffix",
          "measurement.overlap": "in [0, 1)", "measurement.filter.order": "an integer >= 1",
          "measurement.filter.cutoff": "> 0, or false for no filter",
          "estimation.level": "in (0, 1): a fraction, not percent",

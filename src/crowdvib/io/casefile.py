@@ -265,8 +265,7 @@ def _measurement(table, path):
     if not overlap < 1:
         raise table.error("overlap", "must lie in [0, 1)", overlap)
     spec = MeasurementSpec(
-        files=tuple(resolved), format=table.string("format", None,
-                                                   choices=("csv", "npz", "mat", "mat73", "uff")),
+        files=tuple(resolved), format=table.string("format", None, choices=tuple(RECORD_FORMATS)),
         channels=channels, units=units,
         sample_rate=table.number("sample_rate", None, rule="positive"),
         time_column=table.string("time_column", "time"), time_frame=frame,

@@ -352,11 +352,16 @@ def _read_mat(path, *, sample_rate, time_column):
                            channels_last=True)
 
 
+def _install(name):
+    """How to get a record format's optional dependency (the table's ``extra``)."""
+    return f"pip install 'crowdvib[{FORMATS['record', name].extra}]'"
+
+
 def _h5py():
     try:
         import h5py
     except ImportError:
-        raise ImportError("MATLAB v7.3 files need h5py: pip install 'crowdvib[mat73]'") from None
+        raise ImportError(f"MATLAB v7.3 files need h5py: {_install('mat73')}") from None
     return h5py
 
 
@@ -392,7 +397,7 @@ def _pyuff():
     try:
         import pyuff
     except ImportError:
-        raise ImportError("UFF files need pyuff: pip install 'crowdvib[uff]'") from None
+        raise ImportError(f"UFF files need pyuff: {_install('uff')}") from None
     return pyuff
 
 
