@@ -96,6 +96,22 @@ def test_user_force_estimate_recovers_msd(paper_bridge, paper_crowd, paper_msd):
     assert estimate.msd.damping_ratio == pytest.approx(0.30, rel=1e-2)
 
 
+def test_user_force_modal_load_psd_and_plot(paper_bridge, paper_crowd):
+    # docs: theory, Modal load PSD of a Poisson crowd: G_QQ = Ψ s(f), Ψ₁₁ = 37.5; the load figure
+    # draws it for a user's model too (it has no modal_load_psd method of its own).
+    import matplotlib
+    matplotlib.use("Agg")
+    from crowdvib.models.loading import modal_load_psd
+    from crowdvib.response.plots import plot_load_psd
+
+    force, frequency = SingleHarmonic(), np.array([1.5, 1.89, 2.2])
+    psd = modal_load_psd(force, frequency, paper_crowd, paper_bridge)
+    np.testing.assert_allclose(psd[:, 0, 0], 37.5 * force.load_spectrum(frequency, paper_crowd),
+                               rtol=1e-12)
+    ax = plot_load_psd(frequency, paper_crowd, structure=paper_bridge, force=force)
+    np.testing.assert_allclose(ax.lines[0].get_ydata(), psd[:, 0, 0], rtol=1e-12)
+
+
 def test_force_lacking_members_is_refused(paper_bridge, paper_crowd):
     # The error names what the caller needs (issue 26 §3): load_spectrum for the spectral model.
     class NoSpectrum:

@@ -28,7 +28,7 @@ if TYPE_CHECKING:
     from .structure import ModalModel
 
 __all__ = ["ForceModel", "WalkingForce", "ZivanovicForce", "YoungForce", "STANDARD_GRAVITY",
-           "as_force_model"]
+           "as_force_model", "modal_load_psd"]
 
 #: Gravitational acceleration g [m/s²] used to turn body mass into weight (docs: theory, Conventions).
 STANDARD_GRAVITY = 9.81
@@ -146,8 +146,7 @@ class WalkingForce:
     def modal_load_psd(self, frequency: ArrayLike, crowd: Crowd,
                        structure: ModalModel) -> np.ndarray:
         """One-sided modal-load cross-PSD G_QQ(f) [N²/Hz], shape (n_f, n_modes, n_modes)."""
-        psi = structure.influence_matrix(crowd.density)
-        return self.load_spectrum(frequency, crowd)[:, np.newaxis, np.newaxis] * psi
+        return modal_load_psd(self, frequency, crowd, structure)
 
     def time_history(self, time: ArrayLike, step_frequency: float, body_mass: float,
                      rng: int | np.random.Generator | None = None) -> np.ndarray:
@@ -170,6 +169,14 @@ class WalkingForce:
         t = np.asarray(time, dtype=float)[..., np.newaxis]
         waves = np.sin(2 * np.pi * self.ratios * step_frequency * t + phases[0])
         return body_mass * STANDARD_GRAVITY * waves @ amplitudes[0]
+
+
+def modal_load_psd(force: ForceModel, frequency: ArrayLike, crowd: Crowd,
+                   structure: ModalModel) -> np.ndarray:
+    """One-sided modal-load cross-PSD G_QQ(f) = Ψ s(f) [N²/Hz] of any force model, shape
+    (n_f, n_modes, n_modes) (docs: theory, Modal load PSD of a Poisson crowd)."""
+    psi = structure.influence_matrix(crowd.density)
+    return np.asarray(force.load_spectrum(frequency, crowd))[:, np.newaxis, np.newaxis] * psi
 
 
 def _check_scale(scale):

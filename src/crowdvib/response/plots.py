@@ -10,7 +10,7 @@ import numpy as np
 
 from .._figures import DARK, LIGHT, axes_or_new, in_band, panels, positive_or_nan
 from ..errors import ParameterError
-from ..models.loading import as_force_model
+from ..models.loading import as_force_model, modal_load_psd
 from ..signals.weighting import running_rms, weight_wb
 
 __all__ = ["plot_load_psd", "plot_hsi_effect", "plot_frf", "plot_time_history"]
@@ -28,7 +28,7 @@ def plot_load_psd(frequency, crowd, *, structure=None, force=None, ax=None, titl
     structure : ModalModel, optional
         With a structure, the modal load PSD G_F,jj(f) = Ψ_jj s(f) of each mode [N²/Hz] (the
         paper's G_F); without, the crowd-load spectrum per unit influence s(f) [N²/Hz].
-    force : ZivanovicForce or YoungForce, optional
+    force : ZivanovicForce, YoungForce or any models.loading.ForceModel, optional
         Walking force model (default Živanović 2007).
     ax : matplotlib.axes.Axes, optional
     title : str, optional
@@ -44,7 +44,7 @@ def plot_load_psd(frequency, crowd, *, structure=None, force=None, ax=None, titl
         curves = {"s(f), per unit influence": force.load_spectrum(frequency, crowd)}
         ylabel = "Load PSD s [N²/Hz]"
     else:
-        modal = force.modal_load_psd(frequency, crowd, structure)
+        modal = modal_load_psd(force, frequency, crowd, structure)
         curves = {f"mode {j + 1} ({structure.frequencies[j]:g} Hz)": modal[:, j, j]
                   for j in range(structure.n_modes)}
         ylabel = "Modal load PSD $G_F$ [N²/Hz]"
