@@ -7,7 +7,8 @@ a :class:`~crowdvib.io.casefile.Case` thus gets what the command gets:
 - :func:`estimate_case` (``crowdvib estimate``), from :func:`measure_case`, :func:`case_crowd`
   and :func:`estimate_options`;
 - :func:`map_case` (``crowdvib map``);
-- :func:`check_case` (``crowdvib check``).
+- :func:`check_case` (``crowdvib check``);
+- :func:`simulate_case` (``crowdvib simulate``).
 
 The names load with their module on first use: the command line imports
 :mod:`crowdvib.cases.results` at start-up and the rest only when a command runs.
@@ -24,6 +25,7 @@ _MODULES = {
                      "map_case"), "estimate"),
     **dict.fromkeys(("CaseCheck", "check_case", "check_design_table", "design_msd",
                      "verdict_rows"), "design"),
+    **dict.fromkeys(("CaseSimulation", "simulation_msd", "simulate_case"), "simulation"),
 }
 
 __all__ = ["DESIGN_TABLES", "ESTIMATION_TABLES", "SIMULATION_TABLES", "software_versions",

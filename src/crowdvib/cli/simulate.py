@@ -3,11 +3,10 @@
 import time
 from pathlib import Path
 
-from .._version import __version__
 from .._files import unique_filenames, write_json
 from ..reporting.report import provenance, write_report
-from .common import (SIMULATION_TABLES, add_output_arguments, case_inputs, progress_printer,
-                     record_formats, say, say_if_compiling, say_verdict, staged_output, versions)
+from .common import (add_output_arguments, case_inputs, progress_printer, record_formats, say,
+                     say_if_compiling, say_verdict, staged_output)
 
 
 def add_arguments(parser):
@@ -28,19 +27,19 @@ def add_arguments(parser):
 
 
 def run(args):
+    from ..cases.simulation import simulate_case, simulation_msd
     from ..io.casefile import load_case, paper_example_case
-    from ..io.records import RECORD_FORMATS, Record, write_record
+    from ..io.records import RECORD_FORMATS, write_record
     from ..reporting.plotting import plot_psd_comparison, plot_time_history, save_figure
-    from ..response.simulation import simulate
-    from ..signals import resample, welch_psd
+    from ..signals import welch_psd
 
     case = paper_example_case() if args.case is None else load_case(args.case)
     spec = case.simulation
     formats = spec.formats if args.format is None else args.format
     duration = spec.duration if args.duration_s is None else args.duration_s
     sample_rate = spec.sample_rate if args.sample_rate is None else args.sample_rate
-    seed = case.seed if args.seed is None else args.seed
-    msd = None if (args.no_hsi or not spec.hsi) else _simulation_msd(case)
+    hsi = spec.hsi and not args.no_hsi
+    msd = simulation_msd(case) if hsi else None
     pedestrians = ("moving forces only (no HSI)" if msd is None else
                    f"MSD pedestrians f_h1 = {msd.frequency:g} Hz, ξ_h1 = {msd.damping_ratio:g}, "
                    f"μ_h1 = {msd.mass_ratio:g}")
@@ -48,16 +47,12 @@ def run(args):
     with staged_output(args.out, args.force, command="simulate",
                        inputs=case_inputs(case)) as staging:
         started = time.perf_counter()
-        say_if_compiling(case.structure, msd is not None)
-        simulation = simulate(case.structure, case.crowd, duration, msd=msd,
-                              sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up,
-                              progress=progress_printer(
+        say_if_compiling(case.structure, hsi)
+        found = simulate_case(case, duration=duration, sample_rate=sample_rate, seed=args.seed,
+                              hsi=hsi, progress=progress_printer(
                                   f"simulated (after {spec.warm_up:g} s warm-up)",
                                   offset=spec.warm_up))
-        data, rate = simulation.acceleration, sample_rate
-        if spec.record_sample_rate is not None:
-            data, rate = resample(data, rate, spec.record_sample_rate)
-        record = Record(data=data, sample_rate=rate, channel_names=simulation.output_names)
+        simulation, record = found.simulation, found.record
         files = []
         for fmt in formats:
             suffix = "_v73.mat" if fmt == "mat73" else RECORD_FORMATS[fmt][0]
@@ -65,42 +60,24 @@ def run(args):
                                       dtype=spec.dtype).name)
         elapsed = time.perf_counter() - started
         window = min(case.measurement.window_length, record.duration)
-        psd = welch_psd(record.data, rate, window_length=window,
+        psd = welch_psd(record.data, record.sample_rate, window_length=window,
                         output_names=record.channel_names)
         # Every output on the PSD figure, named; one time history per output.
         figures = [save_figure(plot_psd_comparison(
             {name: psd.select(name) for name in psd.output_names},
-            band=(0.0, min(rate / 2, 12.0)), title=f"{case.name}: simulated record (Welch PSD)"),
-            staging / "psd.png").name]
+            band=(0.0, min(record.sample_rate / 2, 12.0)),
+            title=f"{case.name}: simulated record (Welch PSD)"), staging / "psd.png").name]
         names = unique_filenames(simulation.output_names, prefix="time_history_", suffix=".png",
                                  taken=("psd.png",))
         for name in simulation.output_names:
             figures.append(save_figure(plot_time_history(
                 simulation, output=name, title=f"{case.name}: simulated time history at {name}"),
                 staging / names[name]).name)
-        results = {"command": "simulate", "crowdvib_version": __version__,
-                   "versions": versions(), "seed": int(simulation.seed),
-                   "case": None if case.path is None else str(case.path),
-                   "inputs": case.to_dict(SIMULATION_TABLES),
-                   "msd": None if msd is None else msd.to_dict(),
-                   "duration": duration, "sample_rate": sample_rate,
-                   "record": {**record.to_dict(), "files": files},
-                   "response": simulation.summary(window=1.0),
-                   "elapsed_s": elapsed, "figures": figures,
-                   **provenance(case.path)}
+        results = found.to_dict()
+        results["record"]["files"] = files
+        results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path)})
         write_json(staging / "results.json", results)
         write_report(staging)
     say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
     say_verdict(args.out)
     return 0
-
-
-def _simulation_msd(case):
-    """The MSD a case simulates with: its [expected] truth if given, else its [hsi] table."""
-    from ..models.pedestrian import MSDModel
-
-    expected = case.expected
-    if "frequency" in expected and "damping_ratio" in expected:
-        return MSDModel(expected["frequency"], expected["damping_ratio"],
-                        expected.get("mass_ratio", case.msd.mass_ratio))
-    return case.msd
