@@ -272,8 +272,8 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     parametrisation, the fit from every start, the objectives of the fitted crowd (when the
     step frequencies are free), the diagnostics, the covariance, the intervals, the result.
     """
-    free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
-    _check_options(mass_ratio, interval, n_boot, level)
+    free_mass_ratio, free_step_frequencies = _check_options(
+        mass_ratio, free_mass_ratio, free_step_frequencies, interval, n_boot, level)
     warn_notes([f"structure: {note}" for note in structure.implausibilities()], stacklevel=2)
     parameters = _parametrisation(bounds, mass_ratio, free_mass_ratio, free_step_frequencies)
     crowd = parts[0][0].model.crowd
@@ -324,9 +324,13 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         crowd=parts[0][0].model.crowd if free_step_frequencies else None)
 
 
-def _check_options(mass_ratio, interval, n_boot, level):
-    """The estimate's options, each against its rule (ParameterError naming it)."""
+def _check_options(mass_ratio, free_mass_ratio, free_step_frequencies, interval, n_boot, level):
+    """The estimate's options, each against its rule (ParameterError naming it) → the two
+    switches as booleans."""
     MSDModel(mass_ratio=mass_ratio)  # validates mass_ratio with the model's own rule
+    # A switch given as "no" or 0 must not be read by its truth value ("no" frees μ_h1).
+    free_mass_ratio = check_flag("free_mass_ratio", free_mass_ratio)
+    free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
     if interval not in INTERVALS:
         raise ParameterError(f"interval must be one of {list(INTERVALS)}, got {interval!r}")
     if interval == "bootstrap" and not (isinstance(n_boot, (int, np.integer)) and n_boot >= 20):
@@ -334,12 +338,11 @@ def _check_options(mass_ratio, interval, n_boot, level):
                              f"{n_boot!r}")
     if not 0 < level < 1:
         raise ParameterError(f"level must lie in (0, 1), got {level!r}")
+    return free_mass_ratio, free_step_frequencies
 
 
 def _parametrisation(bounds, mass_ratio, free_mass_ratio, free_step_frequencies):
     """θ's names and bounds: (f_h1, ξ_h1), μ_h1 if free, (μ_fs, σ_fs) if free."""
-    # A switch given as "no" or 0 must not be read by its truth value ("no" frees μ_h1).
-    free_mass_ratio = check_flag("free_mass_ratio", free_mass_ratio)
     names = (_PARAMETERS if free_mass_ratio else _PARAMETERS[:2]) + (
         STEP_PARAMETERS if free_step_frequencies else ())
     limits = _merge_bounds(bounds, dict(DEFAULT_BOUNDS, **(
