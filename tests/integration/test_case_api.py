@@ -97,7 +97,7 @@ def test_study_options_leave_out_the_intervals():
 
 
 def test_check_case_gives_what_crowdvib_check_writes(tmp_path):
-    # The design checks of examples/check_paper.toml (docs: theory, Design checks with HSI).
+    # The design checks of examples/check_paper.toml (docs: theory, Design checks).
     from crowdvib.cases import CaseCheck, check_case
 
     case = load_case(EXAMPLES / "check_paper.toml")

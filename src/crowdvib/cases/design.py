@@ -1,5 +1,5 @@
 """``crowdvib check``'s work on a case: the design checks of its ``[design]`` table, without and
-with HSI, and the crowd stream's predicted response (docs: theory, *Design checks with HSI*)."""
+with HSI, and the crowd stream's predicted response (docs: :ref:`theory-design`)."""
 
 from __future__ import annotations
 
@@ -120,7 +120,7 @@ def check_case(case, *, msd=None, msd_source=None) -> CaseCheck:
     Parameters
     ----------
     case : Case
-        With a ``[design]`` table (docs: casefiles, *[design]*).
+        With a ``[design]`` table (docs: :doc:`/casefiles`).
     msd : MSDModel, optional
         The MSD of the HSI model (default :func:`design_msd`: the case's own).
     msd_source : str, optional

@@ -6,7 +6,7 @@ estimator's options; the functions here turn it into the objects ``crowdvib esti
 holding a case gets the same estimate as the command line, bit for bit. The command line only
 prints and writes what they return (issue 26 §1).
 
-The pipeline (docs: theory, *Estimating the MSD from a measured PSD*): read the records → select
+The pipeline (docs: :ref:`theory-estimator`): read the records → select
 the fitted outputs → zero-phase low-pass → Welch PSD → convergence of the PSD with the record
 length → step frequencies fitted below a cut-off (optional, the paper's Waalse Krook procedure)
 → estimate of f_h1, ξ_h1 (and μ_h1) with intervals.
@@ -126,7 +126,7 @@ class CaseEstimate:
 
     def to_dict(self) -> dict:
         """The results ``crowdvib estimate`` writes to results.json, without its figures and
-        provenance (docs: cli, *crowdvib estimate*)."""
+        provenance (docs: :doc:`/cli`)."""
         case, hsi = self.case, self.estimate.to_dict()
         diagnostics = {k: v for k, v in hsi.items() if k != "estimate"}
         head = {"command": "estimate", "crowdvib_version": __version__,
@@ -180,8 +180,8 @@ def measure_case(case) -> CaseMeasurement:
     CaseMeasurement
         The record of the outputs ``estimation.outputs`` (else every channel), the zero-phase
         low-pass filter of ``measurement.lowpass_cutoff`` (or None) and the Welch PSD of
-        ``measurement.window_length`` and ``overlap`` after it (docs: theory, *The measured
-        PSD*).
+        ``measurement.window_length`` and ``overlap`` after it (docs:
+        :ref:`theory-psd-conventions`).
 
     Raises
     ------
@@ -370,7 +370,7 @@ def map_case(case, *, frequencies, damping_ratios, progress=None, max_seconds=No
     case : Case
         One ``[measurement]`` (the map is of one record's objective).
     frequencies, damping_ratios : array_like
-        The grid of f_h1 [Hz] and ξ_h1 [-] (docs: theory, *The objective landscape*).
+        The grid of f_h1 [Hz] and ξ_h1 [-] (docs: :ref:`theory-objective-map`).
     progress : callable, optional
         ``progress(done, total)`` [grid points], as :func:`~crowdvib.identification.objective_map`.
     max_seconds : float, optional

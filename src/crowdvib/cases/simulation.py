@@ -1,5 +1,5 @@
 """``crowdvib simulate``'s work on a case: a time-domain record of its crowd crossing its
-structure, with or without HSI (docs: theory, *Time-domain simulation*)."""
+structure, with or without HSI (docs: :ref:`theory-crowd`, :ref:`theory-msd`)."""
 
 from __future__ import annotations
 
