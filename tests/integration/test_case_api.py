@@ -131,3 +131,23 @@ def test_simulate_case_gives_what_crowdvib_simulate_writes(tmp_path):
     record = read_record(tmp_path / "out" / "record.npz")
     stored = found.record.data.astype(case.simulation.dtype)
     assert record.data == pytest.approx(stored.astype(float), rel=1e-12, abs=0.0)
+
+
+def test_the_case_files_force_model_reaches_the_estimate(tmp_path):
+    # Case.force (the file's force = "young", docs: theory, Your own model) is the model the
+    # pipeline fits with: the estimate differs from the default Živanović one, and the command
+    # agrees with the library.
+    from crowdvib.models import YoungForce
+
+    text = (EXAMPLES / "paper_example.toml").read_text().replace(
+        "paper_example_record.npz", str(EXAMPLES / "paper_example_record.npz"))
+    path = tmp_path / "young.toml"
+    path.write_text('force = "young"\n' + text)
+    case = load_case(path)
+    assert isinstance(case.force, YoungForce)
+    young = estimate_case(case).estimate.msd
+    default = estimate_case(load_case(EXAMPLES / "paper_example.toml")).estimate.msd
+    assert abs(young.frequency / default.frequency - 1) > 1e-6
+    written = _written(tmp_path, ["estimate", str(path)])
+    assert written["estimate"]["frequency"] == pytest.approx(young.frequency, rel=1e-12)
+    assert written["estimate"]["damping_ratio"] == pytest.approx(young.damping_ratio, rel=1e-12)

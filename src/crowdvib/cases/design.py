@@ -148,7 +148,8 @@ def check_case(case, *, msd=None, msd_source=None) -> CaseCheck:
 
         crowd = case.crowd if spec.density is None else case.crowd.with_density(spec.density)
         prediction = predict_response(case.structure, crowd, msd=msd, dampers=dampers,
-                                      duration=spec.duration, weighting=spec.weighting)
+                                      duration=spec.duration, weighting=spec.weighting,
+                                      force=case.force)
     return CaseCheck(case, msd, msd_source, checks, dampers, prediction,
                      time.perf_counter() - started)
 

@@ -117,6 +117,7 @@ class CaseEstimate:
         part = self.records[0] if part is None else part
         est, measured = self.case.estimation, part.measurement.psd
         model = spectral_model(self.case.structure, crowd, measured.frequency,
+                               force=self.case.force,
                                outputs=part.measurement.record.channel_names,
                                welch_window_length=measured.window_length if est.match_welch
                                else None,
@@ -245,7 +246,8 @@ def case_crowd(case, record):
                              lowpass=low)
     fitted = estimate_step_frequencies(measured_low, case.structure, case.crowd, cutoff=sf.cutoff,
                                        band=sf.band, starts=sf.starts, bounds=sf.bounds,
-                                       outputs=sf.outputs, match_welch=est.match_welch)
+                                       outputs=sf.outputs, force=case.force,
+                                       match_welch=est.match_welch)
     return (fitted.crowd if sf.use_fitted else case.crowd), fitted
 
 
@@ -255,7 +257,7 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
     Parameters
     ----------
     case : Case
-        Its ``[estimation]`` table, its MSD's mass ratio and its seed.
+        Its ``[estimation]`` table, its MSD's mass ratio, its walking-force model and its seed.
     point_only : bool
         Leave out the interval options (``interval``, ``level``, ``n_boot``, ``rng``): for the
         studies, which compare point estimates.
@@ -267,7 +269,7 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
     est = case.estimation
     options = dict(band=est.band, outputs=est.outputs, output_weights=est.output_weights,
                    starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
-                   match_welch=est.match_welch, method=est.method)
+                   force=case.force, match_welch=est.match_welch, method=est.method)
     if not point_only:
         options.update(interval=None if est.interval == "none" else est.interval,
                        level=est.level, n_boot=est.n_boot, rng=case.seed)

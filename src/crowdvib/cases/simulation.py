@@ -93,8 +93,9 @@ def simulate_case(case, *, duration=None, sample_rate=None, seed=None, hsi=None,
     sample_rate = spec.sample_rate if sample_rate is None else sample_rate
     seed = case.seed if seed is None else seed
     msd = simulation_msd(case) if (spec.hsi if hsi is None else hsi) else None
-    simulation = simulate(case.structure, case.crowd, duration, msd=msd, sample_rate=sample_rate,
-                          rng=seed, warm_up=spec.warm_up, progress=progress)
+    simulation = simulate(case.structure, case.crowd, duration, msd=msd, force=case.force,
+                          sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up,
+                          progress=progress)
     data, rate = simulation.acceleration, sample_rate
     if spec.record_sample_rate is not None:
         data, rate = resample(data, rate, spec.record_sample_rate)
