@@ -8,7 +8,8 @@ a :class:`~crowdvib.io.casefile.Case` thus gets what the command gets:
   and :func:`estimate_options`;
 - :func:`map_case` (``crowdvib map``);
 - :func:`check_case` (``crowdvib check``);
-- :func:`simulate_case` (``crowdvib simulate``).
+- :func:`simulate_case` (``crowdvib simulate``);
+- :func:`identify_ambient` (``crowdvib modes``, on an ambient-test file).
 
 The names load with their module on first use: the command line imports
 :mod:`crowdvib.cases.results` at start-up and the rest only when a command runs.
@@ -26,6 +27,7 @@ _MODULES = {
     **dict.fromkeys(("CaseCheck", "check_case", "check_design_table", "design_msd",
                      "verdict_rows"), "design"),
     **dict.fromkeys(("CaseSimulation", "simulation_msd", "simulate_case"), "simulation"),
+    **dict.fromkeys(("AmbientModes", "identify_ambient"), "ambient"),
 }
 
 __all__ = ["DESIGN_TABLES", "ESTIMATION_TABLES", "SIMULATION_TABLES", "software_versions",

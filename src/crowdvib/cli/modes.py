@@ -41,15 +41,12 @@ given, ``results.json`` and ``report.html``. Modes the two methods disagree on a
 
 import csv
 import sys
-import time
 import warnings
 from pathlib import Path
 
-from .._version import __version__
 from .._files import write_json
 from ..reporting.report import write_report
-from .common import (add_output_arguments, say, say_verdict, staged_output, versions,
-                     warning_texts)
+from .common import add_output_arguments, say, say_verdict, staged_output, warning_texts
 
 
 def add_arguments(parser):
@@ -58,18 +55,6 @@ def add_arguments(parser):
                         help="also identify with the other method (EFDD for SSI-cov, and back) "
                              "and compare the modes")
     add_output_arguments(parser)
-
-
-def _modal_model(modes, spec):
-    from ..io.modalfiles import read_modal_model
-
-    if spec["fe_model"] is not None:
-        fe = read_modal_model(spec["fe_model"], width=spec["width"],
-                              output_nodes=spec["output_nodes"])
-        return modes.modal_model(fe)
-    return modes.modal_model(modal_masses=spec["modal_masses"],
-                             sensor_positions=spec["sensor_positions"],
-                             walkway=spec["walkway"], width=spec["width"])
 
 
 def _write_csv(path, header, rows):
@@ -107,30 +92,21 @@ def _cross_check_rows(check):
 
 
 def run(args):
-    from ..identification.oma import identify_modes
+    from ..cases.ambient import identify_ambient
     from ..io.modalfiles import write_modal_model
 
-    from ..io.ambient import read_ambient   # here: io brings numpy and scipy
-
-    name, records, options, spec = read_ambient(args.ambient)
-    options["cross_check"] = options["cross_check"] or args.cross_check
-    several = len(records) > 1
-    say(f"crowdvib modes: {name}, {len(records)} setup(s), "
-        f"{sum(r.n_channels for r in records)} channel(s), "
-        f"{sum(r.duration for r in records):g} s at {records[0].sample_rate:g} Hz "
-        f"({options['method']}{', cross-checked' if options['cross_check'] else ''})")
     with staged_output(args.out, args.force, command="modes",
                        inputs=[("the ambient file", args.ambient)]) as staging:
-        started = time.perf_counter()
         # Doubtful modes are warnings of the identification: they go to the verdict and report.
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            modes = identify_modes([r.data for r in records] if several else records[0].data,
-                                   records[0].sample_rate,
-                                   sensor_names=([r.channel_names for r in records] if several
-                                                 else records[0].channel_names), **options)
-            structure = None if spec is None else _modal_model(modes, spec)
-        elapsed = time.perf_counter() - started
+            found = identify_ambient(args.ambient, cross_check=args.cross_check)
+        records, options, modes, structure = (found.records, found.options, found.modes,
+                                              found.structure)
+        say(f"crowdvib modes: {found.name}, {len(records)} setup(s), "
+            f"{sum(r.n_channels for r in records)} channel(s), "
+            f"{sum(r.duration for r in records):g} s at {records[0].sample_rate:g} Hz "
+            f"({options['method']}{', cross-checked' if options['cross_check'] else ''})")
         for text in warning_texts(caught):
             print(f"crowdvib modes: warning: {text}", file=sys.stderr)
         _write_csv(staging / "modes.csv", ["mode", "frequency", "frequency_std", "damping_ratio",
@@ -155,15 +131,13 @@ def run(args):
             write_modal_model(structure, staging / "modal_table.csv",
                               staging / "modal_shapes.csv", staging / "output_points.csv")
             files += ["modal_table.csv", "modal_shapes.csv", "output_points.csv"]
-        results = {"command": "modes", "crowdvib_version": __version__, "versions": versions(),
-                   "ambient": str(args.ambient), "name": name, **modes.to_dict(),
-                   "files": files, "figures": figures, "elapsed_s": elapsed,
-                   "warnings": warning_texts(caught)}
+        results = {**found.to_dict(), "files": files, "figures": figures,
+                   "elapsed_s": found.seconds, "warnings": warning_texts(caught)}
         write_json(staging / "results.json", results)
         write_report(staging)
     for j in range(modes.n_modes):
         say(f"  mode {j + 1}: f = {modes.frequencies[j]:.4f} ± {modes.frequency_std[j]:.4f} Hz, "
             f"ξ = {modes.damping_ratios[j]:.4f} ± {modes.damping_std[j]:.4f}")
-    say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
+    say(f"  wrote {', '.join(files)} and results.json to {args.out} ({found.seconds:.1f} s)")
     say_verdict(args.out)
     return 0

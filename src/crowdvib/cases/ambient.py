@@ -1,0 +1,95 @@
+"""``crowdvib modes``'s work on an ambient-test file: the empty bridge's modes by OMA and, if the
+file asks, the modal model they make (docs: :ref:`theory-oma`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from .._version import __version__
+from .results import software_versions
+
+__all__ = ["AmbientModes", "identify_ambient"]
+
+
+@dataclass(frozen=True)
+class AmbientModes:
+    """What ``crowdvib modes`` computes for an ambient-test file (:func:`identify_ambient`).
+
+    Attributes
+    ----------
+    path : pathlib.Path
+        The ambient-test file.
+    name : str
+    records : list of Record
+        One per setup.
+    options : dict
+        The keyword arguments of :func:`~crowdvib.identification.identify_modes` it used.
+    modes : ModeIdentification
+        The identified modes (with the cross-check and the setups, if any).
+    structure : ModalModel or None
+        The modal model of ``[modal_model]`` (None without one).
+    seconds : float
+        Wall-clock time of the identification [s].
+    """
+
+    path: Any
+    name: str
+    records: list
+    options: dict
+    modes: Any
+    structure: Any
+    seconds: float
+
+    def to_dict(self) -> dict:
+        """The results ``crowdvib modes`` writes to results.json, without its files, figures and
+        warnings."""
+        return {"command": "modes", "crowdvib_version": __version__,
+                "versions": software_versions(), "ambient": str(self.path), "name": self.name,
+                **self.modes.to_dict()}
+
+
+def identify_ambient(path, *, cross_check: bool = False) -> AmbientModes:
+    """Identify the modes of an ambient-test file, without writing anything.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The ambient-test file (TOML; its keys: :mod:`crowdvib.cli.modes`).
+    cross_check : bool
+        Also identify with the other method and compare (as ``cross_check = true``).
+
+    Returns
+    -------
+    AmbientModes
+    """
+    import time
+
+    from ..identification.oma import identify_modes
+    from ..io.ambient import read_ambient
+
+    name, records, options, spec = read_ambient(path)
+    options["cross_check"] = options["cross_check"] or cross_check
+    several = len(records) > 1
+    started = time.perf_counter()
+    modes = identify_modes([r.data for r in records] if several else records[0].data,
+                           records[0].sample_rate,
+                           sensor_names=([r.channel_names for r in records] if several
+                                         else records[0].channel_names), **options)
+    structure = None if spec is None else _modal_model(modes, spec)
+    return AmbientModes(path, name, records, options, modes, structure,
+                        time.perf_counter() - started)
+
+
+def _modal_model(modes, spec):
+    """The ``[modal_model]``: an FE export's modes updated by the identified ones, or stated
+    modal masses with coarse shapes."""
+    from ..io.modalfiles import read_modal_model
+
+    if spec["fe_model"] is not None:
+        fe = read_modal_model(spec["fe_model"], width=spec["width"],
+                              output_nodes=spec["output_nodes"])
+        return modes.modal_model(fe)
+    return modes.modal_model(modal_masses=spec["modal_masses"],
+                             sensor_positions=spec["sensor_positions"],
+                             walkway=spec["walkway"], width=spec["width"])
