@@ -150,3 +150,15 @@ def test_results_report_and_reference_share_one_vocabulary(measured):
     assert [line.split(":")[0] for line in lines] == [
         "frequency [Hz]", "damping ratio [-]", "mean step frequency [Hz]",
         "step-frequency spread [Hz]"]
+
+
+def test_objective_arrays_are_read_only(measured):
+    # Immutable objective (issue 26 §4): its arrays cannot be changed in place either.
+    objective = PSDObjective(measured, BRIDGE, CROWD, band=(0.0, 10.0))
+    with pytest.raises(ValueError, match="read-only"):
+        objective.target[0, 0] = 0.0
+    doubled = 2.0 * objective.target
+    with pytest.raises(ValueError, match="read-only"):
+        objective.with_target(doubled).target[0, 0] = 1.0
+    doubled[0, 0] = 1.0         # the caller's array is the caller's: still writeable
+    assert doubled[0, 0] == 1.0

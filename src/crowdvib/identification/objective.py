@@ -71,6 +71,15 @@ def _normalised_weights(name, weights, size):
     return weights / weights.sum()
 
 
+def _read_only(value):
+    """``value``, an array as a read-only view (the objective's arrays are its state too; the
+    caller's own array stays writeable)."""
+    if isinstance(value, np.ndarray):
+        value = value.view()
+        value.flags.writeable = False
+    return value
+
+
 class PSDObjective:
     """Residuals of paper Eq. (6) for a measured PSD and a spectral forward model.
 
@@ -118,7 +127,7 @@ class PSDObjective:
         """A copy with some members replaced (the constructor of the ``with_*`` objectives)."""
         other = copy.copy(self)
         for name, value in changes.items():
-            object.__setattr__(other, name, value)
+            object.__setattr__(other, name, _read_only(value))
         return other
 
     def __init__(self, measured, structure, crowd, *, band, force=None, outputs=None,
@@ -200,6 +209,8 @@ class PSDObjective:
             if cross is not None:
                 self._wishart_terms(cross[..., use])
         self._steps_model = (None, None)     # (μ_fs, σ_fs) → model, the last one (model_for)
+        for name, value in list(vars(self).items()):
+            setattr(self, name, _read_only(value))
         self._frozen = True
 
     def _wishart_terms(self, cross):
