@@ -131,3 +131,40 @@ def test_short_reprs_name_what_matters(paper_bridge, paper_crowd, paper_msd, wel
                        welch_window_length=60.0)
     assert repr(psd) == ("ResponsePSD(['midspan'], 601 frequencies 0–10 Hz, T = 60 s, "
                          "source='model')")
+
+
+@pytest.mark.parametrize("force", [ZivanovicForce(), ZivanovicForce(False), YoungForce()],
+                         ids=["zivanovic", "zivanovic-mean-sub", "young"])
+def test_load_spectrum_is_the_formula_on_every_call(force, paper_crowd, welch_grid):
+    # docs: theory, Modal load PSD of a Poisson crowd: s(f) = E[W²] Σ_c E[α_c²|f/r_c]/2 ·
+    # p_fs(f/r_c)/r_c. The DLF moments are kept per frozen model and grid: the second call (from
+    # the cache) and another crowd on the same grid must still give the formula.
+    other = Crowd(density=1.0, walking_speed=1.1, step_frequency_mean=2.0,
+                  step_frequency_std=0.2, body_mass=80.0)
+    for crowd in (paper_crowd, paper_crowd, other):
+        ratios = force.ratios[:, np.newaxis]
+        step = welch_grid / ratios
+        expected = crowd.mean_square_weight() * (force.mean_square_dlf(step) / 2.0
+                                                 * crowd.step_frequency_pdf(step) / ratios).sum(0)
+        np.testing.assert_array_equal(force.load_spectrum(welch_grid, crowd),
+                                      force.scale**2 * expected)
+
+
+def test_a_mutable_force_model_is_never_answered_from_the_cache(paper_crowd, welch_grid):
+    # A user's model whose DLFs change between calls (docs: theory, Your own model): the load
+    # follows the change (the cache holds frozen dataclasses only).
+    from crowdvib.models.loading import WalkingForce
+
+    class Tunable(WalkingForce):
+        ratios = np.array([1.0])
+        level = 0.1
+
+        def mean_square_dlf(self, step_frequency):
+            return np.full(np.shape(step_frequency), self.level**2)
+
+    force = Tunable()
+    first = force.load_spectrum(welch_grid, paper_crowd)
+    force.level = 0.2
+    # (atol: the Gaussian tail far above the step frequencies is subnormal, rounded apart)
+    np.testing.assert_allclose(force.load_spectrum(welch_grid, paper_crowd), 4 * first,
+                               rtol=1e-12, atol=1e-300)

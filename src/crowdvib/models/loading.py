@@ -13,6 +13,7 @@ Every constant sits in a table below with its provenance.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
@@ -140,8 +141,8 @@ class WalkingForce:
         frequency = np.asarray(check_non_negative("frequency", frequency, unit="Hz"))
         ratios = self.ratios.reshape((-1,) + (1,) * frequency.ndim)
         step = frequency / ratios                      # f_s at which component c sits at f
-        terms = self.mean_square_dlf(step) / 2.0 * crowd.step_frequency_pdf(step) / ratios
-        return self.scale**2 * crowd.mean_square_weight() * terms.sum(axis=0)
+        terms = _half_mean_square_dlf(self, frequency, step) * crowd.step_frequency_pdf(step)
+        return self.scale**2 * crowd.mean_square_weight() * (terms / ratios).sum(axis=0)
 
     def modal_load_psd(self, frequency: ArrayLike, crowd: Crowd,
                        structure: ModalModel) -> np.ndarray:
@@ -169,6 +170,31 @@ class WalkingForce:
         t = np.asarray(time, dtype=float)[..., np.newaxis]
         waves = np.sin(2 * np.pi * self.ratios * step_frequency * t + phases[0])
         return body_mass * STANDARD_GRAVITY * waves @ amplitudes[0]
+
+
+def _half_mean_square_dlf(force, frequency, step):
+    """E[α_c² | f_s = f/r_c] / 2 on the grid ``frequency``; ``step`` = f/r_c.
+
+    It depends on the force model and the grid, not on the crowd: an estimate asks for it on
+    one grid some 1600 times (each step-frequency distribution and occupancy node tried), so
+    a frozen dataclass (the built-in models: equal fields, equal values) keeps its last grids.
+    Other models are computed each time: one that can change after a call must not be
+    answered from a cache.
+    """
+    params = getattr(force, "__dataclass_params__", None)
+    if params is None or not params.frozen:
+        return force.mean_square_dlf(step) / 2.0
+    return _cached_half_mean_square_dlf((force, frequency.shape, frequency.tobytes()))
+
+
+@functools.lru_cache(maxsize=16)
+def _cached_half_mean_square_dlf(key):
+    force, shape, data = key
+    frequency = np.frombuffer(data, dtype=float).reshape(shape)
+    step = frequency / force.ratios.reshape((-1,) + (1,) * frequency.ndim)
+    values = force.mean_square_dlf(step) / 2.0
+    values.flags.writeable = False
+    return values
 
 
 def modal_load_psd(force: ForceModel, frequency: ArrayLike, crowd: Crowd,
