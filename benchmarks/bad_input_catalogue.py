@@ -122,7 +122,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--against", help="another crowdvib source tree (its src folder)")
     args = parser.parse_args()
-    now, kinds = run()
+    now, kinds = run(ROOT / "src")         # this tree's catalogue on this tree's source
     print(f"tests/badinput: {len(now)} cases")
     table = collections.Counter((demanded(n, kinds), classify(*now[n])) for n in now)
     print(f"\n{'demanded':46s}{'now':>22s}{'cases':>7s}")
