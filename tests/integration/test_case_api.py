@@ -16,6 +16,7 @@ import pytest
 from crowdvib._files import json_default
 from crowdvib.cases import CaseEstimate, estimate_case, estimate_options, map_case
 from crowdvib.cli import main
+from crowdvib.errors import ParameterError
 from crowdvib.io.casefile import load_case
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -151,3 +152,16 @@ def test_the_case_files_force_model_reaches_the_estimate(tmp_path):
     written = _written(tmp_path, ["estimate", str(path)])
     assert written["estimate"]["frequency"] == pytest.approx(young.frequency, rel=1e-12)
     assert written["estimate"]["damping_ratio"] == pytest.approx(young.damping_ratio, rel=1e-12)
+
+
+def test_a_measured_force_is_refused_by_the_estimate(tmp_path):
+    # force = "measured" replays walking histories (time domain only, io.casefile.FORCE_MODELS):
+    # the estimate's spectral model has no load PSD for it, so it is refused by name rather than
+    # estimated silently with the default Živanović model, as before Case.force reached the
+    # pipeline.
+    text = (EXAMPLES / "paper_example.toml").read_text().replace(
+        "paper_example_record.npz", str(EXAMPLES / "paper_example_record.npz"))
+    path = tmp_path / "measured.toml"
+    path.write_text('force = "measured"\n' + text)
+    with pytest.raises(ParameterError, match="MeasuredForce replays measured histories"):
+        estimate_case(load_case(path))
