@@ -24,7 +24,7 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
     os.environ.setdefault(_variable, "1")
 
 from crowdvib import BoundWarning, estimate_hsi, response_psd, welch_psd  # noqa: E402
-from crowdvib.cli.estimate import case_measurement, estimate_options  # noqa: E402
+from crowdvib.cases import estimate_options, measure_case  # noqa: E402
 from crowdvib.io.casefile import load_case  # noqa: E402
 from crowdvib.models.examples import paper_example  # noqa: E402
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies  # noqa: E402
@@ -47,7 +47,8 @@ def _paper():
 
 def _eeklo():
     case = load_case(EXAMPLES / "eeklo_like.toml")
-    record, measured, _ = case_measurement(case)
+    measurement = measure_case(case)
+    record, measured = measurement.record, measurement.psd
     options = estimate_options(case)
     options = {k: options[k] for k in ("band", "output_weights", "starts", "bounds")}
     return measured, case.structure, case.crowd, dict(options, outputs=record.channel_names)

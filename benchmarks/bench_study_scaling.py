@@ -52,16 +52,16 @@ def _repeat_estimation(case, repeats, barrier, queue):
 
     from threadpoolctl import threadpool_limits
 
-    from crowdvib.cli.estimate import case_crowd, case_measurement, estimate_options
+    from crowdvib.cases import case_crowd, estimate_options, measure_case
     from crowdvib.identification import estimate_hsi
     from crowdvib.io.casefile import load_case
 
     case = load_case(case)
     with contextlib.redirect_stdout(io.StringIO()):          # its "record ..." line
-        record, measured, _ = case_measurement(case)
+        measurement = measure_case(case)
+    record, measured = measurement.record, measurement.psd
     crowd, _ = case_crowd(case, record)
-    options = {key: value for key, value in estimate_options(case).items()
-               if key not in ("interval", "level", "n_boot", "rng")}
+    options = estimate_options(case, point_only=True)
     with threadpool_limits(limits=1), warnings.catch_warnings():
         warnings.simplefilter("ignore")
         estimate_hsi(measured, case.structure, crowd, interval=None, **options)   # warm-up
