@@ -18,7 +18,7 @@ from .errors import (BoundWarning, ConvergenceWarning, CrowdvibError, CrowdvibWa
 #: are imported on first use, so that ``crowdvib --help`` and an error message come at once.
 _LAZY = {
     **dict.fromkeys(("ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce",
-                     "MeasuredForce"), "models"),
+                     "MeasuredForce", "ForceModel", "WalkingForce"), "models"),
     **dict.fromkeys(("ResponsePSD", "welch_psd", "LowPassFilter", "psd_convergence",
                      "PSDConvergence", "detrend", "resample", "running_rms", "weight_wb"),
                     "signals"),
@@ -33,6 +33,8 @@ _LAZY = {
                      "read_modal_model"), "io"),
     **dict.fromkeys(("TunedMassDamper", "tune_damper", "design_check", "DesignCheck",
                      "predict_response", "ResponsePrediction"), "design"),
+    # What a case file describes, run from Python as the commands run it.
+    **dict.fromkeys(("estimate_case", "map_case", "check_case", "simulate_case"), "cases"),
     "modal_accelerance": "response",
     "FluctuatingSpectralModel": "response",
 }
@@ -65,7 +67,9 @@ if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
                                  identify_modes)
     from .io import (Case, Record, check_record, load_case, read_modal_model, read_record,
                      write_record)
-    from .models import Crowd, MeasuredForce, ModalModel, MSDModel, YoungForce, ZivanovicForce
+    from .models import (Crowd, ForceModel, MeasuredForce, ModalModel, MSDModel, WalkingForce,
+                         YoungForce, ZivanovicForce)
+    from .cases import check_case, estimate_case, map_case, simulate_case
     from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
                            effective_modal_properties, frf, response_psd, simulate,
                            simulate_many)

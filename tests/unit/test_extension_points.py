@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from crowdvib import (MSDModel, ParameterError, YoungForce, ZivanovicForce, estimate_hsi,
+from crowdvib import (ParameterError, YoungForce, ZivanovicForce, estimate_hsi,
                       response_psd, simulate)
 from crowdvib.io.casefile import load_case
 from crowdvib.io.femodes import read_fe_modes

@@ -17,7 +17,8 @@ def _public_callables():
                     member = member.__func__
                 elif isinstance(member, property):
                     member = member.fget
-                if inspect.isfunction(member):
+                # crowdvib's own: a Protocol's __init__ is typing's (ForceModel)
+                if inspect.isfunction(member) and member.__module__.startswith("crowdvib"):
                     yield f"{name}.{key}", member
         elif inspect.isfunction(obj):
             yield name, obj

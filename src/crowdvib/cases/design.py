@@ -4,11 +4,16 @@ with HSI, and the crowd stream's predicted response (docs: :ref:`theory-design`)
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
 from ..errors import ParameterError
 from .results import DESIGN_TABLES, software_versions
+
+if TYPE_CHECKING:
+    from ..io.casefile import Case
+    from ..models.pedestrian import MSDModel
+
 
 __all__ = ["CaseCheck", "check_design_table", "design_msd", "check_case",
            "verdict_rows"]
@@ -114,7 +119,8 @@ def design_msd(case):
     return case.msd, "[hsi]"
 
 
-def check_case(case, *, msd=None, msd_source=None) -> CaseCheck:
+def check_case(case: Case, *, msd: MSDModel | None = None,
+               msd_source: str | None = None) -> CaseCheck:
     """Run ``crowdvib check``'s design checks on a case, without writing anything.
 
     Parameters

@@ -15,11 +15,19 @@ length → step frequencies fitted below a cut-off (optional, the paper's Waalse
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
 from ..errors import ParameterError
 from .results import ESTIMATION_TABLES, software_versions
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from numpy.typing import ArrayLike
+
+    from ..io.casefile import Case
+
 
 __all__ = ["CaseMeasurement", "CaseRecordFit", "CaseEstimate", "measure_case", "case_crowd",
            "estimate_options", "estimate_case", "CaseMap", "map_case"]
@@ -276,7 +284,7 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
     return options
 
 
-def estimate_case(case) -> CaseEstimate:
+def estimate_case(case: Case) -> CaseEstimate:
     """Run ``crowdvib estimate``'s pipeline on a loaded case, without writing anything.
 
     Parameters
@@ -364,7 +372,9 @@ class CaseMap:
                 "curvature_ratio": self.landscape.curvature_ratio()}
 
 
-def map_case(case, *, frequencies, damping_ratios, progress=None, max_seconds=None) -> CaseMap:
+def map_case(case: Case, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
+             progress: Callable[[int, int], None] | None = None,
+             max_seconds: float | None = None) -> CaseMap:
     """Run ``crowdvib map``'s pipeline: a case's estimate and its objective on a grid.
 
     Parameters

@@ -4,10 +4,16 @@ structure, with or without HSI (docs: :ref:`theory-crowd`, :ref:`theory-msd`).""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
 from .results import SIMULATION_TABLES, software_versions
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from ..io.casefile import Case
+
 
 __all__ = ["CaseSimulation", "simulation_msd", "simulate_case"]
 
@@ -61,8 +67,10 @@ def simulation_msd(case):
     return case.msd
 
 
-def simulate_case(case, *, duration=None, sample_rate=None, seed=None, hsi=None,
-                  progress=None) -> CaseSimulation:
+def simulate_case(case: Case, *, duration: float | None = None,
+                  sample_rate: float | None = None, seed: int | None = None,
+                  hsi: bool | None = None,
+                  progress: Callable[[float, float], None] | None = None) -> CaseSimulation:
     """Simulate a case's ``[simulation]``, without writing anything.
 
     Parameters

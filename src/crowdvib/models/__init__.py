@@ -6,11 +6,11 @@ force models; ``measured``: replayed measured forces); ``examples`` bundles them
 
 from .crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from .examples import ExampleCase, paper_example
-from .loading import STANDARD_GRAVITY, YoungForce, ZivanovicForce
+from .loading import STANDARD_GRAVITY, ForceModel, WalkingForce, YoungForce, ZivanovicForce
 from .measured import MeasuredForce
 from .pedestrian import MSDModel
 from .structure import ModalModel
 
 __all__ = ["ModalModel", "Crowd", "MSDModel", "ZivanovicForce", "YoungForce", "MeasuredForce",
-           "STANDARD_GRAVITY",
+           "ForceModel", "WalkingForce", "STANDARD_GRAVITY",
            "weidmann_speed", "bruno_venuti_step_frequency", "ExampleCase", "paper_example"]
