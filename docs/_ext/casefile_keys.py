@@ -59,7 +59,14 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "case.measurement": "one [measurement] table, or several [[measurement]] blocks "
                              "(one MSD fitted to all, each block with its own name and "
                              "[measurement.crowd])",
-         "measurement.name": "the block's label in a joint fit (default \"record N\")"}
+         "measurement.name": "the block's label in a joint fit (default \"record N\")",
+         "measurement.units": "\"m/s2\" (also m/s^2, m/s², m s-2, mps2) or \"g\" (also g0; "
+                              "g = 9.81 m/s²); default: the units the file states, else m/s2",
+         "structure.n_modes": "an integer >= 1: the first n sine modes"}
+#: Units of keys whose name alone does not find them in crowdvib.quantities (a damper's mass
+#: is not a modal mass, its position is along the walkway, its lane across it).
+UNITS = {"design.damper.mass": "kg", "design.damper.position": "m", "design.damper.lane": "m",
+         "measurement.resample": "Hz"}
 
 
 def _literal(node):
@@ -75,14 +82,62 @@ def _text(value):
     return f"``{value!r}``" if not isinstance(value, str) else f"``\"{value}\"``"
 
 
-def parser_keys(source):
-    """``(section.key, kind, default, required, rule)`` for every key the parser reads."""
+def _conditions(function):
+    """Node → the form of the table it is read in: ``type = "…"`` for the branches of
+    ``if kind == "…"`` (kind read with choices), ``key is given / left out`` for
+    ``if table.has(key)``."""
+    choices = {}
+    for node in ast.walk(function):
+        if (isinstance(node, ast.Assign) and isinstance(node.targets[0], ast.Name)
+                and isinstance(node.value, ast.Call)
+                and isinstance(node.value.func, ast.Attribute) and node.value.args):
+            options = {k.arg: _literal(k.value) for k in node.value.keywords}
+            if options.get("choices"):
+                choices[node.targets[0].id] = (_literal(node.value.args[0]), options["choices"])
+    labels = {}
+    for node in ast.walk(function):
+        if not isinstance(node, ast.If):
+            continue
+        test, body, orelse = node.test, None, None
+        if (isinstance(test, ast.Compare) and isinstance(test.left, ast.Name)
+                and test.left.id in choices and isinstance(test.ops[0], ast.Eq)):
+            key, values = choices[test.left.id]
+            value = _literal(test.comparators[0])
+            others = [v for v in values if v != value]
+            body = f"{key} = \"{value}\""
+            orelse = f"{key} = \"{others[0]}\"" if len(others) == 1 else f"{key} ≠ \"{value}\""
+        elif (isinstance(test, ast.Call) and isinstance(test.func, ast.Attribute)
+                and test.func.attr == "has" and test.args):
+            key = _literal(test.args[0])
+            body, orelse = f"``{key}`` is given", f"``{key}`` is left out"
+        for label, branch in ((body, node.body), (orelse, node.orelse)):
+            for statement in branch if label else ():
+                for inner in ast.walk(statement):
+                    labels.setdefault(id(inner), label)
+    return labels
+
+
+def _integer_reads(function):
+    """Accessor calls whose value the parser takes as ``int(…)``: counts, not numbers."""
+    return {id(node.args[0]) for node in ast.walk(function)
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+            and node.func.id == "int" and node.args and isinstance(node.args[0], ast.Call)}
+
+
+def parser_keys(source, sections=None):
+    """``(section.key, kind, default, required, rule)`` for every key the parser reads.
+
+    ``required`` is False, True, or the form of the table in which the key is required
+    (``type = "simply_supported_beam"``); a key read in one form only says so in its rule.
+    """
+    sections = SECTIONS if sections is None else sections
     tree = ast.parse(source)
     keys = {}
     for function in tree.body:
-        if not isinstance(function, ast.FunctionDef) or function.name not in SECTIONS:
+        if not isinstance(function, ast.FunctionDef) or function.name not in sections:
             continue
-        prefixes = {"table": SECTIONS[function.name], "root": SECTIONS[function.name]}
+        prefixes = {"table": sections[function.name], "root": sections[function.name]}
+        forms, integers = _conditions(function), _integer_reads(function)
         for node in ast.walk(function):
             # sub = table.table("name"): sub's keys live under section.name
             if isinstance(node, ast.Assign) and isinstance(node.value, ast.Call):
@@ -115,7 +170,18 @@ def parser_keys(source):
                     if options.get("choices") else options.get("rule") or "")
             rule = RULES.get(name) or {"positive": "> 0", "non_negative": ">= 0",
                                        "fraction": "in (0, 1)"}.get(rule, rule)
-            keys[name] = (KINDS[func.attr], default, required, rule)
+            kind = KINDS[func.attr]
+            if id(node) in integers or rule.startswith("an integer"):
+                kind = "integer"                # read as a float, kept as int(…)
+                default = None if default is None else int(default)
+            form = forms.get(id(node))
+            if form and f"``{name.split('.')[-1]}``" in form:
+                required = False        # read only if given: the key that picks the form
+            # "only when step_frequencies is given" says nothing of step_frequencies.cutoff
+            elif form and not any(f"``{part}``" in form for part in name.split(".")[1:-1]):
+                required = form if required else False
+                rule = f"{rule}; only when {form}" if rule else f"only when {form}"
+            keys[name] = (kind, default, required, rule)
     return keys
 
 
@@ -166,8 +232,10 @@ def write_reference(source_paths, units, target):
                   "   * - key", "     - type", "     - default", "     - unit", "     - rule"]
         for key, kind, default, required, rule in sections.get(section, []):
             unit = units.get(key.rpartition(".")[2], ("", ""))[1]
-            lines += [f"   * - ``{key}``", f"     - {kind}",
-                      f"     - {'*required*' if required else _text(default)}",
+            unit = UNITS.get(f"{section}.{key}", unit)
+            need = (f"*required* when {required}" if isinstance(required, str)
+                    else "*required*" if required else _text(default))
+            lines += [f"   * - ``{key}``", f"     - {kind}", f"     - {need}",
                       f"     - {unit or '—'}", f"     - {rule or '—'}"]
         lines.append("")
     Path(target).parent.mkdir(parents=True, exist_ok=True)

@@ -57,3 +57,34 @@ def test_reference_defaults_are_the_parsers(tmp_path):
                                 tmp_path / "keys.rst")
     text = (tmp_path / "keys.rst").read_text(encoding="utf-8")
     assert "``window_length``" in text and "     - s" in text and len(reference) == len(keys)
+
+
+def test_reference_keeps_the_two_structure_forms_apart():
+    # Issue 27 §1: a beam's span is not required of a modal-file structure, nor modal_table of
+    # a beam (casefile._structure reads each form's keys in its own branch of `type`).
+    keys = _keys()
+    assert keys["structure.span"][2] == 'type = "simply_supported_beam"'
+    assert keys["structure.modal_mass"][2] == 'type = "simply_supported_beam"'
+    assert keys["structure.modal_table"][2] == 'type = "modal_files"'
+    assert keys["structure.width"][2] is True                     # both forms
+    # the damper is either explicit or tuned to a mode (casedesign._design_damper)
+    assert keys["design.damper.mass"][2] == "``mode`` is left out"
+    assert keys["design.damper.mode"][2] is False
+
+
+def test_reference_prints_counts_as_integers_with_units_and_unit_choices(tmp_path):
+    # Issue 27 §1: counts the parser takes as int(...) print as integers, the damper's mass and
+    # position have units, and measurement.units lists its values (records._UNIT_ALIASES).
+    from crowdvib.quantities import QUANTITIES
+
+    keys = _keys()
+    assert keys["structure.n_modes"][:2] == ("integer", 1)
+    assert keys["estimation.n_boot"][:2] == ("integer", 200)
+    assert keys["measurement.filter.order"][:2] == ("integer", 4)
+    write_reference(parser_sources(), QUANTITIES, tmp_path / "keys.rst")
+    text = (tmp_path / "keys.rst").read_text(encoding="utf-8")
+    assert "``200``" in text and "``200.0``" not in text
+    rows = {block.split("\n")[0]: block for block in text.split("   * - ")}
+    assert "     - kg\n" in rows["``damper.mass``"]
+    assert "     - m\n" in rows["``damper.position``"]
+    assert '"m/s2"' in rows["``units``"] and '"g"' in rows["``units``"]

@@ -334,13 +334,13 @@ def add_output_arguments(parser):
 
 def add_workers_argument(parser):
     """``--workers N``: local worker processes, by default the machine's physical cores."""
-    from .._threads import default_workers, physical_cores
+    from .._threads import default_workers
 
-    cores = physical_cores()
+    # The help names no number: it is published in the docs, built on another machine.
     parser.add_argument(
         "--workers", type=positive_int, default=default_workers(),
-        help=f"local worker processes, each with its share of the cores for BLAS and numba "
-             f"(default: the physical cores, {cores} on this machine; 1 runs in this process)")
+        help="local worker processes, each with its share of the cores for BLAS and numba "
+             "(default: the physical cores of the machine it runs on; 1 runs in this process)")
     parser.add_argument(
         "--hung-after", type=positive_float, default=60.0, metavar="SECONDS",
         help="local workers: a task running longer than this and than 10 times the slowest "
