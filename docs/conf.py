@@ -4,6 +4,7 @@ Build: ``sphinx-build -W --keep-going -b html docs docs/_build/html`` from the r
 """
 
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -15,6 +16,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 import crowdvib  # noqa: E402
+from sphinx.ext import autosummary  # noqa: E402
 
 project = "crowdvib"
 author = "the crowdvib developers"
@@ -89,6 +91,14 @@ def _escape_bars(app, what, name, obj, options, lines):
         return
     for i, line in enumerate(lines):
         lines[i] = line.replace("\\|", "|").replace("|", "\\|")
+
+
+# autosummary ends a summary at the first ". ": "(paper Eq. 5 and 6)" came out as "(paper Eq.".
+# A period after a reference abbreviation, or inside parentheses (no "(" before the next ")"),
+# does not end the sentence.
+_ABBREVIATIONS = ("Eq", "Eqs", "Fig", "Figs", "Sec", "Tab", "Ref", "cf", "approx", "No")
+autosummary.periods_re = re.compile(
+    "".join(rf"(?<!\b{word})" for word in _ABBREVIATIONS) + r"\.(?![^(]*\))(?:\s+)")
 
 
 def setup(app):
