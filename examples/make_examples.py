@@ -1,11 +1,13 @@
 """Make the example cases' modal files and records with crowdvib itself.
 
 Run from the repository root: ``python examples/make_examples.py [name ...]`` (names:
-paper_example, eeklo_like, waalse_krook_like; default all). Every record is a time-domain
+paper_example, eeklo_like, waalse_krook_like, ambient; default all). Every record is a time-domain
 simulation (``crowdvib.simulate``) with the MSD model of the case's ``[expected]`` table and the
 case's ``seed``, resampled to the case's ``simulation.record_sample_rate`` and stored as float32
 NPZ to keep the files small. The case files themselves (``*.toml``) are written by hand; this
-script reads them, so the records always match what the case files say.
+script reads them, so the records always match what the case files say. The ambient test of
+``crowdvib modes`` (``ambient/``) is the empty bridge shaken by white-noise modal loads
+(``crowdvib.identification.ambient_response``) with the modes of ``AMBIENT_*`` below.
 
 The bridges are look-alikes of the paper's case studies (docs: theory, The paper's case studies): the real measurements
 are not public. Values not printed in the paper are assumed and marked so in the case files.
@@ -132,6 +134,33 @@ def make_record(case_path, record_path):
           f"seed {simulation.seed}, {time.perf_counter() - started:.0f} s")
 
 
+# ------------------------------------------------------------------------------ ambient test
+# The paper example's 50 m × 3 m beam with its first two bending modes (f_j = j² f_1 would put the
+# second at 8 Hz; 7.5 Hz and 0.8 % are ASSUMED, a stiffer deck than the Euler–Bernoulli beam),
+# seen by three accelerometers; 30 min of ambient response at 20 Hz, float32.
+AMBIENT_FREQUENCIES = (2.0, 7.5)            # [Hz]
+AMBIENT_DAMPING = (0.005, 0.008)            # [-]
+AMBIENT_MODAL_MASS = 50e3                   # [kg], unity-scaled sine modes
+AMBIENT_SENSORS = {"quarter": 12.5, "mid": 25.0, "three_quarter": 37.5}   # [m]
+AMBIENT_DURATION, AMBIENT_SAMPLE_RATE, AMBIENT_LOAD_PSD, AMBIENT_SEED = 1800.0, 20.0, 200.0**2, 27
+
+
+def make_ambient(record_path):
+    """The ambient record of ``ambient/paper_beam_ambient.toml`` (white-noise modal loads)."""
+    from crowdvib.identification.oma import ambient_response
+
+    beam = ModalModel.simply_supported_beam(50.0, 3.0, AMBIENT_FREQUENCIES, AMBIENT_DAMPING,
+                                            AMBIENT_MODAL_MASS, n_modes=2,
+                                            outputs=AMBIENT_SENSORS)
+    data = ambient_response(beam, AMBIENT_DURATION, AMBIENT_SAMPLE_RATE, AMBIENT_LOAD_PSD,
+                            rng=AMBIENT_SEED)
+    record = Record(data=data, sample_rate=AMBIENT_SAMPLE_RATE,
+                    channel_names=list(AMBIENT_SENSORS))
+    write_record(record, record_path, dtype="float32")
+    print(f"{record_path.name}: {record.n_channels} × {record.n_samples} samples at "
+          f"{AMBIENT_SAMPLE_RATE:g} Hz, seed {AMBIENT_SEED}")
+
+
 def main(names):
     if "eeklo_like" in names:
         write_modal_model(eeklo_structure(), HERE / "eeklo_like_modes.csv",
@@ -144,7 +173,9 @@ def main(names):
         make_record(HERE / "waalse_krook_like.toml", HERE / "waalse_krook_like_record.npz")
     if "paper_example" in names:
         make_record(HERE / "paper_example.toml", HERE / "paper_example_record.npz")
+    if "ambient" in names:
+        make_ambient(HERE / "ambient" / "paper_beam_ambient_record.npz")
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:] or ["paper_example", "eeklo_like", "waalse_krook_like"])
+    main(sys.argv[1:] or ["paper_example", "eeklo_like", "waalse_krook_like", "ambient"])

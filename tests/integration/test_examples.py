@@ -75,3 +75,23 @@ def test_step_frequency_fit_needs_the_lowpassed_psd(waalse_krook):
     with pytest.raises(ParameterError, match=r"measured.lowpass must be the low-pass filter at "
                                              r"cutoff 2.3 Hz"):
         estimate_step_frequencies(measured, case.structure, case.crowd)
+
+
+def test_ambient_example_runs_through_crowdvib_modes(tmp_path):
+    # Issue 27 §1: the ambient-test example runs with `crowdvib modes` and finds the modes
+    # examples/make_examples.py shook the beam with (AMBIENT_FREQUENCIES = 2.0, 7.5 Hz;
+    # AMBIENT_DAMPING = 0.5 %, 0.8 %); the record stays small.
+    import csv
+
+    from crowdvib.cli.main import main
+
+    pytest.importorskip("pyoma2")
+    ambient = EXAMPLES / "ambient" / "paper_beam_ambient.toml"
+    assert (EXAMPLES / "ambient" / "paper_beam_ambient_record.npz").stat().st_size < 1_000_000
+    assert main(["modes", str(ambient), "--out", str(tmp_path / "out")]) == 0
+    with open(tmp_path / "out" / "modes.csv", encoding="utf-8") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [float(r["frequency"]) for r in rows] == pytest.approx([2.0, 7.5], rel=0.005)
+    assert [float(r["damping_ratio"]) for r in rows] == pytest.approx([0.005, 0.008], rel=0.25)
+    # [modal_model] made the modal-model files a case file reads (structure.modal_table)
+    assert (tmp_path / "out" / "modal_table.csv").exists()
