@@ -1,5 +1,5 @@
 """The case-file key reference, generated from the parser itself (crowdvib/io/casefile.py and
-casedesign.py).
+casedesign.py), and that of the ambient-test file of ``crowdvib modes`` (crowdvib/io/ambient.py).
 
 Every key a case file may hold is read in the parser by a call such as
 ``table.number("window_length", 60.0, rule="positive")``. This extension reads those calls from
@@ -18,10 +18,14 @@ SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd", "_msd
             "_simulation": "simulation", "_outputs": "structure", "_output_nodes": "structure", "_design": "design",
             "_design_damper": "design.damper",
             "_measurement_block": "measurement", "_measurements": "case"}
+#: The same for the ambient-test file (crowdvib.io.ambient): parser function → the table each of
+#: its variables is (the records' ``table`` is one [record] block).
+AMBIENT_SECTIONS = {"read_ambient": {"root": "case"}, "_records": {"table": "record", "root": "case"},
+                    "_output_nodes": {"table": "modal_model"}}
 #: Table accessor → the TOML type it accepts.
 KINDS = {"number": "number", "numbers": "number or list of numbers", "string": "string",
          "strings": "list of strings", "boolean": "boolean", "pair": "[lower, upper]",
-         "file": "file path (relative to the case file)", "raw": "value (see rule)",
+         "file": "file path (relative to the TOML file)", "raw": "value (see rule)",
          "table": "table"}
 #: Rules the parser checks in code rather than in the accessor call (they take precedence).
 RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across lanes)",
@@ -62,11 +66,31 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "measurement.name": "the block's label in a joint fit (default \"record N\")",
          "measurement.units": "\"m/s2\" (also m/s^2, m/s², m s-2, mps2) or \"g\" (also g0; "
                               "g = 9.81 m/s²); default: the units the file states, else m/s2",
-         "structure.n_modes": "an integer >= 1: the first n sine modes"}
+         "structure.n_modes": "an integer >= 1: the first n sine modes",
+         "case.record": "one [record] table, or several [[record]] blocks (setups; they share "
+                        "one sample rate)",
+         "record.channels": "the sensors in order (default all channels), or a table sensor = "
+                            "\"channel in file\" (renames them)",
+         "record.sample_rate": "> 0; for a CSV without a time column",
+         "identification.reference_channels": "with several [[record]] blocks only, and then "
+                                              "required: the channels every record shares",
+         "identification.frequency_band": "lower < upper",
+         "identification.n_modes": "an integer >= 1; default every consistently stable mode",
+         "identification.max_order": "an integer >= 2; SSI-cov's largest model order",
+         "identification.segment_length": "an integer >= 64; EFDD's Welch segment",
+         "modal_model.output_nodes": "a table sensor = node number of fe_model",
+         "modal_model.fe_model": "an FE export (UFF 15 + 55) whose paired modes take the "
+                                 "identified f and ξ; or modal_masses instead",
+         "modal_model.modal_masses": "> 0, one per identified mode (with sensor_positions and "
+                                     "walkway instead of fe_model)",
+         "modal_model.sensor_positions": "one per sensor, in the order of the sensors",
+         "modal_model.walkway": "[start, end] of the walkway"}
 #: Units of keys whose name alone does not find them in crowdvib.quantities (a damper's mass
 #: is not a modal mass, its position is along the walkway, its lane across it).
 UNITS = {"design.damper.mass": "kg", "design.damper.position": "m", "design.damper.lane": "m",
-         "measurement.resample": "Hz"}
+         "measurement.resample": "Hz", "identification.frequency_band": "Hz",
+         "identification.segment_length": "samples", "modal_model.modal_masses": "kg",
+         "modal_model.sensor_positions": "m", "modal_model.walkway": "m"}
 
 
 def _literal(node):
@@ -136,7 +160,9 @@ def parser_keys(source, sections=None):
     for function in tree.body:
         if not isinstance(function, ast.FunctionDef) or function.name not in sections:
             continue
-        prefixes = {"table": sections[function.name], "root": sections[function.name]}
+        section = sections[function.name]
+        prefixes = dict(section) if isinstance(section, dict) else {"table": section,
+                                                                    "root": section}
         forms, integers = _conditions(function), _integer_reads(function)
         for node in ast.walk(function):
             # sub = table.table("name"): sub's keys live under section.name
@@ -145,13 +171,15 @@ def parser_keys(source, sections=None):
                 if (isinstance(call.func, ast.Attribute) and call.func.attr == "table"
                         and isinstance(call.func.value, ast.Name)
                         and call.func.value.id in prefixes and call.args):
-                    prefixes[node.targets[0].id] = (f"{prefixes[call.func.value.id]}."
-                                                    f"{_literal(call.args[0])}")
+                    parent, name = prefixes[call.func.value.id], _literal(call.args[0])
+                    # a table of the top level is a section of its own
+                    prefixes[node.targets[0].id] = name if parent == "case" else f"{parent}.{name}"
         for node in ast.walk(function):
             if not isinstance(node, ast.Call):
                 continue
             func = node.func
-            if isinstance(func, ast.Name) and func.id in ("_bounds", "_starts") and node.args:
+            if (isinstance(func, ast.Name) and func.id in ("_bounds", "_starts", "_count")
+                    and node.args):
                 _special(func.id, node, prefixes, keys)
                 continue
             if not (isinstance(func, ast.Attribute) and func.attr in KINDS
@@ -186,7 +214,15 @@ def parser_keys(source, sections=None):
 
 
 def _special(helper, node, prefixes, keys):
-    """``_bounds(table.table("bounds"), (keys…))`` and ``_starts(table, "starts", sizes)``."""
+    """``_bounds(table.table("bounds"), (keys…))``, ``_starts(table, "starts", sizes)`` and
+    ``_count(table, "name", default, least)`` (an integer >= least)."""
+    if helper == "_count":
+        table, name, default, least = node.args[0], *map(_literal, node.args[1:4])
+        if isinstance(table, ast.Name) and table.id in prefixes:
+            keys[f"{prefixes[table.id]}.{name}"] = ("integer", default, False,
+                                                    RULES.get(f"{prefixes[table.id]}.{name}")
+                                                    or f"an integer >= {least}")
+        return
     if helper == "_starts":
         table, name, sizes = node.args[0], _literal(node.args[1]), _literal(node.args[2])
         if isinstance(table, ast.Name) and table.id in prefixes:
@@ -213,19 +249,24 @@ def parser_sources():
     return [importlib.import_module(name).__file__ for name in PARSER_MODULES]
 
 
-def write_reference(source_paths, units, target):
-    """Write the reST reference of every key the parser modules read to ``target``."""
+#: The case file's sections in the order of the reference.
+CASE_ORDER = ("case", "structure", "crowd", "hsi", "measurement", "estimation", "simulation",
+              "design")
+
+
+def write_reference(source_paths, units, target, sections=None, order=CASE_ORDER):
+    """Write the reST reference of every key the parser modules read to ``target``
+    (``sections``: as :func:`parser_keys`; ``order``: the sections in the order printed)."""
     keys = {}
     for path in [source_paths] if isinstance(source_paths, (str, Path)) else source_paths:
-        keys.update(parser_keys(Path(path).read_text(encoding="utf-8")))
+        keys.update(parser_keys(Path(path).read_text(encoding="utf-8"), sections))
     sections = {}
     for name, row in sorted(keys.items()):
         section, _, key = name.partition(".")
         sections.setdefault(section, []).append((key, *row))
     lines = [".. This file is generated by docs/_ext/casefile_keys.py from the parser; "
              "do not edit.", ""]
-    for section in ("case", "structure", "crowd", "hsi", "measurement", "estimation",
-                    "simulation", "design"):
+    for section in order:
         title = "top level" if section == "case" else f"``[{section}]``"
         lines += [title, "^" * len(title), "",
                   ".. list-table::", "   :header-rows: 1", "   :widths: 22 18 12 10 38", "",
@@ -246,8 +287,13 @@ def write_reference(source_paths, units, target):
 def _generate(app):
     from crowdvib.quantities import QUANTITIES
 
+    import crowdvib.io.ambient
+
     write_reference(parser_sources(), QUANTITIES,
                     Path(app.srcdir) / "generated" / "casefile_keys.rst")
+    write_reference(crowdvib.io.ambient.__file__, QUANTITIES,
+                    Path(app.srcdir) / "generated" / "ambient_keys.rst", AMBIENT_SECTIONS,
+                    ("case", "record", "identification", "modal_model"))
 
 
 def setup(app):

@@ -88,3 +88,23 @@ def test_reference_prints_counts_as_integers_with_units_and_unit_choices(tmp_pat
     assert "     - kg\n" in rows["``damper.mass``"]
     assert "     - m\n" in rows["``damper.position``"]
     assert '"m/s2"' in rows["``units``"] and '"g"' in rows["``units``"]
+
+
+def test_ambient_reference_lists_every_key_of_the_ambient_example(tmp_path):
+    # Issue 27 §1: the ambient-test format of `crowdvib modes` is documented, generated from its
+    # reader (crowdvib.io.ambient) like the case file's; the example uses only keys it lists.
+    import crowdvib.io.ambient
+    from casefile_keys import AMBIENT_SECTIONS
+
+    source = Path(crowdvib.io.ambient.__file__).read_text(encoding="utf-8")
+    keys = parser_keys(source, AMBIENT_SECTIONS)
+    data = tomllib.loads((ROOT / "examples" / "ambient" / "paper_beam_ambient.toml")
+                         .read_text(encoding="utf-8"))
+    used = {f"case.{k}" for k, v in data.items() if not isinstance(v, dict)}
+    for section, table in data.items():
+        if isinstance(table, dict):
+            used |= set(_flat(table, section))
+    assert used - set(keys) == set()
+    assert keys["identification.n_modes"][:2] == ("integer", None)        # ambient._count
+    assert keys["identification.max_order"][:2] == ("integer", 40)
+    assert keys["record.file"][2] is True and keys["modal_model.width"][2] is True
