@@ -55,7 +55,8 @@ def identify_ambient(path, *, cross_check: bool = False) -> AmbientModes:
     Parameters
     ----------
     path : str or pathlib.Path
-        The ambient-test file (TOML; its keys: :mod:`crowdvib.cli.modes`).
+        The ambient-test file (TOML; its format and every key: docs, Case files,
+        :ref:`ambient-files`; an example: ``examples/ambient/paper_beam_ambient.toml``).
     cross_check : bool
         Also identify with the other method and compare (as ``cross_check = true``).
 

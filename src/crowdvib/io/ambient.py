@@ -1,6 +1,7 @@
-"""The ambient-test file of ``crowdvib modes`` (its format: :mod:`crowdvib.cli.modes`): the
-records, one per setup, the identification options and the modal-model table, every key checked
-through :class:`crowdvib.io._toml.Table` and refused with the file and key named."""
+"""The ambient-test file of ``crowdvib modes`` (its format: docs, Case files, Ambient-test
+files, whose key table is generated from this module's reads): the records, one per setup, the
+identification options and the modal-model table, every key checked through
+:class:`crowdvib.io._toml.Table` and refused with the file and key named."""
 
 from pathlib import Path
 
@@ -34,7 +35,7 @@ def _records(root):
 
 def read_ambient(path):
     """The ambient file's records (one per setup), identification options and modal-model
-    table (checked)."""
+    table (checked); the keys are those of docs, Case files, Ambient-test files."""
     path = Path(path)
     root = Table(read_toml(path), "", path)
     name = root.string("name", path.stem)
