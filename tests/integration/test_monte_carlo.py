@@ -1,6 +1,7 @@
 """Monte Carlo in batches on the study engine (issue 14)."""
 
 import concurrent.futures
+import multiprocessing
 
 import numpy as np
 import pytest
@@ -11,6 +12,10 @@ from crowdvib.identification import TaskStore, monte_carlo, record_statistics
 from crowdvib.models.examples import paper_example
 
 OPTIONS = {"sample_rate": 50.0, "warm_up": 1.0}
+
+#: concurrent.futures' own pool, as a user would pass it, but from a fork server: its
+#: default (fork) copies this threaded process, which Python 3.12+ warns may deadlock.
+_CONTEXT = multiprocessing.get_context("forkserver")
 
 
 def peak_only(record):
@@ -45,7 +50,7 @@ def test_a_finished_study_resumes_without_simulating(tmp_path):
 def test_a_process_pool_gives_the_same_rows():
     # Reference: the same study in this process (a record depends on its seed alone).
     case = paper_example()
-    with concurrent.futures.ProcessPoolExecutor(2) as pool:
+    with concurrent.futures.ProcessPoolExecutor(2, mp_context=_CONTEXT) as pool:
         pooled = monte_carlo(case.structure, case.crowd, 5.0, seeds=[1, 2, 3], summary=peak_only,
                              batch_size=1, executor=pool, **OPTIONS)
     here = monte_carlo(case.structure, case.crowd, 5.0, seeds=[1, 2, 3], summary=peak_only,

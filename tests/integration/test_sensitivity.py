@@ -1,6 +1,7 @@
 """Objective landscape, modelling-error study and parametric study (issue 5; paper Figs. 4–6, 11)."""
 
 import concurrent.futures
+import multiprocessing
 import os
 import signal
 import subprocess
@@ -17,6 +18,10 @@ from crowdvib.identification import (TaskStore, modelling_error_study, objective
 
 SMALL_LEVELS = {"frequencies": (0.01,), "damping_ratios": (0.1,), "modal_masses": (0.02,),
                 "step_frequency_mean": (0.02,), "step_frequency_std": (0.02,)}
+
+#: concurrent.futures' own pool, as a user would pass it, but from a fork server: its
+#: default (fork) copies this threaded process, which Python 3.12+ warns may deadlock.
+_CONTEXT = multiprocessing.get_context("forkserver")
 
 
 @pytest.fixture
@@ -51,7 +56,7 @@ def test_modelling_error_study_serial_equals_process_pool(measured, paper_bridge
                                    levels=SMALL_LEVELS, joint=False)
     assert len(serial.cases) == 1 + 5 * 2
     assert serial.nominal["frequency"] == pytest.approx(3.0, rel=1e-4)
-    with concurrent.futures.ProcessPoolExecutor(2) as pool:
+    with concurrent.futures.ProcessPoolExecutor(2, mp_context=_CONTEXT) as pool:
         parallel = modelling_error_study(measured, paper_bridge, paper_crowd, band=(0.0, 10.0),
                                          levels=SMALL_LEVELS, joint=False, executor=pool)
     assert parallel.to_dict() == serial.to_dict()
@@ -170,7 +175,7 @@ def test_task_a_broken_pool_gave_up_on_is_reported_not_stored(tmp_path):
     # left out of the store, so that running the study again (resume) retries it.
     marker = str(tmp_path / "crashed")
     store = TaskStore(tmp_path / "store")
-    with concurrent.futures.ProcessPoolExecutor(1) as pool:
+    with concurrent.futures.ProcessPoolExecutor(1, mp_context=_CONTEXT) as pool:
         results = run_tasks(_crash_once, [("only", marker)], executor=pool, store=store)
     assert "its worker failed (BrokenProcessPool" in results["only"]["error"]
     assert store.keys() == []
@@ -180,7 +185,7 @@ def test_task_a_broken_pool_gave_up_on_is_reported_not_stored(tmp_path):
 @pytest.mark.slow
 def test_parametric_study_findings():
     # Paper Figs. 5 and 6 (subset: ξ_1 = 0.5 %, μ_m 2.5 % and 10 %, f_1 around and below 3 Hz).
-    with concurrent.futures.ProcessPoolExecutor(2) as pool:
+    with concurrent.futures.ProcessPoolExecutor(2, mp_context=_CONTEXT) as pool:
         study = parametric_study(structure_frequencies=[1.5, 2.0, 3.0, 3.5],
                                  structure_damping_ratios=(0.005,), mass_ratios=(0.025, 0.10),
                                  executor=pool)
