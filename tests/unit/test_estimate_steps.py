@@ -73,11 +73,18 @@ SAME_LIBRARIES = (np.__version__, scipy.__version__) == RECORDED_WITH
 TOLERANCE = 1e-12 if SAME_LIBRARIES else 1e-5
 
 
-def _close(actual, expected):
-    # Round-off of a changed operation order only: TOLERANCE of the largest entry.
+#: The likelihood with free step frequencies refits from the first fit's optimum since
+#: issue 25 (one start instead of the given ones: its speed target): the optimiser then stops
+#: elsewhere within its tolerance, 7.5e-7 relative at most on these rows (measured), so they
+#: are held to 2e-6 and their evaluation count (first fit + refit) is not compared.
+REFIT_FROM_OPTIMUM = 2e-6
+
+
+def _close(actual, expected, tolerance=TOLERANCE):
+    # Round-off of a changed operation order only: ``tolerance`` of the largest entry.
     expected = np.asarray(expected, dtype=float)
-    np.testing.assert_allclose(actual, expected, rtol=TOLERANCE,
-                               atol=TOLERANCE * np.max(np.abs(expected), initial=0.0))
+    np.testing.assert_allclose(actual, expected, rtol=tolerance,
+                               atol=tolerance * np.max(np.abs(expected), initial=0.0))
 
 
 @pytest.mark.parametrize("key", [pytest.param(k, marks=pytest.mark.slow)
@@ -85,17 +92,30 @@ def _close(actual, expected):
 def test_estimate_reproduces_the_recorded_numbers(measured, key):
     # Reference: the same call on commit 89c377c (RECORDED).
     expected, estimate = RECORDED[key], _run(measured, key)
+    refit = key.startswith("likelihood") and "/True/" in key
+    tolerance = max(TOLERANCE, REFIT_FROM_OPTIMUM) if refit else TOLERANCE
     theta = [estimate.msd.frequency, estimate.msd.damping_ratio]
     if estimate.crowd is not None:
         theta += [estimate.crowd.step_frequency_mean, estimate.crowd.step_frequency_std]
-    _close(theta, expected["theta"])
-    _close([estimate.cost, estimate.cost_no_hsi], [expected["cost"], expected["cost_no_hsi"]])
-    assert estimate.n_evaluations == expected["n_evaluations"] or not SAME_LIBRARIES
-    _close(estimate.level_ratio, expected["level_ratio"])
-    _close(np.asarray(estimate.covariance).ravel(), expected["covariance"])
-    assert set(estimate.intervals) == set(expected["intervals"])
-    for name, ends in expected["intervals"].items():
-        _close(estimate.intervals[name], ends)
+    _close(theta, expected["theta"], tolerance)
+    _close([estimate.cost, estimate.cost_no_hsi], [expected["cost"], expected["cost_no_hsi"]],
+           tolerance)
+    assert estimate.n_evaluations == expected["n_evaluations"] or not SAME_LIBRARIES or refit
+    _close(estimate.level_ratio, expected["level_ratio"], tolerance)
+    _close(np.asarray(estimate.covariance).ravel(), expected["covariance"], tolerance)
+    # Since issue 25 the profile covers the MSD's parameters; fitted step frequencies keep
+    # their Wald interval (estimate ± z·SE of the sandwich, HSIEstimate.interval).
+    profiled = {name: ends for name, ends in expected["intervals"].items()
+                if key.endswith("bootstrap") or not name.startswith("step_frequency")}
+    assert set(estimate.intervals) == set(profiled)
+    for name, ends in profiled.items():
+        _close(estimate.intervals[name], ends, tolerance)
+    if key.endswith("profile") and estimate.crowd is not None:
+        for name in ("step_frequency_mean", "step_frequency_std"):
+            half = 1.959963984540054 * np.sqrt(expected["covariance"][
+                5 * estimate.free_parameters.index(name)])
+            _close(estimate.interval(name),
+                   [estimate.value(name) - half, estimate.value(name) + half], 1e-5)
 
 
 def test_objective_is_immutable_and_a_refit_gets_a_new_one(measured):

@@ -168,9 +168,18 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         # The likelihood's bins are chosen from the crowd's model (within its dynamic range), so
         # a first fit from the given crowd is followed by the fit on the bins of the fitted
         # crowd: the answer then does not depend on the starting guess.
+        # The refit starts from the first fit's optimum only: the first fit's starts have
+        # already found the basin, and the new bins move the optimum by a fraction of its
+        # interval (one start instead of four: a third of the estimate's time).
         first = _estimate([(objective(crowd), measured)], structure, **dict(
             options, interval=None))
         crowd = first.crowd
+        options["starts"] = [tuple(first.value(name) for name in first.free_parameters
+                                   if name not in STEP_PARAMETERS)]
+        second = _estimate([(objective(crowd), measured)], structure, interval=interval,
+                           **options)
+        return dataclasses.replace(second, n_evaluations=first.n_evaluations
+                                   + second.n_evaluations, starts=first.starts + second.starts)
     return _estimate([(objective(crowd), measured)], structure, interval=interval, **options)
 
 
@@ -413,8 +422,12 @@ def _intervals(interval, parts, stacked, parameters, theta, covariance, hessian,
         intervals = {name: percentile_interval(samples[:, i], level)
                      for i, name in enumerate(names)}
     if interval == "profile":
+        # The MSD's parameters are profiled; the step frequencies (fitted with the MSD, not the
+        # answer sought) keep their Wald interval, half the profile's cost when they are free.
         ends = []
         for i, name in enumerate(names):
+            if name in STEP_PARAMETERS:
+                continue
             intervals[name], hit = profile_interval(
                 lambda values: parameters.misfit(stacked, values), theta, i, lower, upper,
                 covariance, hessian, level)
