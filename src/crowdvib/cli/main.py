@@ -15,7 +15,7 @@ from .._version import __version__
 from .._files import os_error_text, require_file
 from ..errors import CrowdvibError
 from ..reporting.report import write_report
-from . import check, demo, estimate, landscape, modes, sensitivity, simulate
+from . import check, demo, estimate, init, landscape, modes, sensitivity, simulate
 from .common import close_progress, say
 
 __all__ = ["main", "build_parser"]
@@ -38,6 +38,8 @@ class _Report:
 
 #: command → (one-line help, module with ``add_arguments(parser)`` and ``run(args) -> int``)
 _COMMANDS = {
+    "init": ("a case-file draft from a measured record: what it holds, placeholders for the rest",
+             init),
     "demo": ("estimate the MSD parameters back on the paper's numerical example", demo),
     "estimate": ("estimate the MSD parameters from a case file's measured records", estimate),
     "simulate": ("simulate a case (default: the paper example) and write its record", simulate),

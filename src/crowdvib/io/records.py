@@ -385,6 +385,14 @@ def read_record(path: str | os.PathLike, *, format: str | None = None,
         In m/s²; time stamps are checked (uniform, increasing, no gaps), the samples are not —
         call :func:`check_record`.
     """
+    record, _ = _read_record(path, format=format, units=units, sample_rate=sample_rate,
+                             time_column=time_column)
+    return record if channels is None else record.select(channels)
+
+
+def _read_record(path, *, format, units, sample_rate, time_column):
+    """(Record, the reader's meta: its time base and the units the file states) — the work of
+    :func:`read_record`; ``crowdvib init`` (:mod:`crowdvib.io.draft`) reports the time base."""
     path = Path(path)
     kind = _format_of(path, format)
     require_file(path, "record")
@@ -403,7 +411,7 @@ def read_record(path: str | os.PathLike, *, format: str | None = None,
                            rate_source=meta.get("rate_source"), time=meta.get("time"),
                            time_name=meta.get("time_name"), units=unit,
                            start_time=meta.get("start_time", 0.0))
-    return record if channels is None else record.select(channels)
+    return record, meta
 
 
 def write_record(record: Record, path: str | os.PathLike, *, format: str | None = None,

@@ -1,0 +1,57 @@
+"""``crowdvib init RECORD``: what a record holds, and a case-file draft for it (issue 27 §2).
+
+The work is :mod:`crowdvib.io.draft`; this command prints its findings, writes the draft (never
+over an existing file) and names the next command.
+"""
+
+import shlex
+from pathlib import Path
+
+from .common import positive_float, say, warning_texts
+
+
+def add_arguments(parser):
+    parser.add_argument("record", type=Path,
+                        help="measured record (CSV, NPZ, MAT, UFF 58)")
+    parser.add_argument("-o", "--output", type=Path, default=None,
+                        help="case file to write (default the record's name with .toml, beside "
+                             "it); an existing file is never replaced")
+    parser.add_argument("--format", default=None,
+                        help="record format: csv, npz, mat, mat73 or uff (default from the "
+                             "suffix)")
+    parser.add_argument("--sample-rate", type=positive_float, default=None,
+                        help="sample rate [Hz] of a record without time stamps")
+    parser.add_argument("--time-column", default="time",
+                        help="name of the time column [s] (default: 'time' or the one usual "
+                             "time header, e.g. 'Time [s]')")
+
+
+def run(args):
+    import warnings
+
+    from ..io.draft import inspect_record, new_case_path, write_draft
+
+    output = new_case_path(args.record, args.output)   # refused before the record is read
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        found = inspect_record(args.record, format=args.format, sample_rate=args.sample_rate,
+                               time_column=args.time_column)
+    time = (f"column {found.time_column!r}" if found.time_column else "none")
+    source = {"time stamps": "from the time stamps", "given": "given (--sample-rate)",
+              "file": "stated in the file"}[found.rate_source]
+    say(f"crowdvib init: {found.path} ({found.format})")
+    say(f"  columns      {', '.join(map(repr, found.channel_names))}"
+        + (f" and the time {time}" if found.time_column else ""))
+    say(f"  time         {time}; sample rate {found.sample_rate:.6g} Hz {source}")
+    say(f"  length       {found.n_samples} samples, {found.duration:g} s")
+    for channel in found.channels:
+        say(f"  {channel.name!r}: mean {channel.mean:.4g}, RMS {channel.rms:.3g} → "
+            f"{channel.units or 'unsure'} ({channel.reason})")
+    say(f"  units        {found.units or 'unsure'}: {found.units_reason}")
+    for text in warning_texts(caught):
+        say(f"crowdvib init: warning: {text}")
+    write_draft(found, output)
+    say(f"  wrote {output}: replace its \"REPLACE: …\" values (the bridge, the crowd, the band"
+        + ("" if found.units else ", the units") + "), then run")
+    say(f"    crowdvib estimate {shlex.quote(str(output))}")
+    return 0

@@ -1,0 +1,326 @@
+"""A case file drafted from a record: what ``crowdvib init RECORD`` finds and writes (issue 27 §2).
+
+:func:`inspect_record` reads a record with :func:`crowdvib.io.read_record`'s own machinery (the
+formats table, the time-header recognition, the checks) and reports its channels, time base,
+length and a guess of its units. :func:`draft_case` renders a commented TOML case file from it:
+``[measurement]`` filled in, the bridge, the crowd and the band as placeholders. A placeholder is
+a string ``"REPLACE: what it is [unit]"`` where a number belongs, so :func:`crowdvib.load_case`
+refuses the draft, naming the key, until every one is replaced. :func:`write_draft` writes it and
+never replaces an existing file.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._files import require_file
+from .._version import __version__
+from ..errors import DataError, ParameterError
+from ..models.loading import STANDARD_GRAVITY
+from ._common import quote_names
+from .formats import suffix_format
+from .records import _format_of, _read_record, _unit_key, check_record
+
+__all__ = ["ChannelSummary", "RecordSummary", "inspect_record", "guess_units", "draft_case",
+           "new_case_path", "write_draft", "PLACEHOLDER"]
+
+#: How every placeholder value of a draft starts.
+PLACEHOLDER = "REPLACE:"
+#: The gravity offset of a vertical accelerometer that keeps it, in the units load_case reads.
+_GRAVITY = {"g": 1.0, "m/s2": STANDARD_GRAVITY}
+#: RMS of footbridge accelerations, from an ambient test to a dense crowd, in each unit a logger
+#: may write: about 0.01–2 m/s², 0.001–0.2 g, 10–2000 mm/s².
+_LEVELS = (("g", 1e-3, 0.2), ("m/s2", 0.01, 2.0), ("mm/s2", 10.0, 2000.0))
+#: The Welch window a draft proposes (the case files' default T [s]).
+_WINDOW = 60.0
+
+
+@dataclass(frozen=True)
+class ChannelSummary:
+    """One channel as stored in the file (before any unit conversion)."""
+
+    name: str
+    #: Mean of the samples, in the file's units (the gravity offset, if the sensor keeps it).
+    mean: float
+    #: RMS of the fluctuation about the mean, in the file's units.
+    rms: float
+    #: The units it looks to be in: "g", "m/s2" (names measurement.units takes), or None.
+    units: str | None
+    #: Why (the mean or the level it rests on), or why crowdvib cannot tell.
+    reason: str
+
+
+@dataclass(frozen=True)
+class RecordSummary:
+    """What :func:`inspect_record` found in a record."""
+
+    path: Path
+    format: str
+    channels: tuple
+    #: The column (variable) of time stamps, or None.
+    time_column: str | None
+    sample_rate: float
+    #: Where the rate comes from: "time stamps", "given" (the caller) or "file" (stated in it).
+    rate_source: str
+    duration: float
+    n_samples: int
+    #: The units of the whole record ("g", "m/s2"), or None when crowdvib cannot tell.
+    units: str | None
+    units_reason: str
+    #: Whether the file states its units (else they are guessed from the samples).
+    units_stated: bool = False
+
+    @property
+    def channel_names(self) -> tuple:
+        return tuple(channel.name for channel in self.channels)
+
+
+def _offset_units(mean, rms):
+    """The units whose gravity offset ``mean`` is (±15 %: a sensor tilted by up to ~30°), or
+    None; a fluctuation of half of it or more is no accelerometer at rest under a bridge."""
+    return next((units for units, gravity in _GRAVITY.items()
+                 if abs(abs(mean) - gravity) <= 0.15 * gravity and rms < 0.5 * gravity), None)
+
+
+def guess_units(mean: float, rms: float) -> tuple[str | None, str]:
+    """(units or None, why) of a channel of mean ``mean`` and fluctuation RMS ``rms``.
+
+    A mean near ±1 is the gravity offset in g, near ±9.81 in m/s² (a sensor tilted by up to
+    about 30° still shows it). Without an offset only the level speaks: footbridge accelerations
+    have an RMS of about 0.01–2 m/s², i.e. 0.001–0.2 g or 10–2000 mm/s²; a level inside two of
+    these ranges (or none) is "unsure" (None).
+    """
+    units = _offset_units(mean, rms)
+    if units is not None:
+        return units, (f"mean {mean:.3f} is the gravity offset "
+                       f"{'-' if mean < 0 else ''}{_GRAVITY[units]:g} {units}")
+    fits = [(units, low, high) for units, low, high in _LEVELS if low <= rms <= high]
+    ranges = ", ".join(f"{low:g}–{high:g} {units}" for units, low, high in (fits or _LEVELS))
+    if len(fits) != 1:
+        return None, (f"RMS {rms:.3g} fits {'none' if not fits else 'each'} of the usual "
+                      f"footbridge levels {ranges}")
+    units = fits[0][0]
+    if units == "mm/s2":
+        return None, (f"RMS {rms:.3g} fits mm/s² ({ranges}), which crowdvib does not read: "
+                      "convert the record to m/s² (× 0.001)")
+    return units, f"RMS {rms:.3g} fits the usual footbridge level {ranges}"
+
+
+def _record_units(channels, stated, path):
+    """(units, why) of the whole record from its channels' guesses (or the unit it states)."""
+    if stated:
+        return _unit_key(stated, f"{path.name}: its stated "), f"the file states {stated!r}"
+    # The gravity offset is the stronger sign; the level decides only where no channel has one.
+    offset = [c for c in channels if _offset_units(c.mean, c.rms)]
+    decided = offset or [c for c in channels if c.units]
+    found = {c.units for c in decided}
+    if len(found) == 1:
+        first = decided[0]
+        return first.units, (f"channel {first.name!r}: {first.reason}"
+                             + (f" (and {len(decided) - 1} more)" if len(decided) > 1 else ""))
+    if found:
+        return None, "the channels disagree (" + "; ".join(
+            f"{c.name!r}: {c.units}" for c in decided) + ")"
+    return None, f"channel {channels[0].name!r}: {channels[0].reason}"
+
+
+def inspect_record(path: str | os.PathLike, *, format: str | None = None,
+                   sample_rate: float | None = None, time_column: str = "time") -> RecordSummary:
+    """Read a record and report its channels, time base, length and units guess.
+
+    Parameters
+    ----------
+    path : str or Path
+        The record (any format :func:`crowdvib.io.read_record` reads).
+    format, sample_rate, time_column
+        As for :func:`crowdvib.io.read_record`.
+
+    Returns
+    -------
+    RecordSummary
+        Means and RMS in the file's own units: the samples are read unconverted.
+
+    Raises
+    ------
+    DataError
+        A missing file, a directory, a file that is no record, NaN samples (the file named).
+
+    Warns
+    -----
+    DataWarning
+        Flat or clipped stretches (:func:`crowdvib.io.check_record`).
+    """
+    path = Path(path)
+    require_file(path, "record")     # before the suffix: a folder is named as one
+    kind = _format_of(path, format)
+    # "m/s2" reads the samples as stored (no conversion), whatever unit the file states.
+    record, meta = _read_record(path, format=format, units="m/s2", sample_rate=sample_rate,
+                                time_column=time_column)
+    check_record(record)
+    if time_column != "time" and meta.get("time") is None:
+        # read_record takes a missing named column for a file without one: here it was asked for
+        raise DataError(f"{path.name}: has no time column {time_column!r}; its columns are "
+                        f"{quote_names(record.channel_names)}")
+    channels = []
+    for name, row in zip(record.channel_names, record.data):
+        mean = float(np.mean(row))
+        rms = float(np.std(row))
+        channels.append(ChannelSummary(name, mean, rms, *guess_units(mean, rms)))
+    source = ("time stamps" if meta.get("time") is not None
+              else "given" if sample_rate is not None else "file")
+    units, reason = _record_units(channels, meta.get("units"), path)
+    return RecordSummary(path=path, format=kind, channels=tuple(channels),
+                         time_column=meta.get("time_name") if source == "time stamps" else None,
+                         sample_rate=record.sample_rate, rate_source=source,
+                         duration=record.duration, n_samples=record.n_samples, units=units,
+                         units_reason=reason, units_stated=bool(meta.get("units")))
+
+
+# ------------------------------------------------------------------------------------ the draft
+def _string(text):
+    """A TOML basic string (JSON's escapes are TOML's; TOML also wants DEL escaped)."""
+    return json.dumps(str(text), ensure_ascii=False).replace("\x7f", "\\u007f")
+
+
+def _placeholder(what):
+    return _string(f"{PLACEHOLDER} {what}")
+
+
+def _relative(path, folder):
+    """``path`` relative to ``folder`` in the file's forward slashes (absolute across drives)."""
+    try:
+        return Path(os.path.relpath(Path(path).resolve(), Path(folder).resolve())).as_posix()
+    except ValueError:
+        return Path(path).resolve().as_posix()
+
+
+def draft_case(summary: RecordSummary, case_path: str | os.PathLike) -> str:
+    """The commented TOML case-file draft for a record (paths relative to ``case_path``'s folder).
+
+    ``[measurement]`` holds what :func:`inspect_record` found: the file, its format when the
+    suffix does not tell it, the time column, the sample rate only when the file has no time
+    stamps, the units guess (a placeholder when unsure) and one output per channel. The bridge
+    (a simply supported beam, the modal-file form in a comment), the crowd density, the outputs'
+    positions and the estimation band are placeholders.
+    """
+    case_path = Path(case_path)
+    name = summary.path.name
+    nyquist = summary.sample_rate / 2
+    windows = int(summary.duration // _WINDOW)
+    row = suffix_format(summary.path, "record")
+    description = (f"{name}: {len(summary.channels)} channel(s), {summary.duration:g} s at "
+                   f"{summary.sample_rate:g} Hz")
+    lines = [
+        f"# Case file drafted by `crowdvib init` {__version__} from {name}.",
+        f'# Replace every value "{PLACEHOLDER} …": crowdvib refuses this file, naming the key, '
+        "until then.",
+        "# Check the values marked \"found\" and \"guess\". Every key, its unit and default: "
+        "docs, Case files.",
+        f"# Then run:  crowdvib estimate {case_path.name}",
+        f"name = {_string(case_path.stem)}",
+        f"description = {_string(description)}",
+        "",
+        "[structure]",
+        "# The empty bridge as a simply supported beam: frequency, damping_ratio and modal_mass",
+        "# take one value per mode (a list). A modal model from FE exports replaces the beam keys",
+        "# by modal_table, mode_shapes and output_points (docs, Case files: [structure]).",
+        'type = "simply_supported_beam"',
+        f"span = {_placeholder('span [m]')}",
+        f"width = {_placeholder('width of the walkway [m]')}",
+        f"frequency = {_placeholder('natural frequency of the vertical mode [Hz]')}",
+        f"damping_ratio = {_placeholder('damping ratio of the empty bridge, a fraction (0.005 is 0.5 %)')}",
+        f"modal_mass = {_placeholder('modal mass [kg] of the unity-scaled sine mode')}",
+        "",
+        "[structure.outputs]",
+        "# One output per channel of the record: the sensor's position along the span [m].",
+        *(f"{_string(c)} = {_placeholder('position of this sensor along the span [m]')}"
+          for c in summary.channel_names),
+        "",
+        "[crowd]",
+        "# The pedestrians on the bridge during the record.",
+        f"density = {_placeholder('pedestrian density during the record [persons/m²]')}",
+        "# walking_speed = 1.3         # [m/s]; default from the density (Weidmann)",
+        "# step_frequency_mean = 1.9   # [Hz]; default from the walking speed (Bruno & Venuti)",
+        "# step_frequency_std = 0.175  # [Hz] (default)",
+        "# body_mass = 70.0            # [kg] (default)",
+        "",
+        "[hsi]",
+        "# mu_h1, the pedestrians' MSD mass as a fraction of their body mass: held at this value",
+        "# while f_h1 and xi_h1 are estimated (0.95 is the default, the paper's).",
+        "mass_ratio = 0.95",
+        "",
+        "[measurement]",
+        f"files = [{_string(_relative(summary.path, case_path.parent))}]   # relative to this "
+        "file",
+    ]
+    if row is None or row.name != summary.format:
+        lines.append(f"format = {_string(summary.format)}")
+    if summary.time_column is not None:
+        lines.append(f"time_column = {_string(summary.time_column)}   # found: "
+                     f"{summary.sample_rate:.6g} Hz from its time stamps")
+    elif summary.rate_source == "given":
+        lines.append(f"sample_rate = {summary.sample_rate!r}   # [Hz], given: the file has no "
+                     "time stamps")
+    units = (_string(summary.units) if summary.units else
+             _placeholder("'m/s2' or 'g': crowdvib could not tell (see the comment)"))
+    lines += [
+        f"units = {units}   # "
+        f"{'found' if summary.units_stated else 'guess' if summary.units else 'unsure'}: "
+        f"{summary.units_reason}",
+        "# (a gravity offset is removed with the mean: detrend = \"constant\", the default)",
+        f"window_length = {_WINDOW!r}   # T [s] of the Welch PSD; " + (
+            f"the record holds {windows} such window(s)" if windows else
+            f"the record is shorter ({summary.duration:g} s): choose a shorter one"),
+        "# filter = { cutoff = 10.0, order = 4 }   # low-pass [Hz], applied to record and model",
+        "",
+        "[measurement.channels]",
+        "# output name (as in [structure.outputs]) = channel in the record; drop what is no",
+        "# acceleration of the deck.",
+        *(f"{_string(c)} = {_string(c)}" for c in summary.channel_names),
+        "",
+        "[estimation]",
+        "# method, crowd_model, interval and the rest keep their defaults (docs, Case files).",
+        "band = " + _placeholder(
+            f"[lower, upper] frequency band [Hz] of the fit around the mode, e.g. [0.0, "
+            f"{min(10.0, 0.8 * nyquist):.1f}]; upper below the Nyquist frequency "
+            f"{nyquist:g} Hz"),
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def _exists(case_path):
+    return ParameterError(f"{case_path} exists: crowdvib init never overwrites a file; choose "
+                          "another name with -o or remove it")
+
+
+def new_case_path(record: str | os.PathLike, case_path: str | os.PathLike | None = None) -> Path:
+    """The case file to draft for ``record``: ``case_path``, by default the record's name with
+    ``.toml`` beside it (the case and its record travel together); refused if it exists."""
+    case_path = Path(record).with_suffix(".toml") if case_path is None else Path(case_path)
+    if case_path.exists():
+        raise _exists(case_path)
+    return case_path
+
+
+def write_draft(summary: RecordSummary, case_path: str | os.PathLike) -> Path:
+    """Write :func:`draft_case` to ``case_path``, which must not exist (never overwritten).
+
+    Raises
+    ------
+    ParameterError
+        ``case_path`` exists.
+    """
+    case_path = Path(case_path)
+    text = draft_case(summary, case_path)
+    try:
+        # "x": created only if absent, in one step (no window for another writer).
+        with open(case_path, "x", encoding="utf-8") as handle:
+            handle.write(text)
+    except FileExistsError:
+        raise _exists(case_path) from None
+    return case_path
