@@ -8,6 +8,7 @@ from typing import Any
 
 from .._version import __version__
 from .results import software_versions
+from .schema import schema_header
 
 __all__ = ["AmbientModes", "identify_ambient"]
 
@@ -44,7 +45,7 @@ class AmbientModes:
     def to_dict(self) -> dict:
         """The results ``crowdvib modes`` writes to results.json, without its files, figures and
         warnings."""
-        return {"command": "modes", "crowdvib_version": __version__,
+        return {**schema_header("modes"), "command": "modes", "crowdvib_version": __version__,
                 "versions": software_versions(), "ambient": str(self.path), "name": self.name,
                 **self.modes.to_dict()}
 

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 from .._version import __version__
 from ..errors import ParameterError
 from .results import DESIGN_TABLES, software_versions
+from .schema import schema_header
 
 if TYPE_CHECKING:
     from ..io.casefile import Case
@@ -55,7 +56,7 @@ class CaseCheck:
         """The results ``crowdvib check`` writes to results.json, without its figures,
         provenance and warnings."""
         msd = self.msd
-        return {"command": "check", "crowdvib_version": __version__,
+        return {**schema_header("check"), "command": "check", "crowdvib_version": __version__,
                 "versions": software_versions(), "case": str(self.case.path),
                 "inputs": self.case.to_dict(DESIGN_TABLES),
                 "msd": None if msd is None else {**msd.to_dict(), "source": self.msd_source},

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 from .._version import __version__
 from ..errors import ParameterError
 from .results import ESTIMATION_TABLES, software_versions
+from .schema import schema_header
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -138,7 +139,8 @@ class CaseEstimate:
         provenance (docs: :doc:`/cli`)."""
         case, hsi = self.case, self.estimate.to_dict()
         diagnostics = {k: v for k, v in hsi.items() if k != "estimate"}
-        head = {"command": "estimate", "crowdvib_version": __version__,
+        head = {**schema_header("estimate"), "command": "estimate",
+                "crowdvib_version": __version__,
                 "versions": software_versions(), "seed": case.seed, "case": str(case.path)}
         if self.joint:
             records = [_record_entry(part) for part in self.records]
@@ -363,7 +365,7 @@ class CaseMap:
         """The results ``crowdvib map`` writes to results.json, without its figures, warnings
         and provenance."""
         case, estimate = self.record.case, self.estimate
-        return {"command": "map", "crowdvib_version": __version__,
+        return {**schema_header("map"), "command": "map", "crowdvib_version": __version__,
                 "versions": software_versions(), "seed": case.seed, "case": str(case.path),
                 "inputs": case.to_dict(ESTIMATION_TABLES), "estimate": estimate.msd.to_dict(),
                 "expected": dict(case.expected),

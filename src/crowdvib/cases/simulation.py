@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
 from .results import SIMULATION_TABLES, software_versions
+from .schema import schema_header
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -46,7 +47,8 @@ class CaseSimulation:
         """The results ``crowdvib simulate`` writes to results.json, without the record files,
         the run time, figures and provenance."""
         case, msd = self.case, self.msd
-        return {"command": "simulate", "crowdvib_version": __version__,
+        return {**schema_header("simulate"), "command": "simulate",
+                "crowdvib_version": __version__,
                 "versions": software_versions(), "seed": int(self.simulation.seed),
                 "case": None if case.path is None else str(case.path),
                 "inputs": case.to_dict(SIMULATION_TABLES),

@@ -291,16 +291,17 @@ def say_if_compiling(structure, hsi):
 
 
 def say_verdict(directory):
-    """Print the report's verdict (its warnings, or that there are none) for ``directory``."""
-    from ..reporting.report import verdict
+    """Print the verdict on the results in ``directory`` (its doubts and failures, or that there
+    are none): the findings ``load_results(directory).verdict()`` gives and report.html shows."""
+    from ..cases.results import load_results
 
-    warnings = verdict(directory)
+    warnings = [f for f in load_results(directory).verdict() if f.severity != "ok"]
     if not warnings:
         say("  verdict: no warnings (details in report.html)")
         return
     say(f"  verdict: check before use ({len(warnings)} warning(s); details in report.html):")
-    for text in warnings:
-        say(f"    - {text}")
+    for finding in warnings:
+        say(f"    - {finding.text}")
 
 
 def positive_float(text):

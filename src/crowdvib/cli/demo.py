@@ -8,6 +8,7 @@ import numpy as np
 from .._version import __version__
 from .._files import write_json
 from ..errors import ParameterError
+from ..cases.schema import schema_header
 from ..reporting.report import provenance, write_report
 from ..reporting.text import interval_of
 from .common import (check_output, progress_printer, say, say_if_compiling, say_verdict,
@@ -133,7 +134,8 @@ def _write_results(args, out, case, measured, estimate, occupied, n_windows):
                              title="Paper example: midspan acceleration PSD")
     figure = save_figure(ax, out / "psd_fit.png")
     results = {
-        "command": "demo", "crowdvib_version": __version__, "seed": args.seed,
+        **schema_header("demo"), "command": "demo", "crowdvib_version": __version__,
+        "seed": args.seed,
         "case": case.name, "truth": truth.to_dict(), **estimate.to_dict(),
         "occupied_structure": occupied.to_dict(),
         "measured": {"source": measured.source, "duration_s": args.duration_s,

@@ -8,6 +8,7 @@ from pathlib import Path
 from .._version import __version__
 from .._files import folder_lock, require_file, write_json
 from .._manifest import record_file
+from ..cases.schema import schema_header
 from ..reporting.report import provenance, write_report
 from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, check_clash,
                      close_progress, dask_address, finish_output, prepare_output,
@@ -212,7 +213,8 @@ def _study(args, case, levels):
     figure = save_figure(axes, out / "estimation_errors.png").name
     record_file(out, figure, "sensitivity")
     write_json(out / "results.json", {
-        "command": "sensitivity", "crowdvib_version": __version__, "versions": versions(),
+        **schema_header("sensitivity"), "command": "sensitivity",
+        "crowdvib_version": __version__, "versions": versions(),
         "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(ESTIMATION_TABLES),
         "estimate": {"frequency": study.nominal["frequency"],
                      "damping_ratio": study.nominal["damping_ratio"],

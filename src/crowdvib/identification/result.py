@@ -177,6 +177,67 @@ class HSIEstimate:
         return (f"HSIEstimate({', '.join(parts)}, method={self.method!r}, "
                 f"J/J_noHSI={self.relative_cost:.3g})")
 
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], crowd: Crowd | None = None) -> HSIEstimate:
+        """The estimate back from :meth:`to_dict` (a results.json's ``estimate`` and
+        ``diagnostics``), holding what that dict holds.
+
+        ``to_dict(from_dict(d)) == d`` but for the correlation and standard errors, which go
+        through the covariance they are rebuilt into (equal to round-off); the bootstrap
+        replicates are not stored (``bootstrap_samples`` is None).
+
+        Parameters
+        ----------
+        data : dict
+            ``{"estimate": {...}, "method": ..., "cost": ..., ...}`` as :meth:`to_dict` writes.
+        crowd : Crowd, optional
+            The crowd the step frequencies were fitted for (density, speed, masses); required
+            when ``data`` holds fitted step frequencies, which replace its own.
+
+        Raises
+        ------
+        ParameterError
+            Fitted step frequencies in ``data`` and no ``crowd``.
+        """
+        from dataclasses import replace
+
+        from ..models.pedestrian import MSDModel
+
+        found, free = data["estimate"], tuple(data["free_parameters"])
+        msd = MSDModel(found["frequency"], found["damping_ratio"], found["mass_ratio"])
+        if "step_frequency_mean" in found:
+            if crowd is None:
+                raise ParameterError("crowd is required: the estimate holds fitted step "
+                                     "frequencies, which replace those of the crowd they were "
+                                     "fitted for")
+            crowd = replace(crowd, step_frequency_mean=found["step_frequency_mean"],
+                            step_frequency_std=found["step_frequency_std"])
+        else:
+            crowd = None
+        interval, errors = found.get("interval"), found.get("standard_error")
+        covariance = None
+        if errors is not None and data.get("correlation") is not None:
+            scale = np.array([errors[name] for name in free])
+            covariance = np.asarray(data["correlation"], dtype=float) * np.outer(scale, scale)
+        ratio = data.get("level_ratio")
+        return cls(
+            msd=msd, cost=data["cost"], cost_no_hsi=data["cost_no_hsi"],
+            n_evaluations=data["n_evaluations"], success=data["success"],
+            active_bounds=tuple(data["active_bounds"]), free_parameters=free,
+            bounds={k: tuple(v) for k, v in data["bounds"].items()}, band=tuple(data["band"]),
+            output_names=tuple(data["output_names"]),
+            output_weights=np.asarray(data["output_weights"], dtype=float),
+            starts=tuple(dict(s) for s in data.get("starts", ())),
+            message=data.get("message", ""),
+            level_ratio=None if ratio is None else np.asarray(ratio, dtype=float),
+            method=data.get("method", "least_squares"), covariance=covariance,
+            intervals={} if not interval else {name: tuple(interval[name]) for name in free},
+            interval_level=interval["level"] if interval else 0.95,
+            interval_on_bound=tuple(data.get("interval_on_bound", ())),
+            crowd_model=data.get("crowd_model", "smeared"),
+            crowd_model_details=tuple(dict(d) for d in data.get("crowd_model_details", ())),
+            interval_method=interval.get("method") if interval else None, crowd=crowd)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict; the estimate sits under ``"estimate"`` with its interval."""
         estimate = self.msd.to_dict()

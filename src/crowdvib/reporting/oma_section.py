@@ -1,23 +1,19 @@
 """The identified modes of ``crowdvib modes`` in report.html, with the second method's cross-check.
 
 A mode the two methods do not agree on (a difference beyond ``level`` combined standard
-deviations, or not found by the second method) is a warning: the verdict names it.
+deviations, or not found by the second method) is a doubt: the verdict names it
+(:mod:`crowdvib.cases.verdict`).
 """
 
 from markupsafe import Markup
 
+from ..cases.verdict import method_name as _name
 from .html import html, join, number, table
 
 __all__ = ["modes_section"]
 
-_METHODS = {"ssi-cov": "SSI-cov", "efdd": "EFDD"}
 
-
-def _name(method):
-    return _METHODS.get(method, str(method))
-
-
-def modes_section(results: dict, notes) -> Markup:
+def modes_section(results: dict) -> Markup:
     """Modes table, cross-check table and per-setup table of a ``modes`` results file; empty for
     other commands."""
     modes = results.get("modes")
@@ -32,17 +28,17 @@ def modes_section(results: dict, notes) -> Markup:
              table(["mode", "f [Hz]", "σ_f [Hz]", "ξ [-]", "σ_ξ [-]"], rows, "data")]
     check = results.get("cross_check")
     if isinstance(check, dict) and isinstance(check.get("modes"), list):
-        parts.append(_cross_check(check, modes, method, notes))
+        parts.append(_cross_check(check, modes, method))
     setups = results.get("setups")
     if isinstance(setups, list) and setups:
         parts.append(_setups(setups, len(modes)))
     return html('<section id="modes"><h2>Identified modes</h2>{}</section>', join(parts))
 
 
-def _cross_check(check, modes, method, notes):
+def _cross_check(check, modes, method):
     other = _name(check.get("method"))
     level = check.get("level", 1.96)
-    rows, disagree = [], []
+    rows = []
     for j, (mine, row) in enumerate(zip(modes, check["modes"])):
         row = row if isinstance(row, dict) else {}
         agree = row.get("agree") is True
@@ -52,22 +48,6 @@ def _cross_check(check, modes, method, notes):
                      number(row.get("damping_ratio"), 4),
                      number(row.get("damping_difference"), 2), number(row.get("damping_z"), 2),
                      number(row.get("mac"), 4), "yes" if agree else "no"])
-        if agree:
-            continue
-        disagree.append(j + 1)
-        if row.get("frequency") is None:
-            notes.warn(html("mode {} ({} Hz): the cross-check by {} finds no mode there.", j + 1,
-                            number(mine.get("frequency"), 4), other))
-        else:
-            notes.warn(html("mode {}: {} and {} disagree beyond {} combined σ: Δf = {} Hz "
-                            "(z = {}), Δξ = {} (z = {}).", j + 1, method, other, number(level, 3),
-                            number(row.get("frequency_difference"), 2),
-                            number(row.get("frequency_z"), 2),
-                            number(row.get("damping_difference"), 2),
-                            number(row.get("damping_z"), 2)))
-    if not disagree and rows:
-        notes.ok(html("{} confirms all {} modes of {} within {} combined σ.", other, len(rows),
-                      method, number(level, 3)))
     headers = ["mode", html("f {} [Hz]", method), html("f {} [Hz]", other), "Δf [Hz]", "z_f",
                html("ξ {}", method), html("ξ {}", other), "Δξ", "z_ξ", "MAC", "agree"]
     return html("<h3>Cross-check by {}</h3><p>Differences {} − {}, and in combined standard "

@@ -29,16 +29,18 @@ from pathlib import Path
 from .._version import __version__
 from .._files import atomic_path, sha256_file
 from .._manifest import foreign_files, read_manifest, record_file
+from ..cases.schema import case_name
+from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, findings
 from ..errors import DataError, ParameterError
 from . import sections
 from .figures import collect_figures
 from .html import html, page
 from .oma_section import modes_section
-from .reading import case_name, read_results
-from .sections import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, SECTIONS
+from .reading import read_results
+from .sections import SECTIONS
 
 __all__ = ["write_report", "render_report", "provenance", "REPORT_NAME", "SECTIONS",
-           "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "verdict"]
+           "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL"]
 
 #: File name of the report inside a results directory.
 REPORT_NAME = "report.html"
@@ -51,7 +53,7 @@ def write_report(directory, *, results=None):
     ----------
     directory : str or pathlib.Path
         A directory written by a crowdvib command (holds ``results.json`` and figures).
-    results : dict, optional
+    results : Results or dict, optional
         The results to report (default: read ``directory/results.json``).
 
     Returns
@@ -91,8 +93,9 @@ def render_report(results, directory=None):
 
     Parameters
     ----------
-    results : dict
-        Contents of a ``results.json``.
+    results : Results or dict
+        A result (:func:`crowdvib.load_results`) or the contents of a ``results.json`` (of any
+        crowdvib version: keys it lacks are left out).
     directory : str or pathlib.Path, optional
         Where to find the figures ``results["figures"]`` names (none embedded without it).
 
@@ -100,6 +103,8 @@ def render_report(results, directory=None):
     -------
     str
     """
+    if hasattr(results, "to_dict"):
+        results = results.to_dict()
     if not isinstance(results, dict):
         raise DataError(f"results must be a JSON object, got {type(results).__name__}")
     directory = None if directory is None else Path(directory)
@@ -119,23 +124,14 @@ def render_report(results, directory=None):
 
 
 def _assess(results, directory):
-    """The notes (warnings, confirmations), figures and diagnostics section of a results dict."""
-    notes = sections.Notes()
+    """The notes (the verdict's findings, then the figures' problems), figures and diagnostics
+    section of a results dict."""
+    notes = sections.Notes(findings(results))
     figures = collect_figures(results, directory, notes, CONVERGENCE_LEVEL)
-    diagnostics = sections.diagnostics_section(results, notes)   # fills notes before the summary
-    diagnostics += sections.design_section(results, notes)       # crowdvib check only
-    diagnostics += modes_section(results, notes)                  # crowdvib modes only
+    diagnostics = sections.diagnostics_section(results)
+    diagnostics += sections.design_section(results)       # crowdvib check only
+    diagnostics += modes_section(results)                  # crowdvib modes only
     return notes, figures, diagnostics
-
-
-def verdict(directory):
-    """The report's verdict on a results directory as plain text: its warnings (empty: none).
-
-    The command line prints it, so that a warning never hides in the HTML alone.
-    """
-    directory = Path(directory)
-    notes, _, _ = _assess(read_results(directory / "results.json"), directory)
-    return [warning.striptags() for warning in notes.warnings]
 
 
 def provenance(case=None):

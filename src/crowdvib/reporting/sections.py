@@ -12,20 +12,16 @@ import numpy as np
 
 from .._version import __version__
 from .._files import sha256_file
-from .html import Markup, html, join, label, number, span, table, value
-from .reading import case_name, estimate, get, hsi, sensitivity, summary
+from ..cases.schema import case_name, estimate, get, hsi, real as _real, sensitivity, summary
+from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL
+from .html import Markup, escape, html, join, label, number, span, table, value
 from .text import interval_of, with_interval
 
-__all__ = ["Notes", "SECTIONS", "header", "nav", "summary_section", "estimate_section",
+__all__ = ["Notes", "finding_markup", "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "header", "nav", "summary_section", "estimate_section",
            "diagnostics_section", "figures_section", "inputs_section", "provenance_section"]
 
 #: Section ids, in page order (each present in every report).
 SECTIONS = ("summary", "estimate", "diagnostics", "figures", "inputs", "provenance")
-#: The paper's convergence criterion for a Welch PSD (Fig. 15): ΔG below 10 %.
-CONVERGENCE_LEVEL = 0.10
-#: J/J_noHSI above this means the MSD explains little of the misfit without HSI. The paper's fits
-#: reach below 1 % (Eeklo) and 2 % (Waalse Krook); 10 % leaves room for real data.
-RELATIVE_COST_LEVEL = 0.10
 
 _PARAMETERS = (("frequency", Markup("f<sub>h1</sub>"), "Hz"),
                ("damping_ratio", Markup("ξ<sub>h1</sub>"), "-"),
@@ -37,23 +33,29 @@ _PARAMETERS = (("frequency", Markup("f<sub>h1</sub>"), "Hz"),
 _RELATIVE = Markup("J/J<sub>noHSI</sub>")
 
 
-def _real(x):
-    """``x`` if it is a finite real number (not a bool), else None."""
-    ok = isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x)
-    return x if ok else None
+#: Symbols the verdict's plain texts spell out, typeset (after escaping) in the report.
+_SYMBOLS = (("J/J_noHSI", _RELATIVE), ("f_h1", Markup("f<sub>h1</sub>")),
+            ("ξ_h1", Markup("ξ<sub>h1</sub>")), ("μ_h1", Markup("μ<sub>h1</sub>")))
+
+
+def finding_markup(text):
+    """A verdict's plain text as Markup: escaped, its symbols typeset."""
+    text = escape(text)
+    for plain, typeset in _SYMBOLS:
+        text = Markup(text.replace(plain, typeset))
+    return text
 
 
 class Notes:
-    """Warnings and confirmations (Markup) collected while building the sections."""
+    """The verdict's findings (:func:`crowdvib.cases.verdict.findings`) as Markup, and the
+    report's own warnings about the results directory (a listed figure missing)."""
 
-    def __init__(self):
-        self.warnings, self.good = [], []
+    def __init__(self, findings=()):
+        self.warnings = [finding_markup(f.text) for f in findings if f.severity != "ok"]
+        self.good = [finding_markup(f.text) for f in findings if f.severity == "ok"]
 
     def warn(self, text):
         self.warnings.append(html("{}", text))
-
-    def ok(self, text):
-        self.good.append(html("{}", text))
 
 
 def header(results):
@@ -198,19 +200,12 @@ def estimate_section(results):
     return html('<section id="estimate"><h2>Estimate</h2>{}</section>', join(parts))
 
 
-def diagnostics_section(results, notes):
+def diagnostics_section(results):
     rows = []
     cost, no_hsi = hsi(results, "cost"), hsi(results, "cost_no_hsi")
     relative = hsi(results, "relative_cost")
     if relative is not None:
         rows.append([html("relative cost {}", _RELATIVE), number(relative, 3)])
-        if _real(relative) is not None and relative > RELATIVE_COST_LEVEL:
-            notes.warn(html("{} = {} is above {}: the MSD model explains little of the misfit "
-                            "without HSI.", _RELATIVE, number(relative, 3),
-                            f"{RELATIVE_COST_LEVEL:.0%}"))
-        elif _real(relative) is not None:
-            notes.ok(html("the fit removes {} % of the misfit without HSI ({} = {}).",
-                          f"{100 * (1 - relative):.2f}", _RELATIVE, number(relative, 3)))
     if cost is not None:
         likelihood = hsi(results, "method") == "likelihood"
         rows.append(["estimator", "Whittle likelihood of the Welch ordinates" if likelihood
@@ -222,8 +217,6 @@ def diagnostics_section(results, notes):
     success = hsi(results, "success")
     if success is not None:
         rows.append(["optimiser converged", number(success)])
-        if not success:
-            notes.warn(html("the optimiser did not converge: {}", hsi(results, "message") or ""))
     for key, text in (("n_evaluations", "model evaluations"), ("band", "analysis band [Hz]"),
                       ("output_names", "outputs"), ("output_weights", "output weights γ")):
         found = hsi(results, key)
@@ -233,13 +226,10 @@ def diagnostics_section(results, notes):
     if isinstance(active, list):
         names = ", ".join(str(a) for a in active)
         rows.append(["active bounds", names or "none"])
-        if active:
-            notes.warn(html("the optimum sits on a bound ({}): widen the bounds or distrust "
-                            "that parameter.", names))
     parts = []
     if rows:
         parts.append(table(["quantity", "value"], rows, "data narrow"))
-    parts += [_convergence(results, notes), _starts(results), _record_length(results, notes)]
+    parts += [_convergence(results), _starts(results), _record_length(results)]
     study = sensitivity(results)
     if study:
         cases = [c for c in study["cases"] if isinstance(c, dict)]
@@ -247,24 +237,8 @@ def diagnostics_section(results, notes):
         parts.append(html("<p>Modelling-error study: {} case(s) estimated{}.</p>",
                           len(cases) - len(failed),
                           f", {len(failed)} failed" if failed else ""))
-        if failed:
-            notes.warn(html("{} modelling-error case(s) failed, e.g. {}: {}", len(failed),
-                            failed[0].get("name", "?"), failed[0]["error"]))
-        # A case on a search bound has a Δ the bound cut short: the study's bound is then a
-        # lower limit, which the verdict must say.
-        stuck = [c for c in cases if isinstance(c.get("active_bounds"), list)
-                 and c["active_bounds"]]
-        if stuck:
-            first = stuck[0]
-            notes.warn(html("{} of {} modelling-error case(s) ended on a search bound (e.g. {}: "
-                            "{}): their Δ is cut short by the bound, so the modelling bound is "
-                            "a lower limit; widen the search bounds.", len(stuck), len(cases),
-                            first.get("label") or first.get("name", "?"),
-                            ", ".join(map(str, first["active_bounds"]))))
     messages = results.get("warnings")
     messages = messages if isinstance(messages, list) else []
-    for message in messages:
-        notes.warn(str(message))
     if messages:
         parts.append(html("<h3>Warnings raised during the run</h3><ul>{}</ul>",
                           join(html("<li><code>{}</code></li>", m) for m in messages)))
@@ -277,7 +251,8 @@ def diagnostics_section(results, notes):
                 join(parts))
 
 
-def _convergence(results, notes):
+def _convergence(results):
+    """The convergence table (the verdict judges it: :mod:`crowdvib.cases.verdict`)."""
     convergence = hsi(results, "convergence")
     if not isinstance(convergence, dict) or "error" not in convergence:
         return ""
@@ -285,7 +260,6 @@ def _convergence(results, notes):
         error = np.atleast_2d(np.asarray(convergence["error"], dtype=float))
         duration = np.asarray(convergence.get("duration", []), dtype=float)
     except (TypeError, ValueError):
-        notes.warn("the PSD convergence in results.json is not numeric and is left out.")
         return ""
     names = convergence.get("output_names")
     names = names if isinstance(names, list) else [f"output {i + 1}" for i in range(len(error))]
@@ -298,13 +272,6 @@ def _convergence(results, notes):
         reach = (duration[below[-1] + 1] if below.size and below[-1] + 1 < duration.size
                  else (duration[0] if not below.size and duration.size else None))
         rows.append([name, f"{100 * change:.1f} %", "—" if reach is None else f"{reach:g} s"])
-        if change >= CONVERGENCE_LEVEL:
-            notes.warn(html("the PSD of {} has not converged: the last window changed it by "
-                            "{} % (≥ {}); use a longer record.", name, f"{100 * change:.1f}",
-                            f"{CONVERGENCE_LEVEL:.0%}"))
-        else:
-            notes.ok(html("PSD of {} converged (last change {} %).", name,
-                          f"{100 * change:.1f}"))
     band = convergence.get("band") or ["?", "?"]
     return html("<h3>PSD convergence ({}-norm over {} Hz, T = {} s)</h3>{}",
                 convergence.get("norm", "2"), span(band),
@@ -313,17 +280,13 @@ def _convergence(results, notes):
                        f"ΔG below {CONVERGENCE_LEVEL:.0%} from"], rows, "data narrow"))
 
 
-def _record_length(results, notes):
+def _record_length(results):
     """Table of the estimate against record length (the sensitivity command's second study)."""
     rows = results.get("record_length")
     rows = [r for r in rows if isinstance(r, dict) and "duration" in r] \
         if isinstance(rows, list) else []
     if not rows:
         return ""
-    failed = [r for r in rows if "error" in r]
-    if failed:
-        notes.warn(html("{} record-length re-estimation(s) failed, e.g. {}", len(failed),
-                        failed[0]["error"]))
     cells = [[number(r["duration"]), number(r.get("n_windows")), number(r.get("frequency")),
               number(r.get("damping_ratio")), number(r.get("delta_frequency"), 3),
               number(r.get("delta_damping_ratio"), 3), number(r.get("relative_cost"), 3)]
@@ -348,22 +311,16 @@ def _starts(results):
                                     rows, "data"), more)
 
 
-def design_section(results: dict, notes: Notes) -> Markup:
+def design_section(results: dict) -> Markup:
     """The verdict table of ``crowdvib check`` (``design.verdict``); empty for other commands.
 
-    A check that fails with the primary model (HSI when checked, else no HSI) is a warning.
+    A check that fails with the primary model (HSI when checked, else no HSI) fails the verdict
+    (:mod:`crowdvib.cases.verdict`).
     """
     rows = get(results, ("design", "verdict"))
     if not isinstance(rows, list) or not rows:
         return Markup("")
     rows = [r for r in rows if isinstance(r, dict)]
-    primary = "HSI" if any(r.get("model") == "HSI" for r in rows) else "no HSI"
-    for r in rows:
-        if r.get("model") == primary and r.get("passes") is False:
-            notes.warn(html("{} {} fails at {} with {}: {} m/s² above the limit {} m/s² "
-                            "(utilisation {}).", r.get("code"), r.get("traffic_class") or "",
-                            r.get("output"), primary, number(r.get("governing"), 3),
-                            number(r.get("limit"), 3), number(r.get("utilisation"), 3)))
     cells = [[r.get("code"), r.get("traffic_class") or "—", r.get("model"), r.get("output"),
               number(r.get("governing"), 3), number(r.get("limit"), 3),
               number(r.get("utilisation"), 3), r.get("comfort_class"),
