@@ -281,7 +281,8 @@ def draft_case(summary: RecordSummary, case_path: str | os.PathLike) -> str:
         "[measurement.channels]",
         "# output name (as in [structure.outputs]) = channel in the record; drop what is no",
         "# acceleration of the deck.",
-        *(f"{_string(c)} = {_string(c)}" for c in summary.channel_names),
+        *(f"{_string(c.name)} = {_string(c.name)}   # found: mean {c.mean:.4g}, RMS {c.rms:.3g} "
+          "in the file's units" for c in summary.channels),
         "",
         "[estimation]",
         "# method, crowd_model, interval and the rest keep their defaults (docs, Case files).",
