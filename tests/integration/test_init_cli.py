@@ -127,6 +127,7 @@ def test_filled_draft_loads_and_estimates(drafted, tmp_path):
     assert case.measurement.units == "g" and case.measurement.files == (path.parent / "bridge.csv",)
     assert case.structure.output_names == ("midspan",) and case.crowd.density == 0.5
     assert main(["estimate", str(case_path), "--out", str(tmp_path / "est")]) == 0
+    assert (tmp_path / "est" / "report.html").is_file()
     estimate = json.loads((tmp_path / "est" / "results.json").read_text())["estimate"]
     # The record was made with the paper's MSD, f_h1 = 3.0 Hz, ξ_h1 = 0.30; ten minutes of it
     # give f_h1 within 10 % (the g read as g: no factor 9.81 anywhere).

@@ -4,7 +4,6 @@ The work is :mod:`crowdvib.io.draft`; this command prints its findings, writes t
 over an existing file) and names the next command.
 """
 
-import shlex
 from pathlib import Path
 
 from .common import positive_float, say, warning_texts
@@ -27,6 +26,7 @@ def add_arguments(parser):
 
 
 def run(args):
+    import shlex
     import warnings
 
     from ..io.draft import inspect_record, new_case_path, write_draft
