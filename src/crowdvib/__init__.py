@@ -34,7 +34,8 @@ _LAZY = {
     **dict.fromkeys(("TunedMassDamper", "tune_damper", "design_check", "DesignCheck",
                      "predict_response", "ResponsePrediction"), "design"),
     # What a case file describes, run from Python as the commands run it.
-    **dict.fromkeys(("estimate_case", "map_case", "check_case", "simulate_case"), "cases"),
+    **dict.fromkeys(("estimate_case", "map_case", "check_case", "simulate_case",
+                     "load_results", "Results"), "cases"),
     "modal_accelerance": "response",
     "FluctuatingSpectralModel": "response",
 }
@@ -69,7 +70,8 @@ if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
                      write_record)
     from .models import (Crowd, ForceModel, MeasuredForce, ModalModel, MSDModel, WalkingForce,
                          YoungForce, ZivanovicForce)
-    from .cases import check_case, estimate_case, map_case, simulate_case
+    from .cases import (Results, check_case, estimate_case, load_results, map_case,
+                        simulate_case)
     from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
                            effective_modal_properties, frf, response_psd, simulate,
                            simulate_many)

@@ -11,13 +11,22 @@ a :class:`~crowdvib.io.casefile.Case` thus gets what the command gets:
 - :func:`simulate_case` (``crowdvib simulate``);
 - :func:`identify_ambient` (``crowdvib modes``, on an ambient-test file).
 
+Each returns an object whose ``to_dict()`` is the command's results.json and whose
+``results()`` is that as a :class:`Results`, the object :func:`load_results` reads back from the
+file (docs: :doc:`/results`); ``verdict()`` gives the findings the command prints.
+
 The names load with their module on first use: the command line imports
 :mod:`crowdvib.cases.results` at start-up and the rest only when a command runs.
 """
 
 import importlib
 
-from .results import DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES, software_versions
+from .results import (DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES, CheckResults,
+                      DemoResults, EstimateResults, MapResults, ModesResults, Results,
+                      SensitivityResults, SimulateResults, load_results, results_of,
+                      software_versions)
+from .schema import KINDS, SCHEMA
+from .verdict import Finding
 
 #: Public name → the module of this package that defines it.
 _MODULES = {
@@ -31,7 +40,9 @@ _MODULES = {
 }
 
 __all__ = ["DESIGN_TABLES", "ESTIMATION_TABLES", "SIMULATION_TABLES", "software_versions",
-           *_MODULES]
+           "Results", "EstimateResults", "SensitivityResults", "CheckResults", "ModesResults",
+           "SimulateResults", "MapResults", "DemoResults", "load_results", "results_of",
+           "Finding", "SCHEMA", "KINDS", *_MODULES]
 
 
 def __getattr__(name):

@@ -7,14 +7,14 @@ from dataclasses import dataclass
 from typing import Any
 
 from .._version import __version__
-from .results import software_versions
+from .results import AsResults, software_versions
 from .schema import schema_header
 
 __all__ = ["AmbientModes", "identify_ambient"]
 
 
 @dataclass(frozen=True)
-class AmbientModes:
+class AmbientModes(AsResults):
     """What ``crowdvib modes`` computes for an ambient-test file (:func:`identify_ambient`).
 
     Attributes

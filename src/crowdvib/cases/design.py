@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
 from ..errors import ParameterError
-from .results import DESIGN_TABLES, software_versions
+from .results import AsResults, DESIGN_TABLES, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
@@ -20,7 +20,7 @@ __all__ = ["CaseCheck", "check_design_table", "design_msd", "check_case",
            "verdict_rows"]
 
 @dataclass(frozen=True)
-class CaseCheck:
+class CaseCheck(AsResults):
     """What ``crowdvib check`` computes for a case (:func:`check_case`).
 
     Attributes

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
 from ..errors import ParameterError
-from .results import ESTIMATION_TABLES, software_versions
+from .results import AsResults, ESTIMATION_TABLES, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
@@ -76,7 +76,7 @@ class CaseRecordFit:
 
 
 @dataclass(frozen=True)
-class CaseEstimate:
+class CaseEstimate(AsResults):
     """What ``crowdvib estimate`` computes for a case (:func:`estimate_case`).
 
     Attributes
@@ -341,7 +341,7 @@ def estimate_case(case: Case) -> CaseEstimate:
 
 
 @dataclass(frozen=True)
-class CaseMap:
+class CaseMap(AsResults):
     """What ``crowdvib map`` computes for a case (:func:`map_case`).
 
     Attributes

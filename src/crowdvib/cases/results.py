@@ -20,15 +20,20 @@ import html
 import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from .._version import __version__
 from ..errors import DataError
 from .schema import KINDS, SCHEMA, estimate, hsi
 
+if TYPE_CHECKING:
+    from ..identification.result import HSIEstimate
+    from ..models.pedestrian import MSDModel
+    from .verdict import Finding
+
 __all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "software_versions",
            "Results", "EstimateResults", "SensitivityResults", "CheckResults", "ModesResults",
-           "SimulateResults", "MapResults", "DemoResults", "load_results", "results_of"]
+           "SimulateResults", "MapResults", "DemoResults", "AsResults", "load_results", "results_of"]
 
 #: The case tables each kind of command reads; its results and report show no others.
 ESTIMATION_TABLES = ("structure", "crowd", "hsi", "measurement", "estimation", "expected")
@@ -148,7 +153,7 @@ class Results:
         return ends[0], ends[1], found["level"]
 
     # ------------------------------------------------------------------------------ verdict
-    def verdict(self):
+    def verdict(self) -> tuple[Finding, ...]:
         """The verdict: a tuple of :class:`~crowdvib.cases.verdict.Finding` (severity ``"ok"``,
         ``"doubt"`` or ``"fail"``, text, key), as the command line prints it and report.html
         shows it."""
@@ -183,7 +188,7 @@ class Results:
                          "standard_error": errors.get(key), "reference": reference.get(key)})
         return rows
 
-    def to_dataframe(self):
+    def to_dataframe(self) -> Any:
         """:meth:`table` as a pandas DataFrame (needs pandas: ``pip install 'crowdvib[notebook]'``
         or ``pip install pandas``).
 
@@ -242,7 +247,7 @@ class EstimateResults(Results):
 
     kind = "estimate"
 
-    def hsi_estimate(self):
+    def hsi_estimate(self) -> HSIEstimate:
         """The :class:`~crowdvib.identification.HSIEstimate` (via ``HSIEstimate.from_dict``);
         its fitted step frequencies, if any, in the case's crowd (``inputs.crowd``). A joint
         fit's estimate has one crowd per record and is rebuilt without one.
@@ -263,7 +268,7 @@ class EstimateResults(Results):
                                      crowd=Crowd(**crowd) if isinstance(crowd, dict) else None)
 
     @property
-    def msd(self):
+    def msd(self) -> MSDModel:
         """The estimated :class:`~crowdvib.models.MSDModel`."""
         from ..models.pedestrian import MSDModel
 
@@ -286,11 +291,13 @@ class DemoResults(EstimateResults):
 
     kind = "demo"
 
-    def hsi_estimate(self):
-        """The :class:`~crowdvib.identification.HSIEstimate` (its keys sit at the top level)."""
+    def hsi_estimate(self) -> HSIEstimate:
+        """The :class:`~crowdvib.identification.HSIEstimate` (its keys sit at the top level;
+        fitted step frequencies in the crowd of the paper's example, which the demo runs)."""
         from ..identification.result import HSIEstimate
+        from ..models.examples import paper_example
 
-        return HSIEstimate.from_dict(self.data)
+        return HSIEstimate.from_dict(self.data, crowd=paper_example().crowd)
 
 
 class MapResults(EstimateResults):
@@ -300,13 +307,13 @@ class MapResults(EstimateResults):
 
     def table(self) -> list[dict]:
         """The objective map: one row per grid point (frequency [Hz], damping ratio [-],
-        cost)."""
+        cost); ``cost`` is stored one row per damping ratio."""
         found = self.data.get("objective_map") or {}
         return [{"frequency": f, "damping_ratio": x, "cost": c}
-                for f, row in zip(found.get("frequencies", []), found.get("cost", []))
-                for x, c in zip(found.get("damping_ratios", []), row)]
+                for x, row in zip(found.get("damping_ratios", []), found.get("cost", []))
+                for f, c in zip(found.get("frequencies", []), row)]
 
-    def hsi_estimate(self):
+    def hsi_estimate(self) -> HSIEstimate:
         """The optimiser's :class:`~crowdvib.identification.HSIEstimate` (the map carries no
         interval)."""
         from ..identification.result import HSIEstimate
@@ -384,7 +391,7 @@ def _json(data: dict) -> dict:
         raise DataError(f"results must hold JSON values only: {error}") from None
 
 
-def load_results(path) -> Results:
+def load_results(path: str | Path) -> Results:
     """Read a results.json (or the results directory holding it) back as its result object.
 
     Parameters
@@ -425,7 +432,22 @@ def load_results(path) -> Results:
     return Results.from_dict(data, source=str(path))
 
 
-def results_of(found, **extra) -> Results:
+class AsResults:
+    """What a ``crowdvib.cases`` function returns (:class:`CaseEstimate`, :class:`CaseMap`,
+    :class:`CaseCheck`, :class:`CaseSimulation`, :class:`AmbientModes`): its results as the
+    command writes them, and their verdict."""
+
+    def results(self, **extra: Any) -> Results:
+        """The :class:`Results` of this computation (:func:`results_of`)."""
+        return results_of(self, **extra)
+
+    def verdict(self) -> tuple[Finding, ...]:
+        """The verdict on these results (:meth:`Results.verdict`), without the warnings the
+        command line catches during the run."""
+        return self.results().verdict()
+
+
+def results_of(found: Any, **extra: Any) -> Results:
     """The result of what a ``crowdvib.cases`` function returned, as the command writes it
     (without the figures, warnings and provenance the command adds; give them as ``extra``).
 

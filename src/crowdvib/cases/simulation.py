@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
-from .results import SIMULATION_TABLES, software_versions
+from .results import AsResults, SIMULATION_TABLES, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
@@ -20,7 +20,7 @@ __all__ = ["CaseSimulation", "simulation_msd", "simulate_case"]
 
 
 @dataclass(frozen=True)
-class CaseSimulation:
+class CaseSimulation(AsResults):
     """What ``crowdvib simulate`` computes for a case (:func:`simulate_case`).
 
     Attributes

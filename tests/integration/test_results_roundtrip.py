@@ -1,0 +1,181 @@
+"""Results that round-trip (issue 26 §2, "Must show"): a notebook-style session loads a case,
+runs every command's work from Python and gets the results the command line writes;
+``load_results`` reads each results.json back as its typed result, whose ``to_dict()`` is the
+file and ``from_dict(to_dict(r)) == r``; the verdict is the same in Python, on the console and in
+report.html.
+
+Reference: the command line itself, run on the same example files (docs: :doc:`/results` for
+the schema). Equality is exact: the same pipeline makes the same floating-point operations and
+JSON keeps every digit of a float; only the keys the command adds itself (provenance stamp,
+figures, caught warnings, wall-clock times, the record's files) are left out of the comparison.
+"""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from crowdvib import load_results
+from crowdvib.cases import (SCHEMA, CheckResults, DemoResults, EstimateResults, MapResults,
+                            ModesResults, Results, SensitivityResults, SimulateResults,
+                            check_case, estimate_case, identify_ambient, map_case, simulate_case)
+from crowdvib.cli import main
+from crowdvib.errors import DataError
+from crowdvib.io.casefile import load_case
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+#: What a command adds to the computation's results: its provenance stamp, the figures it drew,
+#: the warnings it caught and its wall-clock time.
+COMMAND_KEYS = {"created", "case_sha256", "figures", "warnings", "elapsed_s", "files"}
+
+
+def _cli(out, argv, capsys):
+    """Run a command into ``out``; its results.json as a dict, its result and its console text."""
+    capsys.readouterr()
+    assert main([*argv, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    written = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    found = load_results(out / "results.json")
+    # The file and the object hold the same thing, and the object survives its own dict.
+    assert written["schema"] == SCHEMA and written["kind"] == found.kind
+    assert found.to_dict() == written
+    assert Results.from_dict(found.to_dict()) == found
+    assert type(found).from_dict(found.to_dict()) == found
+    return written, found, printed
+
+
+def _computed(written):
+    """The keys of a results.json the computation makes (not the command's own)."""
+    kept = {k: v for k, v in written.items() if k not in COMMAND_KEYS}
+    if isinstance(kept.get("record"), dict):      # simulate: the files written, per format
+        kept["record"] = {k: v for k, v in kept["record"].items() if k != "files"}
+    return kept
+
+
+def _same_verdict(found, printed, out):
+    """The console's verdict lines and report.html's summary box hold the result's findings."""
+    doubts = [f.text for f in found.verdict() if f.severity != "ok"]
+    if doubts:
+        assert f"check before use ({len(doubts)} warning(s)" in printed
+        assert all(f"    - {text}" in printed for text in doubts)
+    else:
+        assert "verdict: no warnings" in printed
+    summary = (out / "report.html").read_text(encoding="utf-8").split(
+        '<section id="summary">')[1].split("</section>")[0]
+    assert summary.count("<li>") >= len(found.verdict())
+    assert ("Check before use" in summary) == bool(doubts)
+
+
+def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
+    import numpy as np
+
+    case = load_case(EXAMPLES / "paper_example.toml")
+
+    # crowdvib estimate
+    fit = estimate_case(case)
+    written, found, printed = _cli(tmp_path / "estimate", ["estimate", str(case.path)], capsys)
+    assert isinstance(found, EstimateResults)
+    assert _computed(written) == fit.results().to_dict()
+    assert found.hsi_estimate().msd == fit.estimate.msd
+    assert found.verdict() == fit.results(warnings=written["warnings"]).verdict()
+    _same_verdict(found, printed, tmp_path / "estimate")
+
+    # crowdvib map, a 5 × 3 grid around the paper's MSD (f_h1 = 3 Hz, ξ_h1 = 0.3)
+    grid = map_case(case, frequencies=np.linspace(2.0, 4.0, 5),
+                    damping_ratios=np.linspace(0.2, 0.4, 3))
+    written, found, printed = _cli(tmp_path / "map", [
+        "map", str(case.path), "--frequencies", "2:4:5", "--damping-ratios", "0.2:0.4:3"], capsys)
+    assert isinstance(found, MapResults) and len(found.table()) == 15
+    # One row per grid point; the second is (f_h1 = 2.5 Hz, ξ_h1 = 0.2), cost[ξ index, f index].
+    assert found.table()[1] == {"frequency": 2.5, "damping_ratio": 0.2,
+                                "cost": grid.landscape.cost[0, 1]}
+    assert _computed(written) == grid.results().to_dict()
+    _same_verdict(found, printed, tmp_path / "map")
+
+    # crowdvib simulate, 300 s of the same case (same seed, same record)
+    simulation = simulate_case(case, duration=300.0)
+    written, found, printed = _cli(tmp_path / "simulate", [
+        "simulate", str(case.path), "--duration-s", "300", "--format", "npz"], capsys)
+    assert isinstance(found, SimulateResults)
+    assert _computed(written) == _computed(simulation.results().to_dict())
+    assert [row["output"] for row in found.table()] == list(case.structure.output_names)
+
+    # crowdvib check (examples/check_paper.toml: the paper's bridge fails with HSI)
+    design = load_case(EXAMPLES / "check_paper.toml")
+    checks = check_case(design)
+    written, found, printed = _cli(tmp_path / "check", ["check", str(design.path)], capsys)
+    assert isinstance(found, CheckResults)
+    assert _computed(written) == _computed(checks.results().to_dict())
+    assert [f.severity for f in found.verdict()] == [f.severity for f in checks.verdict()]
+    assert "fail" in {f.severity for f in found.verdict()} and not found.passes
+    _same_verdict(found, printed, tmp_path / "check")
+
+    # crowdvib modes on the ambient-test example (2.0 and 7.5 Hz)
+    ambient = EXAMPLES / "ambient" / "paper_beam_ambient.toml"
+    modes = identify_ambient(ambient)
+    written, found, printed = _cli(tmp_path / "modes", ["modes", str(ambient)], capsys)
+    assert isinstance(found, ModesResults)
+    assert _computed(written) == _computed(modes.results().to_dict())
+    assert [round(row["frequency"], 1) for row in found.table()] == [2.0, 7.5]
+    _same_verdict(found, printed, tmp_path / "modes")
+
+
+@pytest.mark.slow
+def test_the_study_and_the_demo_round_trip(tmp_path, capsys):
+    # crowdvib sensitivity and crowdvib demo have no crowdvib.cases call: their results.json
+    # round-trips through load_results, and the verdict of the study names its cases on a bound.
+    _, found, _ = _cli(tmp_path / "study", [
+        "sensitivity", str(EXAMPLES / "paper_example.toml"), "--no-joint", "--no-record-length",
+        "--workers", "1"], capsys)
+    assert isinstance(found, SensitivityResults)
+    assert [row["name"] for row in found.table()][0] == "nominal"
+    written, found, printed = _cli(tmp_path / "demo", ["demo"], capsys)
+    assert isinstance(found, DemoResults)
+    # The demo's truth is the paper's MSD; its estimate is rebuilt as an HSIEstimate.
+    assert found.hsi_estimate().msd.frequency == written["estimate"]["frequency"]
+    _same_verdict(found, printed, tmp_path / "demo")
+
+
+def test_the_notebook_view_and_the_table(tmp_path):
+    # A results.json as the estimate writes it (values of the paper example's estimate).
+    data = {"schema": SCHEMA, "kind": "estimate", "command": "estimate",
+            "inputs": {"name": "bridge <A>"}, "expected": {"frequency": 3.0},
+            "estimate": {"frequency": 3.1, "damping_ratio": 0.25, "mass_ratio": 0.95,
+                         "interval": {"frequency": [2.99, 3.23],
+                                      "damping_ratio": [0.19, 0.31], "level": 0.95,
+                                      "method": "profile"},
+                         "standard_error": {"frequency": 0.06, "damping_ratio": 0.03}},
+            "diagnostics": {"relative_cost": 0.25}}
+    found = Results.from_dict(data)
+    view = found._repr_html_()
+    # Escaped name, the estimate with its interval, and the verdict (J/J_noHSI above 10 %).
+    assert "bridge &lt;A&gt;" in view and "3.1 (95 %: 2.99 – 3.23)" in view
+    assert "check before use" in view and "J/J_noHSI = 0.25 is above 10%" in view
+    frame = found.to_dataframe()
+    assert list(frame["parameter"]) == ["frequency", "damping_ratio", "mass_ratio"]
+    assert frame.loc[0, "low"] == 2.99 and frame.loc[0, "reference"] == 3.0
+    assert frame.loc[1, "standard_error"] == 0.03
+
+
+@pytest.mark.parametrize("text, message", [
+    ("{not json", "is not valid JSON"),
+    ("[1, 2]", "must hold a JSON object, got list"),
+    ('{"command": "estimate"}', "holds no schema; crowdvib .* reads 'crowdvib.results/1'"),
+    ('{"schema": "crowdvib.results/9", "kind": "estimate"}', "holds schema 'crowdvib.results/9'"),
+    ('{"schema": "crowdvib.results/1", "kind": "fit"}', "kind must be one of .*got 'fit'"),
+])
+def test_a_results_file_crowdvib_cannot_read_is_a_data_error_naming_it(tmp_path, text, message):
+    # docs: results, the schema: the file is named, and the rule it breaks.
+    path = tmp_path / "results.json"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(DataError, match=f"{tmp_path}.*{message}"):
+        load_results(path)
+
+
+def test_a_missing_file_and_a_kind_of_another_class(tmp_path):
+    with pytest.raises(DataError, match="does not exist: run a crowdvib command"):
+        load_results(tmp_path)                              # a directory without results.json
+    data = {"schema": SCHEMA, "kind": "check", "command": "check"}
+    assert isinstance(Results.from_dict(data), CheckResults)
+    with pytest.raises(DataError, match="holds 'check' results, not 'estimate'"):
+        EstimateResults.from_dict(data)
