@@ -212,8 +212,28 @@ def test_estimation_method_and_interval_keys(tmp_path):
     assert (case.estimation.method, case.estimation.interval) == ("likelihood", "wald")
     assert case.estimation.level == 0.9
     defaults = load_case(write_case(tmp_path, name="plain.toml")).estimation
-    assert (defaults.method, defaults.interval, defaults.level) == ("least_squares", "profile",
+    assert (defaults.method, defaults.interval, defaults.level) == ("likelihood", "profile",
                                                                     0.95)
+
+
+def test_estimator_not_stated_is_the_default_and_least_squares_the_papers(tmp_path):
+    # docs: theory, The default estimator — one table (crowdvib._estimators) for the API and
+    # case files: the likelihood with the fluctuating crowd and the step frequencies fitted;
+    # method = "least_squares" alone is the paper's (smeared crowd, crowd as given).
+    steps = ("frequency", "damping_ratio", "step_frequency_mean", "step_frequency_std")
+    plain = load_case(write_case(tmp_path, name="plain.toml")).estimation
+    assert (plain.method, plain.crowd_model, plain.free_parameters) == (
+        "likelihood", "fluctuating", steps)
+    paper = load_case(write_case(tmp_path, name="paper.toml", extra=(
+        '[estimation]\nband = [0, 10]\nmethod = "least_squares"'))).estimation
+    assert (paper.method, paper.crowd_model, paper.free_parameters) == (
+        "least_squares", "smeared", steps[:2])
+    # A stated choice is kept: the likelihood at the crowd as given, with the smeared model.
+    held = load_case(write_case(tmp_path, name="held.toml", extra=(
+        '[estimation]\nband = [0, 10]\ncrowd_model = "smeared"\n'
+        'free_parameters = ["frequency", "damping_ratio"]'))).estimation
+    assert (held.method, held.crowd_model, held.free_parameters) == (
+        "likelihood", "smeared", steps[:2])
 
 
 def test_step_frequencies_can_be_fitted_with_the_msd(tmp_path):

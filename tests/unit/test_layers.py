@@ -37,7 +37,7 @@ PACKAGE = "crowdvib"
 
 BASE = ("crowdvib.errors", "crowdvib._validation", "crowdvib._plausibility", "crowdvib._files",
         "crowdvib._threads", "crowdvib._typing", "crowdvib._version", "crowdvib._figures",
-        "crowdvib.quantities")
+        "crowdvib.quantities", "crowdvib._estimators")
 #: Lowest first; each entry is the set of units (subpackages or top-level modules) of one layer.
 LAYERS = (BASE, ("crowdvib.models",), ("crowdvib.signals",), ("crowdvib.io",),
           ("crowdvib.response",), ("crowdvib.identification",), ("crowdvib.design",),

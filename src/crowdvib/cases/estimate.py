@@ -267,7 +267,9 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
     Parameters
     ----------
     case : Case
-        Its ``[estimation]`` table, its MSD's mass ratio, its walking-force model and its seed.
+        Its ``[estimation]`` table (the estimator's choices it does not state are filled in by
+        :meth:`~crowdvib.io.casespecs.EstimationSpec.resolved`), its MSD's mass ratio, its
+        walking-force model and its seed.
     point_only : bool
         Leave out the interval options (``interval``, ``level``, ``n_boot``, ``rng``): for the
         studies, which compare point estimates.
@@ -279,7 +281,10 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
     est = case.estimation
     options = dict(band=est.band, outputs=est.outputs, output_weights=est.output_weights,
                    starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
-                   force=case.force, match_welch=est.match_welch, method=est.method)
+                   force=case.force, match_welch=est.match_welch, method=est.method,
+                   crowd_model=est.crowd_model)
+    if not case.records:        # a joint fit holds each record's crowd
+        options["free_step_frequencies"] = "step_frequency_mean" in est.free_parameters
     if not point_only:
         options.update(interval=None if est.interval == "none" else est.interval,
                        level=est.level, n_boot=est.n_boot, rng=case.seed)
@@ -312,7 +317,7 @@ def estimate_case(case: Case) -> CaseEstimate:
     from ..signals import psd_convergence
 
     est = case.estimation
-    options = dict(estimate_options(case), crowd_model=est.crowd_model)
+    options = estimate_options(case)
     free_mass = "mass_ratio" in est.free_parameters
     parts = []
     for block in case.blocks():
@@ -333,9 +338,7 @@ def estimate_case(case: Case) -> CaseEstimate:
                                   lowpass=part.measurement.lowpass)
     options["outputs"] = record.channel_names
     estimate = estimate_hsi(part.measurement.psd, case.structure, part.crowd,
-                            free_mass_ratio=free_mass,
-                            free_step_frequencies="step_frequency_mean" in est.free_parameters,
-                            **options)
+                            free_mass_ratio=free_mass, **options)
     return CaseEstimate(case, (part,), estimate, convergence)
 
 
@@ -403,10 +406,14 @@ def map_case(case: Case, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
     crowd, step = case_crowd(case, measurement.record)
     options = estimate_options(case)
     estimate = estimate_hsi(measurement.psd, case.structure, crowd, **options)
-    for key in ("starts", "bounds", "interval", "level", "n_boot", "rng"):
-        options.pop(key)
+    for key in ("starts", "bounds", "interval", "level", "n_boot", "rng",
+                "free_step_frequencies"):
+        options.pop(key, None)
     started = time.perf_counter()
-    landscape = objective_map(measurement.psd, case.structure, crowd, frequencies=frequencies,
+    # The landscape of the misfit at the crowd the estimate ends with (its fitted step
+    # frequencies, when they were free): the surface on which the estimate is the minimum.
+    landscape = objective_map(measurement.psd, case.structure, estimate.crowd or crowd,
+                              frequencies=frequencies,
                               damping_ratios=damping_ratios, estimate=estimate,
                               progress=progress, max_seconds=max_seconds, **options)
     return CaseMap(CaseRecordFit(case, measurement, crowd, step), estimate, landscape,

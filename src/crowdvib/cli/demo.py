@@ -85,58 +85,79 @@ def run(args):
              f"{time.perf_counter() - started:.1f} s wall); low-pass 10 Hz, Welch T = "
              f"{window:g} s, {n_windows} windows")
 
-    started = time.perf_counter()
-    estimate = estimate_hsi(measured, structure, crowd, band=case.band)
-    elapsed = time.perf_counter() - started
+    # The default estimator and the paper's, on the same PSD (docs: theory, Calibration).
+    estimates = {}
+    for name, title, options in ESTIMATORS:
+        started = time.perf_counter()
+        estimates[name] = estimate = estimate_hsi(measured, structure, crowd, band=case.band,
+                                                  rng=args.seed, **options)
+        say(f"\n  {title}: {len(estimate.starts)} fits, {estimate.n_evaluations} model "
+            f"evaluations, {time.perf_counter() - started:.2f} s")
+        _say_estimate(estimate, truth)
+    estimate, paper = estimates["default"], estimates["paper"]
     found = estimate.msd
-    say(f"\n  estimate over {case.band[0]:g}–{case.band[1]:g} Hz, {len(estimate.starts)} starts, "
-         f"{estimate.n_evaluations} model evaluations, {elapsed:.2f} s")
-    summary = estimate.to_dict()["estimate"]
-    level = f"{100 * estimate.interval_level:g} % interval"
-    say(f"  {'':14s}{'truth':>10s}{'estimate':>11s}{'error':>9s}   {level}")
-    for label, key in (("f_h1 [Hz]", "frequency"), ("ξ_h1 [-]", "damping_ratio")):
-        t, e, ends = getattr(truth, key), getattr(found, key), interval_of(summary, key)
-        inside = ("" if ends is None else
-                  "   truth inside" if ends[0] <= t <= ends[1] else "   truth outside")
-        say(f"  {label:14s}{t:10.3f}{e:11.3f}{(e - t) / t:+9.1%}   "
-            + ("—" if ends is None else f"{ends[0]:.3f}–{ends[1]:.3f}") + inside)
-    misfit = "deviance D" if estimate.method == "likelihood" else "J (paper Eq. 6)"
-    say(f"  estimator: {estimate.method.replace('_', ' ')}; misfit {misfit} = {estimate.cost:.3g}, "
-        f"relative to no HSI {estimate.relative_cost:.3g}")
     occupied = effective_modal_properties(structure, crowd, found)
     say(f"  occupied structure: {occupied.frequencies[0]:.3f} Hz, "
          f"{occupied.damping_ratios[0]:.2%} damping (empty: {structure.frequencies[0]:g} Hz, "
          f"{structure.damping_ratios[0]:.2%})")
 
     with staged_output(args.out, args.force, command="demo") as staging:
-        figure, path = _write_results(args, staging, case, measured, estimate, occupied,
-                                      n_windows)
+        figure, path = _write_results(args, staging, case, measured, estimate, paper,
+                                      occupied, n_windows)
     say(f"\n  wrote {args.out / path.name} and {args.out / figure.name}")
     say(f"  report: {args.out / 'report.html'}")
     say_verdict(args.out)
     return 0
 
 
-def _write_results(args, out, case, measured, estimate, occupied, n_windows):
+#: (key, title, options of estimate_hsi): the default and the paper's least squares.
+ESTIMATORS = (
+    ("default", "default estimator: Whittle likelihood, fluctuating crowd, step frequencies "
+                "fitted", {}),
+    ("paper", "the paper's estimator: least squares (Eq. 6), smeared crowd, crowd as given",
+     {"method": "least_squares"}),
+)
+
+
+def _say_estimate(estimate, truth):
+    """Truth, estimate, error and interval of f_h1 and ξ_h1, and the misfit, on the console."""
+    summary = estimate.to_dict()["estimate"]
+    level = f"{100 * estimate.interval_level:g} % interval"
+    say(f"  {'':14s}{'truth':>10s}{'estimate':>11s}{'error':>9s}   {level}")
+    for label, key in (("f_h1 [Hz]", "frequency"), ("ξ_h1 [-]", "damping_ratio")):
+        t, e, ends = getattr(truth, key), getattr(estimate.msd, key), interval_of(summary, key)
+        inside = ("" if ends is None else
+                  "   truth inside" if ends[0] <= t <= ends[1] else "   truth outside")
+        say(f"  {label:14s}{t:10.3f}{e:11.3f}{(e - t) / t:+9.1%}   "
+            + ("—" if ends is None else f"{ends[0]:.3f}–{ends[1]:.3f}") + inside)
+    misfit = "deviance D" if estimate.method == "likelihood" else "J (paper Eq. 6)"
+    say(f"  misfit {misfit} = {estimate.cost:.3g}, relative to no HSI "
+        f"{estimate.relative_cost:.3g}")
+
+
+def _write_results(args, out, case, measured, estimate, paper, occupied, n_windows):
     """The figure, results.json and report.html of the demo into ``out``."""
     from ..reporting.plotting import plot_psd_comparison, save_figure
-    from ..response.spectral import response_psd
+    from ..response.fluctuation import spectral_model
 
     structure, crowd, truth, window = case.structure, case.crowd, case.msd, case.window_length
-    found = estimate.msd
-    fitted = response_psd(structure, crowd, measured.frequency, msd=found,
-                          welch_window_length=window, lowpass=measured.lowpass)
-    no_hsi = response_psd(structure, crowd, measured.frequency, welch_window_length=window,
-                          lowpass=measured.lowpass)
+    # Each estimate's expected PSD as its estimator modelled it (crowd model, fitted crowd).
+    curves = {}
+    for key, fit in (("fitted MSD (default)", estimate), ("fitted MSD (paper)", paper)):
+        model = spectral_model(structure, fit.crowd or crowd, measured.frequency,
+                               welch_window_length=window, lowpass=measured.lowpass,
+                               crowd_model=fit.crowd_model)
+        curves[key] = model.psd(fit.msd)
+    curves["no HSI"] = model.psd(None)
     label = "measured (synthetic)" if args.spectral else "measured (simulated)"
-    ax = plot_psd_comparison({label: measured, "fitted MSD": fitted,
-                              "no HSI": no_hsi}, band=case.band, analysis_band=case.band,
+    ax = plot_psd_comparison({label: measured, **curves}, band=case.band, analysis_band=case.band,
                              title="Paper example: midspan acceleration PSD")
     figure = save_figure(ax, out / "psd_fit.png")
     results = {
         **schema_header("demo"), "command": "demo", "crowdvib_version": __version__,
         "seed": args.seed,
         "case": case.name, "truth": truth.to_dict(), **estimate.to_dict(),
+        "paper_estimator": paper.to_dict(),
         "occupied_structure": occupied.to_dict(),
         "measured": {"source": measured.source, "duration_s": args.duration_s,
                      "window_length": window, "n_windows": n_windows},

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import least_squares
 
+from .._estimators import DEFAULT_JOINT_METHOD, DEFAULT_METHOD, estimator_defaults
 from .._plausibility import warn_notes
 from .._validation import as_float_array, check_flag
 from ..errors import BoundWarning, EstimationError, ParameterError
@@ -65,10 +66,10 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
                  starts: Sequence[Sequence[float]] | None = None,
                  bounds: Mapping[str, tuple[float, float]] | None = None,
                  mass_ratio: float = 0.95, free_mass_ratio: bool = False,
-                 free_step_frequencies: bool = False,
+                 free_step_frequencies: bool | None = None,
                  force: ForceModel | None = None, match_welch: bool = True,
-                 method: str = "least_squares", interval: str = "profile", level: float = 0.95,
-                 crowd_model: str = "smeared", n_boot: int = 200,
+                 method: str = DEFAULT_METHOD, interval: str = "profile", level: float = 0.95,
+                 crowd_model: str | None = None, n_boot: int = 200,
                  rng: Seed = None) -> HSIEstimate:
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Eq. 5, 6).
 
@@ -99,29 +100,26 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         μ_h1 when it is held fixed (paper: 0.95).
     free_mass_ratio : bool
         Estimate μ_h1 too.
-    free_step_frequencies : bool
+    free_step_frequencies : bool, optional
         Estimate the crowd's step-frequency distribution N(μ_fs, σ_fs) with the MSD, from the
         whole band (docs: theory, Step frequencies fitted with the MSD); ``crowd`` gives the
         starting values, ``bounds`` may hold ``step_frequency_mean`` and ``step_frequency_std``.
-        The likelihood needs it unless the crowd is known to a fraction of a per cent: it weighs
-        the flanks of the load spectrum, where a 1 % error in μ_fs moves ξ_h1 by 25–30 % with
-        the distribution held fixed (paper example; least squares: 1 %).
+        Default: True for the likelihood, which weighs the flanks of the load spectrum and so
+        needs it unless the crowd's mean step frequency is known to a fraction of a per cent;
+        False for least squares (the paper).
     force : ZivanovicForce or YoungForce, optional
         Walking force model (default Živanović 2007).
     match_welch : bool
         Compare with what a Welch estimate of the measured window length would see (default).
-    method : {"least_squares", "likelihood"}
-        The paper's normalised least squares (Eq. 6, default) or the Whittle likelihood of the
-        Welch ordinates. The choice weighs evidence both ways (docs: theory, Calibration): on
-        one-hour simulated records with Poisson arrivals the likelihood is unbiased where least
-        squares reads the fluctuating crowd as +8 % damping, and it scatters less; but it is
-        several times more sensitive to an error in the crowd's mean step frequency (±5 % moves
-        ξ_h1 by −77/+274 % against −12/−13 % on the paper example), so least squares stays the
-        default; with ``free_step_frequencies`` the likelihood no longer depends on the assumed
-        distribution (the combination the calibration favours for Poisson crowds, at 10–40×
-        the time). A record with cross-spectra
-        (``welch_psd(..., cross=True)``) and two or more outputs gets the complex-Wishart
-        likelihood of its cross-spectral matrix (docs: theory, The likelihood of several outputs).
+    method : {"likelihood", "least_squares"}
+        The Whittle likelihood of the Welch ordinates (default) or the paper's normalised least
+        squares (Eq. 6). By default the likelihood comes with the fluctuating crowd and the
+        step frequencies fitted, least squares with the paper's smeared crowd and the crowd as
+        given, so ``method="least_squares"`` is the paper's estimator; why the default is the
+        likelihood, with its bias and coverage on simulated records, is in docs: theory,
+        Calibration. A record with cross-spectra (``welch_psd(..., cross=True)``) and two or
+        more outputs gets the complex-Wishart likelihood of its cross-spectral matrix (docs:
+        theory, The likelihood of several outputs).
     interval : {"profile", "wald", "bootstrap", None}
         Statistical uncertainty from this record's Welch scatter: sandwich covariance with
         profile intervals (default), the covariance only (Wald intervals), the covariance with
@@ -130,13 +128,11 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         (``measured.n_windows`` known); otherwise the estimate carries no interval.
     level : float
         Confidence level of the profile intervals (default 0.95).
-    crowd_model : {"smeared", "fluctuating"}
-        The expected PSD: the paper's smeared mean crowd (default; what synthetic PSDs of
-        :func:`crowdvib.response_psd` hold), or the mixture over the occupancy of a Poisson
-        crowd, whose fluctuation widens the measured resonance (docs: theory, The fluctuating
-        crowd). On simulated records with Poisson arrivals the fluctuating model removes the
-        f_h1 bias at 0.5–1 P/m² and halves it at 0.25 P/m² (docs: theory, Calibration), at the
-        cost of a few smeared evaluations per evaluation.
+    crowd_model : {"fluctuating", "smeared"}, optional
+        The expected PSD: the mixture over the occupancy of a Poisson crowd, whose fluctuation
+        widens the measured resonance (docs: theory, The fluctuating crowd; default with the
+        likelihood), or the paper's smeared mean crowd (default with least squares; what
+        synthetic PSDs of :func:`crowdvib.response_psd` hold).
     n_boot : int
         Replicates of the parametric bootstrap (``interval="bootstrap"``), >= 20.
     rng : None, int or numpy.random.Generator
@@ -154,6 +150,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     ConvergenceWarning
         When no start converged.
     """
+    crowd_model, free_step_frequencies = estimator_defaults(method, crowd_model,
+                                                            free_step_frequencies)
     free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
 
     def objective(crowd):
@@ -192,8 +190,8 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
                        bounds: Mapping[str, tuple[float, float]] | None = None,
                        mass_ratio: float = 0.95, free_mass_ratio: bool = False,
                        force: ForceModel | None = None, match_welch: bool = True,
-                       method: str = "least_squares", interval: str = "profile",
-                       level: float = 0.95, crowd_model: str = "smeared", n_boot: int = 200,
+                       method: str = DEFAULT_JOINT_METHOD, interval: str = "profile",
+                       level: float = 0.95, crowd_model: str | None = None, n_boot: int = 200,
                        rng: Seed = None) -> HSIEstimate:
     """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
 
@@ -201,6 +199,9 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
     multiply); the estimate minimises the sum, and its sandwich covariance sums each record's
     score variance and curvature. Records at different densities separate what one record
     cannot (μ_h1 from ξ_h1, for instance), and the joint interval is narrower than either.
+    Each record's crowd is held as given, so the default is the paper's least squares with the
+    smeared crowd (the likelihood at a fixed crowd is fragile to an error in its mean step
+    frequency: docs: theory, Calibration).
 
     Parameters
     ----------
@@ -219,6 +220,7 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
         ``output_names`` read ``"record 1: midspan"`` …; ``cost`` is the summed misfit.
     """
     measurements, crowds = list(measurements), list(crowds)
+    crowd_model, _ = estimator_defaults(method, crowd_model)
     if not measurements or len(measurements) != len(crowds):
         raise ParameterError(f"measurements and crowds must pair up one record with one crowd, "
                              f"got {len(measurements)} measurement(s) and {len(crowds)} crowd(s)")

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._estimators import estimator_defaults
 from .._validation import as_float_array, check_positive
 from ..errors import ParameterError
 from ..models.pedestrian import MSDModel
@@ -91,7 +92,7 @@ class ObjectiveMap:
 def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, band,
                   outputs=None, output_weights=None, frequency_weights=None, mass_ratio=0.95,
                   force=None, match_welch=True, estimate=None, method="least_squares",
-                  progress=None, max_seconds=None):
+                  crowd_model=None, progress=None, max_seconds=None):
     """The objective on a (f_h1, ξ_h1) grid → :class:`ObjectiveMap` (paper Figs. 4, 10).
 
     The misfit of ``method``: the paper's J of Eq. (6) (default) or the Whittle deviance.
@@ -102,8 +103,10 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     Parameters
     ----------
     measured, structure, crowd, band, outputs, output_weights, frequency_weights, force, match_welch
-    method
+    crowd_model
         As in :func:`crowdvib.estimate_hsi`.
+    method
+        As in :func:`crowdvib.estimate_hsi`, but the paper's least squares by default.
     frequencies : array_like
         Grid of f_h1 [Hz], > 0 (the paper: 1–6 Hz).
     damping_ratios : array_like
@@ -130,7 +133,8 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     _check_memory(shape)
     objective = PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                              output_weights=output_weights, frequency_weights=frequency_weights,
-                             match_welch=match_welch, method=method)
+                             match_welch=match_welch, method=method,
+                             crowd_model=estimator_defaults(method, crowd_model)[0])
     cost = np.empty(shape)
     started = time.perf_counter()
     cost[0, 0] = objective.cost(MSDModel(frequencies[0], damping_ratios[0], mass_ratio))

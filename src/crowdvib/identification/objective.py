@@ -19,6 +19,7 @@ import dataclasses
 
 import numpy as np
 
+from .._estimators import METHOD_DEFAULTS, check_method
 from .._validation import as_float_array, check_flag, check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
@@ -32,7 +33,7 @@ from .wishart import WishartTerms
 __all__ = ["PSDObjective", "METHODS"]
 
 #: The misfits :class:`PSDObjective` offers.
-METHODS = ("least_squares", "likelihood")
+METHODS = tuple(METHOD_DEFAULTS)
 #: The likelihood uses the bins where the modelled response (without HSI) lies within this
 #: fraction of its peak in the band (40 dB): there the model, not noise or leakage, rules.
 LIKELIHOOD_DYNAMIC_RANGE = 1e-4
@@ -133,8 +134,7 @@ class PSDObjective:
     def __init__(self, measured, structure, crowd, *, band, force=None, outputs=None,
                  output_weights=None, frequency_weights=None, match_welch=True,
                  method="least_squares", crowd_model="smeared"):
-        if method not in METHODS:
-            raise ParameterError(f"method must be one of {list(METHODS)}, got {method!r}")
+        check_method(method)
         self.method = method
         if not isinstance(measured, ResponsePSD):
             raise ParameterError(f"measured must be a ResponsePSD, got {type(measured).__name__}")

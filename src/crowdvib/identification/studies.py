@@ -18,6 +18,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .._estimators import DEFAULT_METHOD
 from .._validation import as_float_array, check_positive
 from ..errors import BoundWarning, CrowdvibError, ParameterError
 from .estimation import estimate_hsi
@@ -254,7 +255,8 @@ class SensitivityResult:
 def modelling_error_study(measured, structure, crowd, *, band, levels=None, joint=True,
                           executor=None, store=None, progress=None, outputs=None,
                           output_weights=None, frequency_weights=None, starts=None, bounds=None,
-                          mass_ratio=0.95, force=None, match_welch=True, method="least_squares"):
+                          mass_ratio=0.95, force=None, match_welch=True, method=DEFAULT_METHOD,
+                          crowd_model=None, free_step_frequencies=None):
     """Estimation error caused by plausible modelling errors (paper Figs. 11 and 19).
 
     The estimate is repeated with the assumed-known inputs perturbed by ±ε, one parameter at a
@@ -277,8 +279,10 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
     progress : callable, optional
         ``progress(done, total)``.
     outputs, output_weights, frequency_weights, starts, bounds, mass_ratio, force, match_welch
-    method
-        Passed to :func:`crowdvib.estimate_hsi`.
+    method, crowd_model, free_step_frequencies
+        Passed to :func:`crowdvib.estimate_hsi` (its defaults: the likelihood with the
+        fluctuating crowd and the step frequencies fitted, whose ε_μfs and ε_σfs cases then
+        only move the fit's start).
 
     Returns
     -------
@@ -287,7 +291,8 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
     options = (("band", tuple(band)), ("outputs", outputs), ("output_weights", output_weights),
                ("frequency_weights", frequency_weights), ("starts", starts), ("bounds", bounds),
                ("mass_ratio", mass_ratio), ("force", force), ("match_welch", match_welch),
-               ("method", method))
+               ("method", method), ("crowd_model", crowd_model),
+               ("free_step_frequencies", free_step_frequencies))
     cases = error_cases(levels, joint=joint)
     tasks = [(case.name, _EstimationTask(measured, structure, crowd, case, options))
              for case in cases]

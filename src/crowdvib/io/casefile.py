@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from .._estimators import METHOD_DEFAULTS
 from ..errors import ParameterError
 from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from ..models.loading import ForceModel, YoungForce, ZivanovicForce
@@ -337,11 +338,13 @@ def _estimation(table, path):
     if weights is not None and (outputs is None or weights.size != len(outputs)):
         raise table.error("weights", "must give one weight per entry of estimation.outputs",
                           weights.tolist())
-    free = table.strings("free_parameters", ("frequency", "damping_ratio"))
+    # Not stated: the estimator's own choice (EstimationSpec.resolved, once the records are known).
+    free = table.strings("free_parameters", None)
     steps = {"step_frequency_mean", "step_frequency_std"}
-    if set(free) - steps not in ({"frequency", "damping_ratio"},
-                                 {"frequency", "damping_ratio", "mass_ratio"}) \
-            or len(set(free) & steps) == 1:
+    if free is not None and (set(free) - steps not in ({"frequency", "damping_ratio"},
+                                                       {"frequency", "damping_ratio",
+                                                        "mass_ratio"})
+                             or len(set(free) & steps) == 1):
         raise table.error("free_parameters", "must be [\"frequency\", \"damping_ratio\"] with "
                           "optionally \"mass_ratio\" and optionally both \"step_frequency_mean\" "
                           "and \"step_frequency_std\"", list(free))
@@ -362,19 +365,18 @@ def _estimation(table, path):
         sub.finish()
     spec = EstimationSpec(band=band, outputs=outputs,
                           output_weights=None if weights is None else tuple(weights.tolist()),
-                          starts=starts, bounds=bounds, free_parameters=tuple(free),
+                          starts=starts, bounds=bounds, free_parameters=free,
                           match_welch=table.boolean("match_welch", True),
                           convergence_norm=table.string("convergence_norm", "2",
                                                         choices=("2", "inf")),
                           step_frequencies=step,
-                          method=table.string("method", "least_squares",
-                                              choices=("least_squares", "likelihood")),
+                          method=table.string("method", None, choices=tuple(METHOD_DEFAULTS)),
                           interval=table.string("interval", "profile",
                                                 choices=("profile", "wald", "bootstrap",
                                                          "none")),
                           level=table.number("level", 0.95, rule="positive"),
-                          crowd_model=table.string("crowd_model", "smeared",
-                                                   choices=("smeared", "fluctuating")),
+                          crowd_model=table.string("crowd_model", None,
+                                                   choices=("fluctuating", "smeared")),
                           n_boot=int(table.number("n_boot", 200.0, rule="positive")))
     if not spec.level < 1:
         raise table.error("level", "must lie in (0, 1) (a fraction, not percent)", spec.level)
@@ -447,6 +449,7 @@ def _case(path, data):
                   else EstimationSpec())
     if not root.has("estimation"):
         root.used.add("estimation")
+    estimation = estimation.resolved(joint=len(records) > 1)
     simulation = _simulation(root.table("simulation"), path)
     expected = _expected(root.table("expected"))
     design = _design(root.table("design"), path, _msd) if root.has("design") else None

@@ -3,8 +3,10 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
+
+from .._estimators import DEFAULT_JOINT_METHOD, DEFAULT_METHOD, estimator_defaults
 
 if TYPE_CHECKING:
     from ..models.crowd import Crowd
@@ -89,15 +91,30 @@ class EstimationSpec:
     output_weights: tuple = None
     starts: tuple = None
     bounds: dict = None
-    free_parameters: tuple = ("frequency", "damping_ratio")
+    free_parameters: tuple = None
     match_welch: bool = True
     convergence_norm: str = "2"
     step_frequencies: StepFrequencySpec = None
-    method: str = "least_squares"
+    method: str = None
     interval: str = "profile"
     level: float = 0.95
-    crowd_model: str = "smeared"
+    crowd_model: str = None
     n_boot: int = 200
+
+    def resolved(self, joint: bool = False) -> EstimationSpec:
+        """The estimator's choices not stated (None) filled in, as :func:`crowdvib.estimate_hsi`
+        and :func:`crowdvib.estimate_hsi_joint` fill them (one table, ``crowdvib._estimators``):
+        one record gets the likelihood with the fluctuating crowd and its step frequencies
+        fitted with the MSD, several records the paper's least squares; least squares keeps the
+        paper's smeared crowd and the crowd as given."""
+        method = self.method or (DEFAULT_JOINT_METHOD if joint else DEFAULT_METHOD)
+        crowd_model, free_steps = estimator_defaults(method, self.crowd_model)
+        free = self.free_parameters
+        if free is None:
+            free = ("frequency", "damping_ratio") + (
+                ("step_frequency_mean", "step_frequency_std") if free_steps and not joint
+                else ())
+        return replace(self, method=method, crowd_model=crowd_model, free_parameters=free)
 
 
 @dataclass(frozen=True)
