@@ -29,11 +29,11 @@ This page runs them, in a fresh folder, each time the documentation is built.
 # ξ_h1 = 0.30; theory: :ref:`theory-spectral`), a Gaussian record of its model PSD, written in g
 # with the 1 g offset. With your own file, skip this step.
 import contextlib
-import os
 import re
 import shlex
 import sys
 import tempfile
+from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -46,23 +46,25 @@ from crowdvib.models.loading import STANDARD_GRAVITY
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies
 
 workdir = tempfile.TemporaryDirectory(prefix="crowdvib-howto-")   # removed at exit
-os.chdir(workdir.name)
+folder = Path(workdir.name)
 
 rate, duration = 25.0, 900.0                     # [Hz], [s]
 paper = paper_example()
 bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3, outputs={"midspan": 25.0})
 psd = response_psd(bridge, paper.crowd, record_frequencies(duration, rate), msd=paper.msd).psd
 in_g = gaussian_record(psd, rate, rng=7)[0] / STANDARD_GRAVITY + 1.0
-np.savetxt("bridge.csv", np.c_[np.arange(in_g.size) / rate, in_g], delimiter=",", fmt="%.6f",
-           header="Time [s],midspan", comments="")
-with open("bridge.csv") as file:
+np.savetxt(folder / "bridge.csv", np.c_[np.arange(in_g.size) / rate, in_g], delimiter=",",
+           fmt="%.6f", header="Time [s],midspan", comments="")
+with open(folder / "bridge.csv") as file:
     print("".join(file.readlines()[:4]) + "...")
 
 
 def run(command_line):
     """Run a crowdvib command line as typed in a terminal; print what it prints there."""
     print(f"$ {command_line}")
-    with contextlib.redirect_stderr(sys.stdout):     # a terminal shows both streams
+    # In the guide's folder (sphinx-gallery runs each cell in docs/examples); a terminal shows
+    # both streams.
+    with contextlib.chdir(folder), contextlib.redirect_stderr(sys.stdout):
         return main(shlex.split(command_line)[1:])
 
 
@@ -79,7 +81,7 @@ run("crowdvib init bridge.csv")
 # The draft holds what ``init`` found (``time_column``, ``units = "g"``, the channel) and a
 # ``"REPLACE: …"`` value for each thing only you know: the bridge, the crowd and the frequency
 # band of the fit. ``crowdvib estimate`` refuses the file, naming the key, while one is left.
-with open("bridge.toml") as file:
+with open(folder / "bridge.toml") as file:
     draft = file.read()
 print("\n".join(line for line in draft.splitlines() if "REPLACE:" in line))
 
@@ -94,7 +96,7 @@ values = {"span": "50.0", "width": "3.0", "frequency": "2.0", "damping_ratio": "
 case = draft
 for key, value in values.items():
     case = re.sub(rf'(?m)^({re.escape(key)} = )"REPLACE:[^"\n]*"', rf"\g<1>{value}", case)
-with open("bridge.toml", "w") as file:
+with open(folder / "bridge.toml", "w") as file:
     file.write(case)
 print(case)
 
@@ -114,7 +116,7 @@ print("exit status", status)
 # Step 4: the numbers and the figure
 # ----------------------------------
 # ``results/results.json`` holds everything; :func:`crowdvib.cases.load_results` reads it back.
-results = load_results("results")
+results = load_results(folder / "results")
 estimate = results.estimate
 for name, label, unit in (("frequency", "f_h1", " Hz"), ("damping_ratio", "ξ_h1", "")):
     low, high = estimate["interval"][name]
@@ -126,7 +128,7 @@ for name, label, unit in (("frequency", "f_h1", " Hz"), ("damping_ratio", "ξ_h1
 # the model without HSI, whose peak at 2 Hz is several times too high. The record was made with
 # f_h1 = 3 Hz and ξ_h1 = 0.30: both lie within their intervals.
 figure, axes = plt.subplots(figsize=(8, 4.5))
-axes.imshow(plt.imread("results/psd_midspan.png"))
+axes.imshow(plt.imread(folder / "results/psd_midspan.png"))
 axes.set_axis_off()
 
 # %%
@@ -136,4 +138,4 @@ axes.set_axis_off()
 # fit, estimate with interval, warnings) to open in a browser or send. ``crowdvib report`` writes
 # it again from ``results.json``, e.g. after a crowdvib update.
 run("crowdvib report results")
-print(sorted(os.listdir("results")))
+print(sorted(path.name for path in (folder / "results").iterdir()))

@@ -26,7 +26,6 @@ against HiVoSS, Sétra, EN 1990 and the UK National Annex (theory: :ref:`theory-
 # ``[structure]``, ``[crowd]`` and ``[hsi]`` as in any case; ``[design]`` names the codes and a
 # traffic class per code (docs: :ref:`casefiles`, ``[design]``). We copy it into a fresh folder.
 import contextlib
-import os
 import shlex
 import shutil
 import sys
@@ -40,15 +39,17 @@ from crowdvib.cli import main
 
 example = Path(__file__).resolve().parents[2] / "examples" / "check_paper.toml"
 workdir = tempfile.TemporaryDirectory(prefix="crowdvib-howto-")   # removed at exit
-os.chdir(workdir.name)
-shutil.copy(example, "check_paper.toml")
-print(Path("check_paper.toml").read_text(encoding="utf-8"))
+folder = Path(workdir.name)
+shutil.copy(example, folder / "check_paper.toml")
+print((folder / "check_paper.toml").read_text(encoding="utf-8"))
 
 
 def run(command_line):
     """Run a crowdvib command line as typed in a terminal; print what it prints there."""
     print(f"$ {command_line}")
-    with contextlib.redirect_stderr(sys.stdout):     # a terminal shows both streams
+    # In the guide's folder (sphinx-gallery runs each cell in docs/examples); a terminal shows
+    # both streams.
+    with contextlib.chdir(folder), contextlib.redirect_stderr(sys.stdout):
         return main(shlex.split(command_line)[1:])
 
 
@@ -71,7 +72,7 @@ print("exit status", status)
 # [m] along the walkway) or let crowdvib design one: ``mode`` and ``mass_ratio`` put a damper at
 # the mode's antinode with m_d = μ m_j and tune its frequency and damping ratio to the occupied
 # mode (Asami et al.'s optimum; theory: :ref:`theory-design-tmd-tuning`). 2 % of the modal mass:
-with open("check_paper.toml", "a", encoding="utf-8") as file:
+with open(folder / "check_paper.toml", "a", encoding="utf-8") as file:
     file.write("\n[design.damper]            # a TMD on mode 1 of 2 % of its modal mass\n"
                "mode = 1\nmass_ratio = 0.02\n")
 
@@ -88,7 +89,7 @@ print("exit status", status)
 # The damper to specify
 # ---------------------
 # Its parameters are in ``results.json`` (``design.dampers``) and in the report:
-data = load_results("with_tmd").data
+data = load_results(folder / "with_tmd").data
 for damper in data["design"]["dampers"]:
     print(f"TMD: mass {damper['mass']:.0f} kg, frequency {damper['frequency']:.3f} Hz, "
           f"damping ratio {damper['damping_ratio']:.3f}, at {damper['position']:g} m")
@@ -102,7 +103,7 @@ for damper in data["design"]["dampers"]:
 def governing(directory):
     """{(code, model): largest utilisation over the outputs} of a check's results."""
     rows = {}
-    for row in load_results(directory).table():
+    for row in load_results(folder / directory).table():
         key = (row["code"], row["model"])
         rows[key] = max(rows.get(key, 0.0), row["utilisation"])
     return rows
@@ -118,5 +119,5 @@ for (code, model), value in without.items():
 # The figure ``with_tmd/design_utilisation.png`` shows the same per code and model; the report
 # ``with_tmd/report.html`` adds the accelerations per output and the damper.
 figure, axes = plt.subplots(figsize=(8, 4.5))
-axes.imshow(plt.imread("with_tmd/design_utilisation.png"))
+axes.imshow(plt.imread(folder / "with_tmd/design_utilisation.png"))
 axes.set_axis_off()

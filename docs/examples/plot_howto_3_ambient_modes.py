@@ -27,10 +27,10 @@ default; EFDD with ``method = "efdd"`` or as a cross-check).
 # accelerometers at the quarter points; 20 minutes at 20 Hz, in m/s², with a ``Time [s]``
 # column. With your own file, skip this step.
 import contextlib
-import os
 import shlex
 import sys
 import tempfile
+from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -41,23 +41,25 @@ from crowdvib.cli import main
 from crowdvib.identification.oma import ambient_response
 
 workdir = tempfile.TemporaryDirectory(prefix="crowdvib-howto-")   # removed at exit
-os.chdir(workdir.name)
+folder = Path(workdir.name)
 
 rate, duration = 20.0, 1200.0                                # [Hz], [s]
 sensors = {"quarter": 12.5, "mid": 25.0, "three_quarter": 37.5}   # [m] along the span
 beam = ModalModel.simply_supported_beam(50.0, 3.0, (2.0, 7.5), (0.005, 0.008), 50e3, n_modes=2,
                                         outputs=sensors)
 data = ambient_response(beam, duration, rate, 200.0**2, rng=27)
-np.savetxt("ambient.csv", np.c_[np.arange(data.shape[1]) / rate, data.T], delimiter=",",
+np.savetxt(folder / "ambient.csv", np.c_[np.arange(data.shape[1]) / rate, data.T], delimiter=",",
            fmt="%.6g", header="Time [s]," + ",".join(sensors), comments="")
-with open("ambient.csv") as file:
+with open(folder / "ambient.csv") as file:
     print("".join(file.readlines()[:3]) + "...")
 
 
 def run(command_line):
     """Run a crowdvib command line as typed in a terminal; print what it prints there."""
     print(f"$ {command_line}")
-    with contextlib.redirect_stderr(sys.stdout):     # a terminal shows both streams
+    # In the guide's folder (sphinx-gallery runs each cell in docs/examples); a terminal shows
+    # both streams.
+    with contextlib.chdir(folder), contextlib.redirect_stderr(sys.stdout):
         return main(shlex.split(command_line)[1:])
 
 
@@ -66,11 +68,13 @@ def run(command_line):
 # ---------------------
 # A small TOML file (docs: :ref:`ambient-files`): ``[record]`` names the file and the sensors'
 # channels (the ``Time [s]`` column gives the sample rate); ``[identification]`` the method, the
-# number of modes and the frequency band to look in; ``[modal_model]`` (optional) what OMA cannot
+# number of modes, the frequency band to look in and the highest model order of the
+# stabilisation diagram (each mode takes two orders; the default, 40, takes several times
+# longer); ``[modal_model]`` (optional) what OMA cannot
 # measure, the modal masses, with the sensors' positions, so that ``crowdvib modes`` also writes
 # a modal model. A test in several setups has one ``[[record]]`` block per setup and names the
 # reference sensors that stayed in place.
-with open("ambient.toml", "w", encoding="utf-8") as file:
+with open(folder / "ambient.toml", "w", encoding="utf-8") as file:
     file.write('''name = "my footbridge, ambient test"
 
 [record]
@@ -81,6 +85,7 @@ channels = ["quarter", "mid", "three_quarter"]   # the sensors, in order
 method = "ssi-cov"
 n_modes = 2
 frequency_band = [1.0, 9.5]        # [Hz], below the Nyquist frequency 10 Hz
+max_order = 20                     # SSI model orders 2…20: ample for two modes (default 40)
 
 [modal_model]
 modal_masses = [50e3, 50e3]        # [kg], of shapes scaled to 1 at their peak (e.g. from FE)
@@ -102,7 +107,7 @@ print("exit status", status)
 # -------------
 # ``modes/modes.csv`` and ``modes/mode_shapes.csv`` hold the modes; ``results.json`` all of it.
 # The record was made with 2.0 Hz, 0.5 % and 7.5 Hz, 0.8 %.
-modes = load_results("modes").data["modes"]
+modes = load_results(folder / "modes").data["modes"]
 for j, mode in enumerate(modes, start=1):
     print(f"mode {j}: f = {mode['frequency']:.3f} ± {mode['frequency_std']:.3f} Hz, "
           f"ξ = {100 * mode['damping_ratio']:.2f} ± {100 * mode['damping_std']:.2f} %, "
@@ -125,7 +130,7 @@ axes.legend()
 # put as the model order grows. A stable column in your band that is not among the identified
 # modes deserves a look (raise ``n_modes``).
 figure, axes = plt.subplots(figsize=(8, 4.5))
-axes.imshow(plt.imread("modes/stabilisation.png"))
+axes.imshow(plt.imread(folder / "modes/stabilisation.png"))
 axes.set_axis_off()
 
 # %%
@@ -141,5 +146,5 @@ axes.set_axis_off()
 #     output_points = "modes/output_points.csv"   # sensor name, one column per mode
 #     width = 3.0
 for name in ("modal_table.csv", "output_points.csv", "modal_shapes.csv"):
-    with open(f"modes/{name}") as file:
+    with open(folder / "modes" / name) as file:
         print(f"modes/{name}:\n{file.read()}")

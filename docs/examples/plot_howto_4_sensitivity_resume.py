@@ -31,7 +31,6 @@ The case is ``examples/paper_example.toml`` of the repository, with its one-hour
 # combinations per level are 64 more estimations) and without the record-length study. Your
 # study would keep crowdvib's default estimator and all of it.
 import contextlib
-import os
 import shlex
 import shutil
 import signal
@@ -50,10 +49,10 @@ from crowdvib.identification import TaskStore, modelling_error_study
 
 examples = Path(__file__).resolve().parents[2] / "examples"
 workdir = tempfile.TemporaryDirectory(prefix="crowdvib-howto-")   # removed at exit
-os.chdir(workdir.name)
-shutil.copy(examples / "paper_example_record.npz", ".")
+folder = Path(workdir.name)
+shutil.copy(examples / "paper_example_record.npz", folder)
 text = (examples / "paper_example.toml").read_text(encoding="utf-8")
-Path("paper_example.toml").write_text(
+(folder / "paper_example.toml").write_text(
     text.replace("[estimation]\n", '[estimation]\nmethod = "least_squares"   # fast, for this '
                                    'page\n'), encoding="utf-8")
 
@@ -61,7 +60,9 @@ Path("paper_example.toml").write_text(
 def run(command_line):
     """Run a crowdvib command line as typed in a terminal; print what it prints there."""
     print(f"$ {command_line}")
-    with contextlib.redirect_stderr(sys.stdout):     # a terminal shows both streams
+    # In the guide's folder (sphinx-gallery runs each cell in docs/examples); a terminal shows
+    # both streams.
+    with contextlib.chdir(folder), contextlib.redirect_stderr(sys.stdout):
         return main(shlex.split(command_line)[1:])
 
 
@@ -75,9 +76,9 @@ def run(command_line):
 command = ("crowdvib sensitivity paper_example.toml --out study --workers 1 --no-joint "
            "--no-record-length")
 print(f"$ {command}")
-study = subprocess.Popen([sys.executable, "-m", "crowdvib", *shlex.split(command)[1:]],
+study = subprocess.Popen([sys.executable, "-m", "crowdvib", *shlex.split(command)[1:]], cwd=folder,
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-tasks = Path("study/tasks")
+tasks = folder / "study/tasks"
 while study.poll() is None and len(list(tasks.glob("*.json"))) < 8:
     time.sleep(0.05)
 study.send_signal(signal.SIGINT)                 # Ctrl-C
@@ -85,7 +86,7 @@ printed, _ = study.communicate()
 print(printed)
 print("exit status", study.returncode)
 kept = {path.name: path.stat().st_mtime_ns for path in tasks.glob("*.json")}
-print(f"{len(kept)} finished task(s) in {tasks}")
+print(f"{len(kept)} finished task(s) in study/tasks")
 
 # %%
 # Resume
@@ -107,7 +108,7 @@ print(f"{untouched} of the {len(kept)} tasks of the first run reused as they wer
 # and the last two lines, the record's 95 % interval widened by that bound. The figure
 # ``study/estimation_errors.png``:
 figure, axes = plt.subplots(figsize=(8, 4.5))
-axes.imshow(plt.imread("study/estimation_errors.png"))
+axes.imshow(plt.imread(folder / "study/estimation_errors.png"))
 axes.set_axis_off()
 
 # %%
@@ -117,11 +118,11 @@ axes.set_axis_off()
 # call with the same store resumes. Here the first call is stopped after three tasks, as Ctrl-C
 # would (its ``progress`` callback raises ``KeyboardInterrupt``), on a smaller study: the
 # structural frequency and damping at one level each.
-case = load_case("paper_example.toml")
+case = load_case(folder / "paper_example.toml")
 measured = measure_case(case).psd
 levels = {"frequencies": (0.01,), "damping_ratios": (0.1,)}
 options = dict(band=case.estimation.band, levels=levels, joint=False, method="least_squares",
-               store=TaskStore("python_study"))
+               store=TaskStore(folder / "python_study"))
 
 
 def stop_after_three(done, total):
@@ -133,7 +134,7 @@ try:
     modelling_error_study(measured, case.structure, case.crowd, progress=stop_after_three,
                           **options)
 except KeyboardInterrupt:
-    print(f"interrupted: {len(TaskStore('python_study').keys())} task(s) stored")
+    print(f"interrupted: {len(options['store'].keys())} task(s) stored")
 
 counts = []
 result = modelling_error_study(measured, case.structure, case.crowd,

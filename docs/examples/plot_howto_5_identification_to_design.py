@@ -26,7 +26,6 @@ and, for the interval, a few lines of Python (below). The cases are ``examples/p
 # likelihood intervals. The record was simulated with f_h1 = 3 Hz and ξ_h1 = 0.30 (the
 # ``expected`` lines).
 import contextlib
-import os
 import shlex
 import shutil
 import sys
@@ -42,20 +41,22 @@ from crowdvib.cli import main
 
 examples = Path(__file__).resolve().parents[2] / "examples"
 workdir = tempfile.TemporaryDirectory(prefix="crowdvib-howto-")   # removed at exit
-os.chdir(workdir.name)
+folder = Path(workdir.name)
 for name in ("paper_example.toml", "paper_example_record.npz", "check_paper.toml"):
-    shutil.copy(examples / name, name)
+    shutil.copy(examples / name, folder)
 
 
 def run(command_line):
     """Run a crowdvib command line as typed in a terminal; print what it prints there."""
     print(f"$ {command_line}")
-    with contextlib.redirect_stderr(sys.stdout):     # a terminal shows both streams
+    # In the guide's folder (sphinx-gallery runs each cell in docs/examples); a terminal shows
+    # both streams.
+    with contextlib.chdir(folder), contextlib.redirect_stderr(sys.stdout):
         return main(shlex.split(command_line)[1:])
 
 
 run("crowdvib estimate paper_example.toml --out estimate")
-estimate = load_results("estimate").estimate
+estimate = load_results(folder / "estimate").estimate
 (f_low, f_high), (xi_low, xi_high) = (estimate["interval"][name]
                                       for name in ("frequency", "damping_ratio"))
 
@@ -73,7 +74,7 @@ run("crowdvib check check_paper.toml --msd-from estimate --out check")
 # with any MSD. We check a 5 × 5 grid over the box of the two 95 % intervals (wider than their
 # joint region, so on the safe side) and keep, per code, the largest utilisation over the
 # outputs of the HSI model.
-design_case = load_case("check_paper.toml")
+design_case = load_case(folder / "check_paper.toml")
 codes = list(design_case.design.codes)
 
 
