@@ -37,10 +37,13 @@ import matplotlib.pyplot as plt
 from crowdvib.cases import load_results
 from crowdvib.cli import main
 
-example = Path(__file__).resolve().parents[2] / "examples" / "check_paper.toml"
+try:
+    examples = Path(__file__).resolve().parents[2] / "examples"    # the repository's
+except NameError:                # sphinx-gallery runs the cells in docs/examples, no __file__
+    examples = Path.cwd().resolve().parents[1] / "examples"
 workdir = tempfile.TemporaryDirectory(prefix="crowdvib-howto-")   # removed at exit
 folder = Path(workdir.name)
-shutil.copy(example, folder / "check_paper.toml")
+shutil.copy(examples / "check_paper.toml", folder)
 print((folder / "check_paper.toml").read_text(encoding="utf-8"))
 
 

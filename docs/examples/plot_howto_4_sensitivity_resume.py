@@ -47,7 +47,10 @@ from crowdvib.cases import measure_case
 from crowdvib.cli import main
 from crowdvib.identification import TaskStore, modelling_error_study
 
-examples = Path(__file__).resolve().parents[2] / "examples"
+try:
+    examples = Path(__file__).resolve().parents[2] / "examples"    # the repository's
+except NameError:                # sphinx-gallery runs the cells in docs/examples, no __file__
+    examples = Path.cwd().resolve().parents[1] / "examples"
 workdir = tempfile.TemporaryDirectory(prefix="crowdvib-howto-")   # removed at exit
 folder = Path(workdir.name)
 shutil.copy(examples / "paper_example_record.npz", folder)

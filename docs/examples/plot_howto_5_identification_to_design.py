@@ -39,7 +39,10 @@ from crowdvib import MSDModel, load_case
 from crowdvib.cases import check_case, load_results
 from crowdvib.cli import main
 
-examples = Path(__file__).resolve().parents[2] / "examples"
+try:
+    examples = Path(__file__).resolve().parents[2] / "examples"    # the repository's
+except NameError:                # sphinx-gallery runs the cells in docs/examples, no __file__
+    examples = Path.cwd().resolve().parents[1] / "examples"
 workdir = tempfile.TemporaryDirectory(prefix="crowdvib-howto-")   # removed at exit
 folder = Path(workdir.name)
 for name in ("paper_example.toml", "paper_example_record.npz", "check_paper.toml"):
