@@ -382,11 +382,11 @@ _CLASSES = {cls.kind: cls for cls in (EstimateResults, SensitivityResults, Check
 
 def _json(data: dict) -> dict:
     """``data`` as write_json stores it and json reads it back: numpy as Python numbers and
-    lists, tuples as lists, NaN as null; a copy."""
-    from .._files import canonical_json
+    lists, tuples as lists, NaN and ±inf as null (``parse_constant``); a copy, in its order."""
+    from .._files import json_default
 
     try:
-        return json.loads(canonical_json(data))
+        return json.loads(json.dumps(data, default=json_default), parse_constant=lambda _: None)
     except (TypeError, ValueError) as error:
         raise DataError(f"results must hold JSON values only: {error}") from None
 

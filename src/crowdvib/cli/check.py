@@ -14,10 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import write_json
-from ..reporting.report import provenance, write_report
+from ..reporting.report import provenance
 from .common import (add_output_arguments, case_inputs, say, say_verdict, staged_output,
-                     warning_texts)
+                     warning_texts, write_results)
 
 __all__ = ["add_arguments", "run"]
 
@@ -57,8 +56,7 @@ def _run(args, caught):
                    "warnings": list(dict.fromkeys(warning_texts(caught)))}   # once each
         for text in results["warnings"]:
             print(f"crowdvib check: warning: {text}", file=sys.stderr)
-        write_json(staging / "results.json", results)
-        write_report(staging)
+        write_results(staging, results)
     for line in _table_lines(found.rows):
         say("  " + line)
     prediction = found.prediction

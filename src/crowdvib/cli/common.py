@@ -14,7 +14,8 @@ from ..cases.results import (DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES
 
 __all__ = ["add_output_arguments", "ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "say",
            "say_verdict", "case_inputs", "check_clash", "check_output", "prepare_output",
-           "finish_output", "staged_output", "versions", "warning_texts", "progress_printer"]
+           "finish_output", "staged_output", "versions", "warning_texts", "progress_printer",
+           "write_results"]
 
 
 def say(message=""):
@@ -288,6 +289,24 @@ def say_if_compiling(structure, hsi):
 
     if kernel_needs_compiling(structure, hsi):
         say("  compiling the simulation kernel (first run of this kind only, some 10–30 s) …")
+
+
+def write_results(directory, results):
+    """Write a command's results.json and report.html into ``directory``, both from the one
+    result object (:class:`crowdvib.cases.Results`, schema of docs: Results and their files).
+
+    Returns
+    -------
+    Results
+    """
+    from .._files import write_json
+    from ..cases.results import Results
+    from ..reporting.report import write_report
+
+    found = Results.from_dict(results)
+    write_json(directory / "results.json", found.to_dict())
+    write_report(directory, results=found)
+    return found
 
 
 def say_verdict(directory):

@@ -7,11 +7,11 @@ writes results.json.
 import sys
 from pathlib import Path
 
-from .._files import unique_filenames, write_json
-from ..reporting.report import provenance, write_report
+from .._files import unique_filenames
+from ..reporting.report import provenance
 from ..reporting.text import interval_of, with_interval
 from .common import (add_output_arguments, case_inputs, say, say_verdict, staged_output,
-                     warning_texts)
+                     warning_texts, write_results)
 
 
 def add_arguments(parser):
@@ -39,8 +39,7 @@ def run(args):
         results["warnings"] = warning_texts(caught)
         for text in results["warnings"]:
             print(f"crowdvib estimate: warning: {text}", file=sys.stderr)
-        write_json(staging / "results.json", results)
-        write_report(staging)
+        write_results(staging, results)
     say(f"  wrote {args.out / 'results.json'}, figures and report.html")
     say_verdict(args.out)
     return 0

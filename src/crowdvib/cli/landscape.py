@@ -5,10 +5,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import write_json
-from ..reporting.report import provenance, write_report
+from ..reporting.report import provenance
 from .common import (add_output_arguments, case_inputs, positive_float, progress_printer, say,
-                     say_verdict, staged_output, warning_texts)
+                     say_verdict, staged_output, warning_texts, write_results)
 from .estimate import say_crowd, say_measurement
 
 
@@ -74,9 +73,8 @@ def run(args):
         ax = plot_objective_map(landscape, search_bounds=estimate.bounds,
                                 title=f"{case.name}: objective J(f_h1, ξ_h1)")
         figure = save_figure(ax, staging / "objective_map.png").name
-        write_json(staging / "results.json", {**found.to_dict(), "warnings": warning_texts(caught),
-                                              "figures": [figure], **stamp})
-        write_report(staging)
+        write_results(staging, {**found.to_dict(), "warnings": warning_texts(caught),
+                                "figures": [figure], **stamp})
     say(f"  wrote {args.out / 'results.json'}, {figure} and report.html")
     say_verdict(args.out)
     return 0

@@ -44,9 +44,8 @@ import sys
 import warnings
 from pathlib import Path
 
-from .._files import write_json
-from ..reporting.report import write_report
-from .common import add_output_arguments, say, say_verdict, staged_output, warning_texts
+from .common import (add_output_arguments, say, say_verdict, staged_output, warning_texts,
+                     write_results)
 
 
 def add_arguments(parser):
@@ -133,8 +132,7 @@ def run(args):
             files += ["modal_table.csv", "modal_shapes.csv", "output_points.csv"]
         results = {**found.to_dict(), "files": files, "figures": figures,
                    "elapsed_s": found.seconds, "warnings": warning_texts(caught)}
-        write_json(staging / "results.json", results)
-        write_report(staging)
+        write_results(staging, results)
     for j in range(modes.n_modes):
         say(f"  mode {j + 1}: f = {modes.frequencies[j]:.4f} ± {modes.frequency_std[j]:.4f} Hz, "
             f"ξ = {modes.damping_ratios[j]:.4f} ± {modes.damping_std[j]:.4f}")

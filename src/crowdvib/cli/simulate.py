@@ -3,10 +3,10 @@
 import time
 from pathlib import Path
 
-from .._files import unique_filenames, write_json
-from ..reporting.report import provenance, write_report
+from .._files import unique_filenames
+from ..reporting.report import provenance
 from .common import (add_output_arguments, case_inputs, progress_printer, record_formats, say,
-                     say_if_compiling, say_verdict, staged_output)
+                     say_if_compiling, say_verdict, staged_output, write_results)
 
 
 def add_arguments(parser):
@@ -76,8 +76,7 @@ def run(args):
         results = found.to_dict()
         results["record"]["files"] = files
         results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path)})
-        write_json(staging / "results.json", results)
-        write_report(staging)
+        write_results(staging, results)
     say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
     say_verdict(args.out)
     return 0
