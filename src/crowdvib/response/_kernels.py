@@ -53,7 +53,8 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
     :func:`._slots.shape_table`, stations, 1/Δx or 0, lanes, output shapes); ``walkers`` = the
     per-pedestrian arrays (t_on … two_cos, ``replay``), read only when a walker enters, and
     whether any has an unsprung mass (then the mass matrix changes with time);
-    ``records`` = (accelerations, modal load, whether to record it, walkers on the deck).
+    ``records`` = (accelerations, modal load, whether to record it, walkers on the deck, the
+    index of the output sample in their first column): a long run records chunk by chunk.
 
     State carried between calls (so chunks reproduce a single call bit for bit):
     ``counters`` = [next pedestrian to enter, number of active slots], the slot tables ``slots``
@@ -70,7 +71,7 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
      stiffness, damping, static, amplitude, omega, phase, two_cos, replay, added_mass) = walkers
     (counters, slots, index, z, zd, u, ud, phi, force, wave_now, wave_prev, wave_cos,
      factor) = state
-    acceleration, modal_load, record_load, n_on_deck = records
+    acceleration, modal_load, record_load, n_on_deck, first_sample = records
     n_modes = z.size
     n_pedestrians = t_on.size
     n_outputs = output_shapes.shape[0]
@@ -155,7 +156,8 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
         if step_kind != FORCES and added_mass:
             mass_factors(modal_masses, phi, slots, n_active, NOW if changed else MID, weighted,
                          factor)
-        sample = n >= 0 and n % substeps == 0 and n // substeps < n_samples
+        sample = (n >= 0 and n % substeps == 0
+                  and 0 <= n // substeps - first_sample < n_samples)
         if sample and record_load:
             modal_loads(phi, force, n_active, now, now, recorded)
         if step_kind == FORCES:
@@ -174,7 +176,7 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
                      modal_stiffness, load, zs, zds, slots, dz, dzd, g)
 
         if sample:
-            i = n // substeps
+            i = n // substeps - first_sample
             for o in range(n_outputs):
                 acc = 0.0
                 for j in range(n_modes):

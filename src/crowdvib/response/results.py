@@ -106,6 +106,32 @@ class EffectiveModalProperties:
                  "interaction_damping_ratios", "modal_masses")}
 
 
+def count_dtype(counts) -> type:
+    """int16 when every count fits it, else int32 (a deck holds far fewer than 2³¹ people)."""
+    counts = np.asarray(counts)
+    return np.int16 if counts.size == 0 or counts.max() <= np.iinfo(np.int16).max else np.int32
+
+
+class _TimeAxis:
+    """``Simulation.time``: the stored axis, or i / sample_rate computed on access when given
+    as None (a day at 100 Hz would hold 69 MB of it). A data descriptor the dataclass assigns
+    through; with no class default, so ``time`` stays a required field."""
+
+    def __set_name__(self, owner, name):
+        self.name = "_" + name
+
+    def __get__(self, instance, owner=None):
+        if instance is None:
+            raise AttributeError("time")        # no default (the dataclass asks the class)
+        stored = instance.__dict__[self.name]
+        if stored is not None:
+            return stored
+        return frozen_array(np.arange(instance.n_samples) / instance.sample_rate)
+
+    def __set__(self, instance, value):
+        instance.__dict__[self.name] = None if value is None else frozen_array(value)
+
+
 @dataclass(frozen=True, eq=False)
 class Simulation:
     """Record of a time-domain simulation (:func:`crowdvib.simulate`, docs: theory, The coupled time-domain model).
@@ -113,13 +139,15 @@ class Simulation:
     Attributes
     ----------
     time : ndarray, shape (n_samples,)
-        Sample times [s], from 0 at 1/sample_rate.
+        Sample times [s], from 0 at 1/sample_rate. Given as None (what :func:`crowdvib.simulate`
+        does), it is computed on each access, i / sample_rate, and never stored.
     acceleration : ndarray, shape (n_outputs, n_samples)
         Vertical accelerations at the output points [m/s²].
     output_names : tuple of str
         Names of the outputs (rows of ``acceleration``).
     n_on_deck : ndarray of int, shape (n_samples,)
-        Pedestrians on the deck at each sample [-].
+        Pedestrians on the deck at each sample [-], stored in the smallest of int16 and int32
+        that holds them (2 bytes a sample rather than 8 for any real deck).
     sample_rate : float
         Output sample rate [Hz].
     seed : int
@@ -138,7 +166,7 @@ class Simulation:
         Simulated time before t = 0 that was discarded [s].
     """
 
-    time: np.ndarray
+    time: np.ndarray | None = _TimeAxis()
     acceleration: np.ndarray
     output_names: tuple
     n_on_deck: np.ndarray
@@ -158,17 +186,17 @@ class Simulation:
             raise ParameterError(
                 f"acceleration must have one row per output ({len(names)}), "
                 f"got shape {acceleration.shape}")
-        object.__setattr__(self, "time", frozen_array(self.time))
         object.__setattr__(self, "acceleration", frozen_array(acceleration))
         object.__setattr__(self, "output_names", names)
-        object.__setattr__(self, "n_on_deck", frozen_array(self.n_on_deck, dtype=np.int64))
+        object.__setattr__(self, "n_on_deck", frozen_array(self.n_on_deck,
+                                                           dtype=count_dtype(self.n_on_deck)))
         if self.modal_load is not None:
             object.__setattr__(self, "modal_load", frozen_array(self.modal_load))
 
     @property
     def n_samples(self) -> int:
         """Number of samples per output."""
-        return self.time.size
+        return self.acceleration.shape[-1]
 
     def psd(self, window_length: float, overlap: float = 0.5,
             lowpass: LowPassFilter | None = None) -> ResponsePSD:

@@ -10,6 +10,7 @@ Public: :func:`simulate`; the walkers come from :mod:`.traffic`.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from collections.abc import Callable, Sequence
@@ -24,11 +25,11 @@ from ..errors import ParameterError
 from ..models.crowd import JAM_DENSITY, Crowd
 from ..models.damper import as_dampers
 from ..models.loading import STANDARD_GRAVITY, as_force_model
-from ..models.measured import REPLAY_HARMONICS
+from ..models.measured import REPLAY_HARMONICS, ReplayDraws
 from ..models.pedestrian import MSDModel
 from .results import Simulation
-from .traffic import (Pedestrian, check_duration, _check_structure, _seed_from, _walkers,
-                      _with_dampers)
+from .traffic import (Pedestrian, _Stream, _Walkers, check_duration, _check_structure,
+                      _seed_from)
 
 if TYPE_CHECKING:
     from .._typing import ForceModel, Seed
@@ -97,8 +98,9 @@ def _check_memory(structure, crowd, force, duration, warm_up, sample_rate, n_sam
                                           else " or fewer seeds at a time"))
 
 
-def _internal_substeps(structure, walkers, msd, sample_rate):
-    """Integer number of RK4 steps per output sample, from the frequencies in play.
+def _scan_stream(structure, stream, msd, sample_rate):
+    """One pass over the stream, block by block: the integer number of RK4 steps per output
+    sample and whether any walker brings an unsprung mass (the mass matrix then changes).
 
     h = 1/(sample_rate · substeps) with h <= 1/(STEPS_PER_PERIOD · f_state), f_state the highest
     mode or f_h1, and h <= 1/(FORCE_STEPS_PER_PERIOD · f_force), f_force the highest force
@@ -107,17 +109,22 @@ def _internal_substeps(structure, walkers, msd, sample_rate):
     state = float(np.max(structure.frequencies))
     if msd is not None:
         state = max(state, msd.frequency)
-    force = 0.0
-    if walkers.size:
-        active = walkers.dlf != 0
+    force, added_mass = 0.0, False
+    for table, people in stream.tables():
+        active = table["dlf"] != 0
         if active.any():
-            force = float(np.max(walkers.omega[active])) / (2 * np.pi)
-        replayed = walkers.replay.record >= 0          # measured forces: up to their 5th harmonic
+            omega = 2.0 * np.pi * table["ratio"] * table["step_frequency"][:, np.newaxis]
+            force = max(force, float(np.max(omega[active])) / (2 * np.pi))
+        draws = ReplayDraws(*table["replay"])
+        replayed = draws.record >= 0                  # measured forces: up to their 5th harmonic
         if replayed.any():
-            fastest = float(np.max(walkers.replay.step_frequency[replayed]))
+            fastest = float(np.max(draws.step_frequency[replayed]))
             force = max(force, REPLAY_HARMONICS * fastest)
+        if msd is not None:
+            mass = table["body_mass"][:people]
+            added_mass = added_mass or bool(np.any(mass - msd.sprung_mass(mass) > 0))
     per_second = max(STEPS_PER_PERIOD * state, FORCE_STEPS_PER_PERIOD * force)
-    return max(1, math.ceil(per_second / sample_rate - 1e-9))
+    return max(1, math.ceil(per_second / sample_rate - 1e-9)), added_mass
 
 
 def _replay_arguments(walkers, table):
@@ -155,40 +162,31 @@ def kernel_needs_compiling(structure, hsi):
 class _Integrator:
     """The state of one run between kernel calls: a chunk boundary changes nothing.
 
+    The kernel sees a window of the stream (:class:`.traffic._Stream`): the walkers on the deck
+    and those who step on during the call, so memory does not grow with the record (issue 28
+    §3). Each call records its output samples into chunk buffers (``acceleration``,
+    ``modal_load``, ``n_on_deck``; :meth:`advance` says which samples they hold).
+
     Private; the tests read the state to check energy conservation.
     """
 
-    def __init__(self, structure, walkers, msd, sample_rate, substeps, first_step, n_samples,
-                 record_modal_load, include_static_weight, dampers=(), damper_mask=None,
-                 force_table=None):
+    def __init__(self, structure, stream, msd, sample_rate, substeps, first_step,
+                 record_modal_load, include_static_weight, dampers=(), force_table=None,
+                 added_mass=False):
         self.structure = structure
-        self.walkers = walkers
+        self.stream = stream
+        self.msd = msd
+        self.dampers = tuple(dampers)
+        self.include_static_weight = include_static_weight
+        self.force_table = force_table
         self.substeps = substeps
         self.h = 1.0 / (sample_rate * substeps)
         self.step = first_step
         n_modes = structure.n_modes
-        n = walkers.size
-        self.hsi = msd is not None
-        mass = walkers.body_mass
-        if self.hsi:
-            self.sprung = msd.sprung_mass(mass)
-            self.unsprung = mass - self.sprung
-            self.stiffness = msd.stiffness(mass)
-            self.damping = msd.damping(mass)
-        else:
-            self.sprung = np.ones(n)
-            self.unsprung, self.stiffness, self.damping = np.zeros((3, n))
-        if dampers:
-            # Tuned mass dampers: the MSD entries of the kernel with their own spring, dashpot
-            # and no unsprung mass (their walkers never move and carry no force).
-            self.hsi = True
-            slots = np.flatnonzero(damper_mask)
-            self.sprung[slots] = [d.mass for d in dampers]
-            self.unsprung[slots] = 0.0
-            self.stiffness[slots] = [d.stiffness() for d in dampers]
-            self.damping[slots] = [d.damping() for d in dampers]
+        self.hsi = msd is not None or bool(dampers)   # dampers are MSD entries of the kernel
         self.n_dampers = len(dampers)
-        self.added_mass = bool(self.hsi and np.any(self.unsprung > 0))
+        # Any unsprung mass on the deck makes the mass matrix change with time.
+        self.added_mass = bool(added_mass)
         omega_n = 2 * np.pi * structure.frequencies
         self.modal_masses = np.ascontiguousarray(structure.modal_masses, dtype=float)
         self.modal_damping = 2 * structure.damping_ratios * structure.modal_masses * omega_n
@@ -197,31 +195,15 @@ class _Integrator:
         self.positions = np.ascontiguousarray(structure.positions)
         self.inverse_spacing = _uniform_spacing(self.positions)
         self.output_shapes = np.ascontiguousarray(structure.output_shapes)
-        lanes = structure.lanes
-        if lanes.size == 1:
-            self.lane_low = np.zeros(n, dtype=np.int64)
-            self.lane_weight = np.zeros(n)
-        else:
-            low = np.clip(np.searchsorted(lanes, walkers.lateral) - 1, 0, lanes.size - 2)
-            self.lane_low = low.astype(np.int64)
-            self.lane_weight = np.clip((walkers.lateral - lanes[low]) / (lanes[low + 1] - lanes[low]),
-                                       0.0, 1.0)
-        self.static = (mass * STANDARD_GRAVITY if include_static_weight else np.zeros(n))
-        if dampers and include_static_weight:
-            self.static[damper_mask] = 0.0            # a damper's weight is the deck's dead load
-        self.amplitude = np.ascontiguousarray(walkers.amplitude)
-        self.omega = np.ascontiguousarray(walkers.omega)
-        self.two_cos = 2.0 * np.cos(self.omega * self.h / 2)
-        self.replay = _replay_arguments(walkers, force_table)
         # Force components in pairs (the kernel advances two per pass): a zero one if odd.
-        n_components = self.amplitude.shape[1] + self.amplitude.shape[1] % 2
+        n_components = stream.width + stream.width % 2
         # The mode-shape table of the kernel, (mode, lane · station) with two zero lanes.
         self.table = _slots.shape_table(self.shapes)
         self.n_lanes = self.shapes.shape[0]
         # state: the walkers on the deck in slot order (docs: theory, Walkers on the deck as
         # arrays); shapes, forces and mass factors at the instants t, t + h/2, t + h.
         self.counters = np.zeros(2, dtype=np.int64)
-        capacity = _slots.slot_capacity(walkers.t_on, walkers.t_off)
+        capacity = _slots.slot_capacity(stream.t_on, stream.t_off())
         zeros = _slots.aligned_zeros
         self.slots = zeros((_slots.N_FIELDS, capacity))
         self.index = zeros((_slots.N_INDICES, capacity), dtype=np.int64)
@@ -237,28 +219,100 @@ class _Integrator:
         self.factor = np.zeros((3, n_modes, n_modes))
         _kernels.mass_factors(self.modal_masses, self.phi, self.slots, 0, _slots.NOW,
                               np.zeros(capacity), self.factor)
-        # records
-        self.acceleration = np.zeros((structure.n_outputs, n_samples))
         self.record_modal_load = bool(record_modal_load)
-        self.modal_load = np.zeros((n_modes, n_samples if record_modal_load else 0))
-        self.n_on_deck = np.zeros(n_samples, dtype=np.int64)
+        self.acceleration = np.zeros((structure.n_outputs, 0))
+        self.modal_load = np.zeros((n_modes, 0))
+        self.n_on_deck = np.zeros(0, dtype=np.int64)
+        self.next_rank = 0                  # the stream's next walker to step on
+        self._load(*stream.window(0, 0))
         # The compiled kernel for this kind of run (each kind compiles on first use).
         self.kernel = kernel_for(structure, self.hsi)
 
+    def _load(self, walkers, damper):
+        """The kernel's per-walker constants of a window (rows in the order given)."""
+        self.walkers = walkers
+        n = walkers.size
+        mass = walkers.body_mass
+        if self.msd is not None:
+            self.sprung = self.msd.sprung_mass(mass)
+            self.unsprung = mass - self.sprung
+            self.stiffness = self.msd.stiffness(mass)
+            self.damping = self.msd.damping(mass)
+        else:
+            self.sprung = np.ones(n)
+            self.unsprung, self.stiffness, self.damping = np.zeros((3, n))
+        if self.dampers:
+            # Tuned mass dampers: the MSD entries of the kernel with their own spring, dashpot
+            # and no unsprung mass (their walkers never move and carry no force).
+            rows = np.flatnonzero(damper >= 0)
+            own = [self.dampers[i] for i in damper[rows]]
+            self.sprung[rows] = [d.mass for d in own]
+            self.unsprung[rows] = 0.0
+            self.stiffness[rows] = [d.stiffness() for d in own]
+            self.damping[rows] = [d.damping() for d in own]
+        self.damper = damper
+        lanes = self.structure.lanes
+        if lanes.size == 1:
+            self.lane_low = np.zeros(n, dtype=np.int64)
+            self.lane_weight = np.zeros(n)
+        else:
+            low = np.clip(np.searchsorted(lanes, walkers.lateral) - 1, 0, lanes.size - 2)
+            self.lane_low = low.astype(np.int64)
+            self.lane_weight = np.clip((walkers.lateral - lanes[low]) / (lanes[low + 1] - lanes[low]),
+                                       0.0, 1.0)
+        self.static = (mass * STANDARD_GRAVITY if self.include_static_weight else np.zeros(n))
+        if self.dampers and self.include_static_weight:
+            self.static[damper >= 0] = 0.0           # a damper's weight is the deck's dead load
+        self.amplitude = np.ascontiguousarray(walkers.amplitude)
+        self.omega = np.ascontiguousarray(walkers.omega)
+        self.two_cos = 2.0 * np.cos(self.omega * self.h / 2)
+        self.replay = _replay_arguments(walkers, self.force_table)
+
+    def _refill(self, n_steps):
+        """Window the stream for the next ``n_steps``: the walkers on the deck (renumbered
+        0 … n_active − 1 in slot order) and everybody who steps on by then."""
+        n_active = int(self.counters[1])
+        entered = int(self.counters[0])
+        kept = self.index[_slots.PEDESTRIAN, :n_active].copy()
+        self.next_rank += entered - self._window_start
+        stop = int(np.searchsorted(self.stream.t_on, (self.step + n_steps) * self.h, "right"))
+        stop = max(stop, self.next_rank)
+        arriving, damper = self.stream.window(self.next_rank, stop)
+        walkers = _concatenate(_take(self.walkers, kept), arriving)
+        self._load(walkers, np.concatenate([self.damper[kept], damper]))
+        self.index[_slots.PEDESTRIAN, :n_active] = np.arange(n_active)
+        self.counters[0] = n_active
+        self._window_start = n_active
+
+    _window_start = 0
+
     def advance(self, n_steps):
-        """Integrate ``n_steps`` internal steps from the current state."""
-        w = self.walkers
+        """Integrate ``n_steps`` internal steps from the current state; return the first output
+        sample recorded and how many (in ``acceleration[:, :count]`` etc.)."""
+        self._refill(n_steps)
+        first_sample = -(-max(self.step, 0) // self.substeps)
+        last = self.step + n_steps - 1                     # the call's last step
+        count = max(0, last // self.substeps - first_sample + 1) if last >= 0 else 0
+        if self.n_on_deck.size < count:
+            self.acceleration = np.zeros((self.structure.n_outputs, count))
+            self.modal_load = np.zeros((self.structure.n_modes,
+                                        count if self.record_modal_load else 0))
+            self.n_on_deck = np.zeros(count, dtype=np.int64)
+        size = self.n_on_deck.size
         structure = (self.modal_masses, self.modal_damping, self.modal_stiffness, self.table,
                      self.positions, self.inverse_spacing, self.n_lanes, self.output_shapes)
+        w = self.walkers
         walkers = (w.t_on, w.t_off, w.arrival, w.x_start, w.velocity, self.lane_low,
                    self.lane_weight, self.unsprung, self.sprung, self.stiffness, self.damping,
                    self.static, self.amplitude, self.omega, w.phase, self.two_cos, self.replay,
                    self.added_mass)
         state = (self.counters, self.slots, self.index, self.z, self.zd, self.u, self.ud,
                  self.phi, self.force, self.wave_now, self.wave_prev, self.wave_cos, self.factor)
-        records = (self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck)
+        records = (self.acceleration, self.modal_load, self.record_modal_load, self.n_on_deck,
+                   np.int64(first_sample))
         self.kernel(self.step, n_steps, self.substeps, self.h, structure, walkers, state, records)
         self.step += n_steps
+        return first_sample, min(count, size)
 
     @property
     def time(self):
@@ -271,13 +325,30 @@ class _Integrator:
 
     @property
     def active(self):
-        """Pedestrian index per slot (slots 0 … n_active − 1 are on the deck)."""
+        """Stream rank of the walker in each slot (slots 0 … n_active − 1 are on the deck)."""
         return self.index[_slots.PEDESTRIAN]
 
     @property
     def phi_now(self):
         """Mode-shape row per slot at the current time, (slot, mode) (a view)."""
         return self.phi[_slots.NOW].T
+
+
+def _take(walkers, rows):
+    """The rows ``rows`` of :class:`.traffic._Walkers`."""
+    return _Walkers(**{f.name: (type(value)(*(v[rows] for v in value)) if f.name == "replay"
+                                else value[rows])
+                       for f in dataclasses.fields(walkers)
+                       for value in (getattr(walkers, f.name),)})
+
+
+def _concatenate(first, second):
+    """Two :class:`.traffic._Walkers` one after the other."""
+    def join(a, b):
+        return np.concatenate([a, b])
+    return _Walkers(**{f.name: (type(a)(*map(join, a, b)) if f.name == "replay" else join(a, b))
+                       for f in dataclasses.fields(first)
+                       for a, b in ((getattr(first, f.name), getattr(second, f.name)),)})
 
 
 def _check_run(structure, crowd, duration, pedestrians, msd, force, sample_rate,
@@ -324,17 +395,30 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
     pedestrians = list(pedestrians) if pedestrians is not None else []
     rng = np.random.default_rng(seed)
     start = -warm_up_samples / sample_rate
-    walkers = _walkers(structure, crowd, pedestrians, start, duration, force, rng)
-    walkers, damper_mask = _with_dampers(structure, walkers, dampers, start)
-    substeps = _internal_substeps(structure, walkers, msd, sample_rate)
+    stream = _Stream(structure, crowd, pedestrians, start, duration, force, rng, dampers)
+    substeps, added_mass = _scan_stream(structure, stream, msd, sample_rate)
     if dampers:      # the dampers' own frequencies bound the step like the modes'
         fastest = max(d.frequency for d in dampers)
         substeps = max(substeps, math.ceil(STEPS_PER_PERIOD * fastest / sample_rate - 1e-9))
-    integrator = _Integrator(structure, walkers, msd, sample_rate, substeps,
-                             -warm_up_samples * substeps, n_samples, record_modal_load,
-                             include_static_weight, dampers, damper_mask,
-                             getattr(force, "table", None))
+    integrator = _Integrator(structure, stream, msd, sample_rate, substeps,
+                             -warm_up_samples * substeps, record_modal_load,
+                             include_static_weight, dampers, getattr(force, "table", None),
+                             added_mass)
     return integrator, n_samples, warm_up_samples, sample_rate, duration
+
+
+def _chunks(integrator, total_steps, chunk_steps, progress):
+    """Run ``total_steps`` a chunk at a time; yield each chunk's first output sample and count
+    (its samples are in the integrator's buffers until the next chunk)."""
+    total_seconds = total_steps * integrator.h
+    done = 0
+    while done < total_steps:
+        n = min(chunk_steps, total_steps - done)
+        first, count = integrator.advance(n)
+        done += n
+        yield first, count
+        if progress is not None:
+            progress(done * integrator.h, total_seconds)
 
 
 def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float | None = None,
@@ -440,25 +524,30 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
     substeps = integrator.substeps
     total_steps = (warm_up_samples + n_samples) * substeps
     chunk_steps = max(1, int(round(chunk_duration * sample_rate))) * substeps
-    total_seconds = total_steps * integrator.h
-    done = 0
-    while done < total_steps:
-        n = min(chunk_steps, total_steps - done)
-        integrator.advance(n)
-        done += n
-        if progress is not None:
-            progress(done * integrator.h, total_seconds)
+    n_outputs, n_modes = structure.n_outputs, structure.n_modes
+    acceleration = np.empty((n_outputs, n_samples))
+    modal_load = np.empty((n_modes, n_samples)) if record_modal_load else None
+    n_on_deck = np.empty(n_samples, dtype=np.int16)
+    for first, count in _chunks(integrator, total_steps, chunk_steps, progress):
+        done = slice(first, first + count)
+        acceleration[:, done] = integrator.acceleration[:, :count]
+        if record_modal_load:
+            modal_load[:, done] = integrator.modal_load[:, :count]
+        people = integrator.n_on_deck[:count] - integrator.n_dampers      # people only
+        if people.size and people.max() > np.iinfo(n_on_deck.dtype).max:
+            n_on_deck = n_on_deck.astype(np.int32)
+        n_on_deck[done] = people
     return Simulation(
-        time=np.arange(n_samples) / sample_rate,
-        acceleration=integrator.acceleration,
+        time=None,                     # i / sample_rate, computed when read
+        acceleration=acceleration,
         output_names=structure.output_names,
-        n_on_deck=integrator.n_on_deck - integrator.n_dampers,   # people only
+        n_on_deck=n_on_deck,
         sample_rate=sample_rate,
         seed=seed,
         duration=n_samples / sample_rate,
-        modal_load=integrator.modal_load if record_modal_load else None,
+        modal_load=modal_load,
         time_step=integrator.h,
-        n_pedestrians=integrator.walkers.size - integrator.n_dampers,
+        n_pedestrians=integrator.stream.size - integrator.n_dampers,
         hsi=msd is not None,
         warm_up=warm_up_samples / sample_rate,
     )

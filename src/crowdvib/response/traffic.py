@@ -133,36 +133,46 @@ def _seed_from(rng):
         f"rng must be None, a non-negative int or a numpy.random.Generator, got {type(rng).__name__}")
 
 
-def _crowd_draws(structure, crowd, start, end, force, rng):
-    """Draw the stream of a crowd over [start, end) in a fixed order (docs: theory, Poisson arrivals).
+#: Crowd walkers whose step frequencies, DLFs, phases and masses are drawn in one go (docs:
+#: theory, Poisson arrivals). A stream of up to this many is drawn exactly as it always was; a
+#: longer one draws block after block of this many, block b > 0 from its own generator spawned
+#: from the run's seed, so a run of days holds a block or two at a time and any block can be
+#: drawn again alone. The record depends on the seed only, never on how it is chunked.
+STREAM_BLOCK = 1 << 16
+
+
+def _crowd_arrivals(structure, crowd, start, end, rng):
+    """The arrival times of a crowd's stream over [start, end), in stream order, and how many
+    walk forwards (they come first; docs: theory, Poisson arrivals).
 
     Per direction: the people already on the deck at ``start`` (Poisson(n·share) at uniform
     positions, i.e. arrival times start − U[0, L/v]), then Poisson arrivals on [start, end).
-    Then, for everybody: lateral positions U[0, B], step frequencies N(μ, σ), DLFs and phases,
-    and, when the crowd has a body-mass spread, body masses N(m_h, σ_m) (drawn last, so a crowd
-    without spread gives the same stream as before the option existed).
     """
-    length, width, speed = structure.length, structure.width, crowd.walking_speed
-    crossing = length / speed
-    arrivals, directions = [], []
+    crossing = structure.length / crowd.walking_speed
+    arrivals, forward = [], 0
     for direction, share in ((1, crowd.forward_fraction), (-1, 1.0 - crowd.forward_fraction)):
-        on_deck = rng.poisson(crowd.density * width * length * share)
+        on_deck = rng.poisson(crowd.density * structure.width * structure.length * share)
         arrivals.append(start - crossing * rng.uniform(0.0, 1.0, on_deck))
-        entering = rng.poisson(crowd.arrival_rate(width) * share * (end - start))
+        entering = rng.poisson(crowd.arrival_rate(structure.width) * share * (end - start))
         arrivals.append(np.sort(rng.uniform(start, end, entering)))
-        directions.append(np.full(on_deck + entering, direction))
-    arrival = np.concatenate(arrivals)
-    direction = np.concatenate(directions)
-    lateral = rng.uniform(0.0, width, arrival.size)
-    step_frequency = positive_normal(np.full(arrival.size, crowd.step_frequency_mean),
+        forward = forward or on_deck + entering
+    return np.concatenate(arrivals), forward
+
+
+def _crowd_attributes(n, structure, crowd, force, rng):
+    """Lateral positions U[0, B], step frequencies N(μ, σ), DLFs and phases, and, when the crowd
+    has a body-mass spread, body masses N(m_h, σ_m) of ``n`` walkers, in this order (the masses
+    last, so a crowd without spread gives the same stream as before the option existed)."""
+    lateral = rng.uniform(0.0, structure.width, n)
+    step_frequency = positive_normal(np.full(n, crowd.step_frequency_mean),
                                      crowd.step_frequency_std, rng)
     dlf, phase = force.sample(step_frequency, rng)
     replay = _replay_draws(force, step_frequency, rng)
     if crowd.body_mass_std > 0:
-        mass = positive_normal(np.full(arrival.size, crowd.body_mass), crowd.body_mass_std, rng)
+        mass = positive_normal(np.full(n, crowd.body_mass), crowd.body_mass_std, rng)
     else:
-        mass = np.full(arrival.size, crowd.body_mass)
-    return arrival, direction, lateral, step_frequency, dlf, phase, mass, replay
+        mass = np.full(n, crowd.body_mass)
+    return lateral, step_frequency, dlf, phase, mass, replay
 
 
 def _replay_draws(force, step_frequency, rng):
@@ -174,40 +184,167 @@ def _replay_draws(force, step_frequency, rng):
                        np.zeros(n))
 
 
-def _walkers(structure, crowd, pedestrians, start, end, force, rng):
-    """Everybody of a run as :class:`_Walkers`; the crowd's stream first, then the explicit ones."""
-    x0, x1 = structure.positions[0], structure.positions[-1]
-    parts = []
-    if crowd is not None and crowd.density > 0:
-        arrival, direction, lateral, fs, dlf, phase, mass, replay = _crowd_draws(
-            structure, crowd, start, end, force, rng)
-        ratios = np.broadcast_to(force.ratios, dlf.shape)
-        parts.append((arrival, np.where(direction > 0, x0, x1),
-                      direction * crowd.walking_speed, lateral, fs, mass, dlf, ratios, phase,
-                      replay))
-    if pedestrians:
-        parts.append(_explicit_arrays(structure, pedestrians, force, rng))
-    if not parts:
-        empty = np.zeros(0)
-        parts.append((empty,) * 6 + (np.zeros((0, 1)),) * 3 + (_replay_draws(None, empty, None),))
-    width = max(p[6].shape[1] for p in parts)
-    columns = [np.concatenate([p[i] for p in parts]) for i in range(6)]
-    padded = [np.concatenate([np.pad(p[i], ((0, 0), (0, width - p[i].shape[1]))) for p in parts])
-              for i in (6, 7, 8)]
-    arrival, x_start, velocity, lateral, fs, mass = columns
-    dlf, ratios, phase = padded
-    replay = ReplayDraws(*(np.concatenate([p[9][i] for p in parts]) for i in range(5)))
-    # Time on the deck: from the arrival at x_start to the far end (never, when standing).
+def _table(arrival, x_start, velocity, lateral, step_frequency, body_mass, dlf, ratio, phase,
+           replay, width):
+    """Walkers' columns as a dict, the force components zero-padded to ``width``."""
+    pad = ((0, 0), (0, width - dlf.shape[1]))
+    return {"arrival": arrival, "x_start": x_start, "velocity": velocity, "lateral": lateral,
+            "step_frequency": step_frequency, "body_mass": body_mass,
+            "dlf": np.pad(dlf, pad), "ratio": np.pad(ratio, pad), "phase": np.pad(phase, pad),
+            "replay": tuple(replay)}
+
+
+def _time_off(arrival, x_start, velocity, x0, x1):
+    """Time on the deck ends: from the arrival at x_start to the far end (never, when standing)."""
     remaining = np.where(velocity > 0, x1 - x_start, x_start - x0)
     speed = np.abs(velocity)
     with np.errstate(divide="ignore"):
-        t_off = np.where(speed > 0, arrival + remaining / np.where(speed > 0, speed, 1.0), np.inf)
-    order = np.argsort(arrival, kind="stable")
-    return _Walkers(arrival=arrival[order], x_start=x_start[order], velocity=velocity[order],
-                    t_on=arrival[order], t_off=t_off[order], lateral=lateral[order],
-                    step_frequency=fs[order], body_mass=mass[order], dlf=dlf[order],
-                    ratio=ratios[order], phase=phase[order],
-                    replay=ReplayDraws(*(column[order] for column in replay)))
+        return np.where(speed > 0, arrival + remaining / np.where(speed > 0, speed, 1.0), np.inf)
+
+
+class _Stream:
+    """Everybody of a run in order of arrival, handed out a window at a time (docs: theory,
+    Poisson arrivals; issue 28 §3): the crowd's stream, then the explicit pedestrians, then the
+    tuned mass dampers (walkers that never walk), ranked by arrival (stable).
+
+    Only the arrival times of the whole stream are kept (16 bytes a walker); the crowd's other
+    draws are made a :data:`STREAM_BLOCK` at a time when a window needs them.
+    """
+
+    def __init__(self, structure, crowd, pedestrians, start, end, force, rng, dampers=()):
+        self.structure, self.crowd, self.force = structure, crowd, force
+        x0, x1 = structure.positions[0], structure.positions[-1]
+        self.x0, self.x1 = x0, x1
+        self.seed_sequence = rng.bit_generator.seed_seq
+        self.n_crowd = 0
+        self.width = 1
+        self._blocks = {}
+        crowd_arrival = np.zeros(0)
+        if crowd is not None and crowd.density > 0:
+            crowd_arrival, self.n_forward = _crowd_arrivals(structure, crowd, start, end, rng)
+            self.n_crowd = crowd_arrival.size
+            self._crowd_arrival = crowd_arrival
+            first = self._attributes(0, rng)                  # the run's generator: as ever
+            self.width = first[2].shape[1]
+        fixed = []
+        if pedestrians:
+            arrays = _explicit_arrays(structure, pedestrians, force, rng)
+            self.width = max(self.width, arrays[6].shape[1])
+            fixed.append(arrays)
+        self.n_dampers = len(dampers)
+        if dampers:
+            for damper in dampers:
+                damper.shape_row(structure)                 # raises if off the walkway
+            n = len(dampers)
+            fixed.append((np.full(n, float(start)), np.array([d.position for d in dampers]),
+                          np.zeros(n), np.array([structure.width / 2 if d.lane is None else d.lane
+                                                 for d in dampers]),
+                          np.ones(n), np.array([d.mass for d in dampers]),
+                          np.zeros((n, self.width)), np.ones((n, self.width)),
+                          np.zeros((n, self.width)), _replay_draws(None, np.ones(n), None)))
+        # The explicit pedestrians and the dampers: one table, kept whole.
+        self._fixed = _table(*(np.concatenate([f[i] for f in fixed]) if fixed
+                               else np.zeros((0, 1) if i in (6, 7, 8) else 0) for i in range(9)),
+                             ReplayDraws(*(np.concatenate([f[9][i] for f in fixed]) if fixed
+                                           else _replay_draws(None, np.zeros(0), None)[i]
+                                           for i in range(5))), self.width)
+        if self.n_crowd:
+            self._blocks[0] = self._block_table(0, first)
+        self._first_damper = self.n_crowd + self._fixed["arrival"].size - self.n_dampers
+        arrival = np.concatenate([crowd_arrival, self._fixed["arrival"]])
+        self.order = np.argsort(arrival, kind="stable")
+        self.t_on = arrival[self.order]
+        # Crowd walkers start at an end: the distance to the other is the length either way.
+        self._t_off = np.concatenate([
+            crowd_arrival + (x1 - x0) / crowd.walking_speed if self.n_crowd else crowd_arrival,
+            _time_off(self._fixed["arrival"], self._fixed["x_start"], self._fixed["velocity"],
+                      x0, x1)])
+
+    @property
+    def size(self):
+        return self.t_on.size
+
+    def t_off(self):
+        """The times every walker steps off, in stream (not time) order."""
+        return self._t_off
+
+    def _attributes(self, block, rng=None):
+        """The crowd's draws for stream positions [block·B, (block + 1)·B); block 0 from the
+        run's generator ``rng``, any other from its own."""
+        first = block * STREAM_BLOCK
+        if rng is None:
+            child = np.random.SeedSequence(self.seed_sequence.entropy,
+                                           spawn_key=self.seed_sequence.spawn_key + (int(block),))
+            rng = np.random.default_rng(child)
+        return _crowd_attributes(min(STREAM_BLOCK, self.n_crowd - first), self.structure,
+                                 self.crowd, self.force, rng)
+
+    def _block_table(self, block, attributes):
+        first = block * STREAM_BLOCK
+        lateral, fs, dlf, phase, mass, replay = attributes
+        forward = np.arange(first, first + fs.size) < self.n_forward
+        return _table(self._crowd_arrival[first:first + fs.size],
+                      np.where(forward, self.x0, self.x1),
+                      np.where(forward, 1, -1) * self.crowd.walking_speed, lateral, fs, mass,
+                      dlf, np.broadcast_to(self.force.ratios, dlf.shape), phase, replay,
+                      self.width)
+
+    def _draw_block(self, block):
+        return self._block_table(block, self._attributes(block))
+
+    def block(self, block):
+        """A block of the crowd's columns, drawn again unless it is held (block 0 and the
+        last two drawn are: a window reaches into at most the forward and the backward one)."""
+        if block not in self._blocks:
+            held = [b for b in self._blocks if b != 0]
+            if len(held) >= 2:
+                del self._blocks[held[0]]
+            self._blocks[block] = self._draw_block(block)
+        return self._blocks[block]
+
+    def tables(self):
+        """Every table of columns once, with its number of people (the rows before the
+        dampers): the crowd's blocks, then the rest, for a pass over all."""
+        for block in range(-(-self.n_crowd // STREAM_BLOCK)):
+            table = self._blocks[block] if block in self._blocks else self._draw_block(block)
+            yield table, table["arrival"].size
+        yield self._fixed, self._first_damper - self.n_crowd
+
+    def window(self, first, stop):
+        """The walkers of ranks [first, stop) as :class:`_Walkers`, and each one's damper
+        number (−1 for a pedestrian)."""
+        source = self.order[first:stop]
+        parts = []
+        crowd = np.flatnonzero(source < self.n_crowd)
+        for block in np.unique(source[crowd] // STREAM_BLOCK):
+            rows = crowd[source[crowd] // STREAM_BLOCK == block]
+            parts.append((rows, self.block(block), source[rows] - block * STREAM_BLOCK))
+        rows = np.flatnonzero(source >= self.n_crowd)
+        parts.append((rows, self._fixed, source[rows] - self.n_crowd))
+        columns = {}
+        for name in ("arrival", "x_start", "velocity", "lateral", "step_frequency", "body_mass",
+                     "dlf", "ratio", "phase"):
+            column = np.empty((source.size,) + parts[-1][1][name].shape[1:])
+            for rows, table, index in parts:
+                column[rows] = table[name][index]
+            columns[name] = column
+        replay = []
+        for i, example in enumerate(self._fixed["replay"]):
+            column = np.empty(source.size, dtype=example.dtype)
+            for rows, table, index in parts:
+                column[rows] = table["replay"][i][index]
+            replay.append(column)
+        damper = np.where(source >= self._first_damper, source - self._first_damper, -1)
+        arrival = columns["arrival"]
+        t_off = _time_off(arrival, columns["x_start"], columns["velocity"], self.x0, self.x1)
+        return _Walkers(t_on=arrival, t_off=t_off, replay=ReplayDraws(*replay),
+                        **columns), damper
+
+
+def _walkers(structure, crowd, pedestrians, start, end, force, rng):
+    """Everybody of a run as one :class:`_Walkers` (the crowd's stream, then the explicit ones)."""
+    stream = _Stream(structure, crowd, pedestrians, start, end, force, rng)
+    return stream.window(0, stream.size)[0]
 
 
 def _explicit_arrays(structure, pedestrians, force, rng):
@@ -316,37 +453,3 @@ def check_duration(duration, warm_up):
 
 def _check_structure(structure):
     check_type("structure", structure, ModalModel)
-
-
-# --- Tuned mass dampers in the simulator (issue 11) -------------------------------------------
-# A damper is a walker that never walks: fixed at its position for the whole record, with no
-# walking force and its own spring and dashpot (set by the integrator from ``dampers``).
-
-def _with_dampers(structure, walkers, dampers, start):
-    """``walkers`` plus one stationary, force-free entry per damper, present from ``start``.
-
-    Returns the new :class:`_Walkers` (sorted by arrival, stable, so the dampers keep their
-    order) and the boolean mask of the damper entries.
-    """
-    if not dampers:
-        return walkers, np.zeros(walkers.size, dtype=bool)
-    for damper in dampers:
-        damper.shape_row(structure)                 # raises if off the walkway
-    n, components = len(dampers), walkers.dlf.shape[1]
-    extra = {"arrival": np.full(n, float(start)),
-             "x_start": np.array([d.position for d in dampers]),
-             "velocity": np.zeros(n), "t_on": np.full(n, float(start)), "t_off": np.full(n, np.inf),
-             "lateral": np.array([structure.width / 2 if d.lane is None else d.lane
-                                  for d in dampers]),
-             "step_frequency": np.ones(n), "body_mass": np.array([d.mass for d in dampers]),
-             "dlf": np.zeros((n, components)), "ratio": np.ones((n, components)),
-             "phase": np.zeros((n, components))}
-    merged = {name: np.concatenate([getattr(walkers, name), value])
-              for name, value in extra.items()}
-    order = np.argsort(merged["arrival"], kind="stable")
-    mask = np.concatenate([np.zeros(walkers.size, dtype=bool), np.ones(n, dtype=bool)])
-    # A damper replays no measured force (record −1), like a harmonic walker.
-    none = _replay_draws(None, np.ones(n), None)
-    replay = ReplayDraws(*(np.concatenate(pair)[order] for pair in zip(walkers.replay, none)))
-    return (_Walkers(**{name: value[order] for name, value in merged.items()}, replay=replay),
-            mask[order])
