@@ -23,7 +23,8 @@ _LAZY = {
                      "PSDConvergence", "detrend", "resample", "running_rms", "weight_wb"),
                     "signals"),
     **dict.fromkeys(("response_psd", "frf", "effective_modal_properties", "SpectralModel",
-                     "simulate", "simulate_many", "Pedestrian", "FRF", "EffectiveModalProperties", "Simulation"),
+                     "simulate", "simulate_many", "Pedestrian", "FRF", "EffectiveModalProperties", "Simulation",
+                     "simulate_psd", "SimulationPSD"),
                     "response"),
     **dict.fromkeys(("estimate_hsi", "estimate_hsi_joint", "HSIEstimate",
                      "estimate_step_frequencies",
@@ -74,7 +75,7 @@ if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
                         simulate_case)
     from .response import (FRF, EffectiveModalProperties, Pedestrian, Simulation, SpectralModel,
                            effective_modal_properties, frf, response_psd, simulate,
-                           simulate_many)
+                           simulate_many, simulate_psd, SimulationPSD)
     from .design import (DesignCheck, ResponsePrediction, TunedMassDamper, design_check,
                          predict_response, tune_damper)
     from .response import FluctuatingSpectralModel, modal_accelerance

@@ -8,12 +8,13 @@ and ``simulation`` (time-domain Monte Carlo with moving pedestrians; its compile
 
 from .batch import simulate_many
 from .fluctuation import FluctuatingSpectralModel
-from .results import FRF, EffectiveModalProperties, Simulation
-from .simulation import simulate
+from .results import FRF, EffectiveModalProperties, Simulation, SimulationPSD
+from .simulation import simulate, simulate_psd
 from .spectral import (SpectralModel, effective_modal_properties, frf, modal_accelerance,
                        response_psd)
 from .traffic import Pedestrian, generate_traffic
 
 __all__ = ["SpectralModel", "FluctuatingSpectralModel", "response_psd", "frf",
            "effective_modal_properties", "modal_accelerance", "simulate", "simulate_many",
-           "Pedestrian", "generate_traffic", "FRF", "EffectiveModalProperties", "Simulation"]
+           "Pedestrian", "generate_traffic", "FRF", "EffectiveModalProperties", "Simulation",
+           "simulate_psd", "SimulationPSD"]

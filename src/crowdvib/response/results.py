@@ -14,16 +14,16 @@ import numpy as np
 
 from .._validation import frozen_array
 from ..errors import ParameterError
+from ..signals.spectrum import ResponsePSD
 from ..signals.welch import welch_psd
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
     from .._figures import FigureAxes
-    from ..signals.spectrum import ResponsePSD
     from ..signals.welch import LowPassFilter
 
-__all__ = ["FRF", "EffectiveModalProperties", "Simulation"]
+__all__ = ["FRF", "EffectiveModalProperties", "Simulation", "SimulationPSD"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -260,3 +260,65 @@ class Simulation:
                 "mean_on_deck": float(self.n_on_deck.mean()) if self.n_samples else 0.0,
                 "rms": np.sqrt(np.mean(self.acceleration**2, axis=-1)).tolist(),
                 "modal_load_recorded": self.modal_load is not None}
+
+
+@dataclass(frozen=True, eq=False)
+class SimulationPSD:
+    """What :func:`crowdvib.simulate_psd` keeps of a simulated record: its Welch PSD and summaries.
+
+    Attributes
+    ----------
+    psd : ResponsePSD
+        Welch PSD of the accelerations [(m/s²)²/Hz] (Hann, constant detrend, no low-pass).
+    rms, peak : ndarray, shape (n_outputs,)
+        RMS and largest |a| of each output over the record [m/s²].
+    sample_rate : float
+        Output sample rate [Hz].
+    seed : int
+        The seed used: ``simulate(..., rng=seed)`` gives the record itself.
+    duration : float
+        Record length [s].
+    time_step : float
+        Internal RK4 step [s].
+    n_pedestrians : int
+        Pedestrians generated for the run (including those on the deck at the start).
+    mean_on_deck : float
+        Mean number of pedestrians on the deck over the samples [-].
+    max_on_deck : int
+        Most pedestrians on the deck at one sample [-].
+    hsi : bool
+        Whether the pedestrians were MSDs.
+    warm_up : float
+        Simulated time before t = 0 that was discarded [s].
+    """
+
+    psd: ResponsePSD
+    rms: np.ndarray
+    peak: np.ndarray
+    sample_rate: float
+    seed: int
+    duration: float
+    time_step: float
+    n_pedestrians: int
+    mean_on_deck: float
+    max_on_deck: int
+    hsi: bool = False
+    warm_up: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "rms", frozen_array(self.rms))
+        object.__setattr__(self, "peak", frozen_array(self.peak))
+
+    def __repr__(self):
+        return (f"SimulationPSD({list(self.psd.output_names)}, {self.duration:g} s at "
+                f"{self.sample_rate:g} Hz, {self.psd.n_windows} windows of "
+                f"{self.psd.window_length:g} s, {self.n_pedestrians} pedestrians, seed={self.seed})")
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summaries (no spectrum)."""
+        return {"output_names": list(self.psd.output_names), "sample_rate": self.sample_rate,
+                "duration": self.duration, "seed": self.seed, "time_step": self.time_step,
+                "n_pedestrians": self.n_pedestrians, "mean_on_deck": self.mean_on_deck,
+                "max_on_deck": self.max_on_deck, "hsi": self.hsi, "warm_up": self.warm_up,
+                "rms": self.rms.tolist(), "peak": self.peak.tolist(),
+                "window_length": self.psd.window_length, "n_windows": self.psd.n_windows}

@@ -5,7 +5,8 @@ Each pedestrian is a moving force on a rigid floor plus, with HSI, a moving mass
 stationary Poisson stream with the deck already populated at the start (docs: theory, Poisson arrivals). The
 numerics (fixed-step RK4 over the pedestrians on the deck) live in :mod:`crowdvib.response._kernels`.
 
-Public: :func:`simulate`; the walkers come from :mod:`.traffic`.
+Public: :func:`simulate` (the record) and :func:`simulate_psd` (its Welch PSD and summaries,
+in memory that does not grow with the duration); the walkers come from :mod:`.traffic`.
 """
 
 from __future__ import annotations
@@ -27,8 +28,10 @@ from ..models.damper import as_dampers
 from ..models.loading import STANDARD_GRAVITY, as_force_model
 from ..models.measured import REPLAY_HARMONICS, ReplayDraws
 from ..models.pedestrian import MSDModel
-from .results import Simulation
-from .traffic import (Pedestrian, _Stream, _Walkers, check_duration, _check_structure,
+from ..signals.spectrum import ResponsePSD
+from ..signals.welch import segment_periodograms
+from .results import Simulation, SimulationPSD
+from .traffic import (STREAM_BLOCK, Pedestrian, _Stream, _Walkers, check_duration, _check_structure,
                       _seed_from)
 
 if TYPE_CHECKING:
@@ -36,7 +39,7 @@ if TYPE_CHECKING:
     from ..models.damper import TunedMassDamper
     from ..models.structure import ModalModel
 
-__all__ = ["simulate"]
+__all__ = ["simulate", "simulate_psd"]
 
 #: Internal RK4 steps per period of the highest natural frequency of the states (structural
 #: modes, f_h1). RK4's numerical damping and period error grow with (ω h)⁶ and (ω h)⁴: at 10
@@ -49,9 +52,12 @@ STEPS_PER_PERIOD = 10
 FORCE_STEPS_PER_PERIOD = 6
 #: Default simulated seconds per kernel call (progress granularity; results do not depend on it).
 DEFAULT_CHUNK_DURATION = 60.0
-#: Bytes a walker costs while the run is drawn: its per-component DLF, ratio and phase rows and
-#: some twenty scalars, in float64, about three times over for the temporaries of the draws.
+#: Bytes a walker costs while its block is drawn: its per-component DLF, ratio and phase rows
+#: and some twenty scalars, in float64, about three times over for the temporaries of the draws.
 _BYTES_PER_WALKER = 3 * 8 * 20
+#: Bytes every walker of the record costs for the whole run: its arrival time (twice), time
+#: off the deck and rank in the stream (``traffic._Stream``).
+_STREAM_BYTES_PER_WALKER = 4 * 8
 #: Share of the available memory a run may plan to take (the rest: the caller, the OS, copies).
 _MEMORY_SHARE = 0.5
 #: Memory assumed available where neither psutil nor the OS can tell [bytes].
@@ -72,21 +78,25 @@ def available_memory() -> float:
 
 
 def _check_memory(structure, crowd, force, duration, warm_up, sample_rate, n_samples,
-                  record_modal_load, records=1):
+                  record_modal_load, records=1, keep_record=True):
     """Refuse a run whose records and walkers will not fit, before anything is allocated.
 
     A duration of 1e9 s once took 13 GB over two minutes before numpy gave up (issue 24): the
     sizes are known from the inputs, so the answer can come at once, naming the parameter.
-    ``records``: runs whose results are all kept (:func:`crowdvib.simulate_many`'s seeds).
+    ``records``: runs whose results are all kept (:func:`crowdvib.simulate_many`'s seeds);
+    ``keep_record``: False for :func:`simulate_psd`, which keeps no samples.
     """
-    rows = structure.n_outputs + (structure.n_modes if record_modal_load else 0) + 1   # + time
+    # The outputs, the modal loads and a row for n_on_deck (a quarter of one, counted whole).
+    rows = (structure.n_outputs + (structure.n_modes if record_modal_load else 0) + 1
+            if keep_record else 0)
     walkers = 0.0
     if crowd is not None and crowd.density > 0:
         walkers = (crowd.arrival_rate(structure.width) * (duration + warm_up)
                    + crowd.density * structure.area)
     components = np.size(force.ratios)
-    need = records * (8.0 * rows * n_samples
-                      + walkers * _BYTES_PER_WALKER * (1 + components / 10))
+    drawn = min(walkers, 3 * STREAM_BLOCK)          # the blocks held at once
+    need = records * (8.0 * rows * n_samples + walkers * _STREAM_BYTES_PER_WALKER
+                      + drawn * _BYTES_PER_WALKER * (1 + components / 10))
     have = available_memory()
     if need > _MEMORY_SHARE * have:
         batch = "" if records == 1 else f" for {records} seeds"
@@ -352,7 +362,7 @@ def _concatenate(first, second):
 
 
 def _check_run(structure, crowd, duration, pedestrians, msd, force, sample_rate,
-               record_modal_load, warm_up, records=1):
+               record_modal_load, warm_up, records=1, keep_record=True):
     """Validate a run's inputs and its memory (for ``records`` kept runs); return the force
     model, duration, sample rate and the recorded and warm-up sample counts."""
     _check_structure(structure)
@@ -382,16 +392,16 @@ def _check_run(structure, crowd, duration, pedestrians, msd, force, sample_rate,
             f"{sample_rate:g} Hz")
     warm_up_samples = int(math.ceil(warm_up * sample_rate - 1e-9))
     _check_memory(structure, crowd, force, duration, warm_up, sample_rate,
-                  n_samples + warm_up_samples, record_modal_load, records)
+                  n_samples + warm_up_samples, record_modal_load, records, keep_record)
     return force, duration, sample_rate, n_samples, warm_up_samples
 
 
 def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
-             include_static_weight, record_modal_load, warm_up, dampers=()):
+             include_static_weight, record_modal_load, warm_up, dampers=(), keep_record=True):
     """Validate everything and build the integrator (no time stepping yet)."""
     force, duration, sample_rate, n_samples, warm_up_samples = _check_run(
         structure, crowd, duration, pedestrians, msd, force, sample_rate, record_modal_load,
-        warm_up)
+        warm_up, keep_record=keep_record)
     pedestrians = list(pedestrians) if pedestrians is not None else []
     rng = np.random.default_rng(seed)
     start = -warm_up_samples / sample_rate
@@ -405,6 +415,25 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
                              include_static_weight, dampers, getattr(force, "table", None),
                              added_mass)
     return integrator, n_samples, warm_up_samples, sample_rate, duration
+
+
+def _start(structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, progress,
+           include_static_weight, chunk_duration, record_modal_load, warm_up, dampers,
+           keep_record):
+    """Check the options shared by :func:`simulate` and :func:`simulate_psd` and prepare the
+    run: the seed, the integrator, the sample counts, the sample rate and the chunks to run."""
+    seed = _seed_from(rng)
+    if progress is not None and not callable(progress):
+        raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
+    chunk_duration = (DEFAULT_CHUNK_DURATION if chunk_duration is None
+                      else check_positive("chunk_duration", chunk_duration, unit="s"))
+    integrator, n_samples, warm_up_samples, sample_rate, duration = _prepare(
+        structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
+        include_static_weight, record_modal_load, warm_up, as_dampers(dampers), keep_record)
+    total_steps = (warm_up_samples + n_samples) * integrator.substeps
+    chunk_steps = max(1, int(round(chunk_duration * sample_rate))) * integrator.substeps
+    chunks = _chunks(integrator, total_steps, chunk_steps, progress)
+    return seed, integrator, n_samples, warm_up_samples, sample_rate, chunks
 
 
 def _chunks(integrator, total_steps, chunk_steps, progress):
@@ -513,22 +542,14 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
     >>> record.acceleration.shape
     (1, 1000)
     """
-    seed = _seed_from(rng)
-    if progress is not None and not callable(progress):
-        raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
-    chunk_duration = (DEFAULT_CHUNK_DURATION if chunk_duration is None
-                      else check_positive("chunk_duration", chunk_duration, unit="s"))
-    integrator, n_samples, warm_up_samples, sample_rate, duration = _prepare(
-        structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
-        include_static_weight, record_modal_load, warm_up, as_dampers(dampers))
-    substeps = integrator.substeps
-    total_steps = (warm_up_samples + n_samples) * substeps
-    chunk_steps = max(1, int(round(chunk_duration * sample_rate))) * substeps
+    seed, integrator, n_samples, warm_up_samples, sample_rate, chunks = _start(
+        structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, progress,
+        include_static_weight, chunk_duration, record_modal_load, warm_up, dampers, True)
     n_outputs, n_modes = structure.n_outputs, structure.n_modes
     acceleration = np.empty((n_outputs, n_samples))
     modal_load = np.empty((n_modes, n_samples)) if record_modal_load else None
     n_on_deck = np.empty(n_samples, dtype=np.int16)
-    for first, count in _chunks(integrator, total_steps, chunk_steps, progress):
+    for first, count in chunks:
         done = slice(first, first + count)
         acceleration[:, done] = integrator.acceleration[:, :count]
         if record_modal_load:
@@ -551,3 +572,114 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
         hsi=msd is not None,
         warm_up=warm_up_samples / sample_rate,
     )
+
+
+class _WelchSums:
+    """A Welch average taken chunk by chunk: the segments of ``welch_psd`` (Hann, constant
+    detrend, density scaling, a step of T − ⌊T·overlap⌋ samples from the first sample), each
+    periodogram added once the samples it covers have arrived; only the samples of the segment
+    not yet complete are held."""
+
+    def __init__(self, n_outputs, sample_rate, segment, overlap):
+        self.sample_rate, self.segment = sample_rate, segment
+        self.overlap = overlap
+        self.step = segment - int(segment * overlap)
+        self.held = np.zeros((n_outputs, 0))
+        self.total = 0.0
+        self.count = 0
+        self.frequency = None
+
+    def add(self, samples):
+        data = np.concatenate([self.held, samples], axis=1)
+        complete = (data.shape[1] - self.segment) // self.step + 1 if (
+            data.shape[1] >= self.segment) else 0
+        if complete:
+            used = (complete - 1) * self.step + self.segment
+            self.frequency, periodograms = segment_periodograms(
+                data[:, :used], self.sample_rate, self.segment, self.overlap)
+            self.total = self.total + periodograms.sum(axis=-1)
+            self.count += complete
+        self.held = data[:, complete * self.step:]
+
+
+def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
+                 duration: float | None = None, *, window_length: float, overlap: float = 0.5,
+                 pedestrians: Sequence[Pedestrian] | None = None, msd: MSDModel | None = None,
+                 force: ForceModel | None = None, sample_rate: float = 100.0, rng: Seed = None,
+                 progress: Callable[[float, float], None] | None = None,
+                 include_static_weight: bool = False, chunk_duration: float | None = None,
+                 warm_up: float = 0.0,
+                 dampers: Sequence[TunedMassDamper] | None = None) -> SimulationPSD:
+    """The Welch PSD and summaries of the record :func:`simulate` would return, without the
+    record: memory does not grow with ``duration`` beyond 32 bytes a pedestrian (issue 28 §3;
+    a month of the paper example fits in well under 1 GB).
+
+    The samples are run a chunk at a time and each Welch segment's periodogram is added as soon
+    as its samples are in: the PSD equals ``welch_psd(simulate(...).acceleration, ...)`` of the
+    same seed and options to round-off (the segments are summed in another order). Every
+    parameter but ``window_length`` and ``overlap`` is :func:`simulate`'s.
+
+    Parameters
+    ----------
+    window_length : float
+        Welch segment length T [s] (Hann window, constant detrend, as
+        :func:`crowdvib.welch_psd`).
+    overlap : float
+        Overlap of consecutive segments, fraction of T, in [0, 1).
+
+    Returns
+    -------
+    SimulationPSD
+        The PSD (``ResponsePSD``, ``source="welch"``, no dispersion: that needs every segment)
+        with the RMS and peak |a| per output, the people on the deck and the run's metadata.
+
+    Notes
+    -----
+    No low-pass: ``welch_psd``'s filter is zero-phase (forward and backward over the whole
+    record), which cannot be applied a chunk at a time. A model compared with this PSD should
+    be taken unfiltered; filter a record of :func:`simulate` where the filter matters.
+
+    Examples
+    --------
+    >>> from crowdvib import Crowd, MSDModel, ModalModel, simulate_psd
+    >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+    >>> result = simulate_psd(bridge, Crowd.from_density(0.5), 120.0, msd=MSDModel(), rng=1,
+    ...                       window_length=20.0)
+    >>> result.psd.n_windows
+    11
+    """
+    window_length = check_positive("window_length", window_length, unit="s")
+    if not 0.0 <= overlap < 1.0:
+        raise ParameterError(f"overlap must lie in [0, 1), got {overlap!r}")
+    seed, integrator, n_samples, warm_up_samples, sample_rate, chunks = _start(
+        structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, progress,
+        include_static_weight, chunk_duration, False, warm_up, dampers, False)
+    segment = int(round(window_length * sample_rate))
+    if segment < 8:
+        raise ParameterError(
+            f"window_length × sample_rate must give at least 8 samples, got {segment}")
+    if n_samples < segment:
+        raise ParameterError(
+            f"duration must hold one window: {n_samples / sample_rate:g} s is shorter than "
+            f"window_length = {window_length:g} s")
+    welch = _WelchSums(structure.n_outputs, sample_rate, segment, overlap)
+    squares = np.zeros(structure.n_outputs)
+    peak = np.zeros(structure.n_outputs)
+    people, most = 0, 0
+    for _, count in chunks:
+        samples = integrator.acceleration[:, :count]
+        welch.add(samples)
+        squares += np.sum(samples**2, axis=1)
+        peak = np.maximum(peak, np.max(np.abs(samples), axis=1, initial=0.0))
+        on_deck = integrator.n_on_deck[:count] - integrator.n_dampers
+        people += int(on_deck.sum())
+        most = max(most, int(on_deck.max(initial=0)))
+    psd = ResponsePSD(frequency=welch.frequency, psd=welch.total / welch.count,
+                      output_names=structure.output_names, window_length=segment / sample_rate,
+                      n_windows=welch.count, source="welch")
+    return SimulationPSD(
+        psd=psd, rms=np.sqrt(squares / n_samples), peak=peak, sample_rate=sample_rate,
+        seed=seed, duration=n_samples / sample_rate, time_step=integrator.h,
+        n_pedestrians=integrator.stream.size - integrator.n_dampers,
+        mean_on_deck=people / n_samples, max_on_deck=most, hsi=msd is not None,
+        warm_up=warm_up_samples / sample_rate)

@@ -187,11 +187,12 @@ def _replay_draws(force, step_frequency, rng):
 def _table(arrival, x_start, velocity, lateral, step_frequency, body_mass, dlf, ratio, phase,
            replay, width):
     """Walkers' columns as a dict, the force components zero-padded to ``width``."""
-    pad = ((0, 0), (0, width - dlf.shape[1]))
+    def pad(columns):      # (a crowd's ratios stay one broadcast row when wide enough)
+        return columns if columns.shape[1] == width else np.pad(
+            columns, ((0, 0), (0, width - columns.shape[1])))
     return {"arrival": arrival, "x_start": x_start, "velocity": velocity, "lateral": lateral,
             "step_frequency": step_frequency, "body_mass": body_mass,
-            "dlf": np.pad(dlf, pad), "ratio": np.pad(ratio, pad), "phase": np.pad(phase, pad),
-            "replay": tuple(replay)}
+            "dlf": pad(dlf), "ratio": pad(ratio), "phase": pad(phase), "replay": tuple(replay)}
 
 
 def _time_off(arrival, x_start, velocity, x0, x1):
@@ -224,6 +225,7 @@ class _Stream:
             crowd_arrival, self.n_forward = _crowd_arrivals(structure, crowd, start, end, rng)
             self.n_crowd = crowd_arrival.size
             self._crowd_arrival = crowd_arrival
+            self._state = rng.bit_generator.state             # block 0 can be drawn again
             first = self._attributes(0, rng)                  # the run's generator: as ever
             self.width = first[2].shape[1]
         fixed = []
@@ -272,7 +274,10 @@ class _Stream:
         """The crowd's draws for stream positions [block·B, (block + 1)·B); block 0 from the
         run's generator ``rng``, any other from its own."""
         first = block * STREAM_BLOCK
-        if rng is None:
+        if rng is None and block == 0:
+            rng = np.random.default_rng(self.seed_sequence)
+            rng.bit_generator.state = self._state
+        elif rng is None:
             child = np.random.SeedSequence(self.seed_sequence.entropy,
                                            spawn_key=self.seed_sequence.spawn_key + (int(block),))
             rng = np.random.default_rng(child)
@@ -293,14 +298,15 @@ class _Stream:
         return self._block_table(block, self._attributes(block))
 
     def block(self, block):
-        """A block of the crowd's columns, drawn again unless it is held (block 0 and the
-        last two drawn are: a window reaches into at most the forward and the backward one)."""
-        if block not in self._blocks:
-            held = [b for b in self._blocks if b != 0]
-            if len(held) >= 2:
-                del self._blocks[held[0]]
-            self._blocks[block] = self._draw_block(block)
-        return self._blocks[block]
+        """A block of the crowd's columns, drawn again unless it is one of the last three used
+        (a window reaches into a forward and a backward one, and at times the next of either)."""
+        table = self._blocks.pop(block, None)
+        if table is None:
+            table = self._draw_block(block)
+            if len(self._blocks) >= 3:
+                del self._blocks[next(iter(self._blocks))]   # the least recently used
+        self._blocks[block] = table
+        return table
 
     def tables(self):
         """Every table of columns once, with its number of people (the rows before the
