@@ -52,6 +52,9 @@ STEPS_PER_PERIOD = 10
 FORCE_STEPS_PER_PERIOD = 6
 #: Default simulated seconds per kernel call (progress granularity; results do not depend on it).
 DEFAULT_CHUNK_DURATION = 60.0
+#: Simulated seconds of arrivals handed to the kernel at once (at least a chunk's): the window of
+#: the stream is rebuilt this seldom (a few hundred walkers; the rebuild costs about a millisecond).
+WINDOW_DURATION = 600.0
 #: Bytes a walker costs while its block is drawn: its per-component DLF, ratio and phase rows
 #: and some twenty scalars, in float64, about three times over for the temporaries of the draws.
 _BYTES_PER_WALKER = 3 * 8 * 20
@@ -278,15 +281,15 @@ class _Integrator:
         self.two_cos = 2.0 * np.cos(self.omega * self.h / 2)
         self.replay = _replay_arguments(walkers, self.force_table)
 
-    def _refill(self, n_steps):
-        """Window the stream for the next ``n_steps``: the walkers on the deck (renumbered
+    def _refill(self, until):
+        """Window the stream up to time ``until`` [s]: the walkers on the deck (renumbered
         0 … n_active − 1 in slot order) and everybody who steps on by then."""
         n_active = int(self.counters[1])
         entered = int(self.counters[0])
         kept = self.index[_slots.PEDESTRIAN, :n_active].copy()
         self.next_rank += entered - self._window_start
-        stop = int(np.searchsorted(self.stream.t_on, (self.step + n_steps) * self.h, "right"))
-        stop = max(stop, self.next_rank)
+        stop = max(int(np.searchsorted(self.stream.t_on, until, "right")), self.next_rank)
+        self._window_end = until
         arriving, damper = self.stream.window(self.next_rank, stop)
         walkers = _concatenate(_take(self.walkers, kept), arriving)
         self._load(walkers, np.concatenate([self.damper[kept], damper]))
@@ -295,11 +298,14 @@ class _Integrator:
         self._window_start = n_active
 
     _window_start = 0
+    _window_end = -np.inf
 
     def advance(self, n_steps):
         """Integrate ``n_steps`` internal steps from the current state; return the first output
         sample recorded and how many (in ``acceleration[:, :count]`` etc.)."""
-        self._refill(n_steps)
+        end = (self.step + n_steps) * self.h
+        if end > self._window_end:
+            self._refill(max(end, self.step * self.h + WINDOW_DURATION))
         first_sample = -(-max(self.step, 0) // self.substeps)
         last = self.step + n_steps - 1                     # the call's last step
         count = max(0, last // self.substeps - first_sample + 1) if last >= 0 else 0
