@@ -538,7 +538,10 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
       u̇ of the contact point is taken as φᵀż.
     * A pedestrian enters (at an internal step) with the MSD at rest relative to the deck,
       u = φᵀz, u̇ = φᵀż, and leaves at the first step after walking off (docs: theory, Time stepping).
-    * Only pedestrians on the deck cost time; memory is O(outputs × samples + pedestrians).
+    * Only pedestrians on the deck cost time. Memory: the record (8 bytes per output sample, 2
+      for ``n_on_deck``; the time axis is computed when read) and 32 bytes per pedestrian; the
+      walkers' draws are made 65 536 at a time (docs: theory, Poisson arrivals). For a long run
+      whose spectrum is all that is wanted, :func:`simulate_psd` keeps no record.
 
     Examples
     --------
