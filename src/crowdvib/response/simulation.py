@@ -237,7 +237,11 @@ class _Integrator:
         self.modal_load = np.zeros((n_modes, 0))
         self.n_on_deck = np.zeros(0, dtype=np.int64)
         self.next_rank = 0                  # the stream's next walker to step on
-        self._load(*stream.window(0, 0))
+        self.damper = np.zeros(0, dtype=np.int64)
+        self.walkers = stream.window(0, 0)[0]
+        # The first window (``walkers`` is everybody of a short run from the start, as
+        # benchmarks/_numpy_reference.py reads it).
+        self._refill(first_step * self.h + WINDOW_DURATION)
         # The compiled kernel for this kind of run (each kind compiles on first use).
         self.kernel = kernel_for(structure, self.hsi)
 
