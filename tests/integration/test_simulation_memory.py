@@ -91,7 +91,8 @@ def test_the_record_is_compact(case):
 
 def test_simulate_psd_is_welch_of_the_record(case):
     # The same seed and options: Welch of simulate's record (crowdvib.welch_psd, Hann, 50 %)
-    # and the PSD summed chunk by chunk agree to round-off, whatever the chunks.
+    # and the PSD summed chunk by chunk agree to round-off, whatever the chunks (7.3 s: shorter
+    # than a window, so segments span chunks).
     options = dict(msd=case.msd, rng=5, warm_up=10.0)
     record = simulate(case.structure, case.crowd, 250.0, **options)
     expected = welch_psd(record.acceleration, 100.0, window_length=20.0,
@@ -101,6 +102,8 @@ def test_simulate_psd_is_welch_of_the_record(case):
     assert result.psd.n_windows == expected.n_windows == 2 * 250 // 20 - 1
     np.testing.assert_array_equal(result.psd.frequency, expected.frequency)
     np.testing.assert_allclose(result.psd.psd, expected.psd, rtol=1e-12, atol=0.0)
+    # The segments' scatter from running sums (centred products expanded about the mean).
+    np.testing.assert_allclose(result.psd.dispersion, expected.dispersion, rtol=1e-9)
     summary = record.summary()
     np.testing.assert_allclose(result.rms, summary["rms"], rtol=1e-12)
     np.testing.assert_array_equal(result.peak, summary["peak"])

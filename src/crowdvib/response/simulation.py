@@ -29,7 +29,7 @@ from ..models.loading import STANDARD_GRAVITY, as_force_model
 from ..models.measured import REPLAY_HARMONICS, ReplayDraws
 from ..models.pedestrian import MSDModel
 from ..signals.spectrum import ResponsePSD
-from ..signals.welch import segment_periodograms
+from ..signals.welch import DISPERSION_LAGS, dispersion_ratio, segment_periodograms
 from .results import Simulation, SimulationPSD
 from .traffic import (STREAM_BLOCK, Pedestrian, _Stream, _Walkers, check_duration, _check_structure,
                       _seed_from)
@@ -591,16 +591,52 @@ class _WelchSums:
     """A Welch average taken chunk by chunk: the segments of ``welch_psd`` (Hann, constant
     detrend, density scaling, a step of T − ⌊T·overlap⌋ samples from the first sample), each
     periodogram added once the samples it covers have arrived; only the samples of the segment
-    not yet complete are held."""
+    not yet complete are held.
+
+    The dispersion of ``welch_psd`` from running sums: Σ P_i, Σ P_i², Σ P_i P_(i+l) for the
+    lags l <= DISPERSION_LAGS, and the first and last L periodograms, which give the sums of
+    the centred products Σ (P_i − m)(P_(i+l) − m) once the mean m is known.
+    """
 
     def __init__(self, n_outputs, sample_rate, segment, overlap):
         self.sample_rate, self.segment = sample_rate, segment
         self.overlap = overlap
         self.step = segment - int(segment * overlap)
         self.held = np.zeros((n_outputs, 0))
-        self.total = 0.0
+        self.total = self.squares = 0.0
+        self.lagged = [0.0] * DISPERSION_LAGS
+        self.first = self.last = None
         self.count = 0
         self.frequency = None
+
+    def _add_periodograms(self, periodograms):
+        self.total = self.total + periodograms.sum(axis=-1)
+        self.squares = self.squares + np.sum(periodograms**2, axis=-1)
+        recent = (periodograms if self.last is None
+                  else np.concatenate([self.last, periodograms], axis=-1))
+        new = periodograms.shape[-1]
+        for lag in range(1, DISPERSION_LAGS + 1):
+            if recent.shape[-1] > lag:
+                later = recent[..., max(lag, recent.shape[-1] - new):]
+                earlier = recent[..., max(lag, recent.shape[-1] - new) - lag:-lag]
+                self.lagged[lag - 1] = self.lagged[lag - 1] + np.sum(later * earlier, axis=-1)
+        self.last = recent[..., -DISPERSION_LAGS:]
+        self.first = recent[..., :DISPERSION_LAGS] if self.first is None or (
+            self.first.shape[-1] < DISPERSION_LAGS) else self.first
+
+    def dispersion(self):
+        """``welch_psd``'s dispersion of the segments added (None below 8 segments)."""
+        k = self.count
+        if k < 8:
+            return None
+        mean = self.total / k
+        variance = self.squares / k - mean**2
+        for lag in range(1, min(DISPERSION_LAGS, k - 1) + 1):
+            before = self.total - self.last[..., -lag:].sum(axis=-1)     # P_0 … P_(k-1-l)
+            after = self.total - self.first[..., :lag].sum(axis=-1)      # P_l … P_(k-1)
+            centred = self.lagged[lag - 1] - mean * (before + after) + (k - lag) * mean**2
+            variance = variance + 2 * (1 - lag / k) * centred / k
+        return dispersion_ratio(variance, mean, k, self.overlap)
 
     def add(self, samples):
         data = np.concatenate([self.held, samples], axis=1)
@@ -610,7 +646,7 @@ class _WelchSums:
             used = (complete - 1) * self.step + self.segment
             self.frequency, periodograms = segment_periodograms(
                 data[:, :used], self.sample_rate, self.segment, self.overlap)
-            self.total = self.total + periodograms.sum(axis=-1)
+            self._add_periodograms(periodograms)
             self.count += complete
         self.held = data[:, complete * self.step:]
 
@@ -643,8 +679,9 @@ def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
     Returns
     -------
     SimulationPSD
-        The PSD (``ResponsePSD``, ``source="welch"``, no dispersion: that needs every segment)
-        with the RMS and peak |a| per output, the people on the deck and the run's metadata.
+        The PSD (``ResponsePSD``, ``source="welch"``, with the segments' dispersion as
+        ``welch_psd`` measures it) with the RMS and peak |a| per output, the people on the deck
+        and the run's metadata.
 
     Notes
     -----
@@ -689,7 +726,7 @@ def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
         most = max(most, int(on_deck.max(initial=0)))
     psd = ResponsePSD(frequency=welch.frequency, psd=welch.total / welch.count,
                       output_names=structure.output_names, window_length=segment / sample_rate,
-                      n_windows=welch.count, source="welch")
+                      n_windows=welch.count, source="welch", dispersion=welch.dispersion())
     return SimulationPSD(
         psd=psd, rms=np.sqrt(squares / n_samples), peak=peak, sample_rate=sample_rate,
         seed=seed, duration=n_samples / sample_rate, time_step=integrator.h,

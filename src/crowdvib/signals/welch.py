@@ -229,6 +229,13 @@ def _dispersion(periodograms, psd, overlap):
     for lag in range(1, lags + 1):
         covariance = np.sum(deviation[..., lag:] * deviation[..., :-lag], axis=-1) / k
         variance = variance + 2 * (1 - lag / k) * covariance
+    return dispersion_ratio(variance, psd, k, overlap)
+
+
+def dispersion_ratio(variance, psd, k, overlap):
+    """The tail of :func:`_dispersion` from the batch variance γ₀ + 2 Σ_j (1 − j/K) γ_j of
+    ``k`` >= 8 segments (also reached from running sums, ``crowdvib.simulate_psd``)."""
+    lags = min(DISPERSION_LAGS, k - 1)
     # Centring on the sample mean biases each of the 2L + 1 terms by −γ₀/K: undo it.
     variance = variance / (1 - (2 * lags + 1) / k)
     reference = 2.0 / welch_degrees_of_freedom(k, overlap) * psd**2
