@@ -76,7 +76,12 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     written, found, printed = _cli(tmp_path / "estimate", ["estimate", str(case.path)], capsys)
     assert isinstance(found, EstimateResults)
     assert _computed(written) == fit.results().to_dict()
-    assert found.hsi_estimate().msd == fit.estimate.msd
+    again = found.hsi_estimate()         # HSIEstimate.from_dict: the estimate back from the file
+    assert again.msd == fit.estimate.msd and again.intervals == {
+        name: tuple(fit.estimate.interval(name, fit.estimate.interval_level))
+        for name in fit.estimate.free_parameters}
+    assert again.to_dict()["estimate"]["standard_error"] == pytest.approx(
+        written["estimate"]["standard_error"], rel=1e-12)     # through the covariance
     assert found.verdict() == fit.results(warnings=written["warnings"]).verdict()
     _same_verdict(found, printed, tmp_path / "estimate")
 
@@ -136,6 +141,22 @@ def test_the_study_and_the_demo_round_trip(tmp_path, capsys):
     _same_verdict(found, printed, tmp_path / "demo")
 
 
+def test_a_result_stores_what_write_json_writes():
+    # numpy numbers and arrays as JSON numbers and lists, NaN and inf as null (as write_json
+    # writes them), the key order kept (schema and kind first).
+    import numpy as np
+
+    found = Results.from_dict({"schema": SCHEMA, "kind": "simulate", "command": "simulate",
+                               "response": {"output_names": ("mid",), "rms": np.array([0.5]),
+                                            "peak": [np.float64(np.nan)],
+                                            "max_running_rms": [np.inf]}})
+    assert found.to_dict()["response"] == {"output_names": ["mid"], "rms": [0.5],
+                                           "peak": [None], "max_running_rms": [None]}
+    assert list(found.to_dict())[:2] == ["schema", "kind"]
+    assert found.table() == [{"output": "mid", "rms": 0.5, "peak": None,
+                              "max_running_rms": None}]
+
+
 def test_the_notebook_view_and_the_table(tmp_path):
     # A results.json as the estimate writes it (values of the paper example's estimate).
     data = {"schema": SCHEMA, "kind": "estimate", "command": "estimate",
@@ -160,7 +181,7 @@ def test_the_notebook_view_and_the_table(tmp_path):
 @pytest.mark.parametrize("text, message", [
     ("{not json", "is not valid JSON"),
     ("[1, 2]", "must hold a JSON object, got list"),
-    ('{"command": "estimate"}', "holds no schema; crowdvib .* reads 'crowdvib.results/1'"),
+    ('{"command": "estimate"}', "holds no schema .*; crowdvib .* reads 'crowdvib.results/1'"),
     ('{"schema": "crowdvib.results/9", "kind": "estimate"}', "holds schema 'crowdvib.results/9'"),
     ('{"schema": "crowdvib.results/1", "kind": "fit"}', "kind must be one of .*got 'fit'"),
 ])

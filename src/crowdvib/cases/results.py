@@ -100,10 +100,10 @@ class Results:
             raise DataError(f"{source} must hold a JSON object, got {type(data).__name__}")
         schema, kind = data.get("schema"), data.get("kind")
         if schema != SCHEMA:
-            found = "no schema" if schema is None else f"schema {schema!r}"
-            raise DataError(f"{source} holds {found}; crowdvib {__version__} reads {SCHEMA!r} "
-                            "(results.json written by crowdvib 0.x before the schema: run the "
-                            "command again to write it)")
+            why = ("no schema (written by a crowdvib before results.json had one)"
+                   if schema is None else f"schema {schema!r} (another crowdvib's)")
+            raise DataError(f"{source} holds {why}; crowdvib {__version__} reads {SCHEMA!r}: "
+                            "run the command again to write it")
         if kind not in _CLASSES:
             raise DataError(f"{source}: kind must be one of {list(KINDS)}, got {kind!r}")
         if cls.kind and kind != cls.kind:
