@@ -83,6 +83,10 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     assert again.to_dict()["estimate"]["standard_error"] == pytest.approx(
         written["estimate"]["standard_error"], rel=1e-12)     # through the covariance
     assert found.verdict() == fit.results(warnings=written["warnings"]).verdict()
+    # The PSD's convergence as rows: one per window count; the full record against itself is 0.
+    rows = found.convergence_table()
+    assert [row["n_windows"] for row in rows] == list(fit.convergence.n_windows)
+    assert rows[-1]["error"] == 0.0 and rows[-1]["output"] == "midspan"
     _same_verdict(found, printed, tmp_path / "estimate")
 
     # crowdvib map, a 5 × 3 grid around the paper's MSD (f_h1 = 3 Hz, ξ_h1 = 0.3)
