@@ -147,3 +147,19 @@ def test_psd_only_memory_does_not_grow_with_the_record(case):
     # (benchmarks/bench_simulation_memory.py). 30 MB leaves room for the allocator's moods.
     hour, six_hours = _peak_rss(3600.0), _peak_rss(6 * 3600.0)
     assert six_hours - hour < 30.0, (hour, six_hours)
+
+
+@pytest.mark.parametrize("forward_fraction", [0.0, 1.0])
+def test_a_one_way_stream_walks_one_way(case, forward_fraction):
+    # The stream lists the forward walkers first; with none (or only) of them, every walker
+    # must still start at its own end and walk away from it (docs: theory, Poisson arrivals).
+    from crowdvib import Crowd
+    from crowdvib.response import generate_traffic
+
+    crowd = Crowd(density=0.5, walking_speed=1.3, step_frequency_mean=1.87,
+                  step_frequency_std=0.186, body_mass=75.0, forward_fraction=forward_fraction)
+    walkers = generate_traffic(case.structure, crowd, 100.0, rng=1)
+    direction = 1 if forward_fraction else -1
+    assert len(walkers) > 200                       # λT + dBL = 195 + 75 on average
+    assert {w.direction for w in walkers} == {direction}
+    assert {w.position for w in walkers} == {case.structure.positions[0 if direction > 0 else -1]}

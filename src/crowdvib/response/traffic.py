@@ -149,14 +149,13 @@ def _crowd_arrivals(structure, crowd, start, end, rng):
     positions, i.e. arrival times start − U[0, L/v]), then Poisson arrivals on [start, end).
     """
     crossing = structure.length / crowd.walking_speed
-    arrivals, forward = [], 0
-    for direction, share in ((1, crowd.forward_fraction), (-1, 1.0 - crowd.forward_fraction)):
+    arrivals = []
+    for share in (crowd.forward_fraction, 1.0 - crowd.forward_fraction):
         on_deck = rng.poisson(crowd.density * structure.width * structure.length * share)
         arrivals.append(start - crossing * rng.uniform(0.0, 1.0, on_deck))
         entering = rng.poisson(crowd.arrival_rate(structure.width) * share * (end - start))
         arrivals.append(np.sort(rng.uniform(start, end, entering)))
-        forward = forward or on_deck + entering
-    return np.concatenate(arrivals), forward
+    return np.concatenate(arrivals), arrivals[0].size + arrivals[1].size
 
 
 def _crowd_attributes(n, structure, crowd, force, rng):
@@ -208,8 +207,9 @@ class _Stream:
     Poisson arrivals; issue 28 §3): the crowd's stream, then the explicit pedestrians, then the
     tuned mass dampers (walkers that never walk), ranked by arrival (stable).
 
-    Only the arrival times of the whole stream are kept (16 bytes a walker); the crowd's other
-    draws are made a :data:`STREAM_BLOCK` at a time when a window needs them.
+    Only the arrival and leaving times and the rank of the whole stream are kept (32 bytes a
+    walker); the crowd's other draws are made a :data:`STREAM_BLOCK` at a time when a window
+    needs them.
     """
 
     def __init__(self, structure, crowd, pedestrians, start, end, force, rng, dampers=()):
