@@ -345,7 +345,8 @@ class _Integrator:
 
     @property
     def active(self):
-        """Stream rank of the walker in each slot (slots 0 … n_active − 1 are on the deck)."""
+        """Row of ``walkers`` (the current window) of the walker in each slot (slots 0 …
+        n_active − 1 are on the deck)."""
         return self.index[_slots.PEDESTRIAN]
 
     @property
