@@ -133,11 +133,12 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
 def test_the_study_and_the_demo_round_trip(tmp_path, capsys):
     # crowdvib sensitivity and crowdvib demo have no crowdvib.cases call: their results.json
     # round-trips through load_results, and the verdict of the study names its cases on a bound.
-    _, found, _ = _cli(tmp_path / "study", [
+    _, found, printed = _cli(tmp_path / "study", [
         "sensitivity", str(EXAMPLES / "paper_example.toml"), "--no-joint", "--no-record-length",
         "--workers", "1"], capsys)
     assert isinstance(found, SensitivityResults)
     assert [row["name"] for row in found.table()][0] == "nominal"
+    _same_verdict(found, printed, tmp_path / "study")
     written, found, printed = _cli(tmp_path / "demo", ["demo"], capsys)
     assert isinstance(found, DemoResults)
     # The demo's truth is the paper's MSD; its estimate is rebuilt as an HSIEstimate.

@@ -12,7 +12,7 @@ from ..cases.schema import schema_header
 from ..reporting.report import provenance, write_report
 from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, check_clash,
                      close_progress, dask_address, finish_output, prepare_output,
-                     progress_printer, say, versions)
+                     progress_printer, say, say_verdict, versions)
 from .estimate import say_crowd, say_measurement
 
 
@@ -228,4 +228,5 @@ def _study(args, case, levels):
     report = write_report(out)
     finish_output(out, command="sensitivity", stores=_STORES)
     say(f"  wrote {out / 'results.json'}, {figure} and {report.name}")
+    say_verdict(out)
     return 0
