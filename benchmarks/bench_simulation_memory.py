@@ -61,8 +61,8 @@ def main(argv):
         extra = ""
         if out:
             extra = out[0] + (f", {int(out[1]) / 2**20:.0f}" if len(out) > 1 else "")
-        label = "-" if mode == "import" else (f"{seconds / 3600:g} h" if seconds < 86400
-                                              else f"{seconds / 86400:g} d")
+        label = ("-" if mode == "import" else f"{seconds:g} s" if seconds < 3600
+                 else f"{seconds / 3600:g} h" if seconds < 86400 else f"{seconds / 86400:g} d")
         print(f"{mode:<8} {label:>10} {rss:>14.0f} {wall:>9.1f} {cpu:>8.1f}  {extra}", flush=True)
 
 
