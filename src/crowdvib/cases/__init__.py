@@ -26,7 +26,6 @@ from .results import (DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES, Check
                       SensitivityResults, SimulateResults, load_results, results_of,
                       software_versions)
 from .schema import KINDS, SCHEMA
-from .verdict import Finding
 
 #: Public name → the module of this package that defines it.
 _MODULES = {
@@ -37,12 +36,13 @@ _MODULES = {
                      "verdict_rows"), "design"),
     **dict.fromkeys(("CaseSimulation", "simulation_msd", "simulate_case"), "simulation"),
     **dict.fromkeys(("AmbientModes", "identify_ambient"), "ambient"),
+    "Finding": "verdict",
 }
 
 __all__ = ["DESIGN_TABLES", "ESTIMATION_TABLES", "SIMULATION_TABLES", "software_versions",
            "Results", "EstimateResults", "SensitivityResults", "CheckResults", "ModesResults",
            "SimulateResults", "MapResults", "DemoResults", "load_results", "results_of",
-           "Finding", "SCHEMA", "KINDS", *_MODULES]
+           "SCHEMA", "KINDS", *_MODULES]
 
 
 def __getattr__(name):

@@ -16,7 +16,6 @@ Light on purpose: the command line imports it at start-up (``crowdvib --help``).
 
 from __future__ import annotations
 
-import html
 import json
 from dataclasses import dataclass
 from pathlib import Path
@@ -223,6 +222,8 @@ class Results:
 
     def _repr_html_(self) -> str:
         """A small table for notebooks: the headline values and the verdict."""
+        import html
+
         marks = {"ok": "✓", "doubt": "?", "fail": "✗"}
         cells = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
                         f"<td style='text-align:left'>{html.escape(v)}</td></tr>"
