@@ -1,6 +1,10 @@
 """Shared fixtures: the paper's numerical example (docs: theory, The paper's numerical example) and a seeded generator."""
 
+import atexit
 import json
+import shutil
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -112,3 +116,36 @@ def pytest_sessionfinish(session):
                 "outcomes": session.config.crowdvib_outcomes}
         with open(path, "w", encoding="utf-8") as handle:
             json.dump(data, handle, indent=1)
+
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def copy_paper_case(folder, name="paper_example.toml"):
+    """examples/paper_example.toml and its record copied into ``folder``, the paper's estimator
+    stated (``method = "least_squares"``) → the case path.
+
+    For the tests of a study's machinery (task files, resume, faults, output folders), which run
+    the study many times and are not about the estimator: the paper's least squares takes a
+    sixth of the default's time there (21 estimations: 4 s against 23 s).
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    text = (EXAMPLES / "paper_example.toml").read_text(encoding="utf-8")
+    (folder / name).write_text(text.replace("[estimation]\n", '[estimation]\nmethod = '
+                                            '"least_squares"\n', 1), encoding="utf-8")
+    shutil.copy(EXAMPLES / "paper_example_record.npz", folder)
+    return folder / name
+
+
+def paper_case_least_squares():
+    """One :func:`copy_paper_case` per test session, in a temporary folder removed at exit."""
+    global _SESSION_CASE
+    if _SESSION_CASE is None:
+        folder = tempfile.mkdtemp(prefix="crowdvib-paper-case-")
+        atexit.register(shutil.rmtree, folder, ignore_errors=True)
+        _SESSION_CASE = copy_paper_case(folder)
+    return _SESSION_CASE
+
+
+_SESSION_CASE = None

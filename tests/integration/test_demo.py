@@ -29,7 +29,14 @@ def test_demo_simulates_and_recovers_the_msd(tmp_path, capsys):
     for name in ("frequency", "damping_ratio"):
         low, high = interval[name]
         assert low <= results["truth"][name] <= high
-    assert printed.count("truth inside") == 2
+    # Issue 25: the default estimator and the paper's least squares, both shown, the truth
+    # inside both intervals of each; the paper's estimate is kept beside the default's.
+    assert printed.count("truth inside") == 4
+    paper = results["paper_estimator"]
+    assert (results["method"], paper["method"]) == ("likelihood", "least_squares")
+    for name in ("frequency", "damping_ratio"):
+        low, high = paper["estimate"]["interval"][name]
+        assert low <= results["truth"][name] <= high
 
 
 def test_demo_spectral_variant(tmp_path):

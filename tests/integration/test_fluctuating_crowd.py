@@ -34,9 +34,11 @@ def _fit(record, method, crowd_model):
     bridge, crowd, measured = record
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)
-        # Wald intervals (sandwich covariance): the profiles are not the point here.
+        # Wald intervals (sandwich covariance): the profiles are not the point here; the crowd
+        # models are compared at the crowd as given (the step frequencies held).
         return estimate_hsi(measured, bridge, crowd, band=(0.0, 6.0), method=method,
-                            crowd_model=crowd_model, interval="wald")
+                            crowd_model=crowd_model, interval="wald",
+                            free_step_frequencies=False)
 
 
 def test_this_bridge_gets_the_mixture_alone(small_bridge_record):

@@ -38,6 +38,9 @@ def measured():
 
 
 def _estimate(measured, crowd, **options):
+    # The record holds the smeared model's PSD: the likelihood fits that model, with the step
+    # frequencies held unless the test frees them.
+    options = dict(dict(crowd_model="smeared", free_step_frequencies=False), **options)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)
         return estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0), method="likelihood",

@@ -25,6 +25,7 @@ from crowdvib._manifest import MANIFEST_NAME, foreign_files, read_manifest, remo
 from crowdvib._files import sha256_file
 from crowdvib.cli import main
 from crowdvib.reporting.report import REPORT_NAME, render_report
+from tests.conftest import copy_paper_case
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -37,11 +38,8 @@ def _tree(root):
 
 
 def _paper_case(folder):
-    """examples/paper_example.toml and its record copied into ``folder`` → the case path."""
-    folder.mkdir(parents=True, exist_ok=True)
-    shutil.copy(EXAMPLES / "paper_example.toml", folder / "case.toml")
-    shutil.copy(EXAMPLES / "paper_example_record.npz", folder / "paper_example_record.npz")
-    return folder / "case.toml"
+    """The paper example with the paper's estimator, copied into ``folder`` → the case path."""
+    return copy_paper_case(folder, "case.toml")
 
 
 def _short_case(folder, outputs="{ midspan = 25.0 }", channels=""):

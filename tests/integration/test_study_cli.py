@@ -6,6 +6,7 @@ from pathlib import Path
 import pytest
 
 from crowdvib.cli import main
+from tests.conftest import copy_paper_case
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -29,7 +30,7 @@ def test_map_of_eeklo_like_has_its_minimum_at_the_estimate(tmp_path):
 
 def test_sensitivity_runs_resumes_and_refuses_to_overwrite(tmp_path, capsys):
     out = tmp_path / "study"
-    case = str(EXAMPLES / "paper_example.toml")
+    case = str(copy_paper_case(tmp_path / "case"))    # the paper's estimator: the fast one
     arguments = ["sensitivity", case, "--out", str(out), "--no-joint", "--no-record-length"]
     assert main(arguments) == 0
     first = json.loads((out / "results.json").read_text())

@@ -12,7 +12,6 @@ import json
 import os
 import re
 import shlex
-import shutil
 import signal
 import subprocess
 import sys
@@ -25,9 +24,11 @@ import pytest
 from crowdvib.cli import main
 from crowdvib.errors import StudyWarning
 from crowdvib.identification import TaskStore, run_tasks
+from tests.conftest import copy_paper_case, paper_case_least_squares
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-CASE = EXAMPLES / "paper_example.toml"
+#: The paper example with the paper's estimator (the study's machinery is the subject).
+CASE = paper_case_least_squares()
 CHEAP = ["--no-joint", "--no-record-length"]          # 21 estimations, about a second
 
 
@@ -44,10 +45,7 @@ def _task_files(out):
 
 # ------------------------------------------------------------------------------ fault 2
 def _copy_case(directory):
-    directory.mkdir()
-    shutil.copy(CASE, directory / CASE.name)
-    shutil.copy(EXAMPLES / "paper_example_record.npz", directory)
-    return directory / CASE.name
+    return copy_paper_case(directory)
 
 
 def test_resume_after_editing_the_case_answers_for_the_new_inputs(tmp_path, capsys):

@@ -33,6 +33,9 @@ def _records(structure, crowd, outputs, window, seeds, duration=3600.0, rate=20.
 
 
 def _estimate(measured, structure, crowd, band, **options):
+    # The records hold the smeared model's cross-spectra at the true crowd: the likelihood
+    # fits that model with the crowd held.
+    options = dict(dict(crowd_model="smeared", free_step_frequencies=False), **options)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)
         return estimate_hsi(measured, structure, crowd, band=band, method="likelihood", **options)

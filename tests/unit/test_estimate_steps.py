@@ -153,7 +153,7 @@ def test_joint_estimate_counts_every_records_evaluations(measured):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         single = estimate_hsi(measured, BRIDGE, CROWD, band=(0.0, 10.0), interval=None,
-                              starts=[(2.5, 0.4)])
+                              starts=[(2.5, 0.4)], method="least_squares")   # joint's default
         joint = estimate_hsi_joint([measured, measured], BRIDGE, [CROWD, CROWD],
                                    band=(0.0, 10.0), interval=None, starts=[(2.5, 0.4)])
     assert joint.n_evaluations == 2 * single.n_evaluations

@@ -68,16 +68,20 @@ def _check_identifiability(names, covariance):
                       IdentifiabilityWarning, stacklevel=4)
 
 
-def _check_level(objective, ratio, cost, fit, to_msd):
+def _check_level(objective, ratio, fit, to_msd):
     """Warn when the measured level disagrees with the fitted model's, naming the likely cause.
 
     Each unit mix-up of ``_UNIT_MIXUPS`` is tried by fitting the rescaled data again; one that
-    makes the level consistent and fits ten times better is named in the warning (the estimate
-    itself is left as it is: the user must correct the input).
+    makes the level consistent and fits ten times better than the data as given is named in the
+    warning (the estimate itself is left as it is: the user must correct the input). ``fit``
+    fits the MSD alone at the crowd of ``objective``, the data as given and each rescaling
+    alike.
     """
     off = (ratio > LEVEL_RATIO_LIMIT) | (ratio < 1 / LEVEL_RATIO_LIMIT)
     if not off.any():
         return
+    base, _ = fit(objective)
+    cost = 2 * base.cost
     where = ", ".join(f"{name!r}: {value:.3g}" for name, value, bad in
                       zip(objective.output_names, ratio, off) if bad)
     hint = "check the units, the sensor gain and the channel mapping"

@@ -169,13 +169,18 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         # The refit starts from the first fit's optimum only: the first fit's starts have
         # already found the basin, and the new bins move the optimum by a fraction of its
         # interval (one start instead of four: a third of the estimate's time).
-        first = _estimate([(objective(crowd), measured)], structure, **dict(
-            options, interval=None))
-        crowd = first.crowd
+        # The first fit only chooses the bins: the refit warns of what it finds, and
+        # diagnoses a wrong level at the crowd as given (the first fit's crowd may have been
+        # dragged by it).
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            first = _estimate([(objective(crowd), measured)], structure, **dict(
+                options, interval=None))
+        given = [objective(crowd)]
         options["starts"] = [tuple(first.value(name) for name in first.free_parameters
                                    if name not in STEP_PARAMETERS)]
-        second = _estimate([(objective(crowd), measured)], structure, interval=interval,
-                           **options)
+        second = _estimate([(objective(first.crowd), measured)], structure, interval=interval,
+                           given=given, **options)
         return dataclasses.replace(second, n_evaluations=first.n_evaluations
                                    + second.n_evaluations, starts=first.starts + second.starts)
     return _estimate([(objective(crowd), measured)], structure, interval=interval, **options)
@@ -274,10 +279,22 @@ class _Parameters:
         msd, steps = self.state(theta)
         return target.residuals(msd, steps=steps)
 
+    def held(self):
+        """The MSD's parameters alone, the crowd as given: the unit mix-up diagnosis fits so,
+        as free step frequencies can take up part of a wrong level."""
+        if not self.free_step_frequencies:
+            return self
+        n = len(self.names) - len(STEP_PARAMETERS)
+        return dataclasses.replace(self, names=self.names[:n], lower=self.lower[:n],
+                                   upper=self.upper[:n], free_step_frequencies=False)
+
 
 def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, method,
-              interval, level, n_boot=200, rng=None, free_step_frequencies=False):
+              interval, level, n_boot=200, rng=None, free_step_frequencies=False, given=None):
     """The estimate from one or several (objective, measured PSD) records (estimate_hsi).
+
+    ``given``: the records' objectives at the crowd the user gave, where a wrong level is
+    diagnosed (default the parts' own).
 
     A sequence of steps, each taking what the one before returned: the options and θ's
     parametrisation, the fit from every start, the objectives of the fitted crowd (when the
@@ -294,17 +311,20 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     for objective, _ in parts:
         _check_measured_level(objective)
     best, runs = _fit(_Stacked(o for o, _ in parts), parameters, points)
+    given = given or [objective for objective, _ in parts]
     parts = _adopt_fitted_crowd(parts, parameters, best.x)
     stacked = _Stacked(o for o, _ in parts)
     active, success, table = _diagnose(best, runs, parameters.names, parameters.lower,
                                        parameters.upper, "the optimum sits on a bound",
                                        "check the model inputs", stacklevel=4)
     msd = parameters.msd(best.x)
-    ratios = []
-    for objective, _ in parts:      # the diagnostics warn from here: their stack depth is fixed
+    ratios, held = [], parameters.held()
+    held_points = [point[:len(held.names)] for point in points]
+    for (objective, _), as_given in zip(parts, given):
+        # The diagnostics warn from here: their stack depth is fixed.
         ratios.append(objective.level_ratio(msd))
-        _check_level(objective, ratios[-1], objective.cost(msd),
-                     lambda target: _fit(target, parameters, points), parameters.msd)
+        _check_level(as_given, ratios[-1], lambda target: _fit(target, held, held_points),
+                     held.msd)
     covariance, hessian, occupancies = None, None, None
     # Intervals need the scatter of the ordinates: known for a Welch estimate (its n_windows),
     # not for a PSD of unknown origin (a model curve, a PSD read from a table).

@@ -62,7 +62,9 @@ class HSIEstimate:
         Sandwich covariance of the free parameters (order of ``free_parameters``), from the
         Welch scatter of this one record (docs: theory, Statistical uncertainty of an estimate).
     intervals : dict
-        Parameter → (low, high) profile interval at ``interval_level`` (empty if not computed).
+        Parameter → (low, high) profile (or bootstrap) interval at ``interval_level`` (empty if
+        not computed). Fitted step frequencies have no profile interval: :meth:`interval` gives
+        their Wald interval.
     interval_level : float
         Confidence level of ``intervals``.
     interval_on_bound : tuple of str
