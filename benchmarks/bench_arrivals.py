@@ -21,12 +21,12 @@ interval), then the estimates on the records' mean Welch PSD (the model error al
 
 import sys
 import time
-import warnings
 
 import numpy as np
 
-from bench_intervals import BRIDGE, MSD, TRUTH, _table, mean_psd, paper_crowd, print_mean_estimates
-from crowdvib import BoundWarning, LowPassFilter, estimate_hsi, simulate, welch_psd
+from bench_intervals import (BRIDGE, MSD, _table, estimates_of, mean_psd, paper_crowd,
+                             print_mean_estimates)
+from crowdvib import LowPassFilter, simulate, welch_psd
 from crowdvib.identification import study_executor
 from crowdvib.response.traffic import Pedestrian
 
@@ -58,15 +58,7 @@ def record_estimates(density, seed):
     """One fixed-interval record: its PSD and, per estimator, ([(value, low, high)], seconds)."""
     crowd = paper_crowd(density)
     measured = fixed_interval_record(crowd, seed)
-    found = {}
-    for method, model, free in ESTIMATORS:
-        started = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", BoundWarning)
-            estimate = estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0), method=method,
-                                    crowd_model=model, free_step_frequencies=free)
-        found[method, model, free] = ([(getattr(estimate.msd, name), *estimate.interval(name))
-                                       for name in TRUTH], time.perf_counter() - started)
+    found = estimates_of(measured, crowd, ESTIMATORS)
     return measured, found
 
 

@@ -164,9 +164,13 @@ def record_estimates(kind, density, seed, estimators, hours=1.0, errors=(0.0, 0.
     crowd = paper_crowd(density)
     measured = (gaussian_record_psd(crowd, seed) if kind == "gaussian"
                 else simulated_record(crowd, seed, hours))
-    crowd = given_crowd(crowd, *errors)
+    return estimates_of(measured, given_crowd(crowd, *errors), ESTIMATORS[estimators])
+
+
+def estimates_of(measured, crowd, estimators):
+    """Each estimator's ([(value, low, high) per parameter], seconds) on one measured PSD."""
     found = {}
-    for method, model, free in ESTIMATORS[estimators]:
+    for method, model, free in estimators:
         started = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", BoundWarning)
