@@ -32,10 +32,13 @@ COMMAND_KEYS = {"created", "case_sha256", "figures", "warnings", "elapsed_s", "f
 def _cli(out, argv, capsys):
     """Run a command into ``out``; its results.json as a dict, its result and its console text."""
     capsys.readouterr()
-    assert main([*argv, "--out", str(out)]) == 0
+    status = main([*argv, "--out", str(out)])
     printed = capsys.readouterr().out
     written = json.loads((out / "results.json").read_text(encoding="utf-8"))
     found = load_results(out / "results.json")
+    # Exit status 3 exactly when the verdict doubts the result (docs: Command line).
+    doubts = any(f.severity == "doubt" for f in found.verdict())
+    assert status == (3 if doubts else 0), (status, found.verdict())
     # The file and the object hold the same thing, and the object survives its own dict.
     assert written["schema"] == SCHEMA and written["kind"] == found.kind
     assert found.to_dict() == written

@@ -66,8 +66,7 @@ def _run(args, caught):
                 f"{prediction.duration:g} s {_join(peak)} m/s²")
     say(f"  wrote results.json, {', '.join(figures)} and report.html to {args.out} "
         f"({found.seconds:.1f} s)")
-    say_verdict(args.out)
-    return 0
+    return say_verdict(args.out)
 
 
 def _join(values):

@@ -18,8 +18,21 @@ __all__ = ["add_output_arguments", "ESTIMATION_TABLES", "SIMULATION_TABLES", "DE
            "write_results"]
 
 
-def say(message=""):
-    print(message, flush=True)
+#: Exit status of a command that finished and wrote its results, but whose verdict doubts them
+#: (docs: Command line, Exit status).
+IN_DOUBT = 3
+#: ``--quiet``: only the verdict, warnings and errors reach the terminal.
+_QUIET = [False]
+
+
+def set_quiet(quiet):
+    """``--quiet``: silence :func:`say` and the progress bars (the verdict still prints)."""
+    _QUIET[0] = bool(quiet)
+
+
+def say(message="", *, always=False):
+    if always or not _QUIET[0]:
+        print(message, flush=True)
 
 
 # ------------------------------------------------------------------------------ output directories
@@ -262,6 +275,8 @@ def progress_printer(label, unit="s", offset=0.0):
 
     def progress(done, total):
         nonlocal bar
+        if _QUIET[0]:
+            return
         if bar is None:
             terminal = sys.stderr.isatty()
             bar = tqdm(total=max(total - offset, 0.0), desc=f"  {label}", unit=f" {unit}",
@@ -311,16 +326,25 @@ def write_results(directory, results):
 
 def say_verdict(directory):
     """Print the verdict on the results in ``directory`` (its doubts and failures, or that there
-    are none): the findings ``load_results(directory).verdict()`` gives and report.html shows."""
+    are none): the findings ``load_results(directory).verdict()`` gives and report.html shows.
+
+    Returns
+    -------
+    int
+        The command's exit status: 0, or :data:`IN_DOUBT` when a finding doubts the result (a
+        design code the bridge fails is an answer, not a doubt).
+    """
     from ..cases.results import load_results
 
     warnings = [f for f in load_results(directory).verdict() if f.severity != "ok"]
     if not warnings:
-        say("  verdict: no warnings (details in report.html)")
-        return
-    say(f"  verdict: check before use ({len(warnings)} warning(s); details in report.html):")
+        say("  verdict: no warnings (details in report.html)", always=True)
+        return 0
+    say(f"  verdict: check before use ({len(warnings)} warning(s); details in report.html):",
+        always=True)
     for finding in warnings:
-        say(f"    - {finding.text}")
+        say(f"    - {finding.text}", always=True)
+    return IN_DOUBT if any(f.severity == "doubt" for f in warnings) else 0
 
 
 def positive_float(text):

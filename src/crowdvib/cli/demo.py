@@ -106,8 +106,7 @@ def run(args):
                                       occupied, n_windows)
     say(f"\n  wrote {args.out / path.name} and {args.out / figure.name}")
     say(f"  report: {args.out / 'report.html'}")
-    say_verdict(args.out)
-    return 0
+    return say_verdict(args.out)
 
 
 #: (key, title, options of estimate_hsi): the default and the paper's least squares.

@@ -41,8 +41,7 @@ def run(args):
             print(f"crowdvib estimate: warning: {text}", file=sys.stderr)
         write_results(staging, results)
     say(f"  wrote {args.out / 'results.json'}, figures and report.html")
-    say_verdict(args.out)
-    return 0
+    return say_verdict(args.out)
 
 
 def say_measurement(measurement):

@@ -76,5 +76,4 @@ def run(args):
         write_results(staging, {**found.to_dict(), "warnings": warning_texts(caught),
                                 "figures": [figure], **stamp})
     say(f"  wrote {args.out / 'results.json'}, {figure} and report.html")
-    say_verdict(args.out)
-    return 0
+    return say_verdict(args.out)

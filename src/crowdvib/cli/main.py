@@ -1,13 +1,16 @@
 """Command line: ``crowdvib demo`` and the case-file commands.
 
 The CLI only parses arguments, calls the public API and writes through the file and plotting
-helpers. Exit codes: 0 success, 1 an error, 2 a usage error, 130 Ctrl-C. Whatever ends a
-command, it ends in one line on stderr (the traceback only with ``--verbose``): a crowdvib
-error's message, an ``OSError`` as its path and cause, Ctrl-C as "interrupted", and any other
-exception as a bug in crowdvib, with how to report it.
+helpers. Exit status (docs: Command line, Exit status): 0 finished, 1 an error, 2 a usage error,
+3 finished and written but the verdict doubts the result, 130 Ctrl-C. Whatever ends a command,
+it ends in one line on stderr (the traceback only with ``--verbose``): a crowdvib error's
+message, an ``OSError`` as its path and cause, Ctrl-C as "interrupted", and any other exception
+as a bug in crowdvib, with how to report it. ``--quiet`` leaves the verdict, warnings and errors;
+``--verbose`` adds the log records of the estimator and the studies, and tracebacks.
 """
 
 import argparse
+import logging
 import sys
 from pathlib import Path
 
@@ -16,7 +19,7 @@ from .._files import os_error_text, require_file
 from ..errors import CrowdvibError
 from ..reporting.report import write_report
 from . import check, demo, estimate, init, landscape, modes, sensitivity, simulate
-from .common import close_progress, say
+from .common import close_progress, say, set_quiet
 
 __all__ = ["main", "build_parser"]
 
@@ -60,14 +63,28 @@ def build_parser():
         prog="crowdvib",
         description="Crowd-induced footbridge vibrations with human-structure interaction.")
     parser.add_argument("--version", action="version", version=f"crowdvib {__version__}")
-    parser.add_argument("--verbose", action="store_true", help="show tracebacks of errors")
+    _add_verbosity(parser, {})
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (help_text, command) in _COMMANDS.items():
-        sub = commands.add_parser(name, help=help_text, description=help_text)
-        sub.add_argument("--verbose", action="store_true", default=argparse.SUPPRESS,
-                         help="show tracebacks of errors")
+        sub = commands.add_parser(name, help=help_text, description=help_text,
+                                  epilog=EXIT_STATUS)
+        _add_verbosity(sub, {"default": argparse.SUPPRESS})
         command.add_arguments(sub)
     return parser
+
+
+#: The exit statuses, as every command's help ends.
+EXIT_STATUS = ("exit status: 0 finished; 1 error; 2 usage error; 3 finished and written, but the "
+               "verdict doubts the result (check before use); 130 interrupted")
+
+
+def _add_verbosity(parser, suppress):
+    """--verbose/-v and --quiet/-q, before or after the command name."""
+    parser.add_argument("-v", "--verbose", action="store_true", **suppress,
+                        help="show the estimator's and the studies' log records, and tracebacks "
+                             "of errors")
+    parser.add_argument("-q", "--quiet", action="store_true", **suppress,
+                        help="print only the verdict, warnings and errors")
 
 
 def main(argv=None):
@@ -77,6 +94,8 @@ def main(argv=None):
         args = parser.parse_args(argv)
     except SystemExit as exit_:
         return int(exit_.code or 0)
+    set_quiet(args.quiet)
+    _log_records(args.verbose)
     try:
         case = getattr(args, "case", None)
         if isinstance(case, Path):
@@ -95,6 +114,19 @@ def main(argv=None):
             raise
         print(f"crowdvib {args.command}: error: {_one_line(error)}", file=sys.stderr)
         return 1
+
+
+def _log_records(verbose):
+    """--verbose: crowdvib's log records (INFO and up) on this run's stderr; else none."""
+    logger = logging.getLogger("crowdvib")
+    for handler in [h for h in logger.handlers if getattr(h, "crowdvib_cli", False)]:
+        logger.removeHandler(handler)
+    if verbose:
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter("  %(name)s: %(message)s"))
+        handler.crowdvib_cli = True
+        logger.addHandler(handler)
+    logger.setLevel(logging.INFO if verbose else logging.NOTSET)
 
 
 def _one_line(error):

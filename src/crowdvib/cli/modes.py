@@ -137,5 +137,4 @@ def run(args):
         say(f"  mode {j + 1}: f = {modes.frequencies[j]:.4f} ± {modes.frequency_std[j]:.4f} Hz, "
             f"ξ = {modes.damping_ratios[j]:.4f} ± {modes.damping_std[j]:.4f}")
     say(f"  wrote {', '.join(files)} and results.json to {args.out} ({found.seconds:.1f} s)")
-    say_verdict(args.out)
-    return 0
+    return say_verdict(args.out)

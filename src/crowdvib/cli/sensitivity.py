@@ -228,5 +228,4 @@ def _study(args, case, levels):
     report = write_report(out)
     finish_output(out, command="sensitivity", stores=_STORES)
     say(f"  wrote {out / 'results.json'}, {figure} and {report.name}")
-    say_verdict(out)
-    return 0
+    return say_verdict(out)

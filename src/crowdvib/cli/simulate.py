@@ -78,5 +78,4 @@ def run(args):
         results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path)})
         write_results(staging, results)
     say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
-    say_verdict(args.out)
-    return 0
+    return say_verdict(args.out)
