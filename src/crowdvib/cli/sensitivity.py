@@ -194,7 +194,8 @@ def _study(args, case, levels):
     summary = study.summary()
     f, xi = summary["frequency"], summary["damping_ratio"]
     say(f"\n  result: f_h1 = {f['nominal']:.2f} ± {f['bound']:.2f} Hz, "
-         f"ξ_h1 = {xi['nominal']:.2f} ± {xi['bound']:.2f}  (nominal ± joint bound)")
+         f"ξ_h1 = {xi['nominal']:.2f} ± {xi['bound']:.2f}  (nominal ± "
+         f"{'largest single-error change' if args.no_joint else 'joint bound'})")
     # The record's statistical interval beside the modelling bound, and both together.
     combined = study.combined(nominal) if nominal.covariance is not None else None
     for name, label, unit in (("frequency", "f_h1", " Hz"), ("damping_ratio", "ξ_h1", "")):
