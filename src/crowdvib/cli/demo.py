@@ -110,7 +110,7 @@ def run(args):
 
 
 #: (key, title, options of estimate_hsi): the default and the paper's least squares.
-ESTIMATORS = (
+ESTIMATORS: tuple[tuple[str, str, dict], ...] = (
     ("default", "default estimator: Whittle likelihood, fluctuating crowd, step frequencies "
                 "fitted", {}),
     ("paper", "the paper's estimator: least squares (Eq. 6), smeared crowd, crowd as given",
