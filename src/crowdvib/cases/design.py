@@ -16,8 +16,8 @@ if TYPE_CHECKING:
     from ..models.pedestrian import MSDModel
 
 
-__all__ = ["CaseCheck", "check_design_table", "design_msd", "check_case",
-           "verdict_rows"]
+__all__ = ["CaseCheck", "IntervalCheck", "check_design_table", "design_msd", "check_case",
+           "estimated_msd", "msd_interval", "check_over_interval", "verdict_rows"]
 
 @dataclass(frozen=True)
 class CaseCheck(AsResults):
@@ -37,6 +37,8 @@ class CaseCheck(AsResults):
         The crowd stream's predicted response (``design.prediction``).
     seconds : float
         Wall-clock time of the checks and the prediction [s].
+    spread : IntervalCheck or None
+        The checks across the estimate's interval (``estimate_results`` of :func:`check_case`).
     """
 
     case: Any
@@ -46,6 +48,7 @@ class CaseCheck(AsResults):
     dampers: list
     prediction: Any
     seconds: float
+    spread: Any = None
 
     @property
     def rows(self) -> list[dict]:
@@ -65,6 +68,8 @@ class CaseCheck(AsResults):
                            "dampers": [d.to_dict() for d in self.dampers],
                            "prediction": None if self.prediction is None
                            else self.prediction.to_dict()},
+                # Per code, the HSI utilisation's range over the estimate's interval (issue 27 §3).
+                "hsi_range": None if self.spread is None else self.spread.hsi_range(),
                 "elapsed_s": self.seconds}
 
 
@@ -120,8 +125,8 @@ def design_msd(case):
     return case.msd, "[hsi]"
 
 
-def check_case(case: Case, *, msd: MSDModel | None = None,
-               msd_source: str | None = None) -> CaseCheck:
+def check_case(case: Case, *, msd: MSDModel | None = None, msd_source: str | None = None,
+               estimate_results: dict | None = None, grid: int = 3) -> CaseCheck:
     """Run ``crowdvib check``'s design checks on a case, without writing anything.
 
     Parameters
@@ -132,6 +137,12 @@ def check_case(case: Case, *, msd: MSDModel | None = None,
         The MSD of the HSI model (default :func:`design_msd`: the case's own).
     msd_source : str, optional
         Where ``msd`` comes from, for the results (given with ``msd``).
+    estimate_results : dict, optional
+        The ``results.json`` of the run that estimated the MSD (``crowdvib check --msd-from``):
+        its estimate is the MSD (unless ``msd`` is given) and its interval is carried into the
+        checks (:func:`check_over_interval`, ``spread``).
+    grid : int
+        Points per parameter of :func:`check_over_interval`.
 
     Returns
     -------
@@ -143,6 +154,8 @@ def check_case(case: Case, *, msd: MSDModel | None = None,
     import time
 
     check_design_table(case)
+    if msd is None and estimate_results is not None:
+        msd, msd_source = estimated_msd(case, estimate_results), msd_source or "the estimate"
     if msd is None:
         msd, msd_source = design_msd(case)
     spec = case.design
@@ -157,8 +170,10 @@ def check_case(case: Case, *, msd: MSDModel | None = None,
         prediction = predict_response(case.structure, crowd, msd=msd, dampers=dampers,
                                       duration=spec.duration, weighting=spec.weighting,
                                       force=case.force)
+    spread = (None if estimate_results is None
+              else check_over_interval(case, estimate_results, grid=grid))
     return CaseCheck(case, msd, msd_source, checks, dampers, prediction,
-                     time.perf_counter() - started)
+                     time.perf_counter() - started, spread)
 
 
 def _dampers(case, spec, msd):
@@ -224,3 +239,189 @@ def verdict_rows(checks: dict) -> list[dict]:
                              "comfort_class": comfort_class(float(value)),
                              "passes": bool(value <= check.limit)})
     return rows
+
+
+def estimated_msd(case, results, *, source="the results"):
+    """The MSD another run estimated (``crowdvib check --msd-from``), with the case's mass ratio
+    if the results hold none.
+
+    Parameters
+    ----------
+    case : Case
+    results : dict
+        A ``results.json`` of ``crowdvib estimate``, ``sensitivity`` or ``demo``.
+    source : str
+        What the results are, for the error message.
+
+    Raises
+    ------
+    DataError
+        If the results hold no estimate of f_h1 and ξ_h1.
+    """
+    from ..errors import DataError
+    from ..models.pedestrian import MSDModel
+    from .schema import estimate
+
+    found = estimate(results)
+    if not found or not {"frequency", "damping_ratio"} <= set(found):
+        raise DataError(f"{source}: its results.json holds no MSD estimate "
+                        "(estimate.frequency and estimate.damping_ratio)")
+    return MSDModel(found["frequency"], found["damping_ratio"],
+                    found.get("mass_ratio") or case.msd.mass_ratio)
+
+
+#: The MSD parameters whose interval the design check spans (μ_h1 is held, as the paper does).
+_SPANNED = ("frequency", "damping_ratio")
+
+
+def msd_interval(results) -> dict | None:
+    """The box of f_h1 and ξ_h1 an estimate's results allow (issue 27 §3).
+
+    The results of ``crowdvib sensitivity`` give the statistical interval widened by the
+    modelling bound (``combined``, :meth:`~crowdvib.identification.SensitivityResult.combined`),
+    those of ``crowdvib estimate`` the statistical interval (``estimate.interval``). A parameter
+    without an interval (held in the estimation) stays at its estimate.
+
+    Returns
+    -------
+    dict or None
+        ``frequency`` and ``damping_ratio`` [low, high], ``level`` (of the statistical
+        interval), ``interval`` (what the box is: ``"estimate 95 %"`` or ``"estimate 95 % +
+        modelling bound"``); None if the results hold no interval
+        (``estimation.interval = "none"``).
+    """
+    from .schema import estimate, get
+
+    point = estimate(results) or {}
+
+    def pair(value):
+        ok = (isinstance(value, list) and len(value) == 2
+              and all(isinstance(v, (int, float)) and v == v for v in value))
+        return [float(v) for v in value] if ok else None
+
+    combined = results.get("combined") if isinstance(results.get("combined"), dict) else {}
+    widened = {name: pair(get(combined, (name, "combined"))) for name in _SPANNED}
+    if any(widened.values()):
+        ends, level, what = widened, get(combined, *((n, "level") for n in _SPANNED)), \
+            " + modelling bound"
+    else:
+        ends = {name: pair(get(results, ("estimate", "interval", name))) for name in _SPANNED}
+        level, what = get(results, ("estimate", "interval", "level")), ""
+    if not any(ends.values()):
+        return None
+    box = {name: ends[name] or [float(point[name])] * 2 for name in _SPANNED}
+    level = level if isinstance(level, (int, float)) else 0.95
+    return {**box, "level": level, "interval": f"estimate {100 * level:g} %{what}"}
+
+
+@dataclass(frozen=True)
+class IntervalCheck:
+    """The design checks across the box of f_h1 and ξ_h1 an estimate allows
+    (:func:`check_over_interval`).
+
+    Attributes
+    ----------
+    msd : MSDModel
+        The point estimate.
+    interval : dict
+        The box (:func:`msd_interval`).
+    grid : int
+        Points per parameter (``grid × grid`` checks; 2: the corners only).
+    rows : list of dict
+        Per code and model: ``code``, ``model``, ``utilisation`` at the point estimate,
+        ``low``/``high`` over the grid and the point (largest utilisation over the outputs),
+        ``monotone`` (the grid's utilisation is monotone along each parameter: its extremes are
+        at the box's corners), ``passes`` (at the conservative end, ``high`` ≤ 1) and
+        ``verdict`` (``"passes"``, ``"FAILS"`` or ``"FAILS at the conservative end"``: the
+        interval decides).
+    """
+
+    msd: Any
+    interval: dict
+    grid: int
+    rows: list
+
+    def hsi_range(self) -> dict:
+        """results.json's ``hsi_range``: per code, the HSI model's row and the box."""
+        box = {name: list(self.interval[name]) for name in _SPANNED}
+        return {row["code"]: {**{k: v for k, v in row.items() if k not in ("code", "model")},
+                              "interval": self.interval["interval"], **box, "grid": self.grid}
+                for row in self.rows if row["model"] == "HSI"}
+
+
+def check_over_interval(case: Case, results: dict, *, grid: int = 3) -> IntervalCheck | None:
+    """The design checks of :func:`check_case` with the estimated MSD, across its interval.
+
+    Each code is checked with the MSD at the ``grid × grid`` points of the box of f_h1 and ξ_h1
+    (:func:`msd_interval`: the statistical interval, or with ``crowdvib sensitivity``'s results
+    that widened by the modelling bound), μ_h1 held at the estimate. The box is wider than the
+    joint confidence region, so the range is on the safe side. A damper of ``[design.damper]``
+    is tuned once, to the point estimate: it is built, the MSD is what is uncertain. The crowd
+    stream's prediction is not repeated.
+
+    Parameters
+    ----------
+    case : Case
+        With a ``[design]`` table.
+    results : dict
+        The ``results.json`` of ``crowdvib estimate`` or ``sensitivity`` (:func:`estimated_msd`).
+    grid : int
+        Points per parameter, at least 2 (the corners). The utilisation of the paper example is
+        monotone in each parameter (tests/integration/test_check_interval.py), so the corners
+        bound it; 3 also checks the monotony (``rows[...]["monotone"]``).
+
+    Returns
+    -------
+    IntervalCheck or None
+        None if the results hold no interval.
+    """
+    import numpy as np
+
+    from ..models.pedestrian import MSDModel
+
+    if not (isinstance(grid, (int, np.integer)) and grid >= 2):
+        raise ParameterError(f"grid must be an integer of at least 2 (the corners), got {grid!r}")
+    check_design_table(case)
+    msd = estimated_msd(case, results)
+    box = msd_interval(results)
+    if box is None:
+        return None
+    spec = case.design
+    dampers = _dampers(case, spec, msd)
+
+    def largest(frequency, damping_ratio):
+        """{(code, model): largest utilisation over the outputs} with this MSD."""
+        checks = {code: _check(case, spec, code,
+                               MSDModel(frequency, damping_ratio, msd.mass_ratio), dampers)
+                  for code in spec.codes}
+        found = {}
+        for row in verdict_rows(checks):
+            key = (row["code"], row["model"])
+            found[key] = max(found.get(key, -np.inf), row["utilisation"])
+        return found
+
+    at_point = largest(msd.frequency, msd.damping_ratio)
+    frequencies, damping_ratios = (np.linspace(*box[name], grid) for name in _SPANNED)
+    cells = [[largest(f, xi) for f in frequencies] for xi in damping_ratios]
+    rows = []
+    for key, utilisation in at_point.items():
+        values = np.array([[cell[key] for cell in row] for row in cells])   # [ξ, f]
+        low = min(values.min(), utilisation)
+        high = max(values.max(), utilisation)
+        rows.append({"code": key[0], "model": key[1], "utilisation": utilisation,
+                     "low": float(low), "high": float(high),
+                     "monotone": bool(_monotone(values, 0) and _monotone(values, 1)),
+                     "passes": bool(high <= 1.0),
+                     "verdict": ("passes" if high <= 1.0 else "FAILS" if low > 1.0
+                                 else "FAILS at the conservative end")})
+    return IntervalCheck(msd, box, int(grid), rows)
+
+
+def _monotone(values, axis):
+    """Whether every line of ``values`` along ``axis`` is monotone (to rounding)."""
+    import numpy as np
+
+    steps = np.diff(values, axis=axis)
+    tolerance = 1e-9 * np.abs(values).max()
+    lines = np.moveaxis(steps, axis, -1)
+    return bool(np.all((lines >= -tolerance).all(-1) | (lines <= tolerance).all(-1)))

@@ -38,19 +38,23 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args, caught):
-    from ..cases import check_case, check_design_table, design_msd
+    from ..cases import check_case, check_design_table, design_msd, estimated_msd
     from ..io.casefile import load_case
+    from ..reporting.reading import read_results
 
     case = load_case(args.case)
     check_design_table(case)
-    msd, msd_source = (design_msd(case) if args.msd_from is None
-                       else _msd_from(case, args.msd_from))
+    estimated = None if args.msd_from is None else read_results(args.msd_from / "results.json")
+    msd, msd_source = (design_msd(case) if estimated is None
+                       else (estimated_msd(case, estimated, source=f"--msd-from {args.msd_from}"),
+                             f"the estimate in {args.msd_from}"))
     inputs = case_inputs(case) + ([] if args.msd_from is None
                                   else [("the MSD results", args.msd_from / "results.json")])
     say(f"crowdvib check: {case.name}, codes {', '.join(case.design.codes)}, "
         f"{'HSI from ' + msd_source if msd is not None else 'no HSI'}")
     with staged_output(args.out, args.force, command="check", inputs=inputs) as staging:
-        found = check_case(case, msd=msd, msd_source=msd_source)
+        # The estimate's interval carried into the checks (issue 27 §3): a range, not a point.
+        found = check_case(case, msd=msd, msd_source=msd_source, estimate_results=estimated)
         figures = _figures(found.checks, staging, case.name)
         results = {**found.to_dict(), "figures": figures, **provenance(case.path),
                    "warnings": list(dict.fromkeys(warning_texts(caught)))}   # once each
@@ -59,6 +63,9 @@ def _run(args, caught):
         write_results(staging, results)
     for line in _table_lines(found.rows):
         say("  " + line)
+    if estimated is not None:
+        for line in _range_lines(found.spread, args.msd_from):
+            say("  " + line)
     prediction = found.prediction
     if prediction is not None:
         for model, rms, peak in zip(prediction.models, prediction.rms, prediction.expected_peak):
@@ -73,18 +80,24 @@ def _join(values):
     return "/".join(f"{v:.3f}" for v in np.atleast_1d(values))
 
 
-def _msd_from(case, msd_from):
-    """The MSD another run estimated (``--msd-from``), with the case's mass ratio if it has none."""
-    from ..errors import DataError
-    from ..models.pedestrian import MSDModel
-    from ..reporting.reading import estimate, read_results
-
-    found = estimate(read_results(Path(msd_from) / "results.json"))
-    if not found or not {"frequency", "damping_ratio"} <= set(found):
-        raise DataError(f"--msd-from {msd_from}: its results.json holds no MSD estimate")
-    mass_ratio = found.get("mass_ratio") or case.msd.mass_ratio
-    return (MSDModel(found["frequency"], found["damping_ratio"], mass_ratio),
-            f"the estimate in {msd_from}")
+def _range_lines(spread, msd_from):
+    """Per code, the HSI utilisation at the estimate, its range over the interval and the
+    verdict at the conservative end; one note if the results hold no interval."""
+    if spread is None:
+        return [f"HSI: the point estimate only ({msd_from}/results.json holds no interval: "
+                "estimation.interval = \"none\")"]
+    box = spread.interval
+    over = (f"the {100 * box['level']:g} % interval of f_h1 and ξ_h1"
+            + (" widened by the modelling bound" if "modelling" in box["interval"] else ""))
+    lines = [f"HSI over the box of {box['interval']} (f_h1 {box['frequency'][0]:.3g}–{box['frequency'][1]:.3g} Hz, "
+             f"ξ_h1 {box['damping_ratio'][0]:.3g}–{box['damping_ratio'][1]:.3g}, "
+             f"{spread.grid} × {spread.grid} grid):"]
+    for code, row in spread.hsi_range().items():
+        lines.append(f"  {code:7s} utilisation {row['utilisation']:.2f} (range {row['low']:.2f}–"
+                     f"{row['high']:.2f} over {over}): {row['verdict']}"
+                     + ("" if row["monotone"] else
+                        "; not monotone over the grid, a finer grid may widen the range"))
+    return lines
 
 
 def _table_lines(rows):
