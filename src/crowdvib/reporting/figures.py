@@ -11,6 +11,7 @@ import numpy as np
 
 from .._files import child_path
 from .html import Markup, html, label
+from .paths import relative_path
 from .reading import get, hsi, sensitivity, summary
 
 __all__ = ["collect_figures", "caption"]
@@ -48,6 +49,7 @@ def collect_figures(results, directory, notes, convergence_level):
         listed = [n for n in results.get("figures") or [] if isinstance(n, str)]
         for name in dict.fromkeys(listed):
             path = child_path(directory, name)
+            name = relative_path(name, None)      # shown without the machine's folders
             if path is None or path.suffix.lower() not in (".png", ".svg"):
                 notes.warn(html("figure {} is not a PNG or SVG file of the results directory "
                                 "and is left out.", name))

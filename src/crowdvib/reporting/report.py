@@ -36,6 +36,7 @@ from . import sections
 from .figures import collect_figures
 from .html import html, page
 from .oma_section import modes_section
+from .paths import case_folder, without_machine_paths
 from .reading import read_results
 from .sections import SECTIONS
 
@@ -108,29 +109,33 @@ def render_report(results, directory=None):
     if not isinstance(results, dict):
         raise DataError(f"results must be a JSON object, got {type(results).__name__}")
     directory = None if directory is None else Path(directory)
-    notes, figures, diagnostics = _assess(results, directory)
+    # Shown without the machine's folders (issue 27 §4); provenance hashes the case file by the
+    # path the run recorded.
+    shown = without_machine_paths(results, case_folder(results))
+    notes, figures, diagnostics = _assess(results, shown, directory)
     body = [
-        sections.header(results),
+        sections.header(shown),
         sections.nav(),
-        sections.summary_section(results, notes),
-        sections.estimate_section(results),
+        sections.summary_section(shown, notes),
+        sections.estimate_section(shown),
         diagnostics,
         sections.figures_section(figures),
-        sections.inputs_section(results),
+        sections.inputs_section(shown),
         sections.provenance_section(results, directory),
     ]
-    title = html("crowdvib {} — {}", results.get("command", "results"), case_name(results))
+    title = html("crowdvib {} — {}", shown.get("command", "results"), case_name(shown))
     return str(page(title, f"crowdvib {__version__}", body))
 
 
-def _assess(results, directory):
+def _assess(results, shown, directory):
     """The notes (the verdict's findings, then the figures' problems), figures and diagnostics
-    section of a results dict."""
-    notes = sections.Notes(findings(results))
+    section of a results dict; ``shown`` is the dict without machine paths. Figures are looked
+    up by the names the run recorded (a name outside the directory is refused, not renamed)."""
+    notes = sections.Notes(findings(shown))
     figures = collect_figures(results, directory, notes, CONVERGENCE_LEVEL)
-    diagnostics = sections.diagnostics_section(results)
-    diagnostics += sections.design_section(results)       # crowdvib check only
-    diagnostics += modes_section(results)                  # crowdvib modes only
+    diagnostics = sections.diagnostics_section(shown)
+    diagnostics += sections.design_section(shown)         # crowdvib check only
+    diagnostics += modes_section(shown)                    # crowdvib modes only
     return notes, figures, diagnostics
 
 

@@ -15,6 +15,7 @@ from .._files import sha256_file
 from ..cases.schema import case_name, estimate, get, hsi, real as _real, sensitivity, summary
 from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL
 from .html import Markup, escape, html, join, label, number, span, table, value
+from .paths import relative_path
 from .text import interval_of, with_interval
 
 __all__ = ["Notes", "finding_markup", "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "header", "nav", "summary_section", "estimate_section",
@@ -421,7 +422,9 @@ def provenance_section(results, directory):
     if isinstance(versions, dict):
         rows.append(["versions", ", ".join(f"{k} {v}" for k, v in versions.items())])
     case = results.get("case")
-    rows.append(["case", case if case is not None else "—"])
+    # The case file as seen from the results folder, not the machine's path (issue 27 §4).
+    base = None if directory is None else Path(directory).resolve()
+    rows.append(["case", relative_path(case, base) if case is not None else "—"])
     digest, how = results.get("case_sha256"), "recorded by the run"
     if digest is None and case is not None:
         # Only a case file beside the results is hashed: a results file cannot make the report
