@@ -241,7 +241,7 @@ def verdict_rows(checks: dict) -> list[dict]:
     return rows
 
 
-def estimated_msd(case, results, *, source="the results"):
+def estimated_msd(case: Case, results: dict, *, source: str = "the results") -> MSDModel:
     """The MSD another run estimated (``crowdvib check --msd-from``), with the case's mass ratio
     if the results hold none.
 
