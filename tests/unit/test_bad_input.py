@@ -137,7 +137,9 @@ def test_zero_density_crowd_in_estimator(measured, paper_bridge, paper_crowd):
     (dict(bounds={"frequency": (5.0, 1.0)}), r"bounds\['frequency'\] must satisfy 0 < lower < upper"),
     (dict(bounds={"stiffness": (1.0, 2.0)}), r"bounds keys must be among"),
     (dict(mass_ratio=1.5), r"mass_ratio must lie in the open interval \(0, 1\), got 1.5"),
-    (dict(starts=[(3.0, 0.3, 0.9, 1.0)]), r"starts must hold 2 values"),
+    # The default estimator fits (f_h1, ξ_h1, μ_fs, σ_fs): four values a start, or two.
+    (dict(starts=[(3.0, 0.3, 1.9, 0.2, 1.0)]), r"starts must hold 4 values"),
+    (dict(starts=[(3.0, 0.3, 0.9, 1.0)], method="least_squares"), r"starts must hold 2 values"),
 ])
 def test_bad_estimator_options(measured, paper_bridge, paper_crowd, kwargs, match):
     with pytest.raises(ParameterError, match=match):
