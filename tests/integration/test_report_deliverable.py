@@ -62,3 +62,69 @@ def test_no_absolute_machine_path_in_the_report(design_dir, tmp_path):
     original = render_report(json.loads((design_dir / "results.json").read_text("utf-8")),
                              design_dir)
     assert "case ../check_paper.toml" in _text(original, "provenance")
+
+
+def test_design_report_shows_the_damper_crowdvib_designed(design_dir):
+    # Issue 27 §4: the damper's mass, frequency, damping ratio and position, with units.
+    results = json.loads((design_dir / "results.json").read_text(encoding="utf-8"))
+    damper, = results["design"]["dampers"]
+    # m_d = μ m_1 = 0.02 × 50 t (docs: casefiles, [design.damper]; examples/check_paper.toml).
+    assert damper["mass"] == pytest.approx(1000.0)
+    design = _text((design_dir / REPORT_NAME).read_text(encoding="utf-8"), "design")
+    assert ("mass [kg] frequency [Hz] damping ratio [-] position along the walkway [m]"
+            in design)
+    assert (f"damper 1 {damper['mass']:.4g} {damper['frequency']:.4g} "
+            f"{damper['damping_ratio']:.3g} {damper['position']:.4g}") in design
+    assert "designed by crowdvib for mode 1 with 2 % of its modal mass" in design
+
+
+def test_design_report_has_no_estimate_skeleton_and_one_label_per_model(design_dir):
+    page = (design_dir / REPORT_NAME).read_text(encoding="utf-8")
+    text = _text(page)
+    assert "no estimate in these results" not in text and "no MSD estimate" not in text
+    assert "added_mass" not in text and "added mass" in _text(page, "design")
+    # In its place: the MSD the HSI rows used (examples/check_paper.toml [hsi]: 3 Hz, 0.30).
+    assert "MSD model used" in text and "f h1 [Hz] 3 ξ h1 [-] 0.3" in _text(page, "estimate")
+    # One decision per code (issue 27 §4), with the damper: all four pass with HSI.
+    summary = _text(page, "summary")
+    for code in ("HiVoSS TC3", "Sétra II", "EN 1990 TC3", "UK NA C"):
+        assert summary.count(f"{code}: passes with HSI") == 1
+
+
+def test_every_warning_is_counted_and_fails_are_told_apart_from_doubts(design_dir, tmp_path):
+    # Issue 27 §4: five ResolutionWarnings printed, "No warnings" in the report.
+    results = json.loads((design_dir / "results.json").read_text(encoding="utf-8"))
+    page = (design_dir / REPORT_NAME).read_text(encoding="utf-8")
+    count = len(results["warnings"])
+    assert count >= 1
+    summary = _text(page, "summary")
+    assert "No warnings" not in summary
+    assert f"The tool doubts its result: {count} warning(s)" in summary
+    assert all(message in summary for message in results["warnings"])
+    assert f"Warnings raised during the run ({count})" in _text(page, "diagnostics")
+    # Warnings the verdict does not list (the estimator's, under diagnostics) count too.
+    listed = render_report({"command": "check",
+                            "diagnostics": {"warnings": ["ResolutionWarning: a", "X: b"]}})
+    assert "No warnings" not in listed
+    assert "The tool doubts its result: 2 warning(s)" in _text(listed, "summary")
+    # Without the damper the bridge fails Sétra and EN 1990 with HSI (how-to 2): failures are
+    # listed apart from the doubts.
+    out = tmp_path / "without_tmd"
+    main(["check", str(EXAMPLES / "check_paper.toml"), "--out", str(out)])
+    failing = [r for r in json.loads((out / "results.json").read_text())["design"]["verdict"]
+               if r["model"] == "HSI" and not r["passes"]]
+    summary = _text((out / REPORT_NAME).read_text(encoding="utf-8"), "summary")
+    assert failing and f"The bridge fails {len(failing)} check(s)" in summary
+    assert "The tool doubts its result" not in summary
+    assert "Sétra II: fails with HSI at midspan" in summary
+
+
+def test_oma_report_has_no_estimate_section():
+    mode = {"frequency": 2.0, "frequency_std": 0.01, "damping_ratio": 0.01,
+            "damping_std": 0.002}
+    page = render_report({"command": "modes", "method": "ssi-cov",
+                          "modes": [mode, {**mode, "frequency": 3.1}]})
+    assert '<section id="estimate">' not in page and 'href="#estimate"' not in page
+    assert "no estimate in these results" not in page
+    assert "2 modes identified by SSI-cov: 2, 3.1 Hz" in _text(page, "summary")
+

@@ -5,9 +5,10 @@ import numpy as np
 
 from .._figures import DARK, FigureAxes, panels
 
-__all__ = ["plot_utilisation", "plot_mode_accelerations"]
+__all__ = ["plot_utilisation", "plot_mode_accelerations", "MODEL_LABELS"]
 
-_MODEL_LABELS = {"empty": "no HSI", "added_mass": "added mass", "hsi": "HSI"}
+#: The structural models of a design check as the report and its figures name them.
+MODEL_LABELS = {"empty": "no HSI", "added_mass": "added mass", "hsi": "HSI"}
 _SHADES = {"empty": "0.75", "added_mass": "0.45", "hsi": "black"}
 
 
@@ -33,7 +34,7 @@ def plot_utilisation(checks: dict, *, axes: object = None, title: str | None = N
         values = [float(np.max(check.governing_of(model) / check.limit))
                   if model in check.models else np.nan for check in checks.values()]
         ax.bar(np.arange(len(checks)) + (k - 1) * width, values, width, color=_SHADES[model],
-               edgecolor=DARK, label=_MODEL_LABELS[model])
+               edgecolor=DARK, label=MODEL_LABELS[model])
     ax.axhline(1.0, color=DARK, ls="--", lw=1.0, label="limit")
     ax.set_xticks(np.arange(len(checks)), [_code_label(c) for c in checks.values()])
     ax.set_ylabel("Utilisation a / a_limit [-]")
@@ -59,7 +60,7 @@ def plot_mode_accelerations(checks: dict, *, axes: object = None,
         for model in check.models:
             index = check.models.index(model)
             ax.plot(modes, check.peak_accelerations[index, output], "o-",
-                    color=_SHADES[model], mec=DARK, label=_MODEL_LABELS[model])
+                    color=_SHADES[model], mec=DARK, label=MODEL_LABELS[model])
         ax.axhline(check.limit, color=DARK, ls="--", lw=1.0, label="limit")
         ax.set_xlabel("Mode [-]")
         ax.set_title(f"{_code_label(check)}, {check.output_names[output]}", fontsize="medium")

@@ -10,7 +10,18 @@ from markupsafe import Markup
 from ..cases.verdict import method_name as _name
 from .html import html, join, number, table
 
-__all__ = ["modes_section"]
+__all__ = ["modes_section", "modes_headline"]
+
+
+def modes_headline(results: dict) -> list:
+    """The summary's line of a ``modes`` result: how many modes, by which method, at which
+    frequencies (in place of an estimate's); empty for other commands."""
+    modes = results.get("modes")
+    if results.get("command") != "modes" or not isinstance(modes, list):
+        return []
+    frequencies = [number(m.get("frequency"), 4) for m in modes if isinstance(m, dict)]
+    return [html("{} modes identified by {}: {} Hz", len(modes),
+                 _name(results.get("method", "ssi-cov")), join(frequencies, ", ") or "—")]
 
 
 def modes_section(results: dict) -> Markup:

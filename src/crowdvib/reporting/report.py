@@ -33,6 +33,7 @@ from ..cases.schema import case_name
 from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, findings
 from ..errors import DataError, ParameterError
 from . import sections
+from .design_section import design_section
 from .figures import collect_figures
 from .html import html, page
 from .oma_section import modes_section
@@ -115,7 +116,7 @@ def render_report(results, directory=None):
     notes, figures, diagnostics = _assess(results, shown, directory)
     body = [
         sections.header(shown),
-        sections.nav(),
+        sections.nav(shown),
         sections.summary_section(shown, notes),
         sections.estimate_section(shown),
         diagnostics,
@@ -131,10 +132,10 @@ def _assess(results, shown, directory):
     """The notes (the verdict's findings, then the figures' problems), figures and diagnostics
     section of a results dict; ``shown`` is the dict without machine paths. Figures are looked
     up by the names the run recorded (a name outside the directory is refused, not renamed)."""
-    notes = sections.Notes(findings(shown))
+    notes = sections.Notes(findings(shown), shown)
     figures = collect_figures(results, directory, notes, CONVERGENCE_LEVEL)
     diagnostics = sections.diagnostics_section(shown)
-    diagnostics += sections.design_section(shown)         # crowdvib check only
+    diagnostics += design_section(shown)         # crowdvib check only
     diagnostics += modes_section(shown)                    # crowdvib modes only
     return notes, figures, diagnostics
 

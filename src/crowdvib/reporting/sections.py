@@ -14,11 +14,14 @@ from .._version import __version__
 from .._files import sha256_file
 from ..cases.schema import case_name, estimate, get, hsi, real as _real, sensitivity, summary
 from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL
+from .design_section import damper_items, design_decisions, msd_section
 from .html import Markup, escape, html, join, label, number, span, table, value
+from .oma_section import modes_headline
 from .paths import relative_path
 from .text import interval_of, with_interval
 
-__all__ = ["Notes", "finding_markup", "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "header", "nav", "summary_section", "estimate_section",
+__all__ = ["Notes", "finding_markup", "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "header", "nav", "section_titles", "run_warnings", "summary_section",
+           "estimate_section",
            "diagnostics_section", "figures_section", "inputs_section", "provenance_section"]
 
 #: Section ids, in page order (each present in every report).
@@ -47,12 +50,28 @@ def finding_markup(text):
     return text
 
 
+def run_warnings(results):
+    """Every warning a results dict lists (top level and the estimator's ``diagnostics``), each
+    once."""
+    found = [hsi(results, "warnings")] + ([results["warnings"]] if "warnings" in results else [])
+    return list(dict.fromkeys(str(m) for messages in found if isinstance(messages, list)
+                              for m in messages))
+
+
 class Notes:
-    """The verdict's findings (:func:`crowdvib.cases.verdict.findings`) as Markup, and the
+    """The verdict's findings (:func:`crowdvib.cases.verdict.findings`) as Markup: the checks the
+    bridge fails apart from the tool's doubts about its own result, which hold every warning
+    the results list (issue 27 §4: a report never says "No warnings" over listed ones), and the
     report's own warnings about the results directory (a listed figure missing)."""
 
-    def __init__(self, findings=()):
-        self.warnings = [finding_markup(f.text) for f in findings if f.severity != "ok"]
+    def __init__(self, findings=(), results=None):
+        findings = list(findings)
+        self.fails = [finding_markup(f.text) for f in findings if f.severity == "fail"]
+        self.warnings = [finding_markup(f.text) for f in findings
+                         if f.severity not in ("ok", "fail")]
+        said = {f.text for f in findings}
+        self.warnings += [finding_markup(m) for m in run_warnings(results or {})
+                          if m not in said]
         self.good = [finding_markup(f.text) for f in findings if f.severity == "ok"]
 
     def warn(self, text):
@@ -65,9 +84,21 @@ def header(results):
                 case_name(results), get(results, ("inputs", "description")) or "")
 
 
-def nav():
+def section_titles(results):
+    """Section id → its title in the table of contents, in page order: a design check shows the
+    MSD model it used where an estimate would be; an OMA report has no estimate section."""
+    titles = {s: s.capitalize() for s in SECTIONS}
+    if results.get("command") == "check":
+        titles["estimate"] = "MSD model"
+    elif results.get("command") == "modes":
+        del titles["estimate"]
+    return titles
+
+
+def nav(results=None):
     return html('<nav class="toc">{}</nav>',
-                join(html('<a href="#{}">{}</a>', s, s.capitalize()) for s in SECTIONS))
+                join(html('<a href="#{}">{}</a>', s, title)
+                     for s, title in section_titles(results or {}).items()))
 
 
 def summary_section(results, notes):
@@ -87,17 +118,27 @@ def summary_section(results, notes):
     response = _response(results)
     if response is not None:
         items.append(response[0])
+    items += design_decisions(results) + damper_items(results) + modes_headline(results)
     verdict = (join(html("<li>{}</li>", item) for item in items)
                or Markup("<li>no estimate in these results</li>"))
-    if notes.warnings:
-        box = html('<div class="callout warn"><strong>Check before use</strong><ul>{}</ul></div>',
-                   join(html("<li>{}</li>", w) for w in notes.warnings))
+    if notes.fails or notes.warnings:
+        # What the bridge fails apart from what the tool doubts (issue 27 §4), each counted.
+        box = html('<div class="callout warn"><strong>Check before use</strong>{}{}</div>',
+                   _listed("The bridge fails {} check(s)", notes.fails),
+                   _listed("The tool doubts its result: {} warning(s)", notes.warnings))
     else:
         good = (html("<ul>{}</ul>", join(html("<li>{}</li>", g) for g in notes.good))
                 if notes.good else "")
         box = html('<div class="callout ok"><strong>No warnings</strong>{}</div>', good)
     return html('<section id="summary"><h2>Summary</h2><ul class="headline">{}</ul>{}{}</section>',
                 verdict, response[1] if response is not None else "", box)
+
+
+def _listed(heading, items):
+    if not items:
+        return Markup("")
+    return html("<p>{}:</p><ul>{}</ul>", html(heading, len(items)),
+                join(html("<li>{}</li>", item) for item in items))
 
 
 def _response(results):
@@ -130,6 +171,12 @@ def _combined(results, key):
 
 
 def estimate_section(results):
+    """The estimate; the MSD a design check used; nothing for an OMA report."""
+    if "estimate" not in section_titles(results):
+        return Markup("")
+    used = msd_section(results)
+    if used is not None:
+        return used
     found = estimate(results)
     if not found:
         return html('<section id="estimate"><h2>Estimate</h2><p class="muted">These results '
@@ -238,10 +285,10 @@ def diagnostics_section(results):
         parts.append(html("<p>Modelling-error study: {} case(s) estimated{}.</p>",
                           len(cases) - len(failed),
                           f", {len(failed)} failed" if failed else ""))
-    messages = results.get("warnings")
-    messages = messages if isinstance(messages, list) else []
+    messages = run_warnings(results)
     if messages:
-        parts.append(html("<h3>Warnings raised during the run</h3><ul>{}</ul>",
+        parts.append(html("<h3>Warnings raised during the run ({})</h3><ul>{}</ul>",
+                          len(messages),
                           join(html("<li><code>{}</code></li>", m) for m in messages)))
     elif "warnings" in results:
         parts.append(Markup('<p class="muted">No warnings were raised during the run.</p>'))
@@ -310,38 +357,6 @@ def _starts(results):
     return html("<details open><summary>Starting points of the optimiser</summary>{}{}"
                 "</details>", table(["start", "estimate", "cost J", "evaluations", "status"],
                                     rows, "data"), more)
-
-
-def design_section(results: dict) -> Markup:
-    """The verdict table of ``crowdvib check`` (``design.verdict``); empty for other commands.
-
-    A check that fails with the primary model (HSI when checked, else no HSI) fails the verdict
-    (:mod:`crowdvib.cases.verdict`).
-    """
-    rows = get(results, ("design", "verdict"))
-    if not isinstance(rows, list) or not rows:
-        return Markup("")
-    rows = [r for r in rows if isinstance(r, dict)]
-    cells = [[r.get("code"), r.get("traffic_class") or "—", r.get("model"), r.get("output"),
-              number(r.get("governing"), 3), number(r.get("limit"), 3),
-              number(r.get("utilisation"), 3), r.get("comfort_class"),
-              "yes" if r.get("passes") else "no"] for r in rows]
-    prediction = get(results, ("design", "prediction"))
-    extra = ""
-    if isinstance(prediction, dict) and isinstance(prediction.get("rms"), list):
-        names = prediction.get("output_names") or []
-        lines = [[model, name, number(rms, 3), number(peak, 3)]
-                 for model, rms_row, peak_row in zip(prediction.get("models") or [],
-                                                     prediction["rms"],
-                                                     prediction.get("expected_peak") or [])
-                 for name, rms, peak in zip(names, rms_row, peak_row)]
-        extra = html("<h3>Crowd stream ({} persons/m², record {} s)</h3>{}",
-                     number(prediction.get("density"), 3), number(prediction.get("duration")),
-                     table(["model", "output", "RMS [m/s²]", "expected peak [m/s²]"], lines,
-                           "data"))
-    return html('<section id="design"><h2>Design checks</h2>{}{}</section>',
-                table(["code", "class", "model", "output", "a [m/s²]", "limit [m/s²]",
-                       "utilisation", "comfort class", "passes"], cells, "data"), extra)
 
 
 def figures_section(figures):

@@ -1,0 +1,138 @@
+"""The design checks of ``crowdvib check`` in report.html: one decision per code, the tuned mass
+damper crowdvib designed (or was given), the MSD model the checks used, and the verdict table
+(issue 27 §4: the numbers a client pays for are in the report, not only in results.json).
+
+Each function returns empty Markup (or None) for the results of other commands.
+"""
+
+from markupsafe import Markup
+
+from ..cases.schema import get, real
+from .design_plots import MODEL_LABELS
+from .html import html, join, number, table
+
+__all__ = ["design_decisions", "damper_items", "msd_section", "design_section"]
+
+_CODES = {"hivoss": "HiVoSS", "setra": "Sétra", "en1990": "EN 1990", "ukna": "UK NA"}
+
+
+def _rows(results):
+    rows = get(results, ("design", "verdict"))
+    return [r for r in rows if isinstance(r, dict)] if isinstance(rows, list) else []
+
+
+def _code(row):
+    code = _CODES.get(row.get("code"), str(row.get("code")))
+    return f"{code} {row['traffic_class']}" if row.get("traffic_class") else code
+
+
+def design_decisions(results):
+    """One sentence per code: passes or fails with the primary model (HSI when checked, else no
+    HSI: the verdict's rule, :mod:`crowdvib.cases.verdict`), at its largest utilisation."""
+    rows = _rows(results)
+    primary = "HSI" if any(r.get("model") == "HSI" for r in rows) else "no HSI"
+    decisions = []
+    for code in dict.fromkeys(r.get("code") for r in rows):
+        mine = [r for r in rows if r.get("code") == code and r.get("model") == primary
+                and real(r.get("utilisation")) is not None]
+        if not mine:
+            continue
+        worst = max(mine, key=lambda r: r["utilisation"])
+        failing = [r for r in mine if r.get("passes") is False]
+        if failing:
+            decisions.append(html('{}: <strong>fails</strong> with {} at {} (utilisation {})',
+                                  _code(worst), primary,
+                                  ", ".join(str(r.get("output")) for r in failing),
+                                  number(worst["utilisation"], 3)))
+        else:
+            decisions.append(html("{}: passes with {} (largest utilisation {}, at {})",
+                                  _code(worst), primary, number(worst["utilisation"], 3),
+                                  worst.get("output")))
+    return decisions
+
+
+def _dampers(results):
+    dampers = get(results, ("design", "dampers"))
+    return [d for d in dampers if isinstance(d, dict)] if isinstance(dampers, list) else []
+
+
+def damper_items(results):
+    """A headline per tuned mass damper: mass, frequency, damping ratio and position."""
+    return [html("tuned mass damper{}: {} kg, {} Hz, damping ratio {}, at {} m", 
+                 f" {k}" if len(_dampers(results)) > 1 else "", number(d.get("mass"), 4),
+                 number(d.get("frequency"), 4), number(d.get("damping_ratio"), 3),
+                 number(d.get("position"), 4))
+            for k, d in enumerate(_dampers(results), start=1)]
+
+
+def _damper_table(results):
+    dampers = _dampers(results)
+    if not dampers:
+        return Markup("")
+    spec = get(results, ("inputs", "design", "damper"))
+    how = (html("designed by crowdvib for mode {} with {} of its modal mass: placed at the "
+                "mode's antinode, frequency and damping ratio tuned to the occupied mode "
+                "(docs: theory, Tuning a TMD)", spec["mode"], _percent(spec.get("mass_ratio")))
+           if isinstance(spec, dict) and "mode" in spec else Markup("as stated in the case file"))
+    rows = [[f"damper {k}", number(d.get("mass"), 4), number(d.get("frequency"), 4),
+             number(d.get("damping_ratio"), 3), number(d.get("position"), 4),
+             number(d.get("lane")) if d.get("lane") is not None else "—"]
+            for k, d in enumerate(dampers, start=1)]
+    return html("<h3>Tuned mass damper</h3><p>The checks include the damper below, {}.</p>{}",
+                how, table(["", "mass [kg]", "frequency [Hz]", "damping ratio [-]",
+                            "position along the walkway [m]", "lane"], rows, "data"))
+
+
+def _percent(fraction):
+    return html("{} %", number(100 * fraction, 3)) if real(fraction) is not None else "—"
+
+
+def msd_section(results):
+    """The MSD pedestrian model the checks' HSI rows used (in place of an estimate), or None for
+    other commands."""
+    if results.get("command") != "check":
+        return None
+    msd = results.get("msd")
+    if not isinstance(msd, dict):
+        body = Markup('<p class="muted">The checks use no MSD model: no HSI rows.</p>')
+    else:
+        rows = [[Markup("f<sub>h1</sub> [Hz]"), number(msd.get("frequency"))],
+                [Markup("ξ<sub>h1</sub> [-]"), number(msd.get("damping_ratio"))],
+                [Markup("μ<sub>h1</sub> [-]"), number(msd.get("mass_ratio"))]]
+        body = html("<p>The HSI rows of the checks model each pedestrian by this MSD (from "
+                    "{}).</p>{}", msd.get("source") or "the case file",
+                    table(["parameter", "value"], rows, "data narrow"))
+    return html('<section id="estimate"><h2>MSD model used</h2>{}</section>', body)
+
+
+def design_section(results: dict) -> Markup:
+    """The damper, the verdict table and the crowd stream's prediction of ``crowdvib check``;
+    empty for other commands.
+
+    A check that fails with the primary model (HSI when checked, else no HSI) fails the verdict
+    (:mod:`crowdvib.cases.verdict`).
+    """
+    rows = _rows(results)
+    if not rows:
+        return Markup("")
+    cells = [[_code(r), r.get("model"), r.get("output"),
+              number(r.get("governing"), 3), number(r.get("limit"), 3),
+              number(r.get("utilisation"), 3), r.get("comfort_class") or "—",
+              "yes" if r.get("passes") else "no"] for r in rows]
+    prediction = get(results, ("design", "prediction"))
+    extra = ""
+    if isinstance(prediction, dict) and isinstance(prediction.get("rms"), list):
+        names = prediction.get("output_names") or []
+        lines = [[MODEL_LABELS.get(model, model), name, number(rms, 3), number(peak, 3)]
+                 for model, rms_row, peak_row in zip(prediction.get("models") or [],
+                                                     prediction["rms"],
+                                                     prediction.get("expected_peak") or [])
+                 for name, rms, peak in zip(names, rms_row, peak_row)]
+        extra = html("<h3>Crowd stream ({} persons/m², record {} s)</h3>{}",
+                     number(prediction.get("density"), 3), number(prediction.get("duration")),
+                     table(["model", "output", "RMS [m/s²]", "expected peak [m/s²]"], lines,
+                           "data"))
+    return html('<section id="design"><h2>Design checks</h2>{}{}{}</section>',
+                _damper_table(results),
+                table(["code and class", "model", "output", "a [m/s²]", "limit [m/s²]",
+                       "utilisation", "comfort class", "passes"], cells, "data"), extra)
