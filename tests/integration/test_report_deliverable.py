@@ -83,6 +83,10 @@ def test_design_report_has_no_estimate_skeleton_and_one_label_per_model(design_d
     text = _text(page)
     assert "no estimate in these results" not in text and "no MSD estimate" not in text
     assert "added_mass" not in text and "added mass" in _text(page, "design")
+    # Comfort classes only for the codes that define them (design.codes.comfort_limit).
+    design = _text(page, "design")
+    assert re.search(r"EN 1990 TC3 HSI midspan [\d.]+ 0\.7 [\d.]+ — yes", design)
+    assert re.search(r"Sétra II HSI midspan [\d.]+ 1 [\d.]+ CL\d yes", design)
     # In its place: the MSD the HSI rows used (examples/check_paper.toml [hsi]: 3 Hz, 0.30).
     assert "MSD model used" in text and "f h1 [Hz] 3 ξ h1 [-] 0.3" in _text(page, "estimate")
     # One decision per code (issue 27 §4), with the damper: all four pass with HSI.
@@ -128,3 +132,55 @@ def test_oma_report_has_no_estimate_section():
     assert "no estimate in these results" not in page
     assert "2 modes identified by SSI-cov: 2, 3.1 Hz" in _text(page, "summary")
 
+
+@pytest.fixture(scope="module")
+def estimate_dir(tmp_path_factory):
+    """``crowdvib estimate`` of the paper's example (examples/paper_example.toml: [hsi] sets
+    only μ_h1; f_h1 and ξ_h1 are estimated; an .npz record, no time column)."""
+    folder = tmp_path_factory.mktemp("estimate")
+    for name in ("paper_example.toml", "paper_example_record.npz"):
+        shutil.copy(EXAMPLES / name, folder)
+    assert main(["estimate", str(folder / "paper_example.toml"), "--out",
+                 str(folder / "out")]) == 0
+    return folder / "out"
+
+
+def test_estimate_report_lists_inputs_not_the_estimators_internals(estimate_dir):
+    page = (estimate_dir / REPORT_NAME).read_text(encoding="utf-8")
+    inputs = _text(page, "inputs")
+    # Issue 27 §4: the [hsi] defaults of f_h1 and ξ_h1 are no inputs when they are estimated;
+    # μ_h1, set in the case and held fixed, is.
+    hsi = inputs[inputs.index("HSI (MSD model)"):inputs.index("Measurement")]
+    assert hsi.strip() == "HSI (MSD model) mass ratio [-] 0.95"
+    # An .npz record has no time column: the default name is not shown.
+    assert "time column" not in inputs
+    for internal in ("match welch", "convergence norm"):
+        assert internal not in inputs
+    # They are in a closed details section, in words, with how each start ended.
+    results = json.loads((estimate_dir / "results.json").read_text(encoding="utf-8"))
+    details = page[page.index("<details><summary>Estimator details"):]
+    details = _text(details[:details.index("</details>")])
+    assert "taken through the measurement's Welch window" in details
+    assert "root-mean-square change of the PSD over the band" in details
+    starts = results["diagnostics"]["starts"]
+    assert f"ran from {len(starts)} starting point(s)" in details
+    # scipy.optimize.least_squares: status 1-4 converged, 0 the evaluation limit.
+    assert all(s["status"] in range(1, 5) for s in starts)
+    assert details.count("converged: ") == len(starts)
+    assert "PSD convergence (root-mean-square change over" in _text(page, "diagnostics")
+
+
+@pytest.mark.parametrize("block, not_set, shown", [
+    ({"files": ["bridge.npz"], "sample_rate": None}, {"measurement.time_column": "default"},
+     False),                                       # no time column in a binary record
+    ({"files": ["bridge.csv"], "sample_rate": 50.0}, {"measurement.time_column": "default"},
+     False),                                       # the rate was stated, not read
+    ({"files": ["bridge.csv"], "sample_rate": None}, {"measurement.time_column": "default"},
+     True),                                        # the rate came from the time stamps
+    ({"files": ["bridge.npz"], "sample_rate": None}, {}, True)])   # named in the case file
+def test_a_default_time_column_is_shown_only_where_a_record_was_read_by_it(block, not_set,
+                                                                           shown):
+    from crowdvib.reporting.estimator_section import client_inputs
+
+    rows = client_inputs({}, "measurement", {**block, "time_column": "time"}, not_set)
+    assert ("time_column" in rows) is shown

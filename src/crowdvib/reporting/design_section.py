@@ -9,11 +9,13 @@ from markupsafe import Markup
 
 from ..cases.schema import get, real
 from .design_plots import MODEL_LABELS
-from .html import html, join, number, table
+from .html import html, number, table
 
 __all__ = ["design_decisions", "damper_items", "msd_section", "design_section"]
 
 _CODES = {"hivoss": "HiVoSS", "setra": "Sétra", "en1990": "EN 1990", "ukna": "UK NA"}
+#: Codes that define comfort classes CL1–CL4 (:func:`crowdvib.design.codes.comfort_limit`).
+_COMFORT_CODES = ("setra", "hivoss")
 
 
 def _rows(results):
@@ -58,7 +60,7 @@ def _dampers(results):
 
 def damper_items(results):
     """A headline per tuned mass damper: mass, frequency, damping ratio and position."""
-    return [html("tuned mass damper{}: {} kg, {} Hz, damping ratio {}, at {} m", 
+    return [html("tuned mass damper{}: {} kg, {} Hz, damping ratio {}, at {} m",
                  f" {k}" if len(_dampers(results)) > 1 else "", number(d.get("mass"), 4),
                  number(d.get("frequency"), 4), number(d.get("damping_ratio"), 3),
                  number(d.get("position"), 4))
@@ -117,7 +119,8 @@ def design_section(results: dict) -> Markup:
         return Markup("")
     cells = [[_code(r), r.get("model"), r.get("output"),
               number(r.get("governing"), 3), number(r.get("limit"), 3),
-              number(r.get("utilisation"), 3), r.get("comfort_class") or "—",
+              number(r.get("utilisation"), 3),
+              (r.get("comfort_class") or "—") if r.get("code") in _COMFORT_CODES else "—",
               "yes" if r.get("passes") else "no"] for r in rows]
     prediction = get(results, ("design", "prediction"))
     extra = ""
@@ -132,7 +135,9 @@ def design_section(results: dict) -> Markup:
                      number(prediction.get("density"), 3), number(prediction.get("duration")),
                      table(["model", "output", "RMS [m/s²]", "expected peak [m/s²]"], lines,
                            "data"))
-    return html('<section id="design"><h2>Design checks</h2>{}{}{}</section>',
+    note = Markup('<p class="muted">Comfort classes CL1–CL4 are defined by Sétra and HiVoSS '
+                  "only; EN 1990 and the UK NA set a limit alone.</p>")
+    return html('<section id="design"><h2>Design checks</h2>{}{}{}{}</section>',
                 _damper_table(results),
                 table(["code and class", "model", "output", "a [m/s²]", "limit [m/s²]",
-                       "utilisation", "comfort class", "passes"], cells, "data"), extra)
+                       "utilisation", "comfort class", "passes"], cells, "data"), note, extra)

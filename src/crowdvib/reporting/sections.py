@@ -15,6 +15,7 @@ from .._files import sha256_file
 from ..cases.schema import case_name, estimate, get, hsi, real as _real, sensitivity, summary
 from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL
 from .design_section import damper_items, design_decisions, msd_section
+from .estimator_section import client_inputs, convergence_norm_words, estimator_details
 from .html import Markup, escape, html, join, label, number, span, table, value
 from .oma_section import modes_headline
 from .paths import relative_path
@@ -277,7 +278,7 @@ def diagnostics_section(results):
     parts = []
     if rows:
         parts.append(table(["quantity", "value"], rows, "data narrow"))
-    parts += [_convergence(results), _starts(results), _record_length(results)]
+    parts += [_convergence(results), estimator_details(results), _record_length(results)]
     study = sensitivity(results)
     if study:
         cases = [c for c in study["cases"] if isinstance(c, dict)]
@@ -321,8 +322,8 @@ def _convergence(results):
                  else (duration[0] if not below.size and duration.size else None))
         rows.append([name, f"{100 * change:.1f} %", "—" if reach is None else f"{reach:g} s"])
     band = convergence.get("band") or ["?", "?"]
-    return html("<h3>PSD convergence ({}-norm over {} Hz, T = {} s)</h3>{}",
-                convergence.get("norm", "2"), span(band),
+    return html("<h3>PSD convergence ({} over {} Hz, Welch window T = {} s)</h3>{}",
+                convergence_norm_words(convergence.get("norm", "2")), span(band),
                 number(convergence.get("window_length")),
                 table(["output", "change by the last window",
                        f"ΔG below {CONVERGENCE_LEVEL:.0%} from"], rows, "data narrow"))
@@ -343,20 +344,6 @@ def _record_length(results):
         ["record length [s]", "windows", Markup("f<sub>h1</sub> [Hz]"),
          Markup("ξ<sub>h1</sub> [-]"), Markup("Δf<sub>h1</sub> [%]"),
          Markup("Δξ<sub>h1</sub> [%]"), _RELATIVE], cells, "data"))
-
-
-def _starts(results):
-    starts = hsi(results, "starts")
-    if not isinstance(starts, list) or not starts:
-        return ""
-    rows = [[value(s.get("start")), value(s.get("estimate")), number(s.get("cost"), 3),
-             number(s.get("n_evaluations")), number(s.get("status"))]
-            for s in starts[:20] if isinstance(s, dict)]
-    more = (html('<p class="muted">… and {} more.</p>', len(starts) - 20)
-            if len(starts) > 20 else "")
-    return html("<details open><summary>Starting points of the optimiser</summary>{}{}"
-                "</details>", table(["start", "estimate", "cost J", "evaluations", "status"],
-                                    rows, "data"), more)
 
 
 def figures_section(figures):
@@ -382,7 +369,8 @@ def inputs_section(results):
         simple = {k: v for k, v in inputs.items() if not isinstance(v, dict)}
         if simple:
             blocks.append(("case", "", simple))
-        blocks += [(k, k, v) for k, v in inputs.items() if isinstance(v, dict) and v]
+        blocks += [(k, k, client_inputs(results, k, v, not_set)) for k, v in inputs.items()
+                   if isinstance(v, dict) and v]
     elif results.get("case") is not None:
         blocks.append(("case", "", {"name": results["case"]}))
     for key in ("truth", "expected", "measured", "record", "crowd_used", "msd", "levels"):
