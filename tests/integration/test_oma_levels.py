@@ -2,15 +2,16 @@
 identified standard deviations of `crowdvib modes` instead of fixed percentages."""
 
 import json
-from pathlib import Path
 
 import pytest
 
 from crowdvib import ParameterError
 from crowdvib.cli import main
 from crowdvib.identification.oma import identified_error_levels
+from tests.conftest import paper_case_least_squares
 
-CASE = Path(__file__).resolve().parents[2] / "examples" / "paper_example.toml"
+#: The paper example with the paper's estimator (the study's levels are the subject).
+CASE = paper_case_least_squares()
 MODES = [{"frequency": 2.0, "frequency_std": 0.01, "damping_ratio": 0.005, "damping_std": 0.001},
          {"frequency": 8.0, "frequency_std": 0.02, "damping_ratio": 0.01, "damping_std": 0.001}]
 
