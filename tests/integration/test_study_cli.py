@@ -60,7 +60,7 @@ def test_sensitivity_on_a_dask_scheduler_equals_local_run(tmp_path):
     # `--scheduler ADDRESS` runs the study on a real dask.distributed cluster (two worker
     # processes on loopback); same tasks, same numbers as the in-process run.
     distributed = pytest.importorskip("distributed")
-    case = str(EXAMPLES / "paper_example.toml")
+    case = str(copy_paper_case(tmp_path / "case"))    # the paper's estimator: the fast one
     common = ["--no-joint", "--no-record-length"]
     assert main(["sensitivity", case, "--out", str(tmp_path / "local"), *common]) == 0
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
