@@ -154,10 +154,15 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
                                                             free_step_frequencies)
     free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
 
-    def objective(crowd):
+    def objective(crowd, model=crowd_model):
         return PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                             output_weights=output_weights, frequency_weights=frequency_weights,
-                            match_welch=match_welch, method=method, crowd_model=crowd_model)
+                            match_welch=match_welch, method=method, crowd_model=model)
+
+    # A wrong level (units, gain) is diagnosed at the crowd as given with the smeared model:
+    # the question is one of level, which the two crowd models share to a few per cent, and
+    # its five fits on data that fit nothing would cost minutes with the fluctuating one.
+    given = [objective(crowd, "smeared")]
 
     options = dict(starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                    free_mass_ratio=free_mass_ratio, method=method, level=level, n_boot=n_boot,
@@ -165,25 +170,22 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     if free_step_frequencies and method == "likelihood":
         # The likelihood's bins are chosen from the crowd's model (within its dynamic range), so
         # a first fit from the given crowd is followed by the fit on the bins of the fitted
-        # crowd: the answer then does not depend on the starting guess.
-        # The refit starts from the first fit's optimum only: the first fit's starts have
-        # already found the basin, and the new bins move the optimum by a fraction of its
-        # interval (one start instead of four: a third of the estimate's time).
-        # The first fit only chooses the bins: the refit warns of what it finds, and
-        # diagnoses a wrong level at the crowd as given (the first fit's crowd may have been
-        # dragged by it).
+        # crowd: the answer then does not depend on the starting guess. The first fit only
+        # chooses the bins (no diagnosis, no warning: the refit gives them). The refit starts
+        # from its optimum only: the first fit's starts have found the basin, and the new bins
+        # move the optimum by a fraction of its interval (a third of the estimate's time).
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            first = _estimate([(objective(crowd), measured)], structure, **dict(
+            first = _estimate([(objective(crowd), measured)], structure, given=(), **dict(
                 options, interval=None))
-        given = [objective(crowd)]
         options["starts"] = [tuple(first.value(name) for name in first.free_parameters
                                    if name not in STEP_PARAMETERS)]
         second = _estimate([(objective(first.crowd), measured)], structure, interval=interval,
                            given=given, **options)
         return dataclasses.replace(second, n_evaluations=first.n_evaluations
                                    + second.n_evaluations, starts=first.starts + second.starts)
-    return _estimate([(objective(crowd), measured)], structure, interval=interval, **options)
+    return _estimate([(objective(crowd), measured)], structure, interval=interval, given=given,
+                     **options)
 
 
 def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalModel,
@@ -294,7 +296,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     """The estimate from one or several (objective, measured PSD) records (estimate_hsi).
 
     ``given``: the records' objectives at the crowd the user gave, where a wrong level is
-    diagnosed (default the parts' own).
+    diagnosed (default the parts' own; empty: no diagnosis).
 
     A sequence of steps, each taking what the one before returned: the options and θ's
     parametrisation, the fit from every start, the objectives of the fitted crowd (when the
@@ -311,20 +313,18 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     for objective, _ in parts:
         _check_measured_level(objective)
     best, runs = _fit(_Stacked(o for o, _ in parts), parameters, points)
-    given = given or [objective for objective, _ in parts]
+    given = [objective for objective, _ in parts] if given is None else given
     parts = _adopt_fitted_crowd(parts, parameters, best.x)
     stacked = _Stacked(o for o, _ in parts)
     active, success, table = _diagnose(best, runs, parameters.names, parameters.lower,
                                        parameters.upper, "the optimum sits on a bound",
                                        "check the model inputs", stacklevel=4)
     msd = parameters.msd(best.x)
-    ratios, held = [], parameters.held()
+    ratios, held = [objective.level_ratio(msd) for objective, _ in parts], parameters.held()
     held_points = [point[:len(held.names)] for point in points]
-    for (objective, _), as_given in zip(parts, given):
+    for ratio, as_given in zip(ratios, given):
         # The diagnostics warn from here: their stack depth is fixed.
-        ratios.append(objective.level_ratio(msd))
-        _check_level(as_given, ratios[-1], lambda target: _fit(target, held, held_points),
-                     held.msd)
+        _check_level(as_given, ratio, lambda target: _fit(target, held, held_points), held.msd)
     covariance, hessian, occupancies = None, None, None
     # Intervals need the scatter of the ordinates: known for a Welch estimate (its n_windows),
     # not for a PSD of unknown origin (a model curve, a PSD read from a table).
