@@ -1,6 +1,6 @@
-"""The bad-input catalogue (tests/badinput) counted by outcome, now and on an older source tree.
+"""The bad-input catalogue (the tests marked badinput) counted by outcome, now and on an older source tree.
 
-Each test of tests/badinput is one hostile input and the answer crowdvib owes it: a crowdvib
+Each test marked badinput is one hostile input and the answer crowdvib owes it: a crowdvib
 error naming parameter, rule and value, a warning naming the likely mistake, or (for inputs that
 other programs write, such as a CSV with decimal commas) a correct reading. This script runs the
 catalogue and counts the cases by what the test demanded (seen at run time: which of
@@ -55,14 +55,14 @@ def pytest_sessionfinish(session):
 
 
 def run(source=None):
-    """{nodeid: (outcome, message)} and {nodeid: kinds} of tests/badinput on ``source``."""
+    """{nodeid: (outcome, message)} and {nodeid: kinds} of the tests marked badinput on ``source``."""
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         (tmp / "catalogue_plugin.py").write_text(_PLUGIN)
         env = dict(os.environ, CATALOGUE_KINDS=str(tmp / "kinds.json"))
         path = [str(tmp)] + ([str(Path(source).resolve())] if source else [])
         env["PYTHONPATH"] = os.pathsep.join(path + [env.get("PYTHONPATH", "")])
-        subprocess.run([sys.executable, "-m", "pytest", "tests/badinput", "-q",
+        subprocess.run([sys.executable, "-m", "pytest", "tests", "-m", "badinput", "-q",
                         "-p", "catalogue_plugin", "-p", "no:cacheprovider",
                         f"--junitxml={tmp / 'junit.xml'}"],
                        cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
@@ -135,7 +135,7 @@ def main():
                         help="with --against: each case and how that tree answered it")
     args = parser.parse_args()
     now, kinds = run(ROOT / "src")         # this tree's catalogue on this tree's source
-    print(f"tests/badinput: {len(now)} cases")
+    print(f"tests marked badinput: {len(now)} cases")
     table = collections.Counter((demanded(n, kinds), classify(*now[n])) for n in now)
     print(f"\n{'demanded':46s}{'now':>22s}{'cases':>7s}")
     for (want, got), count in sorted(table.items()):

@@ -27,7 +27,7 @@ import numpy as np
 from bench_intervals import (BRIDGE, MSD, _table, estimates_of, mean_psd, paper_crowd,
                              print_mean_estimates)
 from crowdvib import LowPassFilter, simulate, welch_psd
-from crowdvib.identification import study_executor
+from crowdvib.runner import study_executor
 from crowdvib.response.traffic import Pedestrian
 
 ESTIMATORS = [(method, model, False) for model in ("smeared", "fluctuating")

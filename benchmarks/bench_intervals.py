@@ -45,7 +45,7 @@ import numpy as np
 
 from crowdvib import (BoundWarning, Crowd, LowPassFilter, ModalModel, MSDModel, estimate_hsi,
                       response_psd, simulate, welch_psd)
-from crowdvib.identification import study_executor
+from crowdvib.runner import study_executor
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies
 
 TRUTH = {"frequency": 3.0, "damping_ratio": 0.30}

@@ -1,7 +1,7 @@
 """OMA accuracy (issue 13): identify_modes on simulated 30-minute ambient records of a 3-mode bridge.
 
 The bridge, the ambient load (independent white-noise modal loads, exact Gaussian synthesis) and
-the five walkers are those of tests/unit/test_oma.py (imported from it, so the two cannot drift).
+the five walkers are those of tests/oma/test_oma.py (imported from it, so the two cannot drift).
 
 Usage::
 
@@ -91,8 +91,8 @@ def bound(n=100):
     """Whittle maximum likelihood on the exact modal coordinates (ambient load only)."""
     from scipy.optimize import minimize
 
-    from crowdvib.identification.modeid import information_bound
-    from crowdvib.identification.oma import ambient_response
+    from crowdvib.oma.modeid import information_bound
+    from crowdvib.oma.identify import ambient_response
 
     structure = bridge()
     frequency = np.fft.rfftfreq(int(DURATION * SAMPLE_RATE), 1 / SAMPLE_RATE)

@@ -7,7 +7,8 @@ Prints the wall time per worker count and the speed-up; asserts nothing.
 
 import time
 
-from crowdvib.identification import parametric_study, study_executor
+from crowdvib.studies import parametric_study
+from crowdvib.runner import study_executor
 
 
 def main():

@@ -7,7 +7,7 @@ case's ``seed``, resampled to the case's ``simulation.record_sample_rate`` and s
 NPZ to keep the files small. The case files themselves (``*.toml``) are written by hand; this
 script reads them, so the records always match what the case files say. The ambient test of
 ``crowdvib modes`` (``ambient/``) is the empty bridge shaken by white-noise modal loads
-(``crowdvib.identification.ambient_response``) with the modes of ``AMBIENT_*`` below.
+(``crowdvib.oma.ambient_response``) with the modes of ``AMBIENT_*`` below.
 
 The bridges are look-alikes of the paper's case studies (docs: theory, The paper's case studies): the real measurements
 are not public. Values not printed in the paper are assumed and marked so in the case files.
@@ -147,7 +147,7 @@ AMBIENT_DURATION, AMBIENT_SAMPLE_RATE, AMBIENT_LOAD_PSD, AMBIENT_SEED = 1800.0, 
 
 def make_ambient(record_path):
     """The ambient record of ``ambient/paper_beam_ambient.toml`` (white-noise modal loads)."""
-    from crowdvib.identification.oma import ambient_response
+    from crowdvib.oma.identify import ambient_response
 
     beam = ModalModel.simply_supported_beam(50.0, 3.0, AMBIENT_FREQUENCIES, AMBIENT_DAMPING,
                                             AMBIENT_MODAL_MASS, n_modes=2,

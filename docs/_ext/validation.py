@@ -19,9 +19,11 @@ from pathlib import Path
 
 from sphinx.util import logging
 
-#: Test directories that hold reference checks (collecting only these keeps the build quick).
-PATHS = ("tests/reference", "tests/design", "tests/unit/test_femodes.py",
-         "tests/unit/test_measured_force.py")
+#: The test files that hold reference checks (collecting only these keeps the build quick).
+PATHS = ("tests/signals/test_conventions.py", "tests/signals/test_welch_statistics.py",
+         "tests/response/test_paper_example.py", "tests/response/test_simulation_reference.py",
+         "tests/design/test_codes.py", "tests/design/test_dampers.py", "tests/design/test_ukna.py",
+         "tests/io/test_femodes.py", "tests/models/test_measured_force.py")
 
 _logger = logging.getLogger(__name__)
 

@@ -38,7 +38,7 @@ import numpy as np
 from crowdvib import ModalModel
 from crowdvib.cases import load_results
 from crowdvib.cli import main
-from crowdvib.identification.oma import ambient_response
+from crowdvib.oma.identify import ambient_response
 
 workdir = tempfile.TemporaryDirectory(prefix="crowdvib-howto-")   # removed at exit
 folder = Path(workdir.name)

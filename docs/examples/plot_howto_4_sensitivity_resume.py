@@ -45,7 +45,8 @@ import matplotlib.pyplot as plt
 from crowdvib import load_case
 from crowdvib.cases import measure_case
 from crowdvib.cli import main
-from crowdvib.identification import TaskStore, modelling_error_study
+from crowdvib.runner import TaskStore
+from crowdvib.studies import modelling_error_study
 
 try:
     examples = Path(__file__).resolve().parents[2] / "examples"    # the repository's
@@ -117,7 +118,7 @@ axes.set_axis_off()
 # %%
 # The same from Python
 # --------------------
-# :func:`crowdvib.identification.modelling_error_study` takes the store as ``store=``: a second
+# :func:`crowdvib.studies.modelling_error_study` takes the store as ``store=``: a second
 # call with the same store resumes. Here the first call is stopped after three tasks, as Ctrl-C
 # would (its ``progress`` callback raises ``KeyboardInterrupt``), on a smaller study: the
 # structural frequency and damping at one level each.

@@ -27,9 +27,8 @@ _LAZY = {
                      "simulate_psd", "SimulationPSD"),
                     "response"),
     **dict.fromkeys(("estimate_hsi", "estimate_hsi_joint", "HSIEstimate",
-                     "estimate_step_frequencies",
-                     "StepFrequencyEstimate", "identify_modes", "ModeIdentification"),
-                    "identification"),
+                     "estimate_step_frequencies", "StepFrequencyEstimate"), "identification"),
+    **dict.fromkeys(("identify_modes", "ModeIdentification"), "oma"),
     **dict.fromkeys(("Record", "read_record", "write_record", "check_record", "Case", "load_case",
                      "read_modal_model"), "io"),
     **dict.fromkeys(("TunedMassDamper", "tune_damper", "design_check", "DesignCheck",
@@ -64,9 +63,9 @@ def __dir__():
 
 if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
     # ruff: noqa: F401
-    from .identification import (HSIEstimate, ModeIdentification, StepFrequencyEstimate,
-                                 estimate_hsi, estimate_hsi_joint, estimate_step_frequencies,
-                                 identify_modes)
+    from .identification import (HSIEstimate, StepFrequencyEstimate, estimate_hsi,
+                                 estimate_hsi_joint, estimate_step_frequencies)
+    from .oma import ModeIdentification, identify_modes
     from .io import (Case, Record, check_record, load_case, read_modal_model, read_record,
                      write_record)
     from .models import (Crowd, ForceModel, MeasuredForce, ModalModel, MSDModel, WalkingForce,

@@ -9,7 +9,7 @@ A resumable study also names *store* directories (its task stores): the task fil
 there one by one, while it runs, are owned without being listed, so a study killed before its
 manifest was completed can still be resumed or replaced. A task file proves itself: it is
 crowdvib's only while its content matches the SHA-256 written into it
-(:func:`crowdvib.identification.tasks.read_task_file`); any other file in a store, a user's
+(:func:`crowdvib.runner.tasks.read_task_file`); any other file in a store, a user's
 ``*.json`` included, is foreign to ``--force``. Only ``--resume`` rewrites a damaged or edited
 file named as a task file (its name is a digest of its task's key, which crowdvib chose),
 computing its task again with a warning naming it. The temporaries of a store's atomic writes
@@ -101,14 +101,14 @@ def _in_store(relative, stores):
 
 #: The temporary of an atomic write of a task file (src/crowdvib/_files.py atomic_path).
 _TEMPORARY = re.compile(r"\.[0-9a-f]+\.json\.[A-Za-z0-9_]+\.part")
-#: A task file's name (src/crowdvib/identification/tasks.py _file_name).
+#: A task file's name (src/crowdvib/runner/tasks.py _file_name).
 _TASK_NAME = re.compile(r"[0-9a-f]{16}\.json")
 
 
 def _owned_store_file(directory, relative, stores, resume=False):
     """None if ``relative`` is not in a store, else whether crowdvib may replace it: it provably
     wrote it, or (``resume``) it is named as a task file, which a resumed study recomputes."""
-    from .identification.tasks import read_task_file
+    from .runner.tasks import read_task_file
 
     if not _in_store(relative, stores):
         return None

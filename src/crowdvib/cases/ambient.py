@@ -25,7 +25,7 @@ class AmbientModes(AsResults):
     records : list of Record
         One per setup.
     options : dict
-        The keyword arguments of :func:`~crowdvib.identification.identify_modes` it used.
+        The keyword arguments of :func:`~crowdvib.oma.identify_modes` it used.
     modes : ModeIdentification
         The identified modes (with the cross-check and the setups, if any).
     structure : ModalModel or None
@@ -67,7 +67,7 @@ def identify_ambient(path, *, cross_check: bool = False) -> AmbientModes:
     """
     import time
 
-    from ..identification.oma import identify_modes
+    from ..oma.identify import identify_modes
     from ..io.ambient import read_ambient
 
     name, records, options, spec = read_ambient(path)

@@ -278,7 +278,7 @@ def msd_interval(results) -> dict | None:
     """The box of f_h1 and ξ_h1 an estimate's results allow (issue 27 §3).
 
     The results of ``crowdvib sensitivity`` give the statistical interval widened by the
-    modelling bound (``combined``, :meth:`~crowdvib.identification.SensitivityResult.combined`),
+    modelling bound (``combined``, :meth:`~crowdvib.studies.SensitivityResult.combined`),
     those of ``crowdvib estimate`` the statistical interval (``estimate.interval``). A parameter
     without an interval (held in the estimation) stays at its estimate.
 
@@ -367,7 +367,7 @@ def check_over_interval(case: Case, results: dict, *, grid: int = 3) -> Interval
         The ``results.json`` of ``crowdvib estimate`` or ``sensitivity`` (:func:`estimated_msd`).
     grid : int
         Points per parameter, at least 2 (the corners). The utilisation of the paper example is
-        monotone in each parameter (tests/integration/test_check_interval.py), so the corners
+        monotone in each parameter (tests/cli/test_check_interval.py), so the corners
         bound it; 3 also checks the monotony (``rows[...]["monotone"]``).
 
     Returns

@@ -389,7 +389,7 @@ def map_case(case: Case, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
     frequencies, damping_ratios : array_like
         The grid of f_h1 [Hz] and ξ_h1 [-] (docs: :ref:`theory-objective-map`).
     progress : callable, optional
-        ``progress(done, total)`` [grid points], as :func:`~crowdvib.identification.objective_map`.
+        ``progress(done, total)`` [grid points], as :func:`~crowdvib.studies.objective_map`.
     max_seconds : float, optional
         Refuse a grid estimated to take longer.
 
@@ -400,7 +400,7 @@ def map_case(case: Case, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
     import time
 
     from ..identification.estimation import estimate_hsi
-    from ..identification.landscape import objective_map
+    from ..studies.landscape import objective_map
 
     measurement = measure_case(case)
     crowd, step = case_crowd(case, measurement.record)

@@ -64,7 +64,7 @@ def _identified_levels(directory):
     import json
 
     from ..errors import DataError
-    from ..identification.oma import identified_error_levels
+    from ..oma.identify import identified_error_levels
 
     path = require_file(Path(directory) / "results.json", "crowdvib modes results")
     try:
@@ -126,8 +126,8 @@ def run(args):
 def _study(args, case, levels):
     from ..cases import case_crowd, estimate_options, measure_case
     from ..reporting.plotting import plot_estimation_errors, save_figure
-    from ..identification import (TaskStore, modelling_error_study, record_length_study,
-                                  study_executor)
+    from ..runner import TaskStore, study_executor
+    from ..studies import modelling_error_study, record_length_study
 
     stamp = provenance(case.path)
     out = prepare_output(args.out, force=args.force, resume=args.resume,

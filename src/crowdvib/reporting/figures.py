@@ -121,7 +121,7 @@ def _draw_convergence(results, level):
 def _draw_map(results):
     from ..models.pedestrian import MSDModel
     from .plotting import figure_bytes, plot_objective_map
-    from ..identification.landscape import ObjectiveMap
+    from ..studies.landscape import ObjectiveMap
 
     data = get(results, ("objective_map",), ("map",))
     if not isinstance(data, dict) or "cost" not in data:

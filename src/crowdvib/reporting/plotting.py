@@ -1,7 +1,8 @@
 """Figures, all importable from here; each is defined in the layer of the results it draws, so
 that a result's ``plot()`` draws without importing this edge layer: spectra in
 :mod:`crowdvib.signals.plots`, the forward models' figures in :mod:`crowdvib.response.plots`,
-the identification's in :mod:`crowdvib.identification.plots`, what they share in
+the identification's in :mod:`crowdvib.identification.plots`, the studies' in
+:mod:`crowdvib.studies.plots`, what they share in
 :mod:`crowdvib._figures`.
 
 Every function takes result objects and an optional ``ax``, labels axes with units, returns the
@@ -9,8 +10,8 @@ Axes and never calls ``plt.show()``; matplotlib is imported only when a plot is 
 """
 
 from .._figures import FigureAxes, figure_bytes, save_figure
-from ..identification.plots import (plot_estimation_errors, plot_objective_map,
-                                    plot_parametric_ratios, plot_psd_residuals)
+from ..identification.plots import plot_psd_residuals
+from ..studies.plots import plot_estimation_errors, plot_objective_map, plot_parametric_ratios
 from ..response.plots import plot_frf, plot_hsi_effect, plot_load_psd, plot_time_history
 from ..signals.plots import plot_psd_comparison, plot_psd_convergence
 

@@ -56,7 +56,7 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
     -----
     Every record is returned, so memory grows with seeds × duration (a one-hour record of one
     output at 100 Hz holds 3.6 MB: 10 000 of them 36 GB). For a large study use
-    :func:`crowdvib.identification.monte_carlo`, which reduces each record to a summary as it
+    :func:`crowdvib.studies.monte_carlo`, which reduces each record to a summary as it
     goes, in resumable batches on any executor; for one long record whose spectrum is all
     that is wanted, :func:`crowdvib.simulate_psd`.
     """

@@ -1,0 +1,16 @@
+"""Studies that test an identification's answer, run as independent tasks (:mod:`crowdvib.runner`).
+
+``landscape`` (the objective on a grid: :func:`objective_map`), ``modelling_error`` (the
+modelling-error and record-length studies), ``parametric`` (the paper's parametric study) and
+``monte_carlo`` (seeded simulated records in batches, their statistics); ``plots`` draws them.
+"""
+
+from .landscape import ObjectiveMap, objective_map
+from .modelling_error import (PAPER_ERROR_LEVELS, ErrorCase, SensitivityResult,
+                              modelling_error_study, record_length_study)
+from .monte_carlo import monte_carlo, record_statistics
+from .parametric import ParametricResult, parametric_study
+
+__all__ = ["objective_map", "ObjectiveMap", "modelling_error_study", "ErrorCase",
+           "SensitivityResult", "record_length_study", "parametric_study", "ParametricResult",
+           "PAPER_ERROR_LEVELS", "monte_carlo", "record_statistics"]

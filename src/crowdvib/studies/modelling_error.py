@@ -1,0 +1,409 @@
+"""Trust in the estimate: estimation errors from modelling errors and from record length.
+
+* :func:`modelling_error_study` re-estimates the MSD parameters with the inputs the method assumes
+  known perturbed (structural frequencies ε_f, damping ratios ε_ξ, modal masses ε_m, mean and
+  standard deviation of the step frequencies ε_μfs, ε_σfs), individually and jointly, and turns the
+  spread into the paper's "nominal ± bound" (paper Figs. 11 and 19).
+* :func:`record_length_study` re-estimates on the first k·T seconds of the record.
+
+Studies are lists of independent, deterministic tasks run by
+:func:`crowdvib.runner.tasks.run_tasks`, in this process or on an executor (see
+:mod:`crowdvib.runner.engine`), each finished task kept under a key made from its content
+in a :class:`~crowdvib.runner.tasks.TaskStore`: same inputs, same result, on any executor.
+"""
+
+import itertools
+import warnings
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .._estimators import DEFAULT_METHOD
+from .._validation import as_float_array, check_positive
+from ..errors import BoundWarning, CrowdvibError, ParameterError
+from ..identification.estimation import estimate_hsi
+from ..runner.tasks import run_tasks
+
+__all__ = ["ErrorCase", "SensitivityResult", "modelling_error_study", "record_length_study",
+           "error_cases", "PAPER_ERROR_LEVELS"]
+
+
+#: Modelling-error levels of the Eeklo and Waalse Krook studies (paper; docs: theory, The paper's case studies):
+#: parameter → (lower level, higher level), as fractions.
+PAPER_ERROR_LEVELS = {"frequencies": (0.01, 0.05), "damping_ratios": (0.10, 0.30),
+                      "modal_masses": (0.02, 0.05), "step_frequency_mean": (0.02, 0.05),
+                      "step_frequency_std": (0.02, 0.05)}
+_STRUCTURE_PARAMETERS = ("frequencies", "damping_ratios", "modal_masses")
+_CROWD_PARAMETERS = ("step_frequency_mean", "step_frequency_std")
+
+
+# ------------------------------------------------------------------------------ error cases
+#: The assumed-known inputs a study perturbs, in words (CLI tables, report, figures).
+PARAMETER_WORDS = {"frequencies": "structural frequency", "damping_ratios": "structural damping",
+                   "modal_masses": "modal mass", "step_frequency_mean": "mean step frequency",
+                   "step_frequency_std": "step-frequency spread"}
+
+
+@dataclass(frozen=True)
+class ErrorCase:
+    """One perturbation of the assumed-known inputs.
+
+    Attributes
+    ----------
+    name : str
+        Unique label, e.g. ``"frequencies+0.05"`` or ``"joint+-+-+@0.05"``.
+    perturbations : tuple of (str, float)
+        Parameter → relative error ε (fraction, signed), e.g. (("frequencies", 0.05),).
+    level : int
+        Index of the error level (0 = lower, 1 = higher).
+    kind : str
+        ``"individual"``, ``"joint"`` or ``"nominal"``.
+    """
+
+    name: str
+    perturbations: tuple
+    level: int = 0
+    kind: str = "individual"
+
+    @property
+    def label(self):
+        """The case in words, e.g. "structural frequency +5 %", "joint, level 2 (+ − + − +)"."""
+        if self.kind == "nominal":
+            return "nominal (no modelling error)"
+        if self.kind == "joint":
+            signs = " ".join("+" if value > 0 else "−" for _, value in self.perturbations)
+            return f"joint, level {self.level + 1} ({signs})"
+        (name, value), = self.perturbations
+        return f"{PARAMETER_WORDS[name]} {'+' if value > 0 else '−'}{100 * abs(value):g} %"
+
+    def apply(self, structure, crowd):
+        """The structure and crowd with this case's relative errors applied."""
+        changes = dict(self.perturbations)
+        structure_changes = {name: getattr(structure, name) * (1 + changes[name])
+                             for name in _STRUCTURE_PARAMETERS if name in changes}
+        crowd_changes = {name: getattr(crowd, name) * (1 + changes[name])
+                         for name in _CROWD_PARAMETERS if name in changes}
+        return (structure.replace(**structure_changes) if structure_changes else structure,
+                replace(crowd, **crowd_changes) if crowd_changes else crowd)
+
+
+def error_cases(levels=None, *, joint=True, signs=(+1, -1)):
+    """The individual and joint error cases of a study (paper Figs. 5, 6, 11).
+
+    Individual: each parameter at each level and sign. Joint: every parameter at the same level
+    with every combination of signs (2⁵ per level), whose worst case is the joint bound.
+    """
+    levels = dict(PAPER_ERROR_LEVELS if levels is None else levels)
+    for name, values in levels.items():
+        if name not in _STRUCTURE_PARAMETERS + _CROWD_PARAMETERS:
+            raise ParameterError(
+                f"levels keys must be among {list(_STRUCTURE_PARAMETERS + _CROWD_PARAMETERS)}, "
+                f"got {name!r}")
+        check_positive(f"levels[{name!r}]", values)
+    n_levels = {len(np.atleast_1d(v)) for v in levels.values()}
+    if len(n_levels) != 1:
+        raise ParameterError(f"levels must give the same number of levels per parameter, got {levels}")
+    n_levels = n_levels.pop()
+    cases = [ErrorCase("nominal", (), 0, "nominal")]
+    for index in range(n_levels):
+        for name, values in levels.items():
+            epsilon = float(np.atleast_1d(values)[index])
+            for sign in signs:
+                cases.append(ErrorCase(f"{name}{sign * epsilon:+g}", ((name, sign * epsilon),),
+                                       index, "individual"))
+        if joint:
+            names = list(levels)
+            for combination in itertools.product((+1, -1), repeat=len(names)):
+                label = "".join("+" if s > 0 else "-" for s in combination)
+                perturbations = tuple((n, s * float(np.atleast_1d(levels[n])[index]))
+                                      for n, s in zip(names, combination))
+                cases.append(ErrorCase(f"joint{label}@level{index}", perturbations, index,
+                                       "joint"))
+    return cases
+
+
+# ------------------------------------------------------------------------------ study
+@dataclass(frozen=True)
+class _EstimationTask:
+    """Everything one re-estimation needs, in one picklable object."""
+
+    measured: object
+    structure: object
+    crowd: object
+    case: ErrorCase
+    options: tuple
+
+
+def _estimate_task(task):
+    structure, crowd = task.case.apply(task.structure, task.crowd)
+    with warnings.catch_warnings():
+        # An active bound is reported in the result; a warning per task would only be noise.
+        warnings.simplefilter("ignore", BoundWarning)
+        # Each task's point estimate is what a study compares; its interval would only cost.
+        estimate = estimate_hsi(task.measured, structure, crowd, interval=None,
+                                **dict(task.options))
+    return {"frequency": estimate.msd.frequency, "damping_ratio": estimate.msd.damping_ratio,
+            "mass_ratio": estimate.msd.mass_ratio, "cost": estimate.cost,
+            "relative_cost": estimate.relative_cost, "success": estimate.success,
+            "active_bounds": list(estimate.active_bounds)}
+
+
+#: Keys of every result of :func:`_estimate_task` (a stored one lacking any is computed again).
+_ESTIMATE_FIELDS = ("frequency", "damping_ratio", "mass_ratio", "cost", "relative_cost",
+                    "success", "active_bounds")
+
+
+@dataclass(frozen=True, eq=False)
+class SensitivityResult:
+    """Estimation errors caused by modelling errors (paper Figs. 11 and 19).
+
+    Attributes
+    ----------
+    nominal : dict
+        The estimate with the nominal inputs (``frequency``, ``damping_ratio``, ...).
+    cases : tuple of dict
+        Per error case: ``name``, ``kind``, ``level``, ``perturbations``, the estimate, and
+        ``delta_frequency``/``delta_damping_ratio``, the estimation error Δ [%] relative to the
+        nominal estimate (or ``error`` if the case failed).
+    levels : dict
+        The error levels used, parameter → fractions.
+    """
+
+    nominal: dict
+    cases: tuple
+    levels: dict = field(default_factory=dict)
+
+    def bound(self, level=None):
+        """Joint bound: the largest |Δ| [%] of the joint cases (all cases if none), per parameter.
+
+        Parameters
+        ----------
+        level : int, optional
+            Error level index (default the highest).
+        """
+        done = [c for c in self.cases if "error" not in c and c["kind"] != "nominal"]
+        if not done:
+            return {"frequency": np.nan, "damping_ratio": np.nan}
+        level = max(c["level"] for c in done) if level is None else level
+        chosen = [c for c in done if c["level"] == level and c["kind"] == "joint"] or \
+                 [c for c in done if c["level"] == level]
+        return {"frequency": max(abs(c["delta_frequency"]) for c in chosen),
+                "damping_ratio": max(abs(c["delta_damping_ratio"]) for c in chosen)}
+
+    def individual_effect(self, parameter, level=None):
+        """Largest |Δ| [%] of the individual cases of one parameter, per estimated parameter."""
+        chosen = [c for c in self.cases if c["kind"] == "individual" and "error" not in c
+                  and c["perturbations"][0][0] == parameter
+                  and (level is None or c["level"] == level)]
+        return {"frequency": max(abs(c["delta_frequency"]) for c in chosen),
+                "damping_ratio": max(abs(c["delta_damping_ratio"]) for c in chosen)}
+
+    def summary(self, level=None):
+        """The paper's final result: nominal ± joint bound, in units of the parameters."""
+        bound = self.bound(level)
+        return {name: {"nominal": self.nominal[name],
+                       "bound": self.nominal[name] * bound[name] / 100.0,
+                       "bound_percent": bound[name]}
+                for name in ("frequency", "damping_ratio")}
+
+    def combined(self, estimate, level=None):
+        """The statistical interval of ``estimate`` and the modelling bound, together.
+
+        Rule (docs: theory, Statistical uncertainty of an estimate): the statistical interval
+        [low, high] of the nominal estimate, widened on each side by the joint modelling bound B:
+        [low − B, high + B], kept within the search bounds. The paper's bound is the worst case
+        over combinations of input errors, not a standard deviation, so it adds to the interval
+        rather than in quadrature.
+
+        Parameters
+        ----------
+        estimate : HSIEstimate
+            The nominal estimate with its interval (``interval="profile"`` or ``"wald"``).
+        level : float, optional
+            Modelling-error level of the bound (default the highest).
+
+        Returns
+        -------
+        dict
+            Parameter → ``interval`` [low, high], ``bound`` B, ``combined`` [low − B, high + B],
+            and ``level`` (confidence level of the statistical interval).
+        """
+        summary = self.summary(level)
+        result = {}
+        for name, row in summary.items():
+            low, high = estimate.interval(name, estimate.interval_level)
+            floor, ceiling = estimate.bounds[name]        # a widened end stays physical
+            result[name] = {"interval": [low, high], "bound": row["bound"],
+                            "combined": [max(low - row["bound"], floor),
+                                         min(high + row["bound"], ceiling)],
+                            "level": estimate.interval_level}
+        return result
+
+    def plot(self, *, axes=None, title=None):
+        """Draw Δ per error case (see :func:`crowdvib.reporting.plotting.plot_estimation_errors`)."""
+        from .plots import plot_estimation_errors
+
+        return plot_estimation_errors(self, axes=axes, title=title)
+
+    def to_dict(self):
+        """JSON-ready dict."""
+        return {"nominal": self.nominal, "cases": list(self.cases),
+                "levels": {k: list(np.atleast_1d(v)) for k, v in self.levels.items()},
+                "summary": self.summary()}
+
+
+def modelling_error_study(measured, structure, crowd, *, band, levels=None, joint=True,
+                          executor=None, store=None, progress=None, outputs=None,
+                          output_weights=None, frequency_weights=None, starts=None, bounds=None,
+                          mass_ratio=0.95, force=None, match_welch=True, method=DEFAULT_METHOD,
+                          crowd_model=None, free_step_frequencies=None):
+    """Estimation error caused by plausible modelling errors (paper Figs. 11 and 19).
+
+    The estimate is repeated with the assumed-known inputs perturbed by ±ε, one parameter at a
+    time and all jointly, at each level; Δ = (θ̂_case − θ̂_nominal)/θ̂_nominal [%].
+
+    Parameters
+    ----------
+    measured, structure, crowd, band
+        As in :func:`crowdvib.estimate_hsi`.
+    levels : dict, optional
+        Parameter → relative error levels (fractions); default the paper's
+        ``PAPER_ERROR_LEVELS`` (ε_f 1/5 %, ε_ξ 10/30 %, ε_m 2/5 %, ε_μfs = ε_σfs 2/5 %).
+    joint : bool
+        Include the joint cases (2⁵ sign combinations per level).
+    executor : concurrent.futures.Executor, optional
+        Where to run the estimations (default serially in this process).
+    store : TaskStore or path, optional
+        Where finished tasks are kept under keys made from their inputs; a study given the same
+        store resumes, recomputing only the tasks whose inputs changed.
+    progress : callable, optional
+        ``progress(done, total)``.
+    outputs, output_weights, frequency_weights, starts, bounds, mass_ratio, force, match_welch
+    method, crowd_model, free_step_frequencies
+        Passed to :func:`crowdvib.estimate_hsi` (its defaults: the likelihood with the
+        fluctuating crowd and the step frequencies fitted, whose ε_μfs and ε_σfs cases then
+        only move the fit's start).
+
+    Returns
+    -------
+    SensitivityResult
+    """
+    options = (("band", tuple(band)), ("outputs", outputs), ("output_weights", output_weights),
+               ("frequency_weights", frequency_weights), ("starts", starts), ("bounds", bounds),
+               ("mass_ratio", mass_ratio), ("force", force), ("match_welch", match_welch),
+               ("method", method), ("crowd_model", crowd_model),
+               ("free_step_frequencies", free_step_frequencies))
+    cases = error_cases(levels, joint=joint)
+    tasks = [(case.name, _EstimationTask(measured, structure, crowd, case, options))
+             for case in cases]
+    results = run_tasks(_estimate_task, tasks, executor=executor, store=store, progress=progress,
+                        fields=_ESTIMATE_FIELDS)
+    nominal = results["nominal"]
+    if "error" in nominal:
+        raise CrowdvibError(f"the nominal estimation failed: {nominal['error']}")
+    rows = []
+    for case in cases:
+        row = {"name": case.name, "label": case.label, "kind": case.kind, "level": case.level,
+               "perturbations": [list(p) for p in case.perturbations], **results[case.name]}
+        if "error" not in row:
+            row["delta_frequency"] = 100.0 * (row["frequency"] / nominal["frequency"] - 1.0)
+            row["delta_damping_ratio"] = 100.0 * (row["damping_ratio"]
+                                                  / nominal["damping_ratio"] - 1.0)
+        rows.append(row)
+    return SensitivityResult(nominal=nominal, cases=tuple(rows),
+                             levels=dict(PAPER_ERROR_LEVELS if levels is None else levels))
+
+
+# ------------------------------------------------------------------------------ record length
+@dataclass(frozen=True)
+class _WindowCountTask:
+    signals: np.ndarray              # the record's first ``duration`` seconds
+    sample_rate: float
+    duration: float
+    window_length: float
+    output_names: tuple
+    lowpass: object
+    structure: object
+    crowd: object
+    options: tuple
+
+
+def _window_count_task(task):
+    from ..signals import welch_psd
+
+    measured = welch_psd(task.signals, task.sample_rate,
+                         window_length=task.window_length, output_names=task.output_names,
+                         lowpass=task.lowpass)
+    result = _estimate_task(_EstimationTask(measured, task.structure, task.crowd,
+                                            ErrorCase("nominal", ()), task.options))
+    result["n_windows"] = measured.n_windows
+    result["duration"] = task.duration
+    return result
+
+
+def record_length_study(signals, sample_rate, structure, crowd, *, window_length, band,
+                        durations=None, output_names=None, lowpass=None, executor=None,
+                        store=None, progress=None, **options):
+    """Estimation error from PSD convergence: re-estimate on the first k·T seconds of the record.
+
+    The paper does this for Waalse Krook (8 windows of 60 s): the estimate from fewer windows,
+    relative to the estimate from the whole record, shows how much the unconverged PSD moves it.
+
+    Parameters
+    ----------
+    signals : array_like, shape (n_outputs, n_samples)
+        Accelerations [m/s²] (already cut, detrended, resampled).
+    sample_rate : float
+        [Hz].
+    structure, crowd, band
+        As in :func:`crowdvib.estimate_hsi`.
+    window_length : float
+        Welch segment T [s].
+    durations : sequence of float, optional
+        Record lengths [s] to use; default k·T for up to eight k from 2 to n_T (and the whole
+        record).
+    output_names : sequence of str, optional
+        Channel names (default the structure's outputs).
+    lowpass : LowPassFilter, optional
+    executor, store, progress
+        As in :func:`modelling_error_study`.
+    **options
+        Further keyword arguments of :func:`crowdvib.estimate_hsi` (outputs, output_weights,
+        starts, bounds, mass_ratio).
+
+    Returns
+    -------
+    list of dict
+        Per duration: ``duration`` [s], ``n_windows``, the estimate and ``delta_frequency``,
+        ``delta_damping_ratio`` [%] relative to the whole record.
+    """
+    signals = np.atleast_2d(as_float_array("signals", signals))
+    sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
+    total = signals.shape[1] / sample_rate
+    if durations is None:
+        # k·T for up to eight window counts k, spaced geometrically from 2 to n_T: all of them
+        # for a short record (Waalse Krook: 8 windows), a readable curve for a long one.
+        count = int(total // window_length)
+        counts = np.unique(np.round(np.geomspace(2, max(count, 2), 8)).astype(int))
+        durations = [k * window_length for k in counts if k <= count]
+    durations = sorted(set(float(d) for d in durations if d <= total) | {total})
+    names = tuple(output_names or structure.output_names)
+    settings = (("band", tuple(band)),) + tuple(sorted(options.items()))
+    # Each task holds only the samples it uses: its key then changes only if they do, and no
+    # worker is sent the whole record for a short part of it.
+    tasks = [(f"duration={d:.6g}",
+              _WindowCountTask(signals[:, :int(round(d * sample_rate))], sample_rate, d,
+                               window_length, names, lowpass, structure, crowd, settings))
+             for d in durations]
+    results = run_tasks(_window_count_task, tasks, executor=executor, store=store,
+                        progress=progress, fields=_ESTIMATE_FIELDS + ("n_windows", "duration"))
+    full = results[tasks[-1][0]]
+    rows = []
+    for key, _ in tasks:
+        row = dict(results[key])
+        if "error" not in row and "error" not in full:
+            row["delta_frequency"] = 100.0 * (row["frequency"] / full["frequency"] - 1.0)
+            row["delta_damping_ratio"] = 100.0 * (row["damping_ratio"]
+                                                  / full["damping_ratio"] - 1.0)
+        rows.append(row)
+    return rows
