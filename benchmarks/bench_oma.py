@@ -31,7 +31,7 @@ import numpy as np
 from crowdvib import identify_modes
 
 # The case of the tests: their bridge, ambient load and walkers, imported so they cannot drift.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "unit"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "oma"))
 from test_oma import (  # noqa: E402
     DAMPING,
     DURATION,
