@@ -3,7 +3,7 @@
 Gaussian records with the paper example's PSD (truth 3.0 Hz, 0.30): the bootstrap's scatter must
 agree with the sandwich covariance, an independent derivation of the same quantity
 (docs: theory, Sandwich covariance), and the replicates must be reproducible from their seed.
-The coverage over 200 records is measured by ``benchmarks/bench_intervals.py bootstrap``.
+The coverage over 200 records is measured by ``accuracy/intervals.py bootstrap``.
 """
 
 import warnings

@@ -46,7 +46,7 @@ def record_psd():
 def _estimate(measured, bridge, crowd, **options):
     # The records hold the smeared model's PSD at the true crowd: each estimator fits that model
     # with the crowd held (the default's fluctuating model and fitted step frequencies are
-    # calibrated on simulated records: benchmarks/bench_intervals.py, docs: theory, Calibration).
+    # calibrated on simulated records: accuracy/intervals.py, docs: theory, Calibration).
     options = dict(dict(crowd_model="smeared", free_step_frequencies=False), **options)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)

@@ -4,7 +4,7 @@
 Records are Gaussian with the model's cross-spectral matrix (gaussian_cross_record), so their
 Welch cross-spectral matrices carry exactly the complex-Wishart scatter and the bin correlation
 of a measurement of a stationary crowd; the truth is the MSD that made them (3.0 Hz, 0.30, 0.95).
-``benchmarks/bench_wishart.py`` runs the same comparison over 200 records per case.
+``accuracy/wishart.py`` runs the same comparison over 200 records per case.
 """
 
 import dataclasses

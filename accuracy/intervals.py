@@ -11,7 +11,7 @@ Both estimators (paper least squares, Whittle likelihood), each with the smeared
 fluctuating crowd model of the expected PSD, are run on the same records. Prints a table:
 coverage of the truth by the 95 % profile interval per parameter, mean error with its 95 %
 interval, the standard deviation per record and the mean interval width, plus time per
-estimate. Usage: ``python benchmarks/bench_intervals.py [gaussian|simulated] [N] [density]
+estimate. Usage: ``python accuracy/intervals.py [gaussian|simulated] [N] [density]
 [paper|fluctuating|fluctuating-likelihood|fluctuating-least-squares|free|likelihood|least_squares]
 [--workers W] [--hours H] [--step-error E] [--density-error E]`` (``default``: the paper's
 least squares and the likelihood with the fluctuating model and fitted step frequencies;
@@ -25,9 +25,9 @@ estimator's finite-sample bias, one that stays is a model error)
 (density in persons/m², default the paper's 0.5; walking speed from Weidmann's relation;
 ``--step-error`` and ``--density-error``: relative errors in the crowd the estimator is told,
 the records being made with the true one).
-``python benchmarks/bench_intervals.py mean [N] [density] [--hours H]`` estimates on the mean
+``python accuracy/intervals.py mean [N] [density] [--hours H]`` estimates on the mean
 Welch PSD of the N simulated records (model error against finite-sample bias).
-``python benchmarks/bench_intervals.py bootstrap [N] [density] [n_boot] [first]`` checks the
+``python accuracy/intervals.py bootstrap [N] [density] [n_boot] [first]`` checks the
 parametric bootstrap of least squares (percentile intervals, smeared model) on N Gaussian records
 (seeds from ``first``).
 With the environment variable ``CROWDVIB_RECORD_CACHE`` set to a directory, the simulated

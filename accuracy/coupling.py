@@ -10,7 +10,7 @@ standard error over the records) against the correction's prediction, then the l
 least squares fitted to that mean PSD with and without the correction (model error alone: the
 finite-sample scatter is divided by √N).
 
-Usage: ``python benchmarks/bench_coupling.py [N] [case …]`` (default 60 records, every case;
+Usage: ``python accuracy/coupling.py [N] [case …]`` (default 60 records, every case;
 cases ``A`` … ``E`` as in CASES). With ``CROWDVIB_RECORD_CACHE`` set to a directory the records'
 Welch PSDs are kept there and reused.
 """

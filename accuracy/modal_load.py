@@ -8,7 +8,7 @@ the simulator without HSI for N seeded hours, records the modal load, and prints
 over the model's per frequency band (± one standard error over the hours): a tilt across the
 occupied resonance would move an estimate of f_h1.
 
-Usage: ``python benchmarks/bench_modal_load.py [density] [hours]`` (defaults 0.5 P/m², 100 h).
+Usage: ``python accuracy/modal_load.py [density] [hours]`` (defaults 0.5 P/m², 100 h).
 """
 
 import sys
@@ -17,7 +17,7 @@ import time
 import numpy as np
 from scipy.signal import welch
 
-from bench_intervals import BRIDGE, paper_crowd     # the calibration's bridge and crowds
+from intervals import BRIDGE, paper_crowd     # the calibration's bridge and crowds
 
 from crowdvib import simulate
 from crowdvib.models.loading import as_force_model

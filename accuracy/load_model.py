@@ -14,7 +14,7 @@ model (docs: theory, Measured walking forces):
 
 Per density, load model and estimator it prints the mean relative error of f_h1 and ξ_h1 with the
 95 % interval of the mean over the seeds (t-free: ±1.96 s/√n), and the scatter per record.
-Usage: ``python benchmarks/bench_load_model.py [N] [densities, comma-separated]
+Usage: ``python accuracy/load_model.py [N] [densities, comma-separated]
 [load models, comma-separated] [methods]`` (defaults 10, "0.25,0.5,1.0", all, both).
 """
 

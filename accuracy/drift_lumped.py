@@ -16,7 +16,7 @@ variance and correlation (spectral synthesis; clipped at 0), the correction's ow
 the mixture is taken over that Gaussian law (15 Gauss–Hermite nodes): what then remains between
 the two columns is the pole's linearisation about the mean path and the single-pole picture.
 
-Usage: ``python benchmarks/bench_drift_lumped.py [case] [hours] [seed] [--gaussian]``; cases
+Usage: ``python accuracy/drift_lumped.py [case] [hours] [seed] [--gaussian]``; cases
 ``paper`` (0.25 P/m², κ = 0.42), ``light`` (20 m bridge, 48 walkers of 17.5 kg, κ = 0.42) and
 ``strong`` (20 m bridge, 12 walkers of 70 kg, κ = 1.38).
 """
@@ -29,8 +29,8 @@ import numpy as np
 from scipy.linalg import expm
 from scipy.signal import welch
 
-from bench_coupling import case as coupling_case          # the 20 m bridge's cases
-from bench_intervals import BRIDGE, paper_crowd           # the paper example's
+from coupling import case as coupling_case          # the 20 m bridge's cases
+from intervals import BRIDGE, paper_crowd           # the paper example's
 
 from crowdvib import MSDModel
 from crowdvib.response._modulation import (OccupancyPath, _OccupiedMode, modulation_correction,
@@ -43,7 +43,7 @@ BANDS = ((-8, -4), (-4, -2), (-2, -1), (-1, 1), (1, 2), (2, 4), (4, 8))
 
 
 def case(name):
-    """(bridge, crowd): the paper example's at 0.25 P/m², or bench_coupling's case A (light,
+    """(bridge, crowd): the paper example's at 0.25 P/m², or coupling.py's case A (light,
     κ = 0.42) or D (strong, κ = 1.38)."""
     if name == "paper":
         return BRIDGE, paper_crowd(0.25)

@@ -15,7 +15,7 @@ message). With ``--against SRC`` it runs the same tests against another crowdvib
 * ``foreign``: an exception that is not crowdvib's (its class is listed);
 * ``not comparable``: the test needs a name the older tree does not have.
 
-Usage: ``python benchmarks/bad_input_catalogue.py [--against SRC]``. Prints tables; asserts nothing.
+Usage: ``python accuracy/bad_input_catalogue.py [--against SRC]``. Prints tables; asserts nothing.
 """
 
 import argparse

@@ -13,7 +13,7 @@ then the right one: if it reads the truth on these records, the simulator's stre
 model assumes and the Poisson bias belongs to the fluctuation (the fluctuating model); if it does
 not, the cause is elsewhere in the stream or the physics.
 
-Usage: ``python benchmarks/bench_arrivals.py [N] [density] [--workers W]``: N one-hour records
+Usage: ``python accuracy/arrivals.py [N] [density] [--workers W]``: N one-hour records
 (seeds 1 … N) with fixed-interval arrivals; per record the likelihood and least squares with the
 smeared and the fluctuating model at the true crowd (coverage, mean error with its 95 %
 interval), then the estimates on the records' mean Welch PSD (the model error alone).
@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from bench_intervals import (BRIDGE, MSD, _table, estimates_of, mean_psd, paper_crowd,
+from intervals import (BRIDGE, MSD, _table, estimates_of, mean_psd, paper_crowd,
                              print_mean_estimates)
 from crowdvib import LowPassFilter, simulate, welch_psd
 from crowdvib.runner import study_executor

@@ -10,10 +10,10 @@ errors do not add in quadrature). Each band is compared with the fluctuating mod
 walkers' finite crossings (the default) and with the narrow-band load; with HSI, the MSD is then
 estimated on the records' mean PSD (the model's own error, free of the estimators' scatter).
 
-    python benchmarks/bench_walking_speed.py SPEED [N] [--no-hsi]
-    python benchmarks/bench_walking_speed.py calibration [N]
+    python accuracy/walking_speed.py SPEED [N] [--no-hsi]
+    python accuracy/walking_speed.py calibration [N]
 
-``calibration``: the records of ``bench_intervals.py simulated N 0.25`` (Weidmann's speed,
+``calibration``: the records of ``intervals.py simulated N 0.25`` (Weidmann's speed,
 100 s of warm-up; its cache is shared).
 
 With ``CROWDVIB_RECORD_CACHE`` set, the records' Welch PSDs are kept there and reused.
@@ -30,7 +30,7 @@ from crowdvib import BoundWarning, Crowd, LowPassFilter, estimate_hsi, simulate,
 from crowdvib.response import FluctuatingSpectralModel
 
 sys.path.insert(0, os.path.dirname(__file__))
-from bench_intervals import (BRIDGE, MSD, mean_psd, paper_crowd,  # noqa: E402
+from intervals import (BRIDGE, MSD, mean_psd, paper_crowd,  # noqa: E402
                              simulated_record)
 
 BANDS = ((0.3, 1.0), (1.5, 1.8), (1.8, 1.9), (1.9, 2.05), (2.05, 2.3), (3.5, 6.0))
@@ -104,7 +104,7 @@ def main(speed, n=30, hsi=True):
 def calibration(n=200):
     crowd = paper_crowd(0.25)
     psds = [simulated_record(crowd, seed) for seed in range(1, n + 1)]
-    print(f"0.25 P/m², the {n} one-hour records of bench_intervals.py (seeds 1…{n}), true MSD: "
+    print(f"0.25 P/m², the {n} one-hour records of intervals.py (seeds 1…{n}), true MSD: "
           "mean simulated / fluctuating model")
     band_table(psds, crowd, MSD)
     mean_fit(psds, crowd)

@@ -24,8 +24,8 @@ Cases (truth f_h1 = 3.0 Hz, ξ_h1 = 0.30, μ_h1 = 0.95):
 Prints, per case and estimator, the coverage of the truth by the 95 % profile interval, the mean
 error with its 95 % interval, the standard deviation per record, the mean interval width (all
 relative to the truth) and the time per estimate. Usage:
-``python benchmarks/bench_wishart.py [paper|beam3|eeklo|eeklo_quarter] [N] [first seed]``;
-``python benchmarks/bench_wishart.py timing`` times one estimate per case and estimator.
+``python accuracy/wishart.py [paper|beam3|eeklo|eeklo_quarter] [N] [first seed]``;
+``python accuracy/wishart.py timing`` times one estimate per case and estimator.
 """
 
 import dataclasses
@@ -37,7 +37,7 @@ import warnings
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_intervals import CROWD, MSD, TRUTH, _table  # noqa: E402
+from intervals import CROWD, MSD, TRUTH, _table  # noqa: E402
 
 from crowdvib import BoundWarning, ModalModel, SpectralModel, estimate_hsi, welch_psd  # noqa: E402
 from crowdvib.io.casefile import load_case  # noqa: E402
