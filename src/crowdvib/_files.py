@@ -7,13 +7,12 @@ import contextlib
 import datetime
 import errno
 import json
+import math
 import os
 import socket
 import sys
 import tempfile
 from pathlib import Path
-
-import numpy as np
 
 from .errors import DataError, OutputError, ParameterError
 
@@ -88,6 +87,8 @@ def _fsync(path, flags):
 
 def json_default(value):
     """``json.dumps``'s ``default``: numpy arrays and scalars as lists and Python numbers."""
+    import numpy as np      # here: the command line's start-up (--help) does without numpy
+
     if isinstance(value, np.ndarray):
         return value.tolist()
     if isinstance(value, np.generic):
@@ -111,7 +112,7 @@ def canonical_json(data):
 
 
 def _replace_nan(value):
-    if isinstance(value, float) and not np.isfinite(value):
+    if isinstance(value, float) and not math.isfinite(value):
         return None
     if isinstance(value, dict):
         return {k: _replace_nan(v) for k, v in value.items()}

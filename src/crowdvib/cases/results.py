@@ -31,6 +31,7 @@ if TYPE_CHECKING:
     from .verdict import Finding
 
 __all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "software_versions",
+           "provenance",
            "Results", "EstimateResults", "SensitivityResults", "CheckResults", "ModesResults",
            "SimulateResults", "MapResults", "DemoResults", "AsResults", "load_results", "results_of"]
 
@@ -49,6 +50,30 @@ def software_versions() -> dict:
 
     return {"crowdvib": __version__, "numpy": np.__version__, "scipy": scipy.__version__,
             "python": platform.python_version()}
+
+
+def provenance(case: str | Path | None = None) -> dict:
+    """Provenance keys for a ``results.json``, taken when the run starts.
+
+    Parameters
+    ----------
+    case : str or pathlib.Path, optional
+        The case file the run reads (None for an embedded example).
+
+    Returns
+    -------
+    dict
+        ``created`` (UTC, ISO 8601) and ``case_sha256`` (hex digest of the case file, or None):
+        recorded at run time they stay true when the case file is edited later.
+    """
+    import datetime
+
+    from .._files import sha256_file
+
+    created = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    path = None if case is None else Path(case)
+    return {"created": created,
+            "case_sha256": sha256_file(path) if path is not None and path.is_file() else None}
 
 
 #: The MSD's parameters (and the step frequencies fitted with it) in the order tables show them.

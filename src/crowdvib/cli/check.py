@@ -12,9 +12,7 @@ import sys
 import warnings
 from pathlib import Path
 
-import numpy as np
-
-from ..reporting.report import provenance
+from ..cases.results import provenance
 from .common import (add_output_arguments, case_inputs, say, say_verdict, staged_output,
                      warning_texts, write_results)
 
@@ -77,6 +75,8 @@ def _run(args, caught):
 
 
 def _join(values):
+    import numpy as np     # here: crowdvib --help does without numpy
+
     return "/".join(f"{v:.3f}" for v in np.atleast_1d(values))
 
 

@@ -3,13 +3,11 @@
 import time
 from pathlib import Path
 
-import numpy as np
-
 from .._version import __version__
 from .._files import write_json
 from ..errors import ParameterError
 from ..cases.schema import schema_header
-from ..reporting.report import provenance, write_report
+from ..cases.results import provenance
 from ..reporting.text import interval_of
 from .common import (check_output, progress_printer, say, say_if_compiling, say_verdict,
                      staged_output)
@@ -32,6 +30,8 @@ def add_arguments(parser):
 
 
 def run(args):
+    import numpy as np
+
     from ..identification.estimation import estimate_hsi
     from ..models.examples import paper_example
     from ..signals import LowPassFilter, synthetic_welch_psd, welch_psd, welch_segment_count
@@ -137,6 +137,7 @@ def _say_estimate(estimate, truth):
 def _write_results(args, out, case, measured, estimate, paper, occupied, n_windows):
     """The figure, results.json and report.html of the demo into ``out``."""
     from ..reporting.plotting import plot_psd_comparison, save_figure
+    from ..reporting.report import write_report
     from ..response.fluctuation import spectral_model
 
     structure, crowd, truth, window = case.structure, case.crowd, case.msd, case.window_length

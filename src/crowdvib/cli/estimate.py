@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from .._files import unique_filenames
-from ..reporting.report import provenance
+from ..cases.results import provenance
 from ..reporting.text import interval_of, with_interval
 from .common import (add_output_arguments, case_inputs, say, say_verdict, staged_output,
                      warning_texts, write_results)

@@ -3,9 +3,7 @@
 import argparse
 from pathlib import Path
 
-import numpy as np
-
-from ..reporting.report import provenance
+from ..cases.results import provenance
 from .common import (add_output_arguments, case_inputs, positive_float, progress_printer, say,
                      say_verdict, staged_output, warning_texts, write_results)
 from .estimate import say_crowd, say_measurement
@@ -20,6 +18,8 @@ MAX_AXIS = 100_000
 def grid(text):
     """``lower:upper:count`` → a linearly spaced grid of 3 to :data:`MAX_AXIS` points (argparse
     type; the curvature at the map's minimum takes 3 points along each axis)."""
+    import numpy as np     # here: crowdvib --help does without numpy
+
     try:
         lower, upper, count = text.split(":")
         lower, upper, count = float(lower), float(upper), int(count)
@@ -34,9 +34,9 @@ def grid(text):
 def add_arguments(parser):
     parser.add_argument("case", type=Path, help="case file (TOML) with [measurement] records")
     add_output_arguments(parser)
-    parser.add_argument("--frequencies", type=grid, default=np.linspace(1.0, 6.0, 51),
+    parser.add_argument("--frequencies", type=grid, default="1:6:51",
                         metavar="LOW:HIGH:N", help="grid of f_h1 [Hz] (default 1:6:51, paper)")
-    parser.add_argument("--damping-ratios", type=grid, default=np.linspace(0.1, 0.8, 36),
+    parser.add_argument("--damping-ratios", type=grid, default="0.1:0.8:36",
                         metavar="LOW:HIGH:N",
                         help="grid of ξ_h1 [-] (default 0.1:0.8:36, paper)")
     parser.add_argument("--max-minutes", type=positive_float, default=10.0, metavar="MIN",

@@ -17,7 +17,6 @@ from pathlib import Path
 from .._version import __version__
 from .._files import os_error_text, require_file
 from ..errors import CrowdvibError
-from ..reporting.report import write_report
 from . import check, demo, estimate, init, landscape, modes, sensitivity, simulate
 from .common import close_progress, say, set_quiet
 
@@ -35,6 +34,8 @@ class _Report:
 
     @staticmethod
     def run(args):
+        from ..reporting.report import write_report
+
         say(f"wrote {write_report(args.directory)}")
         return 0
 

@@ -9,7 +9,7 @@ from .._version import __version__
 from .._files import folder_lock, require_file, write_json
 from .._manifest import record_file
 from ..cases.schema import schema_header
-from ..reporting.report import provenance, write_report
+from ..cases.results import provenance
 from .common import (ESTIMATION_TABLES, add_workers_argument, case_inputs, check_clash,
                      close_progress, dask_address, finish_output, prepare_output,
                      progress_printer, say, say_verdict, versions)
@@ -126,6 +126,7 @@ def run(args):
 def _study(args, case, levels):
     from ..cases import case_crowd, estimate_options, measure_case
     from ..reporting.plotting import plot_estimation_errors, save_figure
+    from ..reporting.report import write_report
     from ..runner import TaskStore, study_executor
     from ..studies import modelling_error_study, record_length_study
 

@@ -4,7 +4,7 @@ import time
 from pathlib import Path
 
 from .._files import unique_filenames
-from ..reporting.report import provenance
+from ..cases.results import provenance
 from .common import (add_output_arguments, case_inputs, progress_printer, record_formats, say,
                      say_if_compiling, say_verdict, staged_output, write_results)
 

@@ -23,12 +23,12 @@ does not know. Keys it understands (top level, or under ``diagnostics`` for the 
   ``created``.
 """
 
-import datetime
 from pathlib import Path
 
 from .._version import __version__
-from .._files import atomic_path, sha256_file
+from .._files import atomic_path
 from .._manifest import foreign_files, read_manifest, record_file
+from ..cases.results import provenance   # re-exported: results.json's stamp
 from ..cases.schema import case_name
 from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, findings
 from ..errors import DataError, ParameterError
@@ -139,22 +139,3 @@ def _assess(results, shown, directory):
     diagnostics += modes_section(shown)                    # crowdvib modes only
     return notes, figures, diagnostics
 
-
-def provenance(case=None):
-    """Provenance keys for a ``results.json``, taken when the run starts.
-
-    Parameters
-    ----------
-    case : str or pathlib.Path, optional
-        The case file the run reads (None for an embedded example).
-
-    Returns
-    -------
-    dict
-        ``created`` (UTC, ISO 8601) and ``case_sha256`` (hex digest of the case file, or None):
-        recorded at run time they stay true when the case file is edited later.
-    """
-    created = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
-    path = None if case is None else Path(case)
-    return {"created": created,
-            "case_sha256": sha256_file(path) if path is not None and path.is_file() else None}
