@@ -78,6 +78,11 @@ def check_design_table(case) -> None:
     judge: the registered codes (and a class given per code), the comfort class, the UK NA site
     factors (io reads the table without importing ``design``, issue 26 §4).
 
+    Parameters
+    ----------
+    case : Case
+        The case whose ``[design]`` table is checked.
+
     Raises
     ------
     ParameterError
@@ -111,6 +116,11 @@ def check_design_table(case) -> None:
 
 def design_msd(case):
     """The MSD a case's design checks use with HSI, and where it comes from.
+
+    Parameters
+    ----------
+    case : Case
+        A case with a ``[design]`` table.
 
     Returns
     -------
@@ -281,6 +291,11 @@ def msd_interval(results) -> dict | None:
     modelling bound (``combined``, :meth:`~crowdvib.studies.SensitivityResult.combined`),
     those of ``crowdvib estimate`` the statistical interval (``estimate.interval``). A parameter
     without an interval (held in the estimation) stays at its estimate.
+
+    Parameters
+    ----------
+    results : dict
+        The results.json object of ``crowdvib estimate`` or ``crowdvib sensitivity``.
 
     Returns
     -------

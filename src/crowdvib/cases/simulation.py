@@ -59,7 +59,17 @@ class CaseSimulation(AsResults):
 
 
 def simulation_msd(case):
-    """The MSD a case simulates with: its ``[expected]`` truth if given, else its ``[hsi]``."""
+    """The MSD a case simulates with: its ``[expected]`` truth if given, else its ``[hsi]``.
+
+    Parameters
+    ----------
+    case : Case
+        The case; its ``[expected]`` MSD wins when it gives f_h1 and ξ_h1.
+
+    Returns
+    -------
+    MSDModel
+    """
     from ..models.pedestrian import MSDModel
 
     expected = case.expected

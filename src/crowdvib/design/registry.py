@@ -53,7 +53,26 @@ _CODES: dict[str, DesignCode] = {}
 def register_code(code: DesignCode, *, replace: bool = False) -> DesignCode:
     """Make ``code`` available to :func:`crowdvib.design.design_check` under ``code.name``.
 
-    A second code of the same name is refused unless ``replace`` is True.
+    Parameters
+    ----------
+    code : DesignCode
+        The code; its ``options`` must be among the keyword options of ``design_check``.
+    replace : bool
+        Replace a code already registered under the same name (refused otherwise).
+
+    Returns
+    -------
+    DesignCode
+        ``code``, so that the call can decorate a class's instance.
+
+    Raises
+    ------
+    ParameterError
+        Not a DesignCode, an empty name, an unknown option, or a name already taken.
+
+    See Also
+    --------
+    unregister_code, code_names, design_check
     """
     if not isinstance(code, DesignCode):
         raise ParameterError(f"code must be a DesignCode instance, got {type(code).__name__}")
@@ -71,7 +90,13 @@ def register_code(code: DesignCode, *, replace: bool = False) -> DesignCode:
 
 
 def unregister_code(name: str) -> None:
-    """Remove a registered code (a plug-in's or a test's)."""
+    """Remove a registered code (a plug-in's or a test's).
+
+    Parameters
+    ----------
+    name : str
+        The code's name; an unregistered name is a ParameterError.
+    """
     design_code(name)
     del _CODES[name]
 

@@ -71,7 +71,7 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
                  method: str = DEFAULT_METHOD, interval: str = "profile", level: float = 0.95,
                  crowd_model: str | None = None, n_boot: int = 200,
                  rng: Seed = None) -> HSIEstimate:
-    """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Eq. 5, 6).
+    """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Equations 5 and 6).
 
     Parameters
     ----------
@@ -217,7 +217,8 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
     structure : ModalModel
     crowds : sequence of Crowd
         The crowd of each record, in the same order.
-    band, outputs, output_weights, frequency_weights, starts, bounds, mass_ratio,
+    band, outputs, output_weights, frequency_weights, starts, bounds, mass_ratio
+        As in :func:`estimate_hsi`, the same for every record.
     free_mass_ratio, force, match_welch, method, interval, level, crowd_model, n_boot, rng
         As in :func:`estimate_hsi`, the same for every record.
 

@@ -82,7 +82,12 @@ def _read_only(value):
 
 
 class PSDObjective:
-    """Residuals of paper Eq. (6) for a measured PSD and a spectral forward model.
+    """Residuals of paper Equation (6) for a measured PSD and a spectral forward model.
+
+    The objective is immutable: its state is fixed at construction, and an objective for other
+    step frequencies (:meth:`with_step_frequencies`) or another measured PSD
+    (:meth:`with_target`) is a new object, so an estimate's steps can share one without
+    one step changing what the next sees.
 
     Parameters
     ----------
@@ -110,11 +115,6 @@ class PSDObjective:
     crowd_model : {"smeared", "fluctuating"}
         The expected PSD of the mean crowd, or the mixture over the Poisson crowd's fluctuating
         occupancy (docs: theory, The fluctuating crowd).
-
-    The objective is immutable: its state is fixed at construction, and an objective for other
-    step frequencies (:meth:`with_step_frequencies`) or another measured PSD
-    (:meth:`with_target`) is a new object, so an estimate's steps can share one without
-    one step changing what the next sees.
     """
 
     def __setattr__(self, name, value):

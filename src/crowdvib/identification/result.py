@@ -23,7 +23,7 @@ __all__ = ["HSIEstimate"]
 
 @dataclass(frozen=True, eq=False)
 class HSIEstimate:
-    """Result of :func:`crowdvib.estimate_hsi` (paper Eq. 5 and 6).
+    """Result of :func:`crowdvib.estimate_hsi` (paper Equations 5 and 6).
 
     Attributes
     ----------

@@ -17,7 +17,7 @@ __all__ = ["plot_load_psd", "plot_hsi_effect", "plot_frf", "plot_time_history"]
 
 
 def plot_load_psd(frequency, crowd, *, structure=None, force=None, ax=None, title=None):
-    """PSD of the crowd's vertical walking load (paper Fig. 2).
+    """PSD of the crowd's vertical walking load (paper Figure 2).
 
     Parameters
     ----------
@@ -71,7 +71,7 @@ def _peak_zoom(rows, frequency):
 
 def plot_hsi_effect(without, with_hsi, *, output=None, band=None, zoom=None, axes=None,
                     title=None):
-    """Response PSD without and with HSI, and an enlargement of the dominant peak (paper Fig. 3).
+    """Response PSD without and with HSI, and an enlargement of the dominant peak (paper Figure 3).
 
     Parameters
     ----------
@@ -123,7 +123,7 @@ def plot_hsi_effect(without, with_hsi, *, output=None, band=None, zoom=None, axe
 
 
 def plot_frf(empty, occupied=None, *, output=None, input=None, band=None, ax=None, title=None):
-    """Accelerance FRF magnitude of the empty and the occupied structure (paper Figs. 9, 18).
+    """Accelerance FRF magnitude of the empty and the occupied structure (paper Figures 9 and 18).
 
     Parameters
     ----------

@@ -19,7 +19,7 @@ __all__ = ["PSDConvergence", "psd_convergence"]
 
 @dataclass(frozen=True, eq=False)
 class PSDConvergence:
-    """Convergence of a Welch PSD with record length (paper Fig. 15; docs: theory, Welch PSDs, filters and convergence).
+    """Convergence of a Welch PSD with record length (paper Figure 15; docs: theory, Welch PSDs, filters and convergence).
 
     Attributes
     ----------
@@ -66,7 +66,7 @@ def psd_convergence(signals: ArrayLike, sample_rate: float, *, window_length: fl
                     band: tuple[float, float] | None = None, norm: str = "2",
                     overlap: float = 0.5, output_names: Sequence[str] | None = None,
                     lowpass: LowPassFilter | None = None) -> PSDConvergence:
-    """Convergence error of the Welch PSD as windows are added (paper Fig. 15; docs: theory, Welch PSDs, filters and convergence).
+    """Convergence error of the Welch PSD as windows are added (paper Figure 15; docs: theory, Welch PSDs, filters and convergence).
 
     For k = 1 … n_T = floor(record / T): G_kT is the Welch PSD (Hann, T, ``overlap``) of the first
     k·T seconds and ΔG_kT = ‖G_kT − G_nT‖ / ‖G_nT‖ over the band. The paper does not print the

@@ -14,7 +14,7 @@ __all__ = ["plot_psd_comparison", "plot_psd_convergence"]
 
 def plot_psd_comparison(curves, *, output=None, band=None, analysis_band=None, logscale=True,
                         ax=None, title=None):
-    """Acceleration PSDs of one output on one axes (paper Figs. 3, 12, 17, 20).
+    """Acceleration PSDs of one output on one axes (paper Figures 3, 12, 17 and 20).
 
     Parameters
     ----------
@@ -66,7 +66,7 @@ def plot_psd_comparison(curves, *, output=None, band=None, analysis_band=None, l
 
 
 def plot_psd_convergence(convergence, *, ax=None, title=None, level=0.10):
-    """Convergence error ΔG_kT of a Welch PSD against record length (paper Fig. 15).
+    """Convergence error ΔG_kT of a Welch PSD against record length (paper Figure 15).
 
     Parameters
     ----------

@@ -17,7 +17,7 @@ __all__ = ["ObjectiveMap", "objective_map"]
 
 @dataclass(frozen=True, eq=False)
 class ObjectiveMap:
-    """J(f_h1, ξ_h1) on a grid (paper Figs. 4 and 10).
+    """J(f_h1, ξ_h1) on a grid (paper Figures 4 and 10).
 
     Attributes
     ----------
@@ -93,7 +93,7 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
                   outputs=None, output_weights=None, frequency_weights=None, mass_ratio=0.95,
                   force=None, match_welch=True, estimate=None, method="least_squares",
                   crowd_model=None, progress=None, max_seconds=None):
-    """The objective on a (f_h1, ξ_h1) grid → :class:`ObjectiveMap` (paper Figs. 4, 10).
+    """The objective on a (f_h1, ξ_h1) grid → :class:`ObjectiveMap` (paper Figures 4 and 10).
 
     The misfit of ``method``: the paper's J of Eq. (6) (default) or the Whittle deviance.
 

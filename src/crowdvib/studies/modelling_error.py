@@ -155,7 +155,7 @@ _ESTIMATE_FIELDS = ("frequency", "damping_ratio", "mass_ratio", "cost", "relativ
 
 @dataclass(frozen=True, eq=False)
 class SensitivityResult:
-    """Estimation errors caused by modelling errors (paper Figs. 11 and 19).
+    """Estimation errors caused by modelling errors (paper Figures 11 and 19).
 
     Attributes
     ----------
@@ -257,7 +257,7 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
                           output_weights=None, frequency_weights=None, starts=None, bounds=None,
                           mass_ratio=0.95, force=None, match_welch=True, method=DEFAULT_METHOD,
                           crowd_model=None, free_step_frequencies=None):
-    """Estimation error caused by plausible modelling errors (paper Figs. 11 and 19).
+    """Estimation error caused by plausible modelling errors (paper Figures 11 and 19).
 
     The estimate is repeated with the assumed-known inputs perturbed by ±ε, one parameter at a
     time and all jointly, at each level; Δ = (θ̂_case − θ̂_nominal)/θ̂_nominal [%].

@@ -57,7 +57,7 @@ def _parametric_task(task):
 
 @dataclass(frozen=True, eq=False)
 class ParametricResult:
-    """Ratio estimated/true of f_h1 and ξ_h1 across a family of structures (paper Figs. 5, 6).
+    """Ratio estimated/true of f_h1 and ξ_h1 across a family of structures (paper Figures 5 and 6).
 
     Attributes
     ----------
@@ -93,7 +93,7 @@ class ParametricResult:
 def parametric_study(*, structure_frequencies=None, structure_damping_ratios=(0.005, 0.02),
                      mass_ratios=(0.025, 0.05, 0.10), msd=None, crowd=None, levels=None,
                      executor=None, store=None, progress=None):
-    """The paper's parametric study of modelling errors (Figs. 5 and 6).
+    """The paper's parametric study of modelling errors (Figures 5 and 6).
 
     For each structure of the family (the paper example's beam with f_1 = 1…6 Hz in 0.5 Hz steps,
     ξ_1 ∈ {0.5, 2.0} %, crowd-to-structure mass ratio μ_m ∈ {2.5, 5, 10} %), a noise-free PSD is

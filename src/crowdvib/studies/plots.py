@@ -23,7 +23,7 @@ def _uncertainty_bounds(uncertainty):
 
 def plot_objective_map(objective_map, *, uncertainty=None, search_bounds=None, relative=True,
                        ax=None, title=None):
-    """The objective J(f_h1, ξ_h1) with its optimum and bounds (paper Figs. 4 and 10).
+    """The objective J(f_h1, ξ_h1) with its optimum and bounds (paper Figures 4 and 10).
 
     Parameters
     ----------
@@ -107,7 +107,7 @@ def _level_colors(n):
 
 
 def plot_estimation_errors(sensitivity, *, axes=None, title=None):
-    """Estimation errors Δ per modelling-error case (paper Figs. 11 and 19).
+    """Estimation errors Δ per modelling-error case (paper Figures 11 and 19).
 
     Each bar spans from 0 to the extreme errors of one group (a perturbed input at one error
     level, both signs; or all joint sign combinations at that level); the dots are the cases.
@@ -173,7 +173,7 @@ def plot_estimation_errors(sensitivity, *, axes=None, title=None):
 
 
 def plot_parametric_ratios(parametric, *, parameters=None, axes=None, title=None):
-    """Ratio estimated/true of f_h1 and ξ_h1 across a family of structures (paper Figs. 5, 6).
+    """Ratio estimated/true of f_h1 and ξ_h1 across a family of structures (paper Figures 5 and 6).
 
     One row of panels per perturbed input and estimated parameter, one column per
     crowd-to-structure mass ratio μ_m. Markers tell the structure's damping ratio (open circle,
