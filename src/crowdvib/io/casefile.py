@@ -73,7 +73,49 @@ FORCE_MODELS = {"zivanovic": ZivanovicForce, "young": YoungForce, "measured": Me
 # ------------------------------------------------------------------------------------- case
 @dataclass(frozen=True, eq=False)
 class Case:
-    """A case file read and checked: the models and how to process and estimate."""
+    """A case file read and checked: the models and how to process and estimate.
+
+    Attributes
+    ----------
+    name : str
+        The case's name (the file's ``name``, default its stem).
+    path : Path
+        The case file; record and modal files are relative to its folder.
+    structure : ModalModel
+        The empty bridge (``[structure]``, or a modal file).
+    crowd : Crowd
+        The crowd of the record (``[crowd]``).
+    msd : MSDModel
+        The pedestrians' MSD that simulations and design checks use (``[hsi]``).
+    measurement : MeasurementSpec
+        Records, channels, units and the Welch and filter settings (``[measurement]``).
+    estimation : EstimationSpec
+        Band, outputs, method, bounds and interval of the estimate (``[estimation]``).
+    simulation : SimulationSpec
+        Duration, sample rate and outputs of ``crowdvib simulate`` (``[simulation]``).
+    expected : dict
+        Known or expected MSD values (``[expected]``), compared with the estimate.
+    seed : int or None
+        Seed of every random draw the case makes (None: fresh entropy).
+    description : str
+        Free text about the case.
+    not_set : dict
+        Dotted keys of :meth:`to_dict` the file did not set → "default" or how they were
+        derived.
+    design : DesignSpec or None
+        The ``[design]`` table (codes, classes, dampers), None without one.
+    records : tuple
+        The ``[[measurement]]`` blocks of a joint fit (empty for one ``[measurement]`` table).
+    force : ForceModel
+        The walking-force model (the file's ``force``; default Živanović 2007).
+    report : dict
+        The ``[report]`` table: who and what the reports are for (client, project, …), text.
+
+    See Also
+    --------
+    load_case : reads and checks a case file into a Case.
+    crowdvib.estimate_case, crowdvib.check_case, crowdvib.simulate_case
+    """
 
     name: str
     path: Path
@@ -417,6 +459,15 @@ def _expected(table):
 
 def load_case(path: str | os.PathLike) -> Case:
     """Read and check a TOML case file → :class:`Case` (paths relative to the file).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.toml`` case file (``crowdvib init`` writes a commented one).
+
+    Returns
+    -------
+    Case
 
     Raises
     ------

@@ -68,10 +68,16 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
         CSV with a ``name`` column and one column per mode: the mode-shape rows of the outputs
         (e.g. sensor nodes of an FE model). Either this or ``outputs``.
     name : str
+    **fe_options
+        For an FE export: the keywords of :meth:`crowdvib.io.femodes.FEModes.modal_model`.
 
     Returns
     -------
     ModalModel
+
+    See Also
+    --------
+    write_modal_model, crowdvib.io.read_fe_modes
     """
     known = set(inspect.signature(FEModes.modal_model).parameters) - {"self", "width",
                                                                        "outputs", "name"}
@@ -154,7 +160,27 @@ def read_modal_model(modal_table: str | os.PathLike, mode_shapes: str | os.PathL
 
 
 def write_modal_model(structure, modal_table, mode_shapes, output_points=None, *, digits=10):
-    """Write a :class:`ModalModel` as the CSV files :func:`read_modal_model` reads (atomically)."""
+    """Write a :class:`ModalModel` as the CSV files :func:`read_modal_model` reads (atomically).
+
+    Parameters
+    ----------
+    structure : ModalModel
+        The model written.
+    modal_table : path
+        CSV written with ``mode``, ``frequency`` [Hz], ``damping_ratio`` [-] and ``modal_mass``
+        [kg] per mode.
+    mode_shapes : path
+        CSV written with ``position`` [m] (and ``lane`` [m] for several lanes) and one column per
+        mode.
+    output_points : path, optional
+        CSV written with the outputs' mode-shape rows (``name`` and one column per mode).
+    digits : int
+        Significant digits of every number written.
+
+    See Also
+    --------
+    read_modal_model
+    """
     modes = [f"mode_{j + 1}" for j in range(structure.n_modes)]
     fmt = f"{{:.{digits}g}}"
 

@@ -51,7 +51,26 @@ def _unit_key(units, prefix):
 
 
 def convert_units(data, units):
-    """Accelerations in ``units`` ("g" or "m/s2") → m/s² (g = 9.81 m/s², docs: theory, Conventions)."""
+    """Accelerations in ``units`` ("g" or "m/s2") → m/s² (g = 9.81 m/s², docs: theory, Conventions).
+
+    Parameters
+    ----------
+    data : array_like
+        Accelerations in ``units``.
+    units : str
+        ``"g"`` (g = 9.81 m/s²) or ``"m/s2"``.
+
+    Returns
+    -------
+    ndarray
+        The accelerations [m/s²], as floats.
+
+    Examples
+    --------
+    >>> from crowdvib.io import convert_units
+    >>> convert_units([0.0, 0.01], "g")
+    array([0.    , 0.0981])
+    """
     scale = STANDARD_GRAVITY if _unit_key(units, "") == "g" else 1.0
     return np.asarray(data, dtype=float) * scale
 
@@ -267,7 +286,32 @@ def check_record(record: Record, *, band: tuple[float, float] | None = None,
 
 
 def merge_records(records):
-    """Channels of several records side by side; they must share sample rate and length."""
+    """Channels of several records side by side; they must share sample rate and length.
+
+    Parameters
+    ----------
+    records : iterable of Record
+        At least one; their channel names must differ.
+
+    Returns
+    -------
+    Record
+        The channels of every record, in order.
+
+    Raises
+    ------
+    DataError
+        Records of other sample rates or lengths (the message names the channels and files).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from crowdvib.io import Record, merge_records
+    >>> a = Record(np.zeros((1, 8)), sample_rate=4.0, channel_names=("mid",))
+    >>> b = Record(np.ones((1, 8)), sample_rate=4.0, channel_names=("quarter",))
+    >>> merge_records([a, b]).channel_names
+    ('mid', 'quarter')
+    """
     records = list(records)
     if not records:
         raise ParameterError("records must hold at least one Record")

@@ -33,6 +33,32 @@ def weidmann_speed(density: ArrayLike) -> np.ndarray:
     """Walking speed v(d) = v_0 [1 − exp(−γ (1/d − 1/d_max))] [m/s] (Weidmann 1993; docs: theory, The crowd).
 
     Check value: v(0.5) = 1.298 m/s, the paper's 1.30 m/s.
+
+    Parameters
+    ----------
+    density : float or array_like
+        Crowd density d [persons/m²], > 0 and below the jam density d_max.
+
+    Returns
+    -------
+    ndarray
+        Walking speed [m/s].
+
+    See Also
+    --------
+    bruno_venuti_step_frequency : the mean step frequency at this speed.
+    Crowd.from_density : a crowd with both relations applied.
+
+    References
+    ----------
+    U. Weidmann, *Transporttechnik der Fussgänger*, IVT Nr. 90, ETH Zürich, 1993, in the form
+    of L. Bruno and F. Venuti, *J. Sound Vib.* 323:475–493, 2009 (docs: theory, References).
+
+    Examples
+    --------
+    >>> from crowdvib.models import weidmann_speed
+    >>> round(float(weidmann_speed(0.5)), 3)
+    1.298
     """
     density = check_positive("density", density, unit="persons/m²")
     if np.any(np.asarray(density) >= JAM_DENSITY):
@@ -46,6 +72,31 @@ def bruno_venuti_step_frequency(speed: ArrayLike) -> np.ndarray:
     """Mean step frequency f_s(v) = 0.35 v³ − 1.59 v² + 2.93 v [Hz] (Bruno & Venuti 2009).
 
     RECALLED in docs: theory, The crowd and validated there: f_s(1.30) = 1.891 Hz, the paper's 1.89 Hz.
+
+    Parameters
+    ----------
+    speed : float or array_like
+        Walking speed v [m/s], > 0.
+
+    Returns
+    -------
+    ndarray
+        Mean step frequency [Hz].
+
+    See Also
+    --------
+    weidmann_speed : the speed at a crowd density.
+
+    References
+    ----------
+    L. Bruno and F. Venuti, "Crowd–structure interaction in footbridges: modelling, application
+    to a real case-study and sensitivity analyses", *J. Sound Vib.* 323:475–493, 2009.
+
+    Examples
+    --------
+    >>> from crowdvib.models import bruno_venuti_step_frequency
+    >>> round(float(bruno_venuti_step_frequency(1.30)), 3)
+    1.891
     """
     v = check_positive("speed", speed, unit="m/s")
     return 0.35 * v**3 - 1.59 * v**2 + 2.93 * v

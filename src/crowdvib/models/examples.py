@@ -16,7 +16,22 @@ __all__ = ["ExampleCase", "paper_example"]
 
 @dataclass(frozen=True)
 class ExampleCase:
-    """A structure, a crowd and the MSD model that generates the "measured" response."""
+    """A structure, a crowd and the MSD model that generates the "measured" response.
+
+    Attributes
+    ----------
+    name : str
+    structure : ModalModel
+        The empty bridge.
+    crowd : Crowd
+        The crowd on it.
+    msd : MSDModel
+        The true MSD of the pedestrians.
+    band : (float, float)
+        Analysis band [Hz].
+    window_length : float
+        Welch segment length T [s].
+    """
 
     name: str
     structure: ModalModel
@@ -27,7 +42,20 @@ class ExampleCase:
 
 
 def paper_example():
-    """The paper's numerical example (docs: theory, The paper's numerical example); band 0–10 Hz, Welch T = 60 s."""
+    """The paper's numerical example (docs: theory, The paper's numerical example); band 0–10 Hz, Welch T = 60 s.
+
+    Returns
+    -------
+    ExampleCase
+        The 50 m simply supported beam (2 Hz, 0.5 %, 50 t), the crowd of 0.5 persons/m² at
+        1.30 m/s with N(1.89, 0.175) Hz steps and 70 kg, the MSD 3.0 Hz / 30 % / 95 %.
+
+    Examples
+    --------
+    >>> from crowdvib.models import paper_example
+    >>> paper_example().msd
+    MSDModel(frequency=3.0, damping_ratio=0.3, mass_ratio=0.95)
+    """
     structure = ModalModel.simply_supported_beam(
         span=50.0, width=3.0, frequency=2.0, damping_ratio=0.005, modal_mass=50e3,
         name="paper numerical example: 50 m simply supported footbridge")

@@ -320,6 +320,28 @@ def ambient_response(structure: ModalModel, duration: float, sample_rate: float,
     one per mode): each modal acceleration is an exact Gaussian record of the PSD
     |ω² H_j(ω)|² S_q / m_j², H_j = 1/(ω_j² − ω² + 2iξ_jω_jω) [CP03] (docs: theory, Operational
     modal analysis), summed through the output shapes. For testing identification.
+
+    Parameters
+    ----------
+    structure : ModalModel
+        The empty bridge.
+    duration : float
+        Record length [s].
+    sample_rate : float
+        Sample rate [Hz].
+    load_psd : float or array_like
+        One-sided PSD of each modal load [N²/Hz], > 0: one value for every mode or one per mode.
+    rng : None, int or numpy.random.Generator
+        Seed of the record.
+
+    Returns
+    -------
+    ndarray, shape (n_outputs, n_samples)
+        Accelerations [m/s²].
+
+    See Also
+    --------
+    identify_modes : the modes identified from such records.
     """
     from ..signals.synthesis import gaussian_record, record_frequencies
 

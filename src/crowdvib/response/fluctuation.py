@@ -173,7 +173,7 @@ class FluctuatingSpectralModel:
 
     Parameters
     ----------
-    structure, crowd, frequency, force, outputs, welch_window_length, lowpass, dampers
+    structure, crowd, frequency
         As for :class:`~crowdvib.response.SpectralModel`.
     n_nodes : int, optional
         Quadrature nodes (1 gives the smeared model). Default: the fewest of 3, 5, 7, 9, 13, 17,
@@ -195,6 +195,9 @@ class FluctuatingSpectralModel:
         ``spread_parameter``; the paper's bridge has κ ≈ 0.4 at every density): beyond, on
         strongly coupled light bridges, it overshoots and the mixture alone is nearer the
         records. ``True`` applies it always, ``False`` never. Without HSI it vanishes.
+    **options
+        The keywords of :class:`~crowdvib.response.SpectralModel`: ``force``, ``outputs``,
+        ``welch_window_length``, ``lowpass``, ``dampers``.
 
     Attributes
     ----------

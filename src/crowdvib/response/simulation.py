@@ -671,6 +671,10 @@ def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
 
     Parameters
     ----------
+    structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, progress
+        As for :func:`simulate`.
+    include_static_weight, chunk_duration, warm_up, dampers, crowd_profile
+        As for :func:`simulate`.
     window_length : float
         Welch segment length T [s] (Hann window, constant detrend, as
         :func:`crowdvib.welch_psd`).

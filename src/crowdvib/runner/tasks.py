@@ -154,6 +154,11 @@ class TaskStore:
     hashes of its ``inputs`` (see :func:`fingerprint`), its ``result`` and the ``sha256`` of all
     four (:func:`record_digest`): a file whose content no longer matches it was not written so
     by crowdvib, and is neither reused nor (see :mod:`crowdvib._manifest`) ever deleted.
+
+    Parameters
+    ----------
+    directory : str or os.PathLike
+        The folder of the task files, made if missing.
     """
 
     def __init__(self, directory):

@@ -80,10 +80,35 @@ def select_time_frame(signals: ArrayLike, sample_rate: float, start: float | Non
                       end: float | None = None) -> np.ndarray:
     """The samples with start <= t < end [s], t = index / sample_rate.
 
+    Parameters
+    ----------
+    signals : array_like, shape (n_samples,) or (n_channels, n_samples)
+        The records.
+    sample_rate : float
+        Sample rate [Hz], > 0.
+    start, end : float, optional
+        The frame [s] (default the record's first and last sample).
+
+    Returns
+    -------
+    ndarray
+        The samples of the frame, along the last axis.
+
     Raises
     ------
     DataError
         When the frame holds fewer than 2 samples.
+
+    See Also
+    --------
+    stationary_time_frame : a frame where the record's RMS is steady.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from crowdvib.signals import select_time_frame
+    >>> select_time_frame(np.arange(10.0), 2.0, start=1.0, end=3.0)
+    array([2., 3., 4., 5.])
     """
     data = _as_signals(signals)
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")

@@ -33,7 +33,22 @@ WB_CONSTANTS = {"f1": 0.4, "q1": 1 / np.sqrt(2), "f2": 100.0, "q2": 1 / np.sqrt(
 
 
 def wb_response(frequency: ArrayLike) -> np.ndarray:
-    """Complex W_b(i 2π f) [-] at frequencies [Hz] (the analytic transfer function)."""
+    """Complex W_b(i 2π f) [-] at frequencies [Hz] (the analytic transfer function).
+
+    Parameters
+    ----------
+    frequency : array_like
+        Frequencies [Hz].
+
+    Returns
+    -------
+    ndarray of complex
+        W_b at each frequency (BS 6841:1987, docs: theory, References).
+
+    See Also
+    --------
+    weight_wb : the weighting applied to records.
+    """
     c = WB_CONSTANTS
     s = 2j * np.pi * np.asarray(frequency, dtype=float)
     w1, w2, w3, w4, w5, w6 = (2 * np.pi * c[key] for key in ("f1", "f2", "f3", "f4", "f5", "f6"))

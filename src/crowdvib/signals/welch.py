@@ -94,7 +94,27 @@ def welch_kernel(offset: ArrayLike, window_length: float) -> np.ndarray:
 
 
 def welch_segment_count(n_samples: int, segment_samples: int, overlap: float = 0.5) -> int:
-    """Number of Welch segments of ``segment_samples`` in a record of ``n_samples``."""
+    """Number of Welch segments of ``segment_samples`` in a record of ``n_samples``.
+
+    Parameters
+    ----------
+    n_samples : int
+        Samples in the record.
+    segment_samples : int
+        Samples in a segment.
+    overlap : float
+        Overlap of consecutive segments, fraction of a segment, in [0, 1).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> from crowdvib.signals import welch_segment_count
+    >>> welch_segment_count(6000, 1000)    # 60 s at 100 Hz, T = 10 s, 50 % overlap
+    11
+    """
     step = segment_samples - int(segment_samples * overlap)
     return 0 if n_samples < segment_samples else 1 + (n_samples - segment_samples) // step
 
@@ -279,6 +299,30 @@ def welch_degrees_of_freedom(n_windows: int, overlap: float = 0.5) -> float:
     ν = 2K / (1 + 2 Σ_j (1 − j/K) ρ_j), ρ_j the squared normalised overlap correlation of
     the window at a lag of j segment steps (Welch 1967; for Hann at 50 % overlap ρ₁ = 1/36).
     Each PSD ordinate is then distributed as G·χ²_ν/ν.
+
+    Parameters
+    ----------
+    n_windows : int
+        Segments averaged, K >= 1.
+    overlap : float
+        Overlap of consecutive segments, fraction of a segment, in [0, 1).
+
+    Returns
+    -------
+    float
+        ν: 2 for one segment, about 1.9 K for many at 50 % overlap.
+
+    References
+    ----------
+    P. D. Welch, "The use of fast Fourier transform for the estimation of power spectra: a method
+    based on time averaging over short, modified periodograms", *IEEE Trans. Audio
+    Electroacoust.* 15(2):70–73, 1967.
+
+    Examples
+    --------
+    >>> from crowdvib.signals import welch_degrees_of_freedom
+    >>> round(float(welch_degrees_of_freedom(10)), 2)
+    19.05
     """
     return 2.0 * int(n_windows) ** 2 / _segment_pair_sums(n_windows, overlap, 0)[0]
 

@@ -33,7 +33,18 @@ __all__ = ["monte_carlo", "record_statistics"]
 
 
 def record_statistics(record: Simulation) -> dict:
-    """Default summary of a record: seed, walkers, and RMS and peak |a| per output [m/s²]."""
+    """Default summary of a record: seed, walkers, and RMS and peak |a| per output [m/s²].
+
+    Parameters
+    ----------
+    record : Simulation
+        A record of :func:`crowdvib.simulate`.
+
+    Returns
+    -------
+    dict
+        ``seed``, ``n_pedestrians``, ``rms`` and ``peak`` (lists, one value per output).
+    """
     acceleration = record.acceleration
     return {"seed": record.seed, "n_pedestrians": record.n_pedestrians,
             "rms": np.sqrt(np.mean(acceleration**2, axis=1)).tolist(),
