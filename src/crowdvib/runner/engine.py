@@ -116,6 +116,9 @@ class SchedulerLost(CrowdvibError, ConnectionError):
 #: 2026.8 unpickles tasks in the scheduler; measured on loopback, issue 24).
 _PING_EVERY, _PING_TIMEOUT = 5.0, 30.0
 
+#: Batches per dask worker thread a study's tasks are cut into (:meth:`_ClusterExecutor.batch_size`).
+_BATCHES_PER_THREAD = 16
+
 #: dask's loggers that tell the loss of the scheduler, with tracebacks, while the client retries.
 _QUIET_LOGGERS = ("distributed.client", "distributed.utils", "distributed.core")
 
@@ -154,6 +157,14 @@ class _ClusterExecutor(concurrent.futures.Executor):
         inner.add_done_callback(functools.partial(self._relay, outer))
         outer.add_done_callback(lambda done: inner.cancel() if done.cancelled() else None)
         return outer
+
+    def batch_size(self, n_tasks):
+        """Tasks per dask task (:func:`crowdvib.runner.tasks.run_tasks`): a task through dask
+        costs some 8 ms of CPU in the client and scheduler against 0.4 ms on the local pool
+        (issue 28; ``benchmarks/bench_season.py``), so small tasks go in batches, 16 per worker
+        thread and study at least, which leaves the last batches short against the whole."""
+        threads = max(1, sum(self._client.nthreads().values()))
+        return max(1, n_tasks // (_BATCHES_PER_THREAD * threads))
 
     def shutdown(self, wait=True, *, cancel_futures=False):
         self._done.set()

@@ -258,7 +258,8 @@ def record_digest(record):
 
 
 # ------------------------------------------------------------------------------ running
-def run_tasks(function, tasks, *, executor=None, store=None, progress=None, fields=()):
+def run_tasks(function, tasks, *, executor=None, store=None, progress=None, fields=(),
+              batch_size=None):
     """Run ``function(payload)`` for every ``(name, payload)`` of ``tasks``; results by name.
 
     Parameters
@@ -279,6 +280,11 @@ def run_tasks(function, tasks, *, executor=None, store=None, progress=None, fiel
     fields : sequence of str
         Keys every result of ``function`` holds (unless it is an ``{"error": …}``): a stored
         result lacking one is computed again, with a warning naming its file.
+    batch_size : int, optional
+        Tasks sent to the executor together, as one of its tasks (each still stored, resumed
+        and reported on its own). Default: what the executor asks for (its
+        ``batch_size(n_tasks)``: a dask cluster's per-task overhead calls for batches of small
+        tasks, :mod:`crowdvib.runner.engine`), else 1.
 
     Returns
     -------
@@ -317,27 +323,32 @@ def run_tasks(function, tasks, *, executor=None, store=None, progress=None, fiel
 
     if progress is not None and results:
         progress(len(results), total)
+    size = _batch_size(batch_size, executor, len(pending))
     if executor is None:
         for name, payload, key, parts in pending:
             finish(name, key, parts, _guarded(function, payload))
         return results
-    futures = {executor.submit(_guarded, function, payload): (name, key, parts)
-               for name, payload, key, parts in pending}
+    batches = [pending[start:start + size] for start in range(0, len(pending), size)]
+    futures = {(executor.submit(_guarded, function, batch[0][1]) if size == 1 else
+                executor.submit(_guarded_batch, function, [task[1] for task in batch])): batch
+               for batch in batches}
     try:
         for future in concurrent.futures.as_completed(futures):
-            name, key, parts = futures[future]
+            batch = futures[future]
             try:
-                result = future.result()
+                found = future.result()
             except CrowdvibError:        # the executor itself is lost (engine.SchedulerLost):
                 raise                    # tasks' own errors are results (_guarded)
             except Exception as error:   # the executor gave up (KilledWorker, BrokenProcessPool)
-                logger.warning("task %s failed on its worker: %r", name, error)
-                results[name] = {"error": f"its worker failed ({error!r}); run the study again "
-                                          "(resume) to retry it"}
+                for name, *_ in batch:
+                    logger.warning("task %s failed on its worker: %r", name, error)
+                    results[name] = {"error": f"its worker failed ({error!r}); run the study "
+                                              "again (resume) to retry it"}
                 if progress is not None:
                     progress(len(results), total)
                 continue
-            finish(name, key, parts, result)
+            for (name, _, key, parts), result in zip(batch, [found] if size == 1 else found):
+                finish(name, key, parts, result)
     except BaseException:
         # Ctrl-C or a failed write: what has not started never will, what finished is stored.
         _cancel(executor)
@@ -371,6 +382,21 @@ def _warn_changed(pending, stored, total, store):
     warnings.warn(f"inputs changed since the study began ({what}): {len(changed)} of {total} "
                   f"tasks will be recomputed (the old results stay in {store.directory})",
                   StudyWarning, stacklevel=3)
+
+
+def _batch_size(batch_size, executor, n_tasks):
+    """Tasks per submission: as given, else as the executor asks (``batch_size(n)``), else 1."""
+    if batch_size is None:
+        ask = getattr(executor, "batch_size", None)
+        return max(1, int(ask(n_tasks))) if callable(ask) else 1
+    if isinstance(batch_size, bool) or not isinstance(batch_size, int) or batch_size < 1:
+        raise ParameterError(f"batch_size must be an integer >= 1, got {batch_size!r}")
+    return batch_size
+
+
+def _guarded_batch(function, payloads):
+    """Several tasks as one submission (:func:`_guarded` each): their results, in order."""
+    return [_guarded(function, payload) for payload in payloads]
 
 
 def _guarded(function, payload):

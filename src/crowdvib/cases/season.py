@@ -1,0 +1,256 @@
+"""A case file's monitoring season: its records and a crowd table, run as one study (issue 28 §2).
+
+The case file describes the bridge, the crowd's other properties (body mass, walking speed,
+step frequencies when the table has none), how a record is read and processed
+(``[measurement]``) and the estimator (``[estimation]``). The season's records are the
+``measurement.files`` of the case, where a folder stands for every record file in it, or the
+folder given; the crowd table (:mod:`crowdvib.io.crowdtable`) names, per record or time
+window, the crowd on the deck. :func:`season_case` estimates each row with ``crowdvib
+estimate``'s pipeline (:func:`~crowdvib.cases.estimate_case`, bit for bit) and its crowd, as
+the tasks of :func:`crowdvib.studies.season_study`, then one MSD for all rows.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from .._version import __version__
+from ..errors import DataError
+from .results import AsResults, ESTIMATION_TABLES, software_versions
+from .schema import schema_header
+
+if TYPE_CHECKING:
+    from collections.abc import Callable, Sequence
+
+    from ..io.casefile import Case
+
+__all__ = ["CaseSeason", "season_case", "season_records"]
+
+
+@dataclass(frozen=True)
+class _Window:
+    """One task of a season: the case as it reads one record (or window) with its crowd."""
+
+    case: Any
+    duration: float | None       # the crowd table's length of the record [s], checked
+
+
+def _estimate_window(window):
+    """A season's task: the row's estimate (:func:`~crowdvib.studies.season.season_row`)."""
+    from ..errors import CrowdvibWarning
+    from ..studies.season import season_row
+    from .estimate import estimate_case
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CrowdvibWarning)
+        fit = estimate_case(window.case)
+    record = fit.records[0].measurement.record
+    if window.duration is not None and abs(record.duration - window.duration) > max(
+            0.01 * window.duration, 2.0 / record.sample_rate):
+        raise DataError(f"{window.case.name}: the record is {record.duration:g} s long, the "
+                        f"crowd table's duration is {window.duration:g} s: its count belongs to "
+                        "another stretch of time")
+    return season_row(fit.estimate, fit.records[0].measurement.psd, fit.crowd,
+                      [w for w in caught if issubclass(w.category, CrowdvibWarning)])
+
+
+def season_records(case: Case, records: str | os.PathLike | Sequence | None = None,
+                   table_path: str | os.PathLike | None = None) -> dict[str, Path]:
+    """The record files of a season, by the names a crowd table may give them.
+
+    Parameters
+    ----------
+    case : Case
+        Its ``measurement.files`` (a folder among them stands for its record files) when
+        ``records`` is None; with neither, the crowd table's folder.
+    records : path or sequence of paths, optional
+        A folder of records, or record files (and folders).
+    table_path : path, optional
+        The crowd table (its folder is the default; it is not a record itself).
+
+    Returns
+    -------
+    dict
+        Name → path, each record under its path relative to its folder (``day1/0800.npz``) and
+        under its file name alone when that is unique.
+    """
+    from ..io.records import RECORD_FORMATS
+
+    if records is None:
+        records = case.measurement.files or [Path(table_path).resolve().parent]
+    elif isinstance(records, (str, os.PathLike)):
+        records = [records]
+    suffixes = {suffix for row in RECORD_FORMATS.values() for suffix in row}
+    skip = None if table_path is None else Path(table_path).resolve()
+    found = {}
+    for entry in map(Path, records):
+        if entry.is_dir():
+            for path in sorted(entry.rglob("*")):
+                if path.is_file() and path.suffix.lower() in suffixes and path.resolve() != skip:
+                    found[path.relative_to(entry).as_posix()] = path.resolve()
+        else:
+            found[entry.name] = entry.resolve()
+    names = [Path(name).name for name in found]
+    for name, path in list(found.items()):
+        if names.count(path.name) == 1:
+            found.setdefault(path.name, path)
+    return found
+
+
+def _crowd(case, table, row):
+    """The crowd of a table row: the case's, at the row's density and step frequencies. A
+    walking speed and a mean step frequency the case derives from its density are derived
+    from the row's (Weidmann; Bruno & Venuti), as the case file would."""
+    from .._plausibility import derived, implausibility
+    from ..errors import ParameterError, PlausibilityWarning
+    from ..models.crowd import bruno_venuti_step_frequency, weidmann_speed
+
+    where = f"{table.path.name}: row {row.row}"
+    area = case.structure.area
+    density = row.density_on(area)
+    notes = [implausibility(key, value, f"{where}, {key}") for key, value in (
+        ("step_frequency_mean", row.step_frequency_mean),
+        ("step_frequency_std", row.step_frequency_std)) if value is not None]
+    if row.density is not None and row.density > 2.0:
+        notes.append(f"{where}, density = {row.density:g} persons/m² is above 2, unusual for "
+                     f"a crowd on a footbridge: a count of persons? ({row.density:g} persons "
+                     f"on the {area:g} m² deck are {row.density / area:.3g} persons/m²)")
+    for note in filter(None, notes):
+        warnings.warn(note, PlausibilityWarning, stacklevel=4)
+    changes = {"density": density}
+    if "crowd.walking_speed" in case.not_set:
+        changes["walking_speed"] = float(weidmann_speed(density))
+    speed = changes.get("walking_speed", case.crowd.walking_speed)
+    if row.step_frequency_mean is not None:
+        changes["step_frequency_mean"] = row.step_frequency_mean
+    elif "crowd.step_frequency_mean" in case.not_set:
+        changes["step_frequency_mean"] = float(bruno_venuti_step_frequency(speed))
+    if row.step_frequency_std is not None:
+        changes["step_frequency_std"] = row.step_frequency_std
+    try:
+        with derived():            # judged above, with the row named
+            return dataclasses.replace(case.crowd, **changes)
+    except ParameterError as error:
+        raise DataError(f"{where}: {error}") from None
+
+
+def season_windows(case: Case, table, records: dict[str, Path]) -> list[tuple]:
+    """The tasks of a season: ``(name, payload or None, info)`` per crowd-table row.
+
+    Raises
+    ------
+    DataError
+        A row naming a record that is not among ``records`` (file, row and column named).
+    """
+    from ..io._common import quote
+
+    windows = []
+    for row in table.rows:
+        path = records.get(row.record)
+        if path is None:
+            raise DataError(f"{table.path.name}: row {row.row}, column 'record': "
+                            f"{quote(row.record)} is not among the season's {len(set(records.values()))} "
+                            "record(s)")
+        info = {"record": row.record, "start": row.start, "end": row.end, "time": row.time,
+                "count": row.count, "density": row.density_on(case.structure.area),
+                "step_frequency_mean": row.step_frequency_mean,
+                "step_frequency_std": row.step_frequency_std}
+        if info["density"] == 0:
+            info["skipped"] = "no crowd on the deck: nothing to estimate"
+            windows.append((row.name, None, info))
+            continue
+        spec = dataclasses.replace(case.measurement, files=(path,), time_frame=(
+            case.measurement.time_frame if row.start is None else (row.start, row.end)))
+        block = dataclasses.replace(case, name=row.name, measurement=spec,
+                                    crowd=_crowd(case, table, row), records=())
+        windows.append((row.name, _Window(block, row.duration), info))
+    return windows
+
+
+@dataclass(frozen=True)
+class CaseSeason(AsResults):
+    """What ``crowdvib season`` computes (:func:`season_case`).
+
+    Attributes
+    ----------
+    case : Case
+    table : CrowdTable
+        The crowd table read.
+    season : SeasonResult
+        The table of estimates, the joint estimate, the trend figures.
+    unmatched : tuple of str
+        Records found that no row of the crowd table names (not estimated).
+    """
+
+    case: Any
+    table: Any
+    season: Any
+    unmatched: tuple = ()
+
+    def to_dict(self) -> dict:
+        """The results ``crowdvib season`` writes to results.json (kind ``"season"``), without
+        its figures, warnings and provenance: ``records`` the table, ``estimate`` and
+        ``diagnostics`` the joint estimate's (docs: :doc:`/results`)."""
+        case, season = self.case, self.season.to_dict()
+        joint = season["joint"] or {}
+        return {**schema_header("season"), "command": "season", "crowdvib_version": __version__,
+                "versions": software_versions(), "seed": case.seed, "case": str(case.path),
+                "crowd_table": str(self.table.path), "inputs": case.to_dict(ESTIMATION_TABLES),
+                "records": season["records"], "unmatched_records": list(self.unmatched),
+                "estimate": joint.get("estimate"), "joint_error": season["joint_error"],
+                "diagnostics": {k: v for k, v in joint.items() if k != "estimate"} or None,
+                "expected": dict(case.expected)}
+
+
+def season_case(case: Case, crowd_table: str | os.PathLike, *,
+                records: str | os.PathLike | Sequence | None = None, joint: bool = True,
+                executor=None, store=None, progress: Callable[[int, int], None] | None = None,
+                batch_size: int | None = None) -> CaseSeason:
+    """Run ``crowdvib season``: every row of a crowd table estimated, then all together.
+
+    Parameters
+    ----------
+    case : Case
+        From :func:`~crowdvib.io.load_case`: the bridge, the crowd's other properties, the
+        record processing and the estimator (its ``[estimation]`` method for each row).
+    crowd_table : path
+        The crowd table CSV (:mod:`crowdvib.io.crowdtable`).
+    records : path or sequence of paths, optional
+        Where the records are (:func:`season_records`; default the case's
+        ``measurement.files``, else the crowd table's folder).
+    joint : bool
+        Also estimate one MSD for every row (:func:`crowdvib.estimate_hsi_joint`: the
+        paper's least squares, each row with the crowd its estimate ended with).
+    executor, store, progress, batch_size
+        As for :func:`crowdvib.runner.run_tasks` (a store makes the season resumable).
+
+    Returns
+    -------
+    CaseSeason
+        ``season.to_dataframe()`` is the table; ``results()`` what results.json holds.
+    """
+    from ..io.crowdtable import read_crowd_table
+    from ..studies.season import season_study
+    from .estimate import estimate_options
+
+    table = read_crowd_table(crowd_table)
+    found = season_records(case, records, crowd_table)
+    windows = season_windows(case, table, found)
+    unmatched = tuple(sorted(path.name for path in set(found.values())
+                             - {found[row.record] for row in table.rows}))
+    options = estimate_options(case)
+    # The joint fit holds each row's crowd: the paper's least squares with the smeared crowd,
+    # estimate_hsi_joint's default, whatever estimator the rows had.
+    for key in ("free_step_frequencies", "method", "crowd_model"):
+        options.pop(key, None)
+    band = options.pop("band")
+    options["free_mass_ratio"] = "mass_ratio" in case.estimation.free_parameters
+    season = season_study(windows, _estimate_window, case.structure, band=band, joint=joint,
+                          joint_options=options, executor=executor, store=store,
+                          progress=progress, batch_size=batch_size)
+    return CaseSeason(case, table, season, unmatched)

@@ -1,0 +1,301 @@
+"""A season of monitoring: many records, each estimated with its interval, and one MSD for all.
+
+A bridge monitored for months gives hundreds of records and, from a camera or a counter, the
+crowd during each (issue 28 §2). :func:`season_study` estimates every record (or time window of
+one) on its own, as independent tasks of :func:`crowdvib.runner.run_tasks` (in this process, on
+local workers or on a dask cluster, each finished one kept in a
+:class:`~crowdvib.runner.TaskStore`, so a season resumes where it stopped), and then all of
+them together with :func:`crowdvib.estimate_hsi_joint` (one MSD, each record with its own
+crowd). :class:`SeasonResult` holds the table (one row per record: its crowd, f_h1 and ξ_h1
+with their intervals, its status and warnings), the joint estimate and the trend figures.
+
+A task's function (:func:`crowdvib.cases.season_case` gives the one of a case file) returns
+:func:`season_row` of its estimate: its numbers and its measured PSD over the band, which the
+joint fit reads back, so that a resumed season reads no record twice.
+"""
+
+import dataclasses
+import warnings
+
+import numpy as np
+
+from .._plausibility import derived
+from ..errors import CrowdvibError, StudyWarning
+from ..identification.estimation import estimate_hsi_joint
+from ..models.crowd import Crowd
+from ..runner.tasks import run_tasks
+from ..signals.spectrum import ResponsePSD
+from ..signals.welch import LowPassFilter
+
+__all__ = ["SeasonResult", "season_study", "season_row", "write_synthetic_season", "TABLE_COLUMNS"]
+
+#: The estimated parameters a season's table shows, each with its interval.
+_PARAMETERS = ("frequency", "damping_ratio")
+#: Keys of every row :func:`season_row` makes (a stored one lacking any is computed again).
+_ROW_FIELDS = ("frequency", "damping_ratio", "mass_ratio", "interval", "relative_cost",
+               "success", "active_bounds", "warnings", "crowd", "psd")
+#: The columns of :meth:`SeasonResult.table`, in order.
+TABLE_COLUMNS = ("name", "record", "start", "end", "time", "count", "density",
+                 "step_frequency_mean", "step_frequency_std", "frequency", "frequency_low",
+                 "frequency_high", "damping_ratio", "damping_ratio_low", "damping_ratio_high",
+                 "mass_ratio", "level", "relative_cost", "status", "warnings")
+
+
+# ------------------------------------------------------------------------------ one record
+def season_row(estimate, measured, crowd, caught=()):
+    """One record's estimate as a season's task returns it (JSON-ready).
+
+    Parameters
+    ----------
+    estimate : HSIEstimate
+        The record's estimate, with its interval (else the row has none).
+    measured : ResponsePSD
+        The record's measured PSD; kept over the estimate's band (one bin more each side) for
+        the joint fit, without cross-spectra (the joint fit is least squares).
+    crowd : Crowd
+        The crowd the joint fit is to hold for this record: the one the estimate ended with
+        (its fitted step frequencies, when they were free).
+    caught : sequence of warnings.WarningMessage
+        The warnings the estimate gave, kept as ``"Category: message"``.
+    """
+    interval, level = None, estimate.interval_level
+    if estimate.covariance is not None:
+        interval = {name: list(estimate.interval(name, level)) for name in _PARAMETERS}
+    return {"frequency": estimate.msd.frequency, "damping_ratio": estimate.msd.damping_ratio,
+            "mass_ratio": estimate.msd.mass_ratio, "interval": interval, "level": level,
+            "relative_cost": estimate.relative_cost, "success": bool(estimate.success),
+            "active_bounds": list(estimate.active_bounds),
+            "warnings": [f"{w.category.__name__}: {w.message}" for w in caught],
+            "crowd": {f.name: getattr(crowd, f.name) for f in dataclasses.fields(crowd)
+                      if f.init},
+            "psd": _psd_dict(measured, estimate.band)}
+
+
+def _psd_dict(measured, band):
+    """The PSD over ``band`` and one bin beyond each end (the estimator's band must lie inside
+    the grid), with what the model needs to match it: window, windows, filter, scatter."""
+    step = measured.frequency[1] - measured.frequency[0]
+    keep = (measured.frequency >= band[0] - step) & (measured.frequency <= band[1] + step)
+    return {"frequency": measured.frequency[keep].tolist(), "psd": measured.psd[:, keep].tolist(),
+            "dispersion": None if measured.dispersion is None
+            else measured.dispersion[:, keep].tolist(),
+            "output_names": list(measured.output_names), "window_length": measured.window_length,
+            "n_windows": measured.n_windows,
+            "lowpass": None if measured.lowpass is None else measured.lowpass.to_dict()}
+
+
+def _psd(found):
+    """The ResponsePSD of :func:`_psd_dict`."""
+    lowpass = found["lowpass"]
+    return ResponsePSD(found["frequency"], found["psd"], tuple(found["output_names"]),
+                       window_length=found["window_length"], n_windows=found["n_windows"],
+                       lowpass=None if lowpass is None else LowPassFilter(**lowpass),
+                       source="welch", dispersion=found["dispersion"])
+
+
+# ------------------------------------------------------------------------------ the season
+@dataclasses.dataclass(frozen=True, eq=False)
+class SeasonResult:
+    """A season: every record's estimate with its interval, and the joint estimate.
+
+    Attributes
+    ----------
+    rows : tuple of dict
+        One per record or window, in the order given: its ``name``, what the crowd table said
+        of it (``record``, ``start``, ``end``, ``time``, ``count``, ``density``, step
+        frequencies), and its estimate (``frequency``, ``damping_ratio``, ``mass_ratio``,
+        ``interval``, ``relative_cost``, ``success``, ``active_bounds``, ``warnings``) or its
+        ``error``.
+    joint : HSIEstimate or None
+        One MSD for every estimated record, each with its crowd (None when not asked for, or
+        fewer than one record was estimated).
+    joint_error : str or None
+        Why the joint estimate failed, if it did.
+    """
+
+    rows: tuple
+    joint: object = None
+    joint_error: str | None = None
+
+    def table(self):
+        """One dict per row with :data:`TABLE_COLUMNS`: the crowd, f_h1 and ξ_h1 with their
+        interval ends (None without one) and ``status``: ``"ok"``, ``"doubt"`` (warnings, an
+        estimate on a bound, an optimiser that did not converge), ``"skipped"`` (no crowd on
+        the deck) or ``"error"`` (the message in ``warnings``)."""
+        return [_table_row(row) for row in self.rows]
+
+    def to_dataframe(self):
+        """:meth:`table` as a pandas DataFrame (needs pandas: ``pip install pandas``)."""
+        try:
+            import pandas
+        except ModuleNotFoundError as error:
+            raise ModuleNotFoundError("to_dataframe needs pandas, which is not installed: pip "
+                                      "install pandas", name=error.name) from None
+        return pandas.DataFrame(self.table(), columns=list(TABLE_COLUMNS))
+
+    def coverage(self, truth):
+        """Fraction of the rows with an interval whose interval holds ``truth`` (a dict
+        parameter → value, e.g. the MSD a synthetic season was made with), per parameter."""
+        rows = [row for row in self.rows if row.get("interval")]
+        return {name: (float(np.mean([row["interval"][name][0] <= value
+                                      <= row["interval"][name][1] for row in rows]))
+                       if rows else float("nan"))
+                for name, value in truth.items() if name in _PARAMETERS}
+
+    def plot(self, *, axes=None, title=None):
+        """The trend figures (:func:`crowdvib.studies.plots.plot_season_trends`)."""
+        from .plots import plot_season_trends
+
+        return plot_season_trends(self.table(), joint=self.joint, axes=axes, title=title)
+
+    def to_dict(self):
+        """JSON-ready: the table's rows, and the joint estimate (``HSIEstimate.to_dict``)."""
+        return {"records": self.table(),
+                "joint": None if self.joint is None else self.joint.to_dict(),
+                "joint_error": self.joint_error}
+
+
+def _table_row(row):
+    interval = row.get("interval") or {}
+    crowd = row.get("crowd") or {}
+    flat = {key: row.get(key) for key in TABLE_COLUMNS}
+    flat["density"] = crowd.get("density", row.get("density"))
+    for key in ("step_frequency_mean", "step_frequency_std"):
+        flat[key] = crowd.get(key, row.get(key))
+    for name in _PARAMETERS:
+        ends = interval.get(name) or (None, None)
+        flat[f"{name}_low"], flat[f"{name}_high"] = ends
+    if "error" in row:
+        flat["status"], flat["warnings"] = "error", row["error"]
+    elif row.get("skipped"):
+        flat["status"], flat["warnings"] = "skipped", row["skipped"]
+    else:
+        doubts = list(row["warnings"]) + [f"estimate on the bound {bound}"
+                                          for bound in row["active_bounds"]]
+        if not row["success"]:
+            doubts.append("the optimiser did not converge")
+        flat["status"] = "doubt" if doubts else "ok"
+        flat["warnings"] = "; ".join(doubts)
+    return flat
+
+
+def season_study(windows, function, structure, *, band, joint=True, joint_options=None,
+                 executor=None, store=None, progress=None, batch_size=None):
+    """Estimate every record of a season with its interval, then one MSD for all of them.
+
+    Parameters
+    ----------
+    windows : sequence of (str, object, dict)
+        Per record or time window: a unique name, the payload of ``function`` and what the
+        table shows of it (``record``, ``start``, ``end``, ``time``, ``count``, ``density`` …).
+        A payload of None is a row not estimated, its dict saying why under ``skipped``.
+    function : callable
+        A module-level function payload → :func:`season_row` (run where the tasks run).
+    structure : ModalModel
+        The empty bridge, for the joint estimate.
+    band : (float, float)
+        Analysis band [Hz] of the joint estimate (that of the records' estimates).
+    joint : bool
+        Make the joint estimate (:func:`crowdvib.estimate_hsi_joint`) of every record
+        estimated, each with the crowd its row holds.
+    joint_options : dict, optional
+        Keywords of :func:`crowdvib.estimate_hsi_joint` (its defaults: the paper's least
+        squares with the smeared crowd, profile intervals).
+    executor, store, progress, batch_size
+        As for :func:`crowdvib.runner.run_tasks`: where the tasks run, where finished ones
+        are kept (a season given the same store resumes), ``progress(done, total)``, tasks
+        per submission.
+
+    Returns
+    -------
+    SeasonResult
+    """
+    windows = list(windows)
+    tasks = [(name, payload) for name, payload, _ in windows if payload is not None]
+    results = run_tasks(function, tasks, executor=executor, store=store, progress=progress,
+                        fields=_ROW_FIELDS, batch_size=batch_size)
+    rows = []
+    for name, payload, info in windows:
+        found = results.get(name, {}) if payload is not None else {}
+        rows.append({"name": name, **info, **{k: v for k, v in found.items() if k != "psd"}})
+    done = [results[name] for name, payload, _ in windows
+            if payload is not None and "error" not in results[name]]
+    estimate, failed = None, None
+    if joint and done:
+        with derived():               # each record's crowd was judged when its row was read
+            crowds = [Crowd(**row["crowd"]) for row in done]
+        try:
+            estimate = estimate_hsi_joint([_psd(row["psd"]) for row in done], structure, crowds,
+                                          band=band, **dict(joint_options or {}))
+        except CrowdvibError as error:
+            failed = f"{type(error).__name__}: {error}"
+            warnings.warn(f"the joint estimate of the season failed ({failed}); the records' "
+                          "own estimates stand", StudyWarning, stacklevel=2)
+    return SeasonResult(tuple(rows), estimate, failed)
+
+
+# ------------------------------------------------------------------------------ synthetic
+def write_synthetic_season(folder, structure, crowd, msd, *, densities, duration,
+                           sample_rate, times=None, simulate=False, rng=None):
+    """Write a season of records whose MSD is known, and its crowd table (how-tos, tests,
+    benchmarks).
+
+    Parameters
+    ----------
+    folder : path
+        Where the records (``record_001.npz`` …) and ``crowd.csv`` are written (made if need be).
+    structure : ModalModel
+    crowd : Crowd
+        The crowd's other properties (speed, step frequencies, body mass); each record's
+        density is its own.
+    msd : MSDModel
+        The pedestrians' MSD (the truth to identify back).
+    densities : sequence of float
+        The density of each record [persons/m²].
+    duration, sample_rate : float
+        Of each record [s], [Hz].
+    times : sequence of str, optional
+        ISO 8601 start time of each record, written to the table's ``time`` column.
+    simulate : bool
+        False: a stationary Gaussian record of the smeared crowd's expected PSD (docs: theory,
+        Correlation of neighbouring Welch ordinates), exactly what the paper's least squares
+        assumes, milliseconds a record. True: the time-domain simulation of walkers
+        (:func:`crowdvib.simulate`, with 100 s of warm-up), whose crowd fluctuates.
+    rng : None, int or numpy.random.Generator
+        Seeds the records, one stream each.
+
+    Returns
+    -------
+    pathlib.Path
+        The crowd table; its rows give each record's ``density`` (and ``time``).
+    """
+    from pathlib import Path
+
+    from ..io.records import Record, write_record
+    from ..response.simulation import simulate as simulate_record
+    from ..response.spectral import response_psd
+    from ..signals.synthesis import gaussian_record, record_frequencies
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    densities = [float(d) for d in densities]
+    streams = np.random.default_rng(rng).spawn(len(densities))
+    lines = ["record,density" + (",time" if times is not None else "")]
+    for number, (density, stream) in enumerate(zip(densities, streams), start=1):
+        with derived():       # the crowd at another density: judged where it was built
+            here = dataclasses.replace(crowd, density=density)
+        if simulate:
+            found = simulate_record(structure, here, duration, msd=msd, sample_rate=sample_rate,
+                                    rng=stream, warm_up=100.0)
+            data = found.acceleration
+        else:
+            frequency = record_frequencies(duration, sample_rate)
+            expected = response_psd(structure, here, frequency, msd=msd)
+            data = gaussian_record(expected.psd, sample_rate, stream)
+        name = f"record_{number:03d}.npz"
+        write_record(Record(data, sample_rate, tuple(structure.output_names)), folder / name)
+        lines.append(f"{name},{density!r}" + (f",{times[number - 1]}" if times is not None
+                                              else ""))
+    table = folder / "crowd.csv"
+    table.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return table
