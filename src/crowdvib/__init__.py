@@ -38,6 +38,9 @@ _LAZY = {
                      "load_results", "Results"), "cases"),
     "modal_accelerance": "response",
     "FluctuatingSpectralModel": "response",
+    "CrowdProfile": "models",
+    "VaryingCrowdModel": "response",
+    "varying_response_psd": "response",
 }
 
 __all__ = [
@@ -78,5 +81,7 @@ if TYPE_CHECKING:  # the same names, eagerly, for type checkers and IDEs
     from .design import (DesignCheck, ResponsePrediction, TunedMassDamper, design_check,
                          predict_response, tune_damper)
     from .response import FluctuatingSpectralModel, modal_accelerance
+    from .models import CrowdProfile
+    from .response import VaryingCrowdModel, varying_response_psd
     from .signals import (LowPassFilter, PSDConvergence, ResponsePSD, detrend, psd_convergence,
                           resample, running_rms, weight_wb, welch_psd)

@@ -33,6 +33,7 @@ from .uncertainty import profile_interval, sandwich_covariance
 if TYPE_CHECKING:
     from .._typing import ForceModel, Seed
     from ..models.crowd import Crowd
+    from ..models.profile import CrowdProfile
     from ..models.structure import ModalModel
     from ..signals.spectrum import ResponsePSD
 
@@ -70,7 +71,7 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
                  force: ForceModel | None = None, match_welch: bool = True,
                  method: str = DEFAULT_METHOD, interval: str = "profile", level: float = 0.95,
                  crowd_model: str | None = None, n_boot: int = 200,
-                 rng: Seed = None) -> HSIEstimate:
+                 rng: Seed = None, crowd_profile: CrowdProfile | None = None) -> HSIEstimate:
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Equations 5 and 6).
 
     Parameters
@@ -137,6 +138,13 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         Replicates of the parametric bootstrap (``interval="bootstrap"``), >= 20.
     rng : None, int or numpy.random.Generator
         Seed of the bootstrap replicates.
+    crowd_profile : CrowdProfile, optional
+        The crowd's density against time over the record (t = 0 its first sample), e.g. from
+        counts per interval (``CrowdProfile.from_counts``): the model is then the average of
+        the Welch windows' expectations, each at the density on the deck during it (docs:
+        theory, A crowd that changes); ``crowd`` gives the walkers, its density is not used.
+        The interval takes the record's Welch statistics as measured: the scatter of its
+        segments, which with a changing crowd includes the spread of their expectations.
 
     Returns
     -------
@@ -157,7 +165,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     def objective(crowd, model=crowd_model):
         return PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                             output_weights=output_weights, frequency_weights=frequency_weights,
-                            match_welch=match_welch, method=method, crowd_model=model)
+                            match_welch=match_welch, method=method, crowd_model=model,
+                            crowd_profile=crowd_profile)
 
     # A wrong level (units, gain) is diagnosed at the crowd as given with the smeared model:
     # the question is one of level, which the two crowd models share to a few per cent, and
@@ -351,7 +360,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         method=method, covariance=covariance, intervals=intervals, interval_level=level,
         interval_on_bound=on_bound, crowd_model=parts[0][0].crowd_model,
         crowd_model_details=tuple(objective.model.details() for objective, _ in parts
-                                  if hasattr(objective.model, "details")),
+                                  if objective.crowd_model == "fluctuating"),
         interval_method=interval if intervals else None, bootstrap_samples=samples,
         crowd=parts[0][0].model.crowd if free_step_frequencies else None)
 

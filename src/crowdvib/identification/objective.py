@@ -23,8 +23,10 @@ from .._estimators import METHOD_DEFAULTS, check_method
 from .._validation import as_float_array, check_flag, check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
+from ..models.profile import CrowdProfile
 from ..models.structure import ModalModel
 from ..response.fluctuation import spectral_model
+from ..response.varying import VaryingCrowdModel
 from ..signals.spectrum import ResponsePSD
 from ..signals.welch import welch_bin_correlation, welch_degrees_of_freedom
 from .uncertainty import score_variance
@@ -115,6 +117,12 @@ class PSDObjective:
     crowd_model : {"smeared", "fluctuating"}
         The expected PSD of the mean crowd, or the mixture over the Poisson crowd's fluctuating
         occupancy (docs: theory, The fluctuating crowd).
+    crowd_profile : CrowdProfile, optional
+        The record's crowd changes with time (t = 0 its first sample): the model is the
+        average over the Welch windows of each window's expectation (docs: theory, A crowd that
+        changes), ``crowd`` giving the walkers (its density is not used). The windows are
+        placed as a Welch estimate of ``measured.n_windows`` windows at 50 % overlap places
+        them from t = 0.
     """
 
     def __setattr__(self, name, value):
@@ -133,7 +141,7 @@ class PSDObjective:
 
     def __init__(self, measured, structure, crowd, *, band, force=None, outputs=None,
                  output_weights=None, frequency_weights=None, match_welch=True,
-                 method="least_squares", crowd_model="smeared"):
+                 method="least_squares", crowd_model="smeared", crowd_profile=None):
         check_method(method)
         self.method = method
         if not isinstance(measured, ResponsePSD):
@@ -141,6 +149,18 @@ class PSDObjective:
         measured.check_measured()
         check_type("structure", structure, ModalModel)
         check_type("crowd", crowd, Crowd)
+        self._profile = None
+        if crowd_profile is not None:
+            check_type("crowd_profile", crowd_profile, CrowdProfile)
+            if not (measured.window_length and measured.n_windows):
+                raise ParameterError(
+                    "crowd_profile needs a Welch estimate (measured.window_length and n_windows "
+                    "known) to place the record on the profile, got window_length = "
+                    f"{measured.window_length!r}, n_windows = {measured.n_windows!r}")
+            # The record's windows at 50 % overlap from t = 0 (as welch_psd's default).
+            duration = measured.window_length * (1 + 0.5 * (measured.n_windows - 1))
+            self._profile = (crowd_profile, None, dict(duration=duration, overlap=0.5))
+            crowd = crowd.with_density(crowd_profile.peak)      # checked > 0 just below
         if crowd.density <= 0:
             raise ParameterError(
                 f"crowd.density must be > 0 to estimate HSI (no crowd, no interaction), "
@@ -204,6 +224,9 @@ class PSDObjective:
                                   crowd_model=crowd_model)
         self.crowd_model = crowd_model
         self.model = self.spectral_model(crowd)
+        if self._profile is not None:
+            # From here on a crowd's density scales the profile to that record mean.
+            self._profile = (self._profile[0], self.model.crowd.density, self._profile[2])
         if method == "likelihood":
             use = self._likelihood_bins(outputs)
             if cross is not None:
@@ -253,12 +276,23 @@ class PSDObjective:
     def spectral_model(self, crowd):
         """The forward model on the band grid for another crowd (same structure, filter, window)."""
         inputs = dict(self._model_inputs)
+        if self._profile is not None:
+            return self._varying_model(crowd, self.frequency, inputs)
         model = spectral_model(inputs.pop("structure"), crowd, self.frequency, **inputs)
         if self.crowd_model == "fluctuating":
             # The node count chosen for the objective's own crowd serves every other crowd
             # (nearby densities, other bins): choosing it again costs a dozen models.
             self._model_inputs.setdefault("n_nodes", model.nodes.size)
         return model
+
+    def _varying_model(self, crowd, frequency, inputs):
+        """The Welch average over the profile (its densities scaled to ``crowd.density`` as the
+        record's mean once that is known: the crowd-size term moves the whole profile)."""
+        profile, mean, windows = self._profile
+        if mean is not None and crowd.density != mean:
+            profile = profile.scaled(crowd.density / mean)
+        return VaryingCrowdModel(inputs.pop("structure"), crowd, profile, frequency,
+                                 **windows, **inputs)
 
     def model_for(self, steps):
         """The forward model with the crowd's step frequencies N(μ_fs, σ_fs), ``steps`` = (μ_fs, σ_fs) [Hz].
@@ -275,7 +309,8 @@ class PSDObjective:
             # A cache, not state: what the objective computes does not depend on it.
             object.__setattr__(self, "_steps_model", (
                 key, self.model.with_step_frequencies(crowd)
-                if self.crowd_model == "fluctuating" else self.spectral_model(crowd)))
+                if self.crowd_model == "fluctuating" or self._profile is not None
+                else self.spectral_model(crowd)))
         return self._steps_model[1]
 
     def with_step_frequencies(self, steps) -> "PSDObjective":
@@ -289,6 +324,8 @@ class PSDObjective:
     def exact_model(self, frequency: np.ndarray):
         """The forward model without the Welch kernel on another grid (same crowd, filter)."""
         inputs = dict(self._model_inputs, welch_window_length=None)
+        if self._profile is not None:
+            return self._varying_model(self.model.crowd, frequency, inputs)
         return spectral_model(inputs.pop("structure"), self.model.crowd, frequency, **inputs)
 
     def with_target(self, psd: np.ndarray) -> "PSDObjective":

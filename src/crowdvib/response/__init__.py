@@ -2,6 +2,7 @@
 
 ``spectral`` (frequency domain: FRFs, occupied modal properties, the acceleration PSD with HSI),
 ``fluctuation`` (the expected PSD of a Poisson crowd whose occupancy fluctuates),
+``varying`` (the expected Welch PSD of a record whose crowd's density changes),
 and ``simulation`` (time-domain Monte Carlo with moving pedestrians; its compiled kernel is
 ``_kernels``); their results are in ``results``.
 """
@@ -13,8 +14,9 @@ from .simulation import simulate, simulate_psd
 from .spectral import (SpectralModel, effective_modal_properties, frf, modal_accelerance,
                        response_psd)
 from .traffic import Pedestrian, generate_traffic
+from .varying import VaryingCrowdModel, varying_response_psd
 
 __all__ = ["SpectralModel", "FluctuatingSpectralModel", "response_psd", "frf",
            "effective_modal_properties", "modal_accelerance", "simulate", "simulate_many",
            "Pedestrian", "generate_traffic", "FRF", "EffectiveModalProperties", "Simulation",
-           "simulate_psd", "SimulationPSD"]
+           "simulate_psd", "SimulationPSD", "VaryingCrowdModel", "varying_response_psd"]

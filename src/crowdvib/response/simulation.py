@@ -28,6 +28,7 @@ from ..models.damper import as_dampers
 from ..models.loading import STANDARD_GRAVITY, as_force_model
 from ..models.measured import REPLAY_HARMONICS, ReplayDraws
 from ..models.pedestrian import MSDModel
+from ..models.profile import CrowdProfile
 from ..signals.spectrum import ResponsePSD
 from ..signals.welch import DISPERSION_LAGS, dispersion_ratio, segment_periodograms
 from .results import Simulation, SimulationPSD
@@ -407,16 +408,34 @@ def _check_run(structure, crowd, duration, pedestrians, msd, force, sample_rate,
     return force, duration, sample_rate, n_samples, warm_up_samples
 
 
+def _with_profile(crowd, profile):
+    """The crowd and profile a run uses: a varying profile with the crowd at its peak density
+    (what the checks of memory and jam density see), a constant one as the stationary crowd
+    of its density (the record is then bit-identical to that crowd's), no profile as given."""
+    if profile is None:
+        return crowd, None
+    check_type("crowd_profile", profile, CrowdProfile)
+    if crowd is None:
+        raise ParameterError("crowd must be given with crowd_profile: the profile sets the "
+                             "density, the crowd its walkers (speed, step frequencies, masses)")
+    check_type("crowd", crowd, Crowd)
+    crowd = crowd.with_density(profile.peak)
+    return crowd, (None if profile.is_constant else profile)
+
+
 def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
-             include_static_weight, record_modal_load, warm_up, dampers=(), keep_record=True):
+             include_static_weight, record_modal_load, warm_up, dampers=(), keep_record=True,
+             profile=None):
     """Validate everything and build the integrator (no time stepping yet)."""
+    crowd, profile = _with_profile(crowd, profile)
     force, duration, sample_rate, n_samples, warm_up_samples = _check_run(
         structure, crowd, duration, pedestrians, msd, force, sample_rate, record_modal_load,
         warm_up, keep_record=keep_record)
     pedestrians = list(pedestrians) if pedestrians is not None else []
     rng = np.random.default_rng(seed)
     start = -warm_up_samples / sample_rate
-    stream = _Stream(structure, crowd, pedestrians, start, duration, force, rng, dampers)
+    stream = _Stream(structure, crowd, pedestrians, start, duration, force, rng, dampers,
+                     profile)
     substeps, added_mass = _scan_stream(structure, stream, msd, sample_rate)
     if dampers:      # the dampers' own frequencies bound the step like the modes'
         fastest = max(d.frequency for d in dampers)
@@ -430,7 +449,7 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
 
 def _start(structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, progress,
            include_static_weight, chunk_duration, record_modal_load, warm_up, dampers,
-           keep_record):
+           keep_record, profile=None):
     """Check the options shared by :func:`simulate` and :func:`simulate_psd` and prepare the
     run: the seed, the integrator, the sample counts, the sample rate and the chunks to run."""
     seed = _seed_from(rng)
@@ -440,7 +459,8 @@ def _start(structure, crowd, duration, pedestrians, msd, force, sample_rate, rng
                       else check_positive("chunk_duration", chunk_duration, unit="s"))
     integrator, n_samples, warm_up_samples, sample_rate, duration = _prepare(
         structure, crowd, duration, pedestrians, msd, force, sample_rate, seed,
-        include_static_weight, record_modal_load, warm_up, as_dampers(dampers), keep_record)
+        include_static_weight, record_modal_load, warm_up, as_dampers(dampers), keep_record,
+        profile)
     total_steps = (warm_up_samples + n_samples) * integrator.substeps
     chunk_steps = max(1, int(round(chunk_duration * sample_rate))) * integrator.substeps
     chunks = _chunks(integrator, total_steps, chunk_steps, progress)
@@ -467,7 +487,8 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
              progress: Callable[[float, float], None] | None = None,
              include_static_weight: bool = False, chunk_duration: float | None = None,
              record_modal_load: bool = False, warm_up: float = 0.0,
-             dampers: Sequence[TunedMassDamper] | None = None) -> Simulation:
+             dampers: Sequence[TunedMassDamper] | None = None,
+             crowd_profile: CrowdProfile | None = None) -> Simulation:
     """Accelerations of a footbridge under a crowd of moving forces and MSDs (docs: theory, The coupled time-domain model).
 
     The structure's modes carry every pedestrian on the deck: the force on a rigid floor
@@ -525,6 +546,13 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
         integrator, standing at its position for the whole record (warm-up included), coupled
         through its mode-shape row like a pedestrian's MSD (docs: theory, Tuned mass dampers in
         the simulator).
+    crowd_profile : CrowdProfile, optional
+        A density that changes with time (t = 0 the first recorded sample): the crowd's walkers
+        enter as a non-homogeneous Poisson stream of rate d(t)·B·v, the deck holding at the
+        start whoever entered during the crossing before (docs: theory, A crowd that changes);
+        ``crowd`` gives the walkers (speed, step frequencies, masses, directions), its density
+        is not used. Only the stream changes: the same seed gives the same record, and a
+        constant profile the record of ``crowd.with_density(d)``.
 
     Returns
     -------
@@ -558,7 +586,8 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
     """
     seed, integrator, n_samples, warm_up_samples, sample_rate, chunks = _start(
         structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, progress,
-        include_static_weight, chunk_duration, record_modal_load, warm_up, dampers, True)
+        include_static_weight, chunk_duration, record_modal_load, warm_up, dampers, True,
+        crowd_profile)
     n_outputs, n_modes = structure.n_outputs, structure.n_modes
     acceleration = np.empty((n_outputs, n_samples))
     modal_load = np.empty((n_modes, n_samples)) if record_modal_load else None
@@ -659,7 +688,8 @@ def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
                  progress: Callable[[float, float], None] | None = None,
                  include_static_weight: bool = False, chunk_duration: float | None = None,
                  warm_up: float = 0.0,
-                 dampers: Sequence[TunedMassDamper] | None = None) -> SimulationPSD:
+                 dampers: Sequence[TunedMassDamper] | None = None,
+                 crowd_profile: CrowdProfile | None = None) -> SimulationPSD:
     """The Welch PSD and summaries of the record :func:`simulate` would return, without the
     record: memory does not grow with ``duration`` beyond 32 bytes a pedestrian (issue 28 §3;
     a month of the paper example fits in well under 1 GB).
@@ -708,7 +738,7 @@ def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
         raise ParameterError(f"overlap must lie in [0, 1), got {overlap!r}")
     seed, integrator, n_samples, warm_up_samples, sample_rate, chunks = _start(
         structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, progress,
-        include_static_weight, chunk_duration, False, warm_up, dampers, False)
+        include_static_weight, chunk_duration, False, warm_up, dampers, False, crowd_profile)
     segment = int(round(window_length * sample_rate))
     if segment < 8:
         raise ParameterError(

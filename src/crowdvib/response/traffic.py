@@ -141,20 +141,42 @@ def _seed_from(rng):
 STREAM_BLOCK = 1 << 16
 
 
-def _crowd_arrivals(structure, crowd, start, end, rng):
+def _crowd_arrivals(structure, crowd, start, end, rng, profile=None):
     """The arrival times of a crowd's stream over [start, end), in stream order, and how many
     walk forwards (they come first; docs: theory, Poisson arrivals).
 
     Per direction: the people already on the deck at ``start`` (Poisson(n·share) at uniform
     positions, i.e. arrival times start − U[0, L/v]), then Poisson arrivals on [start, end).
+    With a :class:`~crowdvib.models.CrowdProfile` whose density varies, the stream is the
+    non-homogeneous one of rate d(t)·B·v (docs: theory, A crowd that changes).
     """
     crossing = structure.length / crowd.walking_speed
+    if profile is not None and not profile.is_constant:
+        return _profile_arrivals(structure, crowd, profile, start - crossing, start, end, rng)
     arrivals = []
     for share in (crowd.forward_fraction, 1.0 - crowd.forward_fraction):
         on_deck = rng.poisson(crowd.density * structure.width * structure.length * share)
         arrivals.append(start - crossing * rng.uniform(0.0, 1.0, on_deck))
         entering = rng.poisson(crowd.arrival_rate(structure.width) * share * (end - start))
         arrivals.append(np.sort(rng.uniform(start, end, entering)))
+    return np.concatenate(arrivals), arrivals[0].size + arrivals[1].size
+
+
+def _profile_arrivals(structure, crowd, profile, before, start, end, rng):
+    """:func:`_crowd_arrivals` of a varying density, by inversion of the cumulative rate: per
+    direction, the walkers who entered during the crossing before ``start`` (on the deck at
+    ``start``), then those entering on [start, end); the draws in the stationary stream's order.
+
+    N ~ Poisson(B·v·share·∫d) and the times C⁻¹(U) with U uniform over the cumulative density:
+    the Poisson stream of rate d(t)·B·v (docs: theory, A crowd that changes).
+    """
+    rate = structure.width * crowd.walking_speed
+    bounds = profile.cumulative(np.array([before, start, end]))
+    arrivals = []
+    for share in (crowd.forward_fraction, 1.0 - crowd.forward_fraction):
+        for low, high in ((bounds[0], bounds[1]), (bounds[1], bounds[2])):
+            count = rng.poisson(rate * share * (high - low))
+            arrivals.append(profile.inverse_cumulative(np.sort(rng.uniform(low, high, count))))
     return np.concatenate(arrivals), arrivals[0].size + arrivals[1].size
 
 
@@ -212,7 +234,8 @@ class _Stream:
     needs them.
     """
 
-    def __init__(self, structure, crowd, pedestrians, start, end, force, rng, dampers=()):
+    def __init__(self, structure, crowd, pedestrians, start, end, force, rng, dampers=(),
+                 profile=None):
         self.structure, self.crowd, self.force = structure, crowd, force
         x0, x1 = structure.positions[0], structure.positions[-1]
         self.x0, self.x1 = x0, x1
@@ -222,7 +245,8 @@ class _Stream:
         self._blocks = {}
         crowd_arrival = np.zeros(0)
         if crowd is not None and crowd.density > 0:
-            crowd_arrival, self.n_forward = _crowd_arrivals(structure, crowd, start, end, rng)
+            crowd_arrival, self.n_forward = _crowd_arrivals(structure, crowd, start, end, rng,
+                                                            profile)
             self.n_crowd = crowd_arrival.size
             self._crowd_arrival = crowd_arrival
             self._state = rng.bit_generator.state             # block 0 can be drawn again

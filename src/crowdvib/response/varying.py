@@ -1,0 +1,265 @@
+"""The expected Welch PSD of a record whose crowd changes slowly (issue 28 §1; docs: theory, A
+crowd that changes).
+
+A Welch estimate averages the periodograms of its windows; when the crowd changes little within
+a window's span, the bridge's memory 1/(2π ξ f) and a crossing, each window's expectation is the
+stationary crowd's at the density then on the deck, and the record's is their average:
+
+    Ḡ(f) = ∫ W(t) G(f; d_deck(t)) dt / ∫ W(t) dt,   W(t) = Σ_k w²(t − t_k),
+
+W the Welch windows' summed Hann² weight (each window's periodogram weighs its samples by w²) and
+d_deck the profile's mean over the last crossing (:meth:`CrowdProfile.deck_density`). The density
+law seen this way is put on a few levels d_i by linear (hat) binning, which keeps its mean exactly,
+and Ḡ = Σ_i p_i G(f; d_i) with a smeared or a fluctuating model per level; the number of levels
+grows until the next finer set changes Ḡ by less than 0.5 % of its peak.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .._validation import check_positive, check_type
+from ..errors import ParameterError
+from ..models.crowd import Crowd
+from ..models.pedestrian import MSDModel
+from ..models.profile import CrowdProfile
+from ..models.structure import ModalModel
+from ..signals import ResponsePSD
+from .fluctuation import FluctuatingSpectralModel, _mixture, spectral_model
+
+__all__ = ["VaryingCrowdModel", "varying_response_psd", "density_law"]
+
+#: Level counts tried (each grid holds the one before), and the change of Ḡ over its peak below
+#: which a count is enough.
+_LEVEL_COUNTS = (2, 3, 5, 9, 17, 33)
+_LEVEL_TOLERANCE = 5e-3
+#: Reference MSD with which the level count is chosen (the paper's values).
+_REFERENCE_MSD = MSDModel()
+#: Time points per Welch window (or per record without windows) for the density law.
+_POINTS_PER_WINDOW = 64
+_MIN_POINTS = 4096
+
+
+def _welch_weight(t, duration, window_length, overlap):
+    """W(t): the summed Hann² weight of the Welch windows [0, T), [s, s + T), … that fit in
+    [0, duration] (a step s = T − T·overlap); uniform without windows."""
+    if window_length is None:
+        return np.ones_like(t)
+    step = window_length * (1 - overlap)
+    count = int(np.floor((duration - window_length) / step + 1e-9)) + 1
+    if count < 1:
+        raise ParameterError(f"duration must hold one Welch window: {duration:g} s is shorter "
+                             f"than welch_window_length = {window_length:g} s")
+    weight = np.zeros_like(t)
+    last = np.floor(t / step).astype(int)
+    for back in range(int(np.ceil(1 / (1 - overlap))) + 1):
+        k = last - back
+        phase = (t - k * step) / window_length
+        inside = (k >= 0) & (k < count) & (phase >= 0) & (phase < 1)
+        weight += np.where(inside, np.sin(np.pi * phase) ** 4, 0.0)
+    return weight
+
+
+def density_law(structure: ModalModel, crowd: Crowd, profile: CrowdProfile, duration: float, *,
+                welch_window_length: float | None = None,
+                overlap: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
+    """The deck densities a record [0, duration] shows its Welch average, and their weights
+    → (densities d(t_j) [persons/m²], weights summing to 1), on a regular time grid.
+
+    d is the profile's mean over the last crossing L/v at the crowd's speed; the weight of
+    t_j is the Welch windows' summed Hann² there (uniform without ``welch_window_length``).
+    """
+    duration = check_positive("duration", duration, unit="s")
+    if welch_window_length is not None:
+        welch_window_length = check_positive("welch_window_length", welch_window_length,
+                                             unit="s")
+    if not 0.0 <= overlap < 1.0:
+        raise ParameterError(f"overlap must lie in [0, 1), got {overlap!r}")
+    per = duration if welch_window_length is None else welch_window_length
+    points = max(_MIN_POINTS, int(np.ceil(_POINTS_PER_WINDOW * duration / per)))
+    t = (np.arange(points) + 0.5) * duration / points
+    weight = _welch_weight(t, duration, welch_window_length, overlap)
+    density = profile.deck_density(t, structure.length / crowd.walking_speed)
+    return density, weight / weight.sum()
+
+
+def _levels(density, weight, count):
+    """Hat binning of a density law on ``count`` even levels from its lowest to its highest
+    value → (levels, probabilities); the mean density is kept exactly."""
+    low, high = density.min(), density.max()
+    if count == 1 or high - low <= 1e-9 * max(high, 1e-9):
+        return np.array([float(weight @ density)]), np.ones(1)
+    levels = low + (high - low) * (np.arange(count) / (count - 1))
+    position = (density - low) / (high - low) * (count - 1)
+    below = np.minimum(np.floor(position).astype(int), count - 2)
+    fraction = position - below
+    probability = (np.bincount(below, weight * (1 - fraction), count)
+                   + np.bincount(below + 1, weight * fraction, count))
+    return levels, probability
+
+
+class VaryingCrowdModel:
+    """Expected Welch PSD of a record whose crowd follows a :class:`CrowdProfile` (module
+    docstring; docs: theory, A crowd that changes).
+
+    The drop-in counterpart of :class:`~crowdvib.response.SpectralModel` and
+    :class:`~crowdvib.response.FluctuatingSpectralModel` (``psd_array``, ``cross_psd_array``,
+    ``psd``): Ḡ(f) = Σ_i p_i G(f; d_i) over the levels d_i of the record's density law.
+
+    Parameters
+    ----------
+    structure : ModalModel
+    crowd : Crowd
+        The walkers (speed, step frequencies, body mass); the profile sets the density.
+    profile : CrowdProfile
+        Density against time, t = 0 the record's first sample.
+    frequency : array_like
+        Frequencies [Hz].
+    duration : float
+        Record length [s].
+    welch_window_length : float, optional
+        Welch segment length T [s]: the model is what the Welch average sees (its kernel and its
+        windows' weights over time). None: the exact PSD averaged uniformly over the record.
+    overlap : float
+        Overlap of the Welch segments (default 0.5, as :func:`crowdvib.welch_psd`).
+    crowd_model : {"smeared", "fluctuating"}
+        The model of each level (docs: theory, The fluctuating crowd).
+    levels : int, optional
+        Density levels (default: the fewest of 2, 3, 5, 9, 17, 33 that the next count changes by
+        less than 0.5 % of the peak, with the paper's MSD; one for a record at one density).
+    **options
+        Passed to each level's model (``force``, ``outputs``, ``lowpass``, ``dampers``; for the
+        fluctuating model also ``n_nodes``, ``mode``, ``finite_crossing``, ``modulation``).
+
+    Attributes
+    ----------
+    levels, probabilities : ndarray
+        The density levels [persons/m²] and their shares of the Welch average.
+    crowd : Crowd
+        The walkers at the record's mean deck density (as the Welch average weighs it).
+    """
+
+    def __init__(self, structure: ModalModel, crowd: Crowd, profile: CrowdProfile,
+                 frequency: ArrayLike, *, duration: float,
+                 welch_window_length: float | None = None, overlap: float = 0.5,
+                 crowd_model: str = "smeared", levels: int | None = None,
+                 **options: Any) -> None:
+        check_type("structure", structure, ModalModel)
+        check_type("crowd", crowd, Crowd)
+        check_type("profile", profile, CrowdProfile)
+        if levels is not None and (not isinstance(levels, (int, np.integer))
+                                   or not 1 <= levels <= 65):
+            raise ParameterError(f"levels must be an integer from 1 to 65, got {levels!r}")
+        density, weight = density_law(structure, crowd, profile, duration,
+                                      welch_window_length=welch_window_length, overlap=overlap)
+        self.duration, self.overlap, self.crowd_model = float(duration), overlap, crowd_model
+        models = {}
+
+        def model(level):
+            if level not in models:
+                models[level] = spectral_model(structure, crowd.with_density(level), frequency,
+                                               crowd_model=crowd_model,
+                                               welch_window_length=welch_window_length,
+                                               **options)
+            return models[level]
+
+        def rule(count):
+            values, probability = _levels(density, weight, count)
+            use = probability > 0
+            return values[use], probability[use], [model(v) for v in values[use]]
+
+        if levels is not None:
+            current = rule(levels)
+        else:
+            current = rule(_LEVEL_COUNTS[0])
+            for count in _LEVEL_COUNTS[1:]:
+                if current[0].size == 1:
+                    break
+                finer = rule(count)
+                coarse = _mixture(current[1], current[2], _REFERENCE_MSD)
+                fine = _mixture(finer[1], finer[2], _REFERENCE_MSD)
+                if np.abs(coarse - fine).max() <= _LEVEL_TOLERANCE * fine.max():
+                    break
+                current = finer
+        self.levels, self.probabilities, self._models = current
+        first = self._models[0]
+        self.structure, self.frequency, self.force = structure, first.frequency, first.force
+        self.output_names, self.lowpass = first.output_names, first.lowpass
+        self.welch_window_length = first.welch_window_length
+        self.profile = profile
+        self.crowd = crowd.with_density(float(self.probabilities @ self.levels))
+
+    def details(self) -> dict[str, Any]:
+        """What the average is made of, for a report: the density levels and their range, the
+        mean density, and for the fluctuating model the details of its heaviest level."""
+        heaviest = self._models[int(np.argmax(self.probabilities))]
+        own = heaviest.details() if hasattr(heaviest, "details") else {}
+        return dict(own, density_levels=int(self.levels.size),
+                    density_range=(float(self.levels.min()), float(self.levels.max())),
+                    mean_density=float(self.crowd.density))
+
+    def with_step_frequencies(self, crowd: Crowd) -> VaryingCrowdModel:
+        """The same average for walkers that differ only in their step-frequency distribution
+        (the levels and their shares are kept)."""
+        check_type("crowd", crowd, Crowd)
+        other = copy.copy(self)
+        other.crowd = crowd.with_density(self.crowd.density)
+        other._models = [m.with_step_frequencies(crowd.with_density(m.crowd.density))
+                         if hasattr(m, "with_step_frequencies")
+                         else m._for_crowd(crowd.with_density(m.crowd.density))
+                         for m in self._models]
+        return other
+
+    def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
+        """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
+        return _mixture(self.probabilities, self._models, msd)
+
+    def cross_psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
+        """Expected cross-spectral matrix, shape (n_outputs, n_outputs, n_frequencies)."""
+        return _mixture(self.probabilities, self._models, msd, cross=True)
+
+    def variance_ratio(self, msd: MSDModel | None = None) -> np.ndarray:
+        """Σ p_i G_i² / Ḡ² per output and bin [-], >= 1: how much more the Welch average of
+        windows with different expectations scatters than a stationary record of Ḡ would, when
+        the windows are independent (docs: theory, A crowd that changes)."""
+        squares = sum(p * m.psd_array(msd) ** 2 for p, m in zip(self.probabilities,
+                                                                self._models))
+        mean = self.psd_array(msd)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(mean > 0, squares / mean**2, 1.0)
+
+    #: Expected PSD at the outputs → :class:`ResponsePSD` (the same as the fluctuating model's).
+    psd = FluctuatingSpectralModel.psd
+
+
+def varying_response_psd(structure: ModalModel, crowd: Crowd, profile: CrowdProfile,
+                         frequency: ArrayLike, *, duration: float,
+                         msd: MSDModel | None = None,
+                         welch_window_length: float | None = None, overlap: float = 0.5,
+                         crowd_model: str = "smeared",
+                         outputs: str | Sequence[str] | None = None,
+                         **options: Any) -> ResponsePSD:
+    """The expected (Welch) PSD of a record of ``duration`` whose crowd follows ``profile``:
+    :class:`VaryingCrowdModel` in one call (docs: theory, A crowd that changes).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from crowdvib import Crowd, MSDModel, ModalModel
+    >>> from crowdvib.models import CrowdProfile
+    >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+    >>> ramp = CrowdProfile([0.0, 3600.0], [0.2, 1.0])
+    >>> psd = varying_response_psd(bridge, Crowd.from_density(0.6), ramp,
+    ...                            np.arange(60, 181) / 60, duration=3600.0, msd=MSDModel(),
+    ...                            welch_window_length=60.0)
+    >>> psd.psd.shape
+    (1, 121)
+    """
+    return VaryingCrowdModel(structure, crowd, profile, frequency, duration=duration,
+                             welch_window_length=welch_window_length, overlap=overlap,
+                             crowd_model=crowd_model, outputs=outputs, **options).psd(msd)
