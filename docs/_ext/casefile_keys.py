@@ -17,7 +17,7 @@ SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd", "_msd
             "_measurement": "measurement", "_estimation": "estimation",
             "_simulation": "simulation", "_outputs": "structure", "_output_nodes": "structure", "_design": "design",
             "_design_damper": "design.damper",
-            "_measurement_block": "measurement", "_measurements": "case"}
+            "_measurement_block": "measurement", "_measurements": "case", "_report": "report"}
 #: The same for the ambient-test file (crowdvib.io.ambient): parser function → the table each of
 #: its variables is (the records' ``table`` is one [record] block).
 AMBIENT_SECTIONS = {"read_ambient": {"root": "case"}, "_records": {"table": "record", "root": "case"},
@@ -49,6 +49,7 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
                                    "of outputs)",
          "structure.mode_shapes": "CSV of shapes along the walkway, or a CSV node table; left "
                                   "out when modal_table is a UFF file (it holds the shapes)",
+         "report.measurement_date": "a date (2024-05-01, TOML's date) or text",
          "case.seed": "a non-negative integer", "case.name": "default: the file name",
          "case.force": "\"zivanovic\" (default), \"young\" or \"measured\" (the packaged "
                        "PhysioNet walks replayed; simulate only: no load PSD)",
@@ -251,7 +252,7 @@ def parser_sources():
 
 #: The case file's sections in the order of the reference.
 CASE_ORDER = ("case", "structure", "crowd", "hsi", "measurement", "estimation", "simulation",
-              "design")
+              "design", "report")
 
 
 def write_reference(source_paths, units, target, sections=None, order=CASE_ORDER):

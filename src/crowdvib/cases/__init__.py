@@ -34,7 +34,7 @@ _MODULES = {
                      "map_case"), "estimate"),
     **dict.fromkeys(("CaseCheck", "check_case", "check_design_table", "design_msd",
                      "verdict_rows", "IntervalCheck", "estimated_msd", "msd_interval",
-                     "check_over_interval"), "design"),
+                     "check_over_interval", "damper_frf"), "design"),
     **dict.fromkeys(("CaseSimulation", "simulation_msd", "simulate_case"), "simulation"),
     **dict.fromkeys(("AmbientModes", "identify_ambient"), "ambient"),
     "Finding": "verdict",

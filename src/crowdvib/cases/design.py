@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 
 
 __all__ = ["CaseCheck", "IntervalCheck", "check_design_table", "design_msd", "check_case",
-           "estimated_msd", "msd_interval", "check_over_interval", "verdict_rows"]
+           "estimated_msd", "msd_interval", "check_over_interval", "verdict_rows", "damper_frf"]
 
 @dataclass(frozen=True)
 class CaseCheck(AsResults):
@@ -66,6 +66,7 @@ class CaseCheck(AsResults):
                 "design": {"verdict": self.rows,
                            "checks": {code: check.to_dict() for code, check in self.checks.items()},
                            "dampers": [d.to_dict() for d in self.dampers],
+                           "frf": damper_frf(self),
                            "prediction": None if self.prediction is None
                            else self.prediction.to_dict()},
                 # Per code, the HSI utilisation's range over the estimate's interval (issue 27 §3).
@@ -249,6 +250,58 @@ def verdict_rows(checks: dict) -> list[dict]:
                              "comfort_class": comfort_class(float(value)),
                              "passes": bool(value <= check.limit)})
     return rows
+
+
+#: The FRF of :func:`damper_frf` spans the governing mode's frequency ∓ this fraction (wider than
+#: the design checks' ∓ 25 % band, so both peaks of the split mode show).
+_FRF_SPAN = 0.3
+
+
+def damper_frf(found: CaseCheck) -> dict | None:
+    """|FRF| of the governing mode at the governing output without and with the dampers, for
+    the report's figure (issue 27 §4: what the damper buys).
+
+    The governing check is the code whose primary model (HSI when checked, else no HSI) has the
+    largest utilisation; at its governing output, the governing mode is the one with the largest
+    peak acceleration. Its accelerance per unit modal force, |−ω² φ_o H(ω) e_j|
+    (:func:`crowdvib.response.modal_accelerance`), is evaluated with that model (with HSI, the
+    crowd of MSDs at the check's density) on f_j (1 ∓ 0.3), fine enough to resolve the
+    undamped peak (a quarter of its half-power half-width).
+
+    Returns
+    -------
+    dict or None
+        ``code``, ``model``, ``output``, ``mode`` (1-based), ``density`` [persons/m²],
+        ``frequency`` [Hz], ``without_damper`` and ``with_damper`` [(m/s²) per unit modal
+        force]; None without dampers.
+    """
+    import numpy as np
+
+    from ..response import modal_accelerance
+
+    if not found.dampers or not found.checks:
+        return None
+    check = max(found.checks.values(), key=lambda c: float(np.max(c.utilisation)))
+    output = int(np.argmax(check.governing))
+    primary = check.models.index(check.primary)
+    mode = int(np.argmax(check.peak_accelerations[primary, output]))
+    structure = found.case.structure
+    centre, damping = structure.frequencies[mode], structure.damping_ratios[mode]
+    size = int(np.clip(np.ceil(2 * _FRF_SPAN / (damping / 4)), 400, 4000))
+    frequency = np.linspace((1 - _FRF_SPAN) * centre, (1 + _FRF_SPAN) * centre, size)
+    hsi = check.primary == "hsi"
+    crowd = found.case.crowd.with_density(check.density) if hsi else None
+    msd = found.msd if hsi else None
+    name = check.output_names[output]
+
+    def magnitude(dampers):
+        values = modal_accelerance(structure, frequency, crowd=crowd, msd=msd, dampers=dampers,
+                                   outputs=[name])
+        return np.abs(values[0, mode]).tolist()
+
+    return {"code": check.code, "model": "HSI" if hsi else "no HSI", "output": name,
+            "mode": mode + 1, "density": float(check.density), "frequency": frequency.tolist(),
+            "without_damper": magnitude([]), "with_damper": magnitude(found.dampers)}
 
 
 def estimated_msd(case: Case, results: dict, *, source: str = "the results") -> MSDModel:

@@ -26,6 +26,8 @@ A case file describes one bridge and one crowd, and how its records are read and
     [design]       codes, density, comfort_class, hsi, weighting, prediction, duration;
                    [design.classes] per code; [design.site_factors] k1–k4 (UK NA);
                    [design.msd] (else [hsi]); [design.damper] (used by `crowdvib check`)
+    [report]       client, project, bridge, location, engineer, measurement_date: who the
+                   reports are for, shown in the header of every report of the case
 
 Paths are relative to the case file. Every value is checked once here; a bad one raises a
 :class:`ParameterError` that names the file and the key, e.g.
@@ -37,6 +39,7 @@ reading lives in :mod:`crowdvib.io._toml`; the records a case names are read by
 
 from __future__ import annotations
 
+import datetime
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
@@ -135,6 +138,8 @@ class Case:
     records: tuple = ()
     #: The walking-force model (the file's ``force``; default Živanović 2007).
     force: ForceModel = field(default_factory=ZivanovicForce)
+    #: The ``[report]`` table: who and what the reports are for (client, project, …), text.
+    report: dict = field(default_factory=dict)
 
     def blocks(self) -> list[Case]:
         """One case per record: itself, or per ``[[measurement]]`` block the case with that
@@ -176,9 +181,12 @@ class Case:
                 "measurement": plain(self.measurement), "estimation": plain(self.estimation),
                 "simulation": plain(self.simulation), "expected": dict(self.expected),
                 **({} if self.design is None else {"design": plain(self.design)}),
-                **({"records": plain(self.records)} if self.records else {})}
+                **({"records": plain(self.records)} if self.records else {}),
+                **({"report": dict(self.report)} if self.report else {})}
         if sections is not None:
-            data = {k: v for k, v in data.items() if not isinstance(v, dict) or k in sections}
+            # Every command's report shows the [report] table in its header.
+            data = {k: v for k, v in data.items()
+                    if not isinstance(v, dict) or k in sections or k == "report"}
         data["not_set"] = {k: v for k, v in self.not_set.items() if k.split(".")[0] in data}
         return data
 
@@ -457,6 +465,23 @@ def _expected(table):
     return expected
 
 
+def _report(table):
+    """``[report]``: who and what the reports are for, each optional text (only those given).
+    The date of the measurement may be a TOML date (``2024-05-01``, kept as ISO text) or any
+    text ("spring 2024")."""
+    found = {"client": table.string("client", None), "project": table.string("project", None),
+             "bridge": table.string("bridge", None), "location": table.string("location", None),
+             "engineer": table.string("engineer", None)}
+    date = table.raw("measurement_date", None)
+    if isinstance(date, datetime.date):             # a TOML date or date-time
+        date = date.isoformat()
+    if date is not None and not isinstance(date, str):
+        raise table.error("measurement_date", "must be a date (2024-05-01) or text", date)
+    found["measurement_date"] = date
+    table.finish()
+    return {key: value for key, value in found.items() if value is not None}
+
+
 def load_case(path: str | os.PathLike) -> Case:
     """Read and check a TOML case file → :class:`Case` (paths relative to the file).
 
@@ -504,6 +529,7 @@ def _case(path, data):
     simulation = _simulation(root.table("simulation"), path)
     expected = _expected(root.table("expected"))
     design = _design(root.table("design"), path, _msd) if root.has("design") else None
+    report = _report(root.table("report"))
     root.finish()
     not_set = _not_set(root.defaulted | ({"estimation"} if not root.has("estimation") else set()))
     outputs = estimation.outputs or structure.output_names
@@ -525,7 +551,7 @@ def _case(path, data):
     return Case(name=name, path=path, structure=structure, crowd=crowd, msd=msd,
                 measurement=measurement, estimation=estimation, simulation=simulation,
                 expected=expected, seed=seed, description=description, not_set=not_set,
-                design=design, records=records, force=force)
+                design=design, records=records, force=force, report=report)
 
 
 #: Case-file keys whose :meth:`Case.to_dict` name differs.
@@ -539,7 +565,9 @@ _DERIVED = {"crowd.walking_speed": "from the density (Weidmann 1993)",
 
 def _not_set(defaulted):
     """The keys a file left out, as :meth:`Case.to_dict` names them → "default" or derivation."""
-    return {_RENAMED.get(key, key): _DERIVED.get(key, "default") for key in sorted(defaulted)}
+    # A [report] key left out is not shown, not defaulted.
+    return {_RENAMED.get(key, key): _DERIVED.get(key, "default") for key in sorted(defaulted)
+            if key.split(".")[0] != "report"}
 
 
 def paper_example_case():

@@ -1,14 +1,17 @@
-"""Figures of the design checks (``crowdvib check``): utilisation per code and model, and the
-peak acceleration of every mode."""
+"""Figures of the design checks (``crowdvib check``): utilisation per code and model, the peak
+acceleration of every mode, and the FRF of the governing mode without and with the damper."""
 
 import numpy as np
 
-from .._figures import DARK, FigureAxes, panels
+from .._figures import DARK, LIGHT, FigureAxes, panels
 
-__all__ = ["plot_utilisation", "plot_mode_accelerations", "MODEL_LABELS"]
+__all__ = ["plot_utilisation", "plot_mode_accelerations", "plot_damper_frf", "MODEL_LABELS",
+           "CODE_LABELS"]
 
 #: The structural models of a design check as the report and its figures name them.
 MODEL_LABELS = {"empty": "no HSI", "added_mass": "added mass", "hsi": "HSI"}
+#: The built-in codes as the report and its figures name them (others by their own name).
+CODE_LABELS = {"hivoss": "HiVoSS", "setra": "Sétra", "en1990": "EN 1990", "ukna": "UK NA"}
 _SHADES = {"empty": "0.75", "added_mass": "0.45", "hsi": "black"}
 
 
@@ -68,6 +71,27 @@ def plot_mode_accelerations(checks: dict, *, axes: object = None,
     handles.axes[0].set_ylabel("Peak acceleration [m/s²]")
     handles.axes[0].legend(fontsize="small")
     handles.figure.suptitle(title or "Peak acceleration per mode")
+    return handles
+
+
+def plot_damper_frf(frf: dict, *, axes: object = None, title: str | None = None) -> FigureAxes:
+    """|FRF| of the governing mode at the governing output, without and with the damper, from
+    ``frf``, the ``design.frf`` of a check's results.json (:func:`crowdvib.cases.damper_frf`);
+    ``axes`` and ``title`` as for :func:`plot_utilisation`."""
+    handles = panels(axes, 1, 1, (7.5, 4.0))
+    ax = handles.axes[0]
+    frequency = np.asarray(frf["frequency"], float)
+    ax.plot(frequency, np.asarray(frf["without_damper"], float), color=LIGHT, ls="--",
+            label="without the damper")
+    ax.plot(frequency, np.asarray(frf["with_damper"], float), color=DARK,
+            label="with the damper")
+    ax.set_xlabel("Frequency [Hz]")
+    ax.set_ylabel("|H| [(m/s²) per unit modal force]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="small")
+    code = CODE_LABELS.get(frf["code"], frf["code"])
+    ax.set_title(title or f"Mode {frf['mode']} at {frf['output']}, {frf['model']} "
+                 f"({code}, {frf['density']:.3g} persons/m²)")
     return handles
 
 

@@ -8,12 +8,11 @@ Each function returns empty Markup (or None) for the results of other commands.
 from markupsafe import Markup
 
 from ..cases.schema import get, real
-from .design_plots import MODEL_LABELS
+from .design_plots import CODE_LABELS, MODEL_LABELS
 from .html import html, number, table
 
 __all__ = ["design_decisions", "damper_items", "msd_section", "design_section"]
 
-_CODES = {"hivoss": "HiVoSS", "setra": "Sétra", "en1990": "EN 1990", "ukna": "UK NA"}
 #: Codes that define comfort classes CL1–CL4 (:func:`crowdvib.design.codes.comfort_limit`).
 _COMFORT_CODES = ("setra", "hivoss")
 
@@ -24,7 +23,7 @@ def _rows(results):
 
 
 def _code(row):
-    code = _CODES.get(row.get("code"), str(row.get("code")))
+    code = CODE_LABELS.get(row.get("code"), str(row.get("code")))
     return f"{code} {row['traffic_class']}" if row.get("traffic_class") else code
 
 

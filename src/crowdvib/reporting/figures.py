@@ -38,6 +38,10 @@ _CAPTIONS = {
                        "bells, red lines: the identified modes.",
     "design_modes": "Peak acceleration of every mode at the governing output, per code and "
                     "model; dashed: the limit.",
+    "damper_frf": "Accelerance |H| of the governing mode at the governing output per unit "
+                  "modal force, without the tuned mass damper (dashed) and with it, with the "
+                  "model and crowd density of the check with the largest utilisation: the "
+                  "damper splits the resonant peak into two lower ones.",
 }
 _PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -65,7 +69,8 @@ def collect_figures(results, directory, notes, convergence_level):
             figures.append((name, mime, data, caption(name)))
             names.append(path.stem)
     drawers = (("psd_convergence", _draw_convergence), ("objective_map", _draw_map),
-               ("estimation_errors", _draw_errors), ("parametric_ratios", _draw_parametric))
+               ("estimation_errors", _draw_errors), ("parametric_ratios", _draw_parametric),
+               ("damper_frf", _draw_damper_frf))
     for stem, draw in drawers:
         if stem in names:
             continue
@@ -163,3 +168,13 @@ def _draw_parametric(results):
                                              for r in data.get("rows", [])):
         return None
     return figure_bytes(plot_parametric_ratios(data))
+
+
+def _draw_damper_frf(results):
+    from .design_plots import plot_damper_frf
+    from .plotting import figure_bytes
+
+    data = get(results, ("design", "frf"))
+    if not isinstance(data, dict) or not isinstance(data.get("with_damper"), list):
+        return None
+    return figure_bytes(plot_damper_frf(data))

@@ -136,6 +136,8 @@ table.provenance thead { display: none; }
 table.kv { width: 100%; margin: 0; font-size: .92em; }
 table.kv th { width: 42%; color: var(--muted); font-weight: 500; }
 table.kv table.kv th { width: 50%; }
+table.letterhead { width: auto; min-width: 50%; margin: 12px 0 0; font-size: .95em; }
+table.letterhead th { width: auto; padding-right: 24px; }
 .cards { display: grid; grid-template-columns: repeat(auto-fill, minmax(310px, 1fr));
          gap: 14px; }
 .card { border: 1px solid var(--line); border-radius: 6px; padding: 4px 12px 8px; }

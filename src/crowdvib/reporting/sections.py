@@ -79,10 +79,22 @@ class Notes:
         self.warnings.append(html("{}", text))
 
 
+#: The case file's ``[report]`` keys in the order the header shows them, with their labels.
+_REPORT_FIELDS = (("client", "Client"), ("project", "Project"), ("bridge", "Bridge"),
+                  ("location", "Location"), ("engineer", "Engineer"),
+                  ("measurement_date", "Date of measurement"))
+
+
 def header(results):
+    """Title, description and the case's ``[report]`` table (client, project, …; issue 27 §4)."""
+    given = get(results, ("inputs", "report"))
+    given = given if isinstance(given, dict) else {}
+    rows = join(html("<tr><th>{}</th><td>{}</td></tr>", title, given[key])
+                for key, title in _REPORT_FIELDS if isinstance(given.get(key), str))
+    about = html('<table class="kv letterhead">{}</table>', rows) if rows else ""
     return html('<header><p class="kicker">crowdvib {} report</p><h1>{}</h1>'
-                '<p class="muted">{}</p></header>', results.get("command", "results"),
-                case_name(results), get(results, ("inputs", "description")) or "")
+                '<p class="muted">{}</p>{}</header>', results.get("command", "results"),
+                case_name(results), get(results, ("inputs", "description")) or "", about)
 
 
 def section_titles(results):
@@ -369,8 +381,9 @@ def inputs_section(results):
         simple = {k: v for k, v in inputs.items() if not isinstance(v, dict)}
         if simple:
             blocks.append(("case", "", simple))
+        # [report] is the header's, not an input of the computation.
         blocks += [(k, k, client_inputs(results, k, v, not_set)) for k, v in inputs.items()
-                   if isinstance(v, dict) and v]
+                   if isinstance(v, dict) and v and k != "report"]
     elif results.get("case") is not None:
         blocks.append(("case", "", {"name": results["case"]}))
     for key in ("truth", "expected", "measured", "record", "crowd_used", "msd", "levels"):
