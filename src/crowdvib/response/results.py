@@ -14,7 +14,7 @@ import numpy as np
 
 from .._validation import frozen_array
 from ..errors import ParameterError
-from ..signals.spectrum import ResponsePSD
+from ..signals.spectrum import ResponsePSD, xarray_module
 from ..signals.welch import welch_psd
 
 if TYPE_CHECKING:
@@ -260,6 +260,54 @@ class Simulation:
                 "mean_on_deck": float(self.n_on_deck.mean()) if self.n_samples else 0.0,
                 "rms": np.sqrt(np.mean(self.acceleration**2, axis=-1)).tolist(),
                 "modal_load_recorded": self.modal_load is not None}
+
+    def to_xarray(self) -> Any:
+        """The record as an ``xarray.DataArray`` of dims (output, time), units in its attributes.
+
+        Needs xarray (``pip install 'crowdvib[notebook]'``). The people on the deck come along
+        as the coordinate ``n_on_deck`` on ``time``; the attributes (``units`` "m/s²",
+        ``sample_rate`` [Hz], ``duration`` [s], ``seed``, ``hsi`` as 0 or 1, ``warm_up`` [s]
+        and, when known, ``n_pedestrians`` and ``time_step`` [s]) are those a netCDF file can
+        hold. The modal load stays with the Simulation.
+
+        Returns
+        -------
+        xarray.DataArray
+            Named ``"acceleration"``, the accelerations (a copy), coordinates ``output`` (the
+            output names) and ``time`` [s].
+
+        Raises
+        ------
+        ModuleNotFoundError
+            xarray is not installed; the message names the extra that installs it.
+
+        See Also
+        --------
+        crowdvib.ResponsePSD.to_xarray : the PSD of a record (:meth:`psd`).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from crowdvib import Simulation
+        >>> record = Simulation(time=None, acceleration=[[0.0, 0.1, -0.1]], output_names=("mid",),
+        ...                     n_on_deck=[3, 3, 4], sample_rate=100.0, seed=1, duration=0.03)
+        >>> array = record.to_xarray()
+        >>> array.dims, array.attrs["units"], float(array.time[-1])
+        (('output', 'time'), 'm/s²', 0.02)
+        """
+        xarray = xarray_module("Simulation.to_xarray")
+        known = {"n_pedestrians": self.n_pedestrians, "time_step": self.time_step}
+        attrs = {"units": "m/s²", "long_name": "vertical acceleration",
+                 "sample_rate": self.sample_rate, "duration": self.duration, "seed": self.seed,
+                 "hsi": int(self.hsi), "warm_up": self.warm_up,
+                 **{k: v for k, v in known.items() if v is not None}}
+        return xarray.DataArray(
+            np.array(self.acceleration), dims=("output", "time"), name="acceleration",
+            attrs=attrs,
+            coords={"output": list(self.output_names),
+                    "time": ("time", np.array(self.time), {"units": "s"}),
+                    "n_on_deck": ("time", np.array(self.n_on_deck),
+                                  {"long_name": "pedestrians on the deck"})})
 
 
 @dataclass(frozen=True, eq=False)

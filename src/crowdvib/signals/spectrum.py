@@ -23,6 +23,23 @@ if TYPE_CHECKING:
 __all__ = ["ResponsePSD"]
 
 
+def xarray_module(method: str) -> Any:
+    """The xarray module for ``method`` (an optional dependency, imported only when asked for).
+
+    Raises
+    ------
+    ModuleNotFoundError
+        xarray is not installed; the message names the extra that installs it.
+    """
+    try:
+        import xarray
+    except ModuleNotFoundError as error:
+        raise ModuleNotFoundError(
+            f"{method} needs xarray, which is not installed: pip install 'crowdvib[notebook]' (or "
+            "pip install xarray)", name=error.name) from None
+    return xarray
+
+
 @dataclass(frozen=True, eq=False)
 class ResponsePSD:
     """One-sided acceleration PSDs at named outputs.
@@ -178,3 +195,46 @@ class ResponsePSD:
         if self.cross is not None:
             fields["cross"] = {"real": self.cross.real.tolist(), "imag": self.cross.imag.tolist()}
         return fields
+
+    def to_xarray(self) -> Any:
+        """The PSDs as an ``xarray.DataArray`` of dims (output, frequency), units in its attributes.
+
+        Needs xarray (``pip install 'crowdvib[notebook]'``). The attributes are those a netCDF
+        file can hold: ``units``, ``source`` and, when known, ``window_length`` [s],
+        ``n_windows`` and the low-pass filter's ``lowpass_cutoff`` [Hz] and ``lowpass_order``;
+        the frequency coordinate has ``units`` "Hz". The dispersion and cross-spectra stay
+        with the ResponsePSD.
+
+        Returns
+        -------
+        xarray.DataArray
+            Named ``"psd"``, the values of ``psd`` (a copy), coordinates ``output`` (the output
+            names) and ``frequency`` [Hz].
+
+        Raises
+        ------
+        ModuleNotFoundError
+            xarray is not installed; the message names the extra that installs it.
+
+        See Also
+        --------
+        crowdvib.Simulation.to_xarray : the record a PSD may come from.
+
+        Examples
+        --------
+        >>> from crowdvib import ResponsePSD
+        >>> psd = ResponsePSD([1.0, 2.0], [[0.1, 0.3]], ("midspan",), window_length=60.0)
+        >>> array = psd.to_xarray()
+        >>> float(array.sel(output="midspan", frequency=2.0))
+        0.3
+        """
+        xarray = xarray_module("ResponsePSD.to_xarray")
+        known = {"window_length": self.window_length, "n_windows": self.n_windows,
+                 "lowpass_cutoff": None if self.lowpass is None else self.lowpass.cutoff,
+                 "lowpass_order": None if self.lowpass is None else self.lowpass.order}
+        attrs = {"units": self.unit, "long_name": "one-sided acceleration PSD",
+                 "source": self.source, **{k: v for k, v in known.items() if v is not None}}
+        return xarray.DataArray(
+            np.array(self.psd), dims=("output", "frequency"), name="psd", attrs=attrs,
+            coords={"output": list(self.output_names),
+                    "frequency": ("frequency", np.array(self.frequency), {"units": "Hz"})})
