@@ -37,6 +37,9 @@ _MODULES = {
                      "check_over_interval", "damper_frf"), "design"),
     **dict.fromkeys(("CaseSimulation", "simulation_msd", "simulate_case"), "simulation"),
     **dict.fromkeys(("AmbientModes", "identify_ambient"), "ambient"),
+    **dict.fromkeys(("CaseStudy", "study_case", "identified_levels", "STUDY_STORES"), "study"),
+    **dict.fromkeys(("CaseDemo", "demo_case"), "demo"),
+    **dict.fromkeys(("CaseSeason", "season_case", "season_records"), "season"),
     "Finding": "verdict",
 }
 

@@ -33,7 +33,8 @@ if TYPE_CHECKING:
 __all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "software_versions",
            "provenance",
            "Results", "EstimateResults", "SensitivityResults", "CheckResults", "ModesResults",
-           "SimulateResults", "MapResults", "DemoResults", "AsResults", "load_results", "results_of"]
+           "SimulateResults", "MapResults", "DemoResults", "SeasonResults", "AsResults",
+           "load_results", "results_of"]
 
 #: The case tables each kind of command reads; its results and report show no others.
 ESTIMATION_TABLES = ("structure", "crowd", "hsi", "measurement", "estimation", "expected")
@@ -402,8 +403,19 @@ class SimulateResults(Results):
                 for i, name in enumerate(response.get("output_names", []))]
 
 
+class SeasonResults(Results):
+    """``crowdvib season``: every record's estimate and the joint one (:func:`season_case`)."""
+
+    kind = "season"
+
+    def table(self) -> list[dict]:
+        """One row per record or window (:meth:`crowdvib.studies.SeasonResult.table`)."""
+        return [dict(row) for row in self.data.get("records") or [] if isinstance(row, dict)]
+
+
 _CLASSES = {cls.kind: cls for cls in (EstimateResults, SensitivityResults, CheckResults,
-                                      ModesResults, SimulateResults, MapResults, DemoResults)}
+                                      ModesResults, SimulateResults, MapResults, DemoResults,
+                                      SeasonResults)}
 
 
 def _json(data: dict) -> dict:

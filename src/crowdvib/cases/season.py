@@ -86,12 +86,13 @@ def season_records(case: Case, records: str | os.PathLike | Sequence | None = No
     elif isinstance(records, (str, os.PathLike)):
         records = [records]
     suffixes = {suffix for row in RECORD_FORMATS.values() for suffix in row}
-    skip = None if table_path is None else Path(table_path).resolve()
+    # A file of the crowd table's name is a crowd table (this season's or another's), not a record.
+    skip = None if table_path is None else Path(table_path).name
     found = {}
     for entry in map(Path, records):
         if entry.is_dir():
             for path in sorted(entry.rglob("*")):
-                if path.is_file() and path.suffix.lower() in suffixes and path.resolve() != skip:
+                if path.is_file() and path.suffix.lower() in suffixes and path.name != skip:
                     found[path.relative_to(entry).as_posix()] = path.resolve()
         else:
             found[entry.name] = entry.resolve()

@@ -10,7 +10,8 @@ import numpy as np
 
 from .._figures import axes_or_new, panels, positive_or_nan
 
-__all__ = ["plot_objective_map", "plot_estimation_errors", "plot_parametric_ratios"]
+__all__ = ["plot_objective_map", "plot_estimation_errors", "plot_parametric_ratios",
+           "plot_season_trends"]
 
 
 def _uncertainty_bounds(uncertainty):
@@ -248,4 +249,76 @@ def plot_parametric_ratios(parametric, *, parameters=None, axes=None, title=None
             legend_ax.legend(entries.values(), entries.keys(), fontsize="x-small",
                              loc="best")
     handles.figure.suptitle(title or "Ratio of estimated to true MSD parameters")
+    return handles
+
+
+def plot_season_trends(rows, *, joint=None, axes=None, title=None):
+    """A monitoring season's trends: f_h1 and ξ_h1 against density and against time.
+
+    One point per record (or window) with its interval as an error bar; records in doubt are
+    drawn open, and the joint estimate of the whole season is a line with its interval as a band.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        The season's table (:meth:`crowdvib.studies.SeasonResult.table`, or the ``records`` of
+        a season's results.json): ``density``, ``time`` (ISO 8601, else the rows' order),
+        ``frequency``, ``damping_ratio``, their ``_low``/``_high`` ends and ``status``.
+    joint : HSIEstimate or dict, optional
+        The joint estimate, or its ``"estimate"`` dict (value and ``interval``).
+    axes : sequence of four matplotlib.axes.Axes, optional
+        (f_h1 against density, ξ_h1 against density, f_h1 against time, ξ_h1 against time).
+    title : str, optional
+
+    Returns
+    -------
+    FigureAxes
+    """
+    import datetime
+
+    done = [row for row in rows if row.get("status") in ("ok", "doubt")]
+    if joint is not None and not isinstance(joint, dict):
+        joint = joint.to_dict()["estimate"]
+    times = [row.get("time") for row in done]
+    dated = bool(done) and all(times)
+    when = ([datetime.datetime.fromisoformat(t) for t in times] if dated
+            else [i + 1 for i, _ in enumerate(done)])
+    handles = panels(axes, 2, 2, (11.0, 7.0))
+    quantities = (("frequency", "$f_{h1}$ [Hz]"), ("damping_ratio", "$\\xi_{h1}$ [-]"))
+    for column, (key, label) in enumerate(quantities):
+        for row_index, (xs, xlabel) in enumerate(((
+                [row["density"] for row in done], "density [persons/m²]"),
+                (when, "time" if dated else "record"))):
+            ax = handles.axes[2 * row_index + column]
+            for doubt in (False, True):
+                chosen = [(x, row) for x, row in zip(xs, done)
+                          if (row["status"] == "doubt") == doubt]
+                if not chosen:
+                    continue
+                x = [c[0] for c in chosen]
+                y = np.array([c[1][key] for c in chosen], dtype=float)
+                low = np.array([np.nan if c[1][f"{key}_low"] is None else c[1][f"{key}_low"]
+                                for c in chosen], dtype=float)
+                high = np.array([np.nan if c[1][f"{key}_high"] is None
+                                 else c[1][f"{key}_high"] for c in chosen], dtype=float)
+                error = np.nan_to_num(np.vstack([y - low, high - y]))
+                ax.errorbar(x, y, yerr=error, fmt="o", ms=4, capsize=2, lw=0.8,
+                            color="tab:gray" if doubt else "tab:blue",
+                            mfc="none" if doubt else None, gid="records",
+                            label="record in doubt" if doubt else "record, 95 % interval")
+            if joint is not None and key in joint:
+                ax.axhline(joint[key], color="black", lw=1.2, gid="joint",
+                           label="joint estimate")
+                ends = (joint.get("interval") or {}).get(key)
+                if ends and None not in ends:
+                    ax.axhspan(*ends, color="black", alpha=0.12, lw=0)
+            ax.set_xlabel(xlabel)
+            ax.set_ylabel(label)
+            ax.grid(True, alpha=0.3)
+            if dated and row_index == 1:
+                ax.tick_params(axis="x", labelrotation=30)
+    handles.axes[0].legend(fontsize="small", loc="best")
+    skipped = len(rows) - len(done)
+    note = f" ({skipped} row(s) not estimated are not shown)" if skipped else ""
+    handles.figure.suptitle((title or "A season of monitoring: the MSD's trends") + note)
     return handles
