@@ -392,6 +392,26 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
     -------
     DesignCheck
 
+    See Also
+    --------
+    crowdvib.predict_response : the stochastic (spectral) prediction of the response.
+    crowdvib.tune_damper : a damper when the check fails.
+    crowdvib.check_case
+
+    References
+    ----------
+    Sétra/AFGC, *Footbridges: assessment of vibrational behaviour of footbridges under pedestrian
+    loading*, technical guide, 2006. The resonant load of a crowd (Sétra).
+
+    BSI, *UK National Annex to Eurocode 1: Actions on structures — Part 2: Traffic loads on
+    bridges*, NA to BS EN 1991-2:2003, 2008, clause NA.2.44. The UK NA check.
+
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The HSI model of the occupied structure.
+
+    The theory pages cite them (docs: theory, References).
+
     Examples
     --------
     >>> from crowdvib import ModalModel, MSDModel

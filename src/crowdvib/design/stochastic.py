@@ -139,6 +139,22 @@ def predict_response(structure: ModalModel, crowd: Crowd, *, msd: MSDModel | Non
     -------
     ResponsePrediction
 
+    See Also
+    --------
+    crowdvib.response_psd : the PSD behind the prediction.
+    crowdvib.design_check
+
+    References
+    ----------
+    S. O. Rice, "Mathematical analysis of random noise", *Bell System Technical Journal* 23:282–332,
+    1944. The crossing rate of a Gaussian process.
+
+    A. G. Davenport, "Note on the distribution of the largest value of a random function with
+    application to gust loading", *Proceedings of the ICE* 28(2):187–196, 1964. The expected largest
+    peak.
+
+    The theory pages cite them (docs: theory, References).
+
     Examples
     --------
     >>> from crowdvib import Crowd, ModalModel, MSDModel

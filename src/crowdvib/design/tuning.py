@@ -54,6 +54,20 @@ def optimal_tuning(mass_ratio, criterion="acceleration"):
     (float, float)
         γ [-] and ζ [-].
 
+    See Also
+    --------
+    crowdvib.tune_damper
+
+    References
+    ----------
+    J. P. Den Hartog, *Mechanical Vibrations*, 4th ed., McGraw-Hill, 1956, §3.3.
+
+    T. Asami, O. Nishihara and A. M. Baz, "Analytical solutions to H∞ and H2 optimization of dynamic
+    vibration absorbers attached to damped linear systems", *Journal of Vibration and Acoustics*
+    124:284–295, 2002.
+
+    The theory pages cite them (docs: theory, References).
+
     Examples
     --------
     >>> [round(v, 4) for v in optimal_tuning(0.05)]          # docs: theory, Inverse problem
@@ -107,6 +121,22 @@ def tune_damper(structure: ModalModel, mode: int, mass_ratio: float, *, crowd: C
     -------
     TunedMassDamper
         At the antinode of the mode (largest |φ_j| over the sampled walkway).
+
+    See Also
+    --------
+    crowdvib.design.optimal_tuning : the tuning rule alone.
+    crowdvib.design_check
+
+    References
+    ----------
+    J. P. Den Hartog, *Mechanical Vibrations*, 4th ed., McGraw-Hill, 1956, §3.3. The optimum tuning
+    of a damper on an undamped structure.
+
+    T. Asami, O. Nishihara and A. M. Baz, "Analytical solutions to H∞ and H2 optimization of dynamic
+    vibration absorbers attached to damped linear systems", *Journal of Vibration and Acoustics*
+    124:284–295, 2002. The H∞ and H2 optima.
+
+    The theory pages cite them (docs: theory, References).
 
     Examples
     --------

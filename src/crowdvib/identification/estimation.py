@@ -157,6 +157,28 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         When the optimum sits on a bound.
     ConvergenceWarning
         When no start converged.
+
+    See Also
+    --------
+    crowdvib.estimate_hsi_joint : one MSD from several records, each with its own crowd.
+    crowdvib.welch_psd : the measured PSD.
+    crowdvib.response_psd : the forward model the estimate fits.
+    crowdvib.studies.objective_map : the objective around the estimate.
+    crowdvib.studies.modelling_error_study : the estimate's sensitivity to the assumed inputs.
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The inverse problem: the normalised misfit (Eq. 5) and the weighted objective (Eq. 6).
+
+    P. Whittle, "Estimation and information in stationary time series", *Arkiv för Matematik*
+    2(5):423–434, 1953. The likelihood of periodogram ordinates.
+
+    V. P. Godambe, "An optimum property of regular maximum likelihood estimation", *Annals of
+    Mathematical Statistics* 31(4):1208–1211, 1960. The sandwich information behind the intervals.
+
+    The theory pages cite them (docs: theory, References).
     """
     crowd_model, free_step_frequencies = estimator_defaults(method, crowd_model,
                                                             free_step_frequencies)
@@ -235,6 +257,22 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
     -------
     HSIEstimate
         ``output_names`` read ``"record 1: midspan"`` …; ``cost`` is the summed misfit.
+
+    See Also
+    --------
+    crowdvib.estimate_hsi : the estimate from one record.
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The objective (Eq. 5 and 6) of each record.
+
+    V. P. Godambe, "An optimum property of regular maximum likelihood estimation", *Annals of
+    Mathematical Statistics* 31(4):1208–1211, 1960. The sandwich information summed over the
+    records.
+
+    The theory pages cite them (docs: theory, References).
     """
     measurements, crowds = list(measurements), list(crowds)
     crowd_model, _ = estimator_defaults(method, crowd_model)

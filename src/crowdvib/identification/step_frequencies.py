@@ -125,6 +125,11 @@ def estimate_step_frequencies(measured: ResponsePSD, structure: ModalModel, crow
     -----
     BoundWarning, ConvergenceWarning
         As :func:`estimate_hsi`.
+
+    See Also
+    --------
+    crowdvib.estimate_hsi : with ``free_step_frequencies=True``, the MSD and the step
+        frequencies together.
     """
     cutoff = check_positive("cutoff", cutoff, unit="Hz")
     if not isinstance(measured, ResponsePSD):

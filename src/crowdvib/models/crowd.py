@@ -125,6 +125,23 @@ class Crowd:
         Standard deviation σ_m of the body masses [kg] (0: everybody weighs ``body_mass``, as
         in the paper). The simulator draws N(m_h, σ_m); the spectral load uses
         E[W²] = g² (m_h² + σ_m²) (docs: theory, Modal load PSD of a Poisson crowd), the apparent mass the mean m_h.
+
+    See Also
+    --------
+    Crowd.from_density : speed and step frequency from the density (Weidmann, Bruno & Venuti).
+    crowdvib.MSDModel : the pedestrians' mass-spring-damper model.
+    crowdvib.response_psd : the response to the crowd.
+
+    Examples
+    --------
+    The paper's crowd (docs: theory, The paper's numerical example), and its arrivals onto a
+    3 m wide walkway, λ = d·B·v:
+
+    >>> from crowdvib import Crowd
+    >>> crowd = Crowd(density=0.5, walking_speed=1.30, step_frequency_mean=1.89,
+    ...               step_frequency_std=0.175, body_mass=70.0)
+    >>> round(crowd.arrival_rate(3.0), 3)                    # persons/s
+    1.95
     """
 
     density: float

@@ -66,11 +66,31 @@ class ModalModel:
     name : str
         A label for reports.
 
+    See Also
+    --------
+    ModalModel.simply_supported_beam : the paper's beam in one call.
+    crowdvib.read_modal_model : a model from CSV tables or an FE export.
+    crowdvib.identify_modes : the modes from ambient records.
+
     Notes
     -----
     Every formula in crowdvib is invariant to the mode-shape scaling as long as ``modal_masses``
     matches it (docs: theory, Conventions), so FE exports (mass-normalised) and unity-scaled tables give the
     same physics.
+
+    Examples
+    --------
+    One mode of 2 Hz, 0.5 % damping and 50 t modal mass, sampled at three stations of a
+    50 m × 3 m walkway, with an accelerometer at midspan:
+
+    >>> from crowdvib import ModalModel
+    >>> bridge = ModalModel(frequencies=[2.0], damping_ratios=[0.005], modal_masses=[50e3],
+    ...                     positions=[0.0, 25.0, 50.0], mode_shapes=[[0.0], [1.0], [0.0]],
+    ...                     width=3.0, output_names=("midspan",), output_shapes=[[1.0]])
+    >>> bridge
+    ModalModel('footbridge', 2 Hz, walkway 50 m × 3 m, outputs ['midspan'])
+    >>> bridge.n_modes, bridge.area
+    (1, 150.0)
     """
 
     frequencies: np.ndarray

@@ -52,6 +52,11 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
     list of Simulation
         In the order of ``seeds``.
 
+    See Also
+    --------
+    crowdvib.simulate : one record.
+    crowdvib.studies.monte_carlo : records reduced to statistics, resumable.
+
     Notes
     -----
     Every record is returned, so memory grows with seeds × duration (a one-hour record of one

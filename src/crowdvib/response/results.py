@@ -287,7 +287,6 @@ class Simulation:
 
         Examples
         --------
-        >>> import numpy as np
         >>> from crowdvib import Simulation
         >>> record = Simulation(time=None, acceleration=[[0.0, 0.1, -0.1]], output_names=("mid",),
         ...                     n_on_deck=[3, 3, 4], sample_rate=100.0, seed=1, duration=0.03)

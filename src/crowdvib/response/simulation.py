@@ -560,6 +560,12 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
         Accelerations at the output points [m/s²], shape (n_outputs, n_samples), with the time
         axis, pedestrians on the deck and the seed.
 
+    See Also
+    --------
+    crowdvib.simulate_psd : the Welch PSD of a record too long to keep.
+    crowdvib.simulate_many : many records, in parallel.
+    crowdvib.response_psd : the expected PSD of the same crowd.
+
     Notes
     -----
     * Integration: classical RK4 with a fixed internal step h = 1/(sample_rate · m), m the
@@ -575,6 +581,22 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
       for ``n_on_deck``; the time axis is computed when read) and 32 bytes per pedestrian; the
       walkers' draws are made 65 536 at a time (docs: theory, Poisson arrivals). For a long run
       whose spectrum is all that is wanted, :func:`simulate_psd` keeps no record.
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The coupled equations of motion (Eq. 1–4).
+
+    K. Van Nimmen, G. Lombaert, G. De Roeck and P. Van den Broeck, "The impact of vertical
+    human–structure interaction on the response of footbridges to pedestrian excitation", *Journal
+    of Sound and Vibration* 402:104–121, 2017. The crowd–structure model with MSD pedestrians.
+
+    S. Živanović, A. Pavić and P. Reynolds, "Probability-based prediction of multi-mode vibration
+    response to walking excitation", *Engineering Structures* 29(6):942–954, 2007. The walking force
+    (default).
+
+    The theory pages cite them (docs: theory, References).
 
     Examples
     --------
@@ -718,11 +740,28 @@ def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
         ``welch_psd`` measures it) with the RMS and peak |a| per output, the people on the deck
         and the run's metadata.
 
+    See Also
+    --------
+    crowdvib.simulate : the record itself.
+    crowdvib.welch_psd : the same PSD of a kept record.
+
     Notes
     -----
     No low-pass: ``welch_psd``'s filter is zero-phase (forward and backward over the whole
     record), which cannot be applied a chunk at a time. A model compared with this PSD should
     be taken unfiltered; filter a record of :func:`simulate` where the filter matters.
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The coupled equations of motion (Eq. 1–4).
+
+    P. D. Welch, "The use of fast Fourier transform for the estimation of power spectra: a method
+    based on time averaging over short, modified periodograms", *IEEE Transactions on Audio and
+    Electroacoustics* 15(2):70–73, 1967. The averaged periodograms.
+
+    The theory pages cite them (docs: theory, References).
 
     Examples
     --------

@@ -341,6 +341,32 @@ def response_psd(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
     ResponsePSD
         ``psd`` in (m/s²)²/Hz, shape (n_outputs, n_frequencies).
 
+    See Also
+    --------
+    crowdvib.simulate : the same crowd in the time domain.
+    crowdvib.frf : the occupied structure's FRFs.
+    crowdvib.welch_psd : the measured counterpart.
+    crowdvib.estimate_hsi : the inverse problem.
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The spectral model with HSI.
+
+    K. Van Nimmen, P. Van den Broeck, G. Lombaert and F. Tubino, "Pedestrian-induced vibrations of
+    footbridges: an extended spectral approach", *Journal of Bridge Engineering*, 2020. The spectral
+    load model.
+
+    S. Živanović, A. Pavić and P. Reynolds, "Probability-based prediction of multi-mode vibration
+    response to walking excitation", *Engineering Structures* 29(6):942–954, 2007. The walking force
+    (default).
+
+    J. S. Bendat and A. G. Piersol, *Random Data: Analysis and Measurement Procedures*, 4th ed.,
+    Wiley, 2010. The PSD of a linear system's response.
+
+    The theory pages cite them (docs: theory, References).
+
     Examples
     --------
     >>> import numpy as np
@@ -386,6 +412,22 @@ def frf(structure: ModalModel, frequency: ArrayLike, *, crowd: Crowd | None = No
     FRF
         ``values`` of shape (n_outputs, n_inputs, n_frequencies) [(m/s²)/N]; ``occupied`` is
         True when the crowd's MSDs are included.
+
+    See Also
+    --------
+    crowdvib.effective_modal_properties : the occupied structure's modes.
+    crowdvib.response_psd
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The occupied receptance.
+
+    R. W. Clough and J. Penzien, *Dynamics of Structures*, 3rd ed., Computers & Structures, 2003.
+    Modal FRFs.
+
+    The theory pages cite them (docs: theory, References).
     """
     _check_models(structure, crowd, msd)
     frequency = check_frequency_grid(frequency)
@@ -479,6 +521,23 @@ def effective_modal_properties(structure: ModalModel, crowd: Crowd | None = None
     Returns
     -------
     EffectiveModalProperties
+
+    See Also
+    --------
+    crowdvib.frf
+    crowdvib.response_psd
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023.
+
+    K. Van Nimmen, G. Lombaert, G. De Roeck and P. Van den Broeck, "The impact of vertical
+    human–structure interaction on the response of footbridges to pedestrian excitation", *Journal
+    of Sound and Vibration* 402:104–121, 2017. The crowd–structure model with MSD pedestrians.
+
+    The theory pages cite them (docs: theory, References).
     """
     _check_models(structure, crowd, msd)
     n_modes = structure.n_modes

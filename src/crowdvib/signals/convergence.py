@@ -93,6 +93,22 @@ def psd_convergence(signals: ArrayLike, sample_rate: float, *, window_length: fl
     Returns
     -------
     PSDConvergence
+
+    See Also
+    --------
+    crowdvib.welch_psd
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The convergence criterion (Figure 15).
+
+    P. D. Welch, "The use of fast Fourier transform for the estimation of power spectra: a method
+    based on time averaging over short, modified periodograms", *IEEE Transactions on Audio and
+    Electroacoustics* 15(2):70–73, 1967.
+
+    The theory pages cite them (docs: theory, References).
     """
     norm = str(norm)
     if norm not in ("2", "inf"):

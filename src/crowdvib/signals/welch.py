@@ -168,6 +168,36 @@ def welch_psd(signals: ArrayLike, sample_rate: float, *, window_length: float,
         Also keep the cross-spectral matrix S_ab = mean over segments of X_a conj(X_b), with the
         same window, detrend and scaling (``ResponsePSD.cross``; docs: theory, The
         cross-spectral matrix): what the likelihood of several coherent outputs needs.
+
+    See Also
+    --------
+    crowdvib.signals.psd_convergence : how the PSD settles as the record grows.
+    crowdvib.response_psd : the model it is compared with (``welch_window_length``).
+    crowdvib.estimate_hsi : the MSD from the PSD.
+
+    References
+    ----------
+    P. D. Welch, "The use of fast Fourier transform for the estimation of power spectra: a method
+    based on time averaging over short, modified periodograms", *IEEE Transactions on Audio and
+    Electroacoustics* 15(2):70–73, 1967.
+
+    J. S. Bendat and A. G. Piersol, *Random Data: Analysis and Measurement Procedures*, 4th ed.,
+    Wiley, 2010. PSD conventions and the statistics of averaged spectra.
+
+    The theory pages cite them (docs: theory, References).
+
+    Examples
+    --------
+    A sine of amplitude 1 m/s² at 2 Hz, 60 s at 100 Hz, in segments of T = 10 s:
+
+    >>> import numpy as np
+    >>> from crowdvib import welch_psd
+    >>> t = np.arange(6000) / 100.0
+    >>> psd = welch_psd(np.sin(2 * np.pi * 2.0 * t), 100.0, window_length=10.0)
+    >>> psd
+    ResponsePSD(['ch0'], 501 frequencies 0–50 Hz, T = 10 s, 11 windows, source='welch')
+    >>> float(psd.peak_frequency()[0]), round(float(psd.rms()[0]), 3)   # RMS 1/√2
+    (2.0, 0.707)
     """
     data = as_float_array("signals", signals)
     data = np.atleast_2d(data)

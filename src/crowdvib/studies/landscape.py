@@ -120,6 +120,19 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     max_seconds : float, optional
         Refuse (:class:`ParameterError`) a grid whose time, estimated from its first point, is
         longer. A grid whose costs would not fit in half the free memory is refused always.
+
+    See Also
+    --------
+    crowdvib.estimate_hsi : the optimum of the same objective.
+    crowdvib.reporting.plotting.plot_objective_map
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The objective (Eq. 6) and its landscapes (Figures 4 and 10).
+
+    The theory pages cite them (docs: theory, References).
     """
     frequencies = check_positive("frequencies", as_float_array("frequencies", frequencies, ndim=1),
                                  unit="Hz")

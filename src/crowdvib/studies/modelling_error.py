@@ -287,6 +287,20 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
     Returns
     -------
     SensitivityResult
+
+    See Also
+    --------
+    crowdvib.studies.parametric_study : the same errors over a family of structures.
+    crowdvib.studies.record_length_study
+    crowdvib.estimate_hsi
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The modelling-error study (Figures 11 and 19).
+
+    The theory pages cite them (docs: theory, References).
     """
     options = (("band", tuple(band)), ("outputs", outputs), ("output_weights", output_weights),
                ("frequency_weights", frequency_weights), ("starts", starts), ("bounds", bounds),
@@ -376,6 +390,11 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
     list of dict
         Per duration: ``duration`` [s], ``n_windows``, the estimate and ``delta_frequency``,
         ``delta_damping_ratio`` [%] relative to the whole record.
+
+    See Also
+    --------
+    crowdvib.studies.modelling_error_study
+    crowdvib.signals.psd_convergence
     """
     signals = np.atleast_2d(as_float_array("signals", signals))
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")

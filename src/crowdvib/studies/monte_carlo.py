@@ -129,6 +129,12 @@ def monte_carlo(structure: ModalModel, crowd: Crowd | None, duration: float, *,
     ------
     CrowdvibError
         If a batch failed (its error names the seeds); finished batches stay in ``store``.
+
+    See Also
+    --------
+    crowdvib.simulate
+    crowdvib.simulate_many
+    crowdvib.studies.record_statistics
     """
     seeds = check_seeds(seeds)
     name = _summary_name(summary)

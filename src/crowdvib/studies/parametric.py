@@ -121,6 +121,19 @@ def parametric_study(*, structure_frequencies=None, structure_damping_ratios=(0.
     Returns
     -------
     ParametricResult
+
+    See Also
+    --------
+    crowdvib.studies.modelling_error_study : the same errors on one structure.
+    crowdvib.estimate_hsi
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The parametric study (Figures 5 and 6).
+
+    The theory pages cite them (docs: theory, References).
     """
     from ..models.examples import paper_example
 
