@@ -112,6 +112,28 @@ def identify_modes(signals: ArrayLike | Sequence[ArrayLike], sample_rate: float,
     Returns
     -------
     ModeIdentification
+
+    See Also
+    --------
+    crowdvib.read_modal_model : the modes from a table or an FE export instead.
+    crowdvib.oma.ambient_response : records to test it on.
+
+    References
+    ----------
+    B. Peeters and G. De Roeck, "Reference-based stochastic subspace identification for output-only
+    modal analysis", *Mechanical Systems and Signal Processing* 13(6):855–878, 1999.
+    Covariance-driven SSI.
+
+    D. Pasca, A. Aloisio, M. M. Rosso and D. F. Margoni, *pyOMA2: Python module for conducting
+    operational modal analysis*, version 1.4 (PyPI package ``pyoma-2``). The SSI-cov implementation.
+
+    R. Brincker, L. Zhang and P. Andersen, "Modal identification of output-only systems using
+    frequency domain decomposition", *Smart Materials and Structures* 10(3):441–445, 2001. FDD.
+
+    R. Brincker, C. E. Ventura and P. Andersen, "Damping estimation by frequency domain
+    decomposition", *Proceedings of IMAC XIX*, 2001, 698–703. EFDD.
+
+    The theory pages cite them (docs: theory, References).
     """
     if method not in METHODS:
         raise ParameterError(f"method must be one of {', '.join(map(repr, METHODS))}, "
@@ -135,28 +157,6 @@ def identify_modes(signals: ArrayLike | Sequence[ArrayLike], sample_rate: float,
 def _band(frequency_band, sample_rate):
     low, high = (0.0, sample_rate / 2) if frequency_band is None else (
         float(frequency_band[0]), float(frequency_band[1]))
-
-    See Also
-    --------
-    crowdvib.read_modal_model : the modes from a table or an FE export instead.
-    crowdvib.oma.ambient_response : records to test it on.
-
-    References
-    ----------
-    B. Peeters and G. De Roeck, "Reference-based stochastic subspace identification for output-only
-    modal analysis", *Mechanical Systems and Signal Processing* 13(6):855–878, 1999.
-    Covariance-driven SSI.
-
-    D. Pasca, A. Aloisio, M. M. Rosso and D. F. Margoni, *pyOMA2: Python module for conducting
-    operational modal analysis*, version 1.4 (PyPI package ``pyoma-2``). The SSI-cov implementation.
-
-    R. Brincker, L. Zhang and P. Andersen, "Modal identification of output-only systems using
-    frequency domain decomposition", *Smart Materials and Structures* 10(3):441–445, 2001. FDD.
-
-    R. Brincker, C. E. Ventura and P. Andersen, "Damping estimation by frequency domain
-    decomposition", *Proceedings of IMAC XIX*, 2001, 698–703. EFDD.
-
-    The theory pages cite them (docs: theory, References).
     if not 0 <= low < high <= sample_rate / 2:
         raise ParameterError(f"frequency_band must satisfy 0 <= low < high <= Nyquist "
                              f"({sample_rate / 2:g} Hz), got {frequency_band!r}")
