@@ -13,7 +13,8 @@ import ast
 from pathlib import Path
 
 #: Parser function → the case-file section its ``table`` argument is.
-SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd", "_msd": "hsi",
+SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd",
+            "_crowd_profile": "crowd", "_msd": "hsi",
             "_measurement": "measurement", "_estimation": "estimation",
             "_simulation": "simulation", "_outputs": "structure", "_output_nodes": "structure", "_design": "design",
             "_design_damper": "design.damper",
@@ -43,6 +44,11 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
                                        "\"step_frequency_mean\" and \"step_frequency_std\" "
                                        "(one record)",
          "estimation.weights": "one per entry of estimation.outputs, > 0",
+         "crowd.density": "> 0; may be left out with counts or density_profile (then the "
+                          "walkers' reference density is the profile's mean over its table)",
+         "crowd.counts": "CSV of time [s], count: people on the deck from each time to the "
+                         "next (density = count/(L·B)); a crowd that changes in the record",
+         "crowd.density_profile": "CSV of time [s], density [persons/m²] (instead of counts)",
          "crowd.walking_speed": "> 0; default from Weidmann's speed–density relation",
          "crowd.step_frequency_mean": "> 0; default from Bruno & Venuti's speed relation",
          "structure.output_nodes": "a table output name = node number (FE exports; instead "

@@ -338,7 +338,8 @@ def estimate_case(case: Case) -> CaseEstimate:
                                   lowpass=part.measurement.lowpass)
     options["outputs"] = record.channel_names
     estimate = estimate_hsi(part.measurement.psd, case.structure, part.crowd,
-                            free_mass_ratio=free_mass, **options)
+                            free_mass_ratio=free_mass,
+                            crowd_profile=case.record_crowd_profile(), **options)
     return CaseEstimate(case, (part,), estimate, convergence)
 
 

@@ -14,7 +14,8 @@ A case file describes one bridge and one crowd, and how its records are read and
     # output_points = "points.csv"            #   name, one column per mode (the shape rows)
     # type = "simply_supported_beam"          # … or a beam: span, width, frequency, …
 
-    [crowd]        density, walking_speed, step_frequency_mean, step_frequency_std, body_mass
+    [crowd]        density, walking_speed, step_frequency_mean, step_frequency_std, body_mass;
+                   counts or density_profile (a CSV: the density against the record's time)
     [hsi]          frequency, damping_ratio, mass_ratio (MSD of `simulate`; μ_h1 of `estimate`)
     [measurement]  files, format, channels, units, sample_rate, time_frame, filter, resample,
                    window_length, overlap, detrend; or several [[measurement]] blocks, each
@@ -54,9 +55,11 @@ from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from ..models.loading import ForceModel, YoungForce, ZivanovicForce
 from ..models.measured import MeasuredForce
 from ..models.pedestrian import MSDModel
+from ..models.profile import PROFILE_KINDS, CrowdProfile
 from ..models.structure import ModalModel
 from ._common import quote, reading
 from ._toml import Table, _is_number, read_toml, wrap
+from .csvtables import number_columns, read_csv_table, require_columns
 from .measurement import load_measurement
 from .modalfiles import read_modal_model, write_modal_model
 from .casedesign import _design
@@ -113,6 +116,9 @@ class Case:
         The walking-force model (the file's ``force``; default Živanović 2007).
     report : dict
         The ``[report]`` table: who and what the reports are for (client, project, …), text.
+    crowd_profile : CrowdProfile or None
+        The crowd's density against the record's time (``[crowd] counts`` or
+        ``density_profile``; docs: theory, A crowd that changes); None: stationary.
 
     See Also
     --------
@@ -140,6 +146,17 @@ class Case:
     force: ForceModel = field(default_factory=ZivanovicForce)
     #: The ``[report]`` table: who and what the reports are for (client, project, …), text.
     report: dict = field(default_factory=dict)
+    #: The crowd's density against the record's time (``[crowd] counts`` or
+    #: ``density_profile``), None for a stationary crowd.
+    crowd_profile: CrowdProfile | None = None
+
+    def record_crowd_profile(self) -> CrowdProfile | None:
+        """:attr:`crowd_profile` on the time axis of the record as measured: t = 0 at the
+        start of ``measurement.time_frame`` (the Welch windows start there)."""
+        if self.crowd_profile is None:
+            return None
+        frame = self.measurement.time_frame
+        return self.crowd_profile.shifted(frame[0] if frame else 0.0)
 
     def blocks(self) -> list[Case]:
         """One case per record: itself, or per ``[[measurement]]`` block the case with that
@@ -256,8 +273,42 @@ def _output_nodes(table):
     return nodes
 
 
-def _crowd(table, path):
-    density = table.number("density", rule="positive")
+def _crowd_profile(table, path, structure):
+    """``[crowd] counts`` (a CSV of ``time`` [s] and ``count``, people on the deck from each
+    time to the next) or ``density_profile`` (``time``, ``density`` [persons/m²]): the crowd's
+    density against the record's time, piecewise constant or linear (``profile_kind``; default
+    "step" for counts, "linear" for densities; docs: theory, A crowd that changes)."""
+    counts = table.file("counts", None)
+    densities = table.file("density_profile", None)
+    if counts is None and densities is None:
+        return None
+    if counts is not None and densities is not None:
+        raise ParameterError(f"{path.name}: crowd.counts and crowd.density_profile must not "
+                             "both be given (one density against time), got both")
+    kind = table.string("profile_kind", None, choices=PROFILE_KINDS)
+    source, column = (counts, "count") if counts is not None else (densities, "density")
+    header, rows = read_csv_table(source)
+    require_columns(source, header, ["time", column])
+    values = number_columns(source, header, rows, ["time", column])
+    key = "counts" if counts is not None else "density_profile"
+    try:
+        if counts is not None:
+            return CrowdProfile.from_counts(values[:, 0], values[:, 1], structure.area,
+                                            kind=kind or "step")
+        return CrowdProfile(values[:, 0], values[:, 1], kind or "linear")
+    except ParameterError as exc:
+        raise ParameterError(f"{path.name}: crowd.{key} ({source.name}): {exc}") from None
+
+
+def _crowd(table, path, profile=None):
+    if profile is not None and not table.has("density"):
+        # The walkers' reference density (their speed and step frequency by default): the
+        # profile's mean over its table.
+        table.defaulted.add(table.key("density"))
+        density = (profile.mean(profile.time[0], profile.time[-1]) if profile.time.size > 1
+                   else profile.peak)
+    else:
+        density = table.number("density", rule="positive")
     speed = table.number("walking_speed", None, rule="positive")
     mean = table.number("step_frequency_mean", None, rule="positive")
     std = table.number("step_frequency_std", 0.175, rule="positive")
@@ -518,7 +569,9 @@ def _case(path, data):
         raise root.error("seed", "must be a non-negative integer", seed)
     force = FORCE_MODELS[root.string("force", "zivanovic", choices=tuple(FORCE_MODELS))]()
     structure = _structure(root.table("structure", required=True), path)
-    crowd = _crowd(root.table("crowd", required=True), path)
+    crowd_table = root.table("crowd", required=True)
+    crowd_profile = _crowd_profile(crowd_table, path, structure)
+    crowd = _crowd(crowd_table, path, crowd_profile)
     msd = _msd(root.table("hsi"), path)
     measurement, records = _measurements(root, path, crowd)
     estimation = (_estimation(root.table("estimation"), path) if root.has("estimation")
@@ -542,6 +595,12 @@ def _case(path, data):
                              "frequencies in a joint fit of several [[measurement]] blocks (each "
                              "record has its own crowd: fit its step frequencies first, "
                              "[estimation.step_frequencies])")
+    if crowd_profile is not None and (records or measurement.time_frame == "stationary"):
+        raise ParameterError(
+            f"{path.name}: crowd.counts or crowd.density_profile must come with one "
+            "[measurement] whose time_frame is the whole record or [start, end] (the profile "
+            "is on the record's time), got " + ("several [[measurement]] blocks" if records
+                                                else 'time_frame = "stationary"'))
     for spec in [block.measurement for block in records] or [measurement]:
         if spec.channels is not None:
             try:
@@ -551,7 +610,8 @@ def _case(path, data):
     return Case(name=name, path=path, structure=structure, crowd=crowd, msd=msd,
                 measurement=measurement, estimation=estimation, simulation=simulation,
                 expected=expected, seed=seed, description=description, not_set=not_set,
-                design=design, records=records, force=force, report=report)
+                design=design, records=records, force=force, report=report,
+                crowd_profile=crowd_profile)
 
 
 #: Case-file keys whose :meth:`Case.to_dict` name differs.

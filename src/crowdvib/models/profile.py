@@ -134,6 +134,11 @@ class CrowdProfile:
         """The same profile with every density times ``factor`` (>= 0)."""
         return CrowdProfile(self.time, self.density * float(factor), self.kind)
 
+    def shifted(self, offset: float) -> CrowdProfile:
+        """The same profile on a time axis that starts ``offset`` [s] later (t → t − offset):
+        for a record cut from ``offset`` on."""
+        return CrowdProfile(self.time - float(offset), self.density, self.kind)
+
     def density_at(self, t: ArrayLike) -> np.ndarray:
         """d(t) [persons/m²] at times ``t`` [s]."""
         t = np.asarray(t, dtype=float)

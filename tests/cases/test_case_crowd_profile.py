@@ -1,0 +1,86 @@
+"""A case file's crowd that changes within its record: ``[crowd] counts = "counts.csv"`` or
+``density_profile`` (crowdvib.io.casefile; docs: theory, A crowd that changes; issue 28 §1)."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from crowdvib import (Crowd, CrowdProfile, ModalModel, MSDModel, ParameterError, Record,
+                      simulate, write_record)
+from crowdvib.cases import estimate_case
+from crowdvib.io.casefile import load_case
+
+BEAM = ('[structure]\ntype = "simply_supported_beam"\nspan = 50.0\nwidth = 3.0\n'
+        'frequency = 2.0\ndamping_ratio = 0.005\nmodal_mass = 5e4\n'
+        'outputs = { midspan = 25.0 }\n')
+
+
+def _case(tmp_path, crowd, measurement="", csv=("counts.csv", "time,count\n0,30\n600,90\n")):
+    (tmp_path / csv[0]).write_text(csv[1])
+    path = tmp_path / "case.toml"
+    path.write_text(BEAM + "[crowd]\n" + crowd + measurement)
+    return path
+
+
+def test_counts_become_the_case_profile(tmp_path):
+    # density = count/(L·B), L·B = 150 m², held over each interval; the walkers' reference
+    # density (speed, step frequency) defaults to the profile's mean over its table.
+    case = load_case(_case(tmp_path, 'counts = "counts.csv"\n'))
+    assert case.crowd_profile.kind == "step"
+    assert case.crowd_profile.density == pytest.approx([0.2, 0.6])
+    assert case.crowd.density == pytest.approx(0.2)          # the mean over [0, 600] s
+    # A density profile is linear by default; a time frame moves the record's t = 0.
+    path = _case(tmp_path, 'density_profile = "d.csv"\ndensity = 0.5\n',
+                 '[measurement]\ntime_frame = [100.0, 700.0]\n',
+                 ("d.csv", "time,density\n0,0.2\n3600,1.0\n"))
+    case = load_case(path)
+    assert case.crowd_profile.kind == "linear" and case.crowd.density == 0.5
+    assert case.record_crowd_profile().density_at(0.0) == pytest.approx(0.2 + 0.8 * 100 / 3600)
+
+
+@pytest.mark.parametrize("crowd, measurement, message", [
+    ('counts = "counts.csv"\ndensity_profile = "counts.csv"\n', "",
+     r"crowd.counts and crowd.density_profile must not both be given"),
+    ('density_profile = "counts.csv"\n', "",
+     r"missing column\(s\) \['density'\]"),
+    ('counts = "counts.csv"\n', '[measurement]\ntime_frame = "stationary"\n',
+     r'must come with one \[measurement\] .* got time_frame = "stationary"'),
+    ('counts = "counts.csv"\nprofile_kind = "cubic"\n', "",
+     r"crowd.profile_kind must be one of \['linear', 'step'\], got 'cubic'"),
+])
+def test_bad_case_profile(tmp_path, crowd, measurement, message):
+    with pytest.raises(ParameterError, match=message):
+        load_case(_case(tmp_path, crowd, measurement))
+
+
+def test_bad_counts_name_the_file(tmp_path):
+    path = _case(tmp_path, 'counts = "counts.csv"\n',
+                 csv=("counts.csv", "time,count\n0,30\n600,9000\n"))
+    with pytest.raises(ParameterError, match=r"case.toml: crowd.counts \(counts.csv\): count must "
+                                             r"stay below the jam density"):
+        load_case(path)
+
+
+def test_estimate_case_uses_the_counts(tmp_path):
+    # An hour whose crowd ramps 0.2 → 1.0 P/m², counted per minute: the case's estimate (least
+    # squares, as tests/identification/test_varying_crowd_estimate.py) holds the truth.
+    bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+    profile = CrowdProfile([0.0, 3600.0], [0.2, 1.0])
+    record = simulate(bridge, Crowd.from_density(0.6), 3600.0, msd=MSDModel(), rng=1,
+                      sample_rate=50.0, crowd_profile=profile, warm_up=60.0)
+    write_record(Record(record.acceleration, 50.0, record.output_names), tmp_path / "ramp.npz")
+    minutes = np.arange(60) * 60.0
+    counts = np.array([profile.mean(t, t + 60.0) for t in minutes]) * bridge.area
+    table = "time,count\n" + "".join(f"{t:g},{c:.3f}\n" for t, c in zip(minutes, counts))
+    path = _case(tmp_path, 'counts = "counts.csv"\ndensity = 0.6\n',
+                 '[measurement]\nfiles = ["ramp.npz"]\n[measurement.filter]\ncutoff = false\n'
+                 '[estimation]\nmethod = "least_squares"\nband = [0.5, 10.0]\n',
+                 ("counts.csv", table))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = estimate_case(load_case(path))
+    low, high = fit.estimate.intervals["frequency"]
+    assert low < 3.0 < high
+    low, high = fit.estimate.intervals["damping_ratio"]
+    assert low < 0.30 < high
