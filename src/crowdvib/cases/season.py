@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from collections.abc import Callable, Sequence
 
     from ..io.casefile import Case
+    from ..io.crowdtable import CrowdTable
 
 __all__ = ["CaseSeason", "season_case", "season_records"]
 
@@ -148,15 +149,13 @@ def season_windows(case: Case, table, records: dict[str, Path]) -> list[tuple]:
     DataError
         A row naming a record that is not among ``records`` (file, row and column named).
     """
-    from ..io._common import quote
-
     windows = []
     for row in table.rows:
         path = records.get(row.record)
         if path is None:
             raise DataError(f"{table.path.name}: row {row.row}, column 'record': "
-                            f"{quote(row.record)} is not among the season's {len(set(records.values()))} "
-                            "record(s)")
+                            f"{row.record!r} is not among the season's "
+                            f"{len(set(records.values()))} record(s)")
         info = {"record": row.record, "start": row.start, "end": row.end, "time": row.time,
                 "count": row.count, "density": row.density_on(case.structure.area),
                 "step_frequency_mean": row.step_frequency_mean,
@@ -208,7 +207,7 @@ class CaseSeason(AsResults):
                 "expected": dict(case.expected)}
 
 
-def season_case(case: Case, crowd_table: str | os.PathLike, *,
+def season_case(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
                 records: str | os.PathLike | Sequence | None = None, joint: bool = True,
                 executor=None, store=None, progress: Callable[[int, int], None] | None = None,
                 batch_size: int | None = None) -> CaseSeason:
@@ -219,8 +218,8 @@ def season_case(case: Case, crowd_table: str | os.PathLike, *,
     case : Case
         From :func:`~crowdvib.io.load_case`: the bridge, the crowd's other properties, the
         record processing and the estimator (its ``[estimation]`` method for each row).
-    crowd_table : path
-        The crowd table CSV (:mod:`crowdvib.io.crowdtable`).
+    crowd_table : path or CrowdTable
+        The crowd table CSV (:mod:`crowdvib.io.crowdtable`), or the table read.
     records : path or sequence of paths, optional
         Where the records are (:func:`season_records`; default the case's
         ``measurement.files``, else the crowd table's folder).
@@ -235,12 +234,12 @@ def season_case(case: Case, crowd_table: str | os.PathLike, *,
     CaseSeason
         ``season.to_dataframe()`` is the table; ``results()`` what results.json holds.
     """
-    from ..io.crowdtable import read_crowd_table
+    from ..io.crowdtable import CrowdTable, read_crowd_table
     from ..studies.season import season_study
     from .estimate import estimate_options
 
-    table = read_crowd_table(crowd_table)
-    found = season_records(case, records, crowd_table)
+    table = crowd_table if isinstance(crowd_table, CrowdTable) else read_crowd_table(crowd_table)
+    found = season_records(case, records, table.path)
     windows = season_windows(case, table, found)
     unmatched = tuple(sorted(path.name for path in set(found.values())
                              - {found[row.record] for row in table.rows}))

@@ -133,6 +133,43 @@ class SeasonResult:
                                       "install pandas", name=error.name) from None
         return pandas.DataFrame(self.table(), columns=list(TABLE_COLUMNS))
 
+    def to_csv(self, path):
+        """Write :meth:`table` as CSV (:data:`TABLE_COLUMNS`; empty cells for none), atomically;
+        needs no pandas."""
+        import csv
+
+        from .._files import atomic_path
+
+        with atomic_path(path) as partial, open(partial, "w", encoding="utf-8",
+                                                newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=TABLE_COLUMNS)
+            writer.writeheader()
+            writer.writerows(self.table())
+        return path
+
+    def to_parquet(self, path):
+        """Write :meth:`to_dataframe` as Parquet, atomically (needs pandas and pyarrow:
+        ``pip install 'crowdvib[parquet]'``).
+
+        Raises
+        ------
+        ModuleNotFoundError
+            pyarrow or pandas is missing; the message names the extra that installs them.
+        """
+        import importlib.util
+
+        from .._files import atomic_path
+
+        missing = [name for name in ("pandas", "pyarrow")
+                   if importlib.util.find_spec(name) is None]
+        if missing:
+            raise ModuleNotFoundError(f"Parquet needs {' and '.join(missing)}, not installed: "
+                                      "pip install 'crowdvib[parquet]' (the CSV table needs "
+                                      "nothing)", name=missing[0])
+        with atomic_path(path) as partial:
+            self.to_dataframe().to_parquet(partial, engine="pyarrow", index=False)
+        return path
+
     def coverage(self, truth):
         """Fraction of the rows with an interval whose interval holds ``truth`` (a dict
         parameter → value, e.g. the MSD a synthetic season was made with), per parameter."""
