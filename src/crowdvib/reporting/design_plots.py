@@ -96,4 +96,5 @@ def plot_damper_frf(frf: dict, *, axes: object = None, title: str | None = None)
 
 
 def _code_label(check):
-    return check.code + (f" {check.traffic_class}" if check.traffic_class else "")
+    code = CODE_LABELS.get(check.code, check.code)
+    return code + (f" {check.traffic_class}" if check.traffic_class else "")

@@ -129,8 +129,12 @@ ul.headline { list-style: none; padding: 0; margin: 0 0 12px; display: flex; fle
 table { border-collapse: collapse; margin: 6px 0 12px; font-variant-numeric: tabular-nums; }
 table.data { width: 100%; }
 table.narrow { width: auto; min-width: 50%; }
-th, td { padding: 5px 10px; text-align: left; vertical-align: top; overflow-wrap: anywhere;
+th, td { padding: 5px 10px; text-align: left; vertical-align: top; overflow-wrap: break-word;
          border-bottom: 1px solid var(--line); }
+/* A header breaks between words only, never inside one ("estima|te"; issue 27 §4), and a cell
+   only a word wider than the whole table (break-word, unlike anywhere, keeps each column as
+   wide as its longest word); code (paths, hashes) breaks anywhere. */
+th { hyphens: manual; word-break: keep-all; overflow-wrap: normal; }
 thead th { background: #f3f5f8; font-size: .88em; color: var(--muted); font-weight: 600; }
 table.provenance thead { display: none; }
 table.kv { width: 100%; margin: 0; font-size: .92em; }
