@@ -235,4 +235,6 @@ def efdd_modes(data, sample_rate, names, low, high, *, n_modes=None, frequencies
         sensor_names=names, sample_rate=sample_rate, method="efdd",
         poles={"frequency": spectra.frequency, "singular_values": values,
                "bells": [r[5] for r in rows], "targets": targets, "segment_length": length,
-               "groups": groups})
+               "groups": groups},
+        settings={"segment_length": int(length), "mac_threshold": float(mac_threshold),
+                  "groups": int(groups), "frequency_band": [float(low), float(high)]})

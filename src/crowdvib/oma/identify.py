@@ -20,12 +20,12 @@ setups (:mod:`crowdvib.oma.multisetup`). OMA gives no modal masses:
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
-import io
 import logging
+import threading
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from unittest import mock
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -34,8 +34,8 @@ from .._validation import check_positive
 from ..errors import DataError, EstimationError, IdentifiabilityWarning, ParameterError
 from ..models.structure import ModalModel
 from .efdd import MAC_THRESHOLD, efdd_modes
-from .modeid import (ModeIdentification, compare_identifications, identified_error_levels,
-                     information_bound)
+from .modeid import (PAIRING_TOLERANCE, ModeIdentification, compare_identifications,
+                     identified_error_levels, information_bound)
 from .multisetup import _names, _signals, identify_setups
 
 __all__ = ["ModeIdentification", "ambient_response", "identified_error_levels", "identify_modes",
@@ -51,6 +51,21 @@ MIN_STABLE_SHARE = 0.3
 #: must be resolved: σ_ξ < ξ or σ_f < ξ f (the half-power half-width). At the information
 #: bound both ratios are (2π f ξ T)^-1/2, so 1 means less data than one decay time.
 MIN_SHAPE_MAC = 0.9
+#: SSI-cov's default block rows: their lags span this many periods of the lowest frequency of
+#: interest (the Hankel matrix's correlations twice that). More lags cost CPU as block rows⁴ in
+#: pyOMA2's uncertainty propagation; fewer widen the lightly damped modes' scatter (issue 27).
+LAG_PERIODS = 2
+#: The lowest frequency of interest when the band starts at 0 [Hz]. Its lags still span one
+#: period at 0.5 Hz (the lowest lateral pacing frequencies), twice the usual minimum of half a
+#: period; give the band for lower modes.
+LOWEST_FREQUENCY = 1.0
+#: SSI-cov's default model order with ``n_modes``: two poles per mode, twice over for the noise
+#: poles, plus this margin; without ``n_modes`` ``DEFAULT_ORDER`` (room for about ten modes).
+ORDER_MARGIN = 8
+DEFAULT_ORDER = 40
+#: SSI-cov runs on the record decimated to a Nyquist frequency at least this many times the band's
+#: upper end (fewer samples and block rows for the same lags; the anti-alias FIR is flat there).
+NYQUIST_MARGIN = 1.25
 
 
 def _pyoma2():
@@ -68,10 +83,11 @@ def identify_modes(signals: ArrayLike | Sequence[ArrayLike], sample_rate: float,
                    frequency_band: tuple[float, float] | None = None, method: str = "ssi-cov",
                    cross_check: bool = False,
                    reference_sensors: Sequence[Sequence[int]] | None = None,
-                   block_rows: int | None = None, max_order: int = 40, n_blocks: int = 50,
-                   segment_length: int | None = None, mac_threshold: float = MAC_THRESHOLD,
-                   sensor_names: Sequence[str] | Sequence[Sequence[str]] | None = None
-                   ) -> ModeIdentification:
+                   block_rows: int | None = None, max_order: int | None = None,
+                   n_blocks: int = 50, segment_length: int | None = None,
+                   mac_threshold: float = MAC_THRESHOLD,
+                   sensor_names: Sequence[str] | Sequence[Sequence[str]] | None = None,
+                   progress: Callable[[int, int], None] | None = None) -> ModeIdentification:
     """Modes of the empty bridge from an ambient record (docs: theory, Operational modal analysis).
 
     Parameters
@@ -97,10 +113,14 @@ def identify_modes(signals: ArrayLike | Sequence[ArrayLike], sample_rate: float,
         in the same order, in every setup). Each setup is identified alone; the shapes are
         merged by rescaling on the references, f and ξ averaged (see ``setups`` of the result).
     block_rows : int, optional
-        SSI-cov: block rows of the Hankel matrix; default enough for two periods of the lowest
-        band frequency (at least 20).
-    max_order : int
-        SSI-cov: highest model order of the stabilisation diagram.
+        SSI-cov: block rows of the Hankel matrix; default enough lags for ``LAG_PERIODS``
+        periods of the band's lower end (``LOWEST_FREQUENCY`` for a band from 0), at least 20
+        and enough for ``max_order``. SSI-cov runs on the record decimated to the band
+        (``NYQUIST_MARGIN``), so a band also saves CPU.
+    max_order : int, optional
+        SSI-cov: highest model order of the stabilisation diagram; default 4 ``n_modes`` +
+        ``ORDER_MARGIN``, or ``DEFAULT_ORDER`` without ``n_modes``. The values used are in
+        ``settings`` of the result.
     n_blocks : int
         SSI-cov: data blocks for the propagated uncertainty.
     segment_length : int, optional
@@ -108,6 +128,9 @@ def identify_modes(signals: ArrayLike | Sequence[ArrayLike], sample_rate: float,
     mac_threshold : float
         EFDD: the SDOF bell's lines have a first singular vector of MAC >= this with the peak's.
     sensor_names : sequence of str (one per row), or per setup a sequence, optional
+    progress : callable, optional
+        Called as ``progress(done, total)`` as the work advances (SSI-cov: per model order of
+        each pass of pyOMA2; EFDD: per run).
 
     Returns
     -------
@@ -143,15 +166,46 @@ def identify_modes(signals: ArrayLike | Sequence[ArrayLike], sample_rate: float,
     if n_modes is not None and (int(n_modes) != n_modes or n_modes < 1):
         raise ParameterError(f"n_modes must be a positive integer, got {n_modes!r}")
     options = _options(block_rows, max_order, n_blocks, segment_length, mac_threshold)
+    if options["max_order"] is None:
+        options["max_order"] = DEFAULT_ORDER if n_modes is None else 4 * n_modes + ORDER_MARGIN
+    runs = (1 if reference_sensors is None else max(len(signals), 1)) * (1 + bool(cross_check))
+    count = _Progress(progress, runs * _steps(options["max_order"]))
     if reference_sensors is not None:
         def single(data, names):
             return _identify(data, sample_rate, names, band, n_modes, method, cross_check,
-                             options)
+                             options, count)
 
-        return identify_setups(signals, reference_sensors, sensor_names, single)
+        return count.done(identify_setups(signals, reference_sensors, sensor_names, single))
     data = _signals("signals", signals)
-    return _identify(data, sample_rate, _names(sensor_names, data.shape[0], "sensor_names"),
-                     band, n_modes, method, cross_check, options)
+    return count.done(_identify(data, sample_rate,
+                                _names(sensor_names, data.shape[0], "sensor_names"),
+                                band, n_modes, method, cross_check, options, count))
+
+
+def _steps(max_order):
+    """Progress steps of one run: pyOMA2's three loops over the model orders."""
+    return 3 * max_order + 2
+
+
+class _Progress:
+    """``progress(done, total)`` over every run of one identification; a run that takes fewer
+    steps than counted (EFDD) jumps to its share."""
+
+    def __init__(self, callback, total):
+        self.callback, self.total, self.count = callback, total, 0
+        self.report(0)
+
+    def report(self, steps):
+        self.count = min(self.count + steps, self.total)
+        if self.callback is not None:
+            self.callback(self.count, self.total)
+
+    def run_ended(self, started, steps):
+        self.report(max(started + steps - self.count, 0))
+
+    def done(self, result):
+        self.report(self.total)
+        return result
 
 
 def _band(frequency_band, sample_rate):
@@ -170,26 +224,28 @@ def _options(block_rows, max_order, n_blocks, segment_length, mac_threshold):
             raise ParameterError(f"{name} must be an integer >= {least}, got {value!r}")
     if not 0 < float(mac_threshold) < 1:
         raise ParameterError(f"mac_threshold must lie in (0, 1), got {mac_threshold!r}")
-    return {"block_rows": block_rows, "max_order": int(max_order), "n_blocks": int(n_blocks),
+    return {"block_rows": block_rows, "n_blocks": int(n_blocks),
+            "max_order": None if max_order is None else int(max_order),
             "segment_length": None if segment_length is None else int(segment_length),
             "mac_threshold": float(mac_threshold)}
 
 
-def _identify(data, sample_rate, names, band, n_modes, method, cross_check, options):
+def _identify(data, sample_rate, names, band, n_modes, method, cross_check, options,
+              count):
     """One setup by ``method``, with the other method's cross-check if asked."""
     flat = [name for name, row in zip(names, data) if np.ptp(row) == 0]
     if flat:
         # A constant row has no covariance: SSI's and EFDD's matrices become singular.
         raise DataError(f"signals of sensor(s) {flat} are constant: an ambient record must "
                         f"vary (a dead or disconnected sensor?)")
-    primary = _floored(_run(method, data, sample_rate, names, band, n_modes, options, None),
-                       data.shape[1] / sample_rate)
+    primary = _floored(_run(method, data, sample_rate, names, band, n_modes, options, None,
+                            count), data.shape[1] / sample_rate)
     if not cross_check:
         return primary
     other_method = METHODS[1 - METHODS.index(method)]
     try:
         other = _floored(_run(other_method, data, sample_rate, names, band, None, options,
-                              primary.frequencies), data.shape[1] / sample_rate)
+                              primary.frequencies, count), data.shape[1] / sample_rate)
     except EstimationError:                          # found nothing: every mode unconfirmed
         other = _empty(other_method, names, sample_rate)
     return dataclasses.replace(primary, cross_check=compare_identifications(primary, other))
@@ -204,12 +260,18 @@ def _floored(modes, duration):
                                damping_std=np.maximum(modes.damping_std, bound_xi))
 
 
-def _run(method, data, sample_rate, names, band, n_modes, options, seeds):
+def _run(method, data, sample_rate, names, band, n_modes, options, seeds, count):
+    started = count.count
     if method == "efdd":
-        return efdd_modes(data, sample_rate, names, *band, n_modes=n_modes, frequencies=seeds,
-                          segment_length=options["segment_length"],
-                          mac_threshold=options["mac_threshold"], drop_failed=seeds is not None)
-    return _ssi(data, sample_rate, names, band, n_modes, options, warn=seeds is None)
+        modes = efdd_modes(data, sample_rate, names, *band, n_modes=n_modes, frequencies=seeds,
+                           segment_length=options["segment_length"],
+                           mac_threshold=options["mac_threshold"],
+                           drop_failed=seeds is not None)
+    else:
+        modes = _ssi(data, sample_rate, names, band, n_modes, options, count,
+                     warn=seeds is None)
+    count.run_ended(started, _steps(options["max_order"]))
+    return modes
 
 
 def _empty(method, names, sample_rate):
@@ -218,26 +280,64 @@ def _empty(method, names, sample_rate):
                               sample_rate, {}, method)
 
 
-def _ssi(data, sample_rate, names, band, n_modes, options, warn=True):
+def _ssi_settings(n_sensors, sample_rate, band, block_rows, max_order):
+    """SSI-cov's decimation and block rows for a record and a band unless given (docs: theory,
+    Operational modal analysis, the cost of SSI-cov)."""
+    low, high = band
+    decimation = max(int(sample_rate / (2 * NYQUIST_MARGIN * high)), 1)
+    rate = sample_rate / decimation
+    if block_rows is None:
+        lowest = low if low > 0 else min(LOWEST_FREQUENCY, high / 2)
+        # (block rows − 1) × sensors >= order: pyOMA2's shifted observability matrix is square
+        block_rows = max(20, int(np.ceil(LAG_PERIODS * rate / lowest)),
+                         -(-max_order // n_sensors) + 1)
+    return {"block_rows": int(block_rows), "max_order": int(max_order), "decimation": decimation,
+            "sample_rate": rate}
+
+
+def _decimated(data, factor):
+    """The record at 1/``factor`` of its rate: zero-phase FIR low-pass (no poles of its own for
+    SSI to find), then every ``factor``-th sample."""
+    if factor == 1:
+        return data
+    from scipy.signal import decimate
+
+    return decimate(data, factor, ftype="fir", axis=1, zero_phase=True)
+
+
+#: pyOMA2's loops draw tqdm bars through its module's ``trange``: replaced, one run at a time.
+_PYOMA2_LOOPS = threading.Lock()
+
+
+def _ssi(data, sample_rate, names, band, n_modes, options, count, warn=True):
     """SSI-cov through pyOMA2, its stable poles grouped into modes."""
     low, high = band
-    block_rows = options["block_rows"]
-    if block_rows is None:
-        block_rows = max(20, int(np.ceil(2 * sample_rate / max(low, sample_rate / 100))))
+    settings = _ssi_settings(data.shape[0], sample_rate, band, options["block_rows"],
+                             options["max_order"])
     SSI, SingleSetup = _pyoma2()
-    algorithm = SSI(name="ssi", method="cov", br=int(block_rows), ordmax=options["max_order"],
-                    calc_unc=True, nb=options["n_blocks"])
-    setup = SingleSetup(data.T, fs=sample_rate)
+    from pyoma2.functions import ssi as loops
+
+    algorithm = SSI(name="ssi", method="cov", br=settings["block_rows"],
+                    ordmax=settings["max_order"], calc_unc=True, nb=options["n_blocks"])
+    setup = SingleSetup(_decimated(data, settings["decimation"]).T, fs=settings["sample_rate"])
     setup.add_algorithms(algorithm)
+
+    def counted(*bounds):
+        for step in range(*bounds):
+            yield step
+            count.report(1)
+
     logger = logging.getLogger("pyoma2")
     level = logger.level
     logger.setLevel(logging.WARNING)
     try:
-        with contextlib.redirect_stderr(io.StringIO()):         # pyOMA2's progress bars
+        with _PYOMA2_LOOPS, mock.patch.object(loops, "trange", counted):
             setup.run_by_name("ssi")
     finally:
         logger.setLevel(level)
-    return _from_poles(algorithm.result, names, sample_rate, low, high, n_modes, warn)
+    modes = _from_poles(algorithm.result, names, sample_rate, low, high, n_modes, warn)
+    return dataclasses.replace(modes, settings={**settings, "n_blocks": options["n_blocks"],
+                                                "frequency_band": [low, high]})
 
 
 def _from_poles(result, names, sample_rate, low, high, n_modes, warn=True):
@@ -290,13 +390,33 @@ def _from_poles(result, names, sample_rate, low, high, n_modes, warn=True):
         raise EstimationError("no group of stable poles passes the checks of a physical mode: "
                               "the record is too short or too noisy for SSI")
     kept.sort(key=lambda mode: mode[0])
+    reported = np.array([m[0] for m in kept])
+    missed = []
+    for c in ranked if n_modes is not None else ():   # without n_modes every such column is kept
+        if support[c] < MIN_STABLE_SHARE * orders_with_poles:
+            break                                     # best supported first: the rest are less
+        p, o = pole[clusters[c]], column[clusters[c]]
+        mode = _mode(frequency[p, o], damping[p, o], f_std[p, o], xi_std[p, o], shapes[p, o])
+        if not mode[-1] and np.all(np.abs(reported / mode[0] - 1) > PAIRING_TOLERANCE):
+            missed.append({"frequency": float(mode[0]), "damping_ratio": float(mode[1]),
+                           "orders": int(support[c]), "of_orders": int(orders_with_poles)})
+    if missed and warn:
+        for column_ in missed:
+            # The issue-27 case: a walking-range mode stable in the diagram, not in the result.
+            warnings.warn(f"SSI-cov: a column of stable poles at {column_['frequency']:.4g} Hz "
+                          f"(stable over {column_['orders']} of {column_['of_orders']} model "
+                          f"orders, passing the checks of a physical mode) is not among the "
+                          f"{n_modes} mode(s) reported: raise n_modes to "
+                          f"{n_modes + len(missed)} to report it, or narrow frequency_band to "
+                          f"leave it out", IdentifiabilityWarning, stacklevel=6)
     return ModeIdentification(
         frequencies=np.array([m[0] for m in kept]), damping_ratios=np.array([m[1] for m in kept]),
         frequency_std=np.array([m[2] for m in kept]), damping_std=np.array([m[3] for m in kept]),
         mode_shapes=np.column_stack([m[4] for m in kept]), sensor_names=names,
         sample_rate=sample_rate,
         poles={"frequency": np.where(np.isfinite(frequency), frequency, np.nan),
-               "damping": damping, "stable": stable, "orders": orders})
+               "damping": damping, "stable": stable, "orders": orders},
+        missed=tuple(missed))
 
 
 def _mode(f, xi, f_std, xi_std, shapes):

@@ -10,7 +10,7 @@ from an FE model (or a mass the user states).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -66,6 +66,15 @@ class ModeIdentification:
         The second method's modes and their differences from these (``cross_check=True``).
     setups : tuple of ModeIdentification
         Several setups: each setup's own identification (its sensors only); else empty.
+    settings : dict
+        SSI-cov: the ``block_rows``, ``max_order``, ``n_blocks``, ``decimation``, the
+        ``sample_rate`` SSI ran at and the ``frequency_band`` (chosen or given); EFDD: the
+        ``segment_length`` and ``mac_threshold``.
+    missed : tuple of dict
+        SSI-cov with ``n_modes``: columns of stable poles that pass the checks of a physical mode
+        but are not reported (none within ``PAIRING_TOLERANCE``): ``frequency``,
+        ``damping_ratio``, stable over ``orders`` of the ``of_orders`` model orders with
+        stable poles (docs: theory, Operational modal analysis, from poles to modes).
     """
 
     frequencies: np.ndarray
@@ -79,6 +88,8 @@ class ModeIdentification:
     method: str = "ssi-cov"
     cross_check: ModeCrossCheck | None = None
     setups: tuple = ()
+    settings: dict = field(default_factory=dict)
+    missed: tuple = ()
 
     @property
     def n_modes(self) -> int:
@@ -101,6 +112,21 @@ class ModeIdentification:
           ``sensor_positions`` [m] along the ``walkway`` = (start, end) [m] and ``width`` [m]:
           shapes linear between the sensors and zero at the walkway's ends (supports there),
           scaled to 1 at their largest value. A coarse shape: prefer an FE model.
+
+        Parameters
+        ----------
+        structure : ModalModel, optional
+            An FE model whose outputs are the sensors.
+        modal_masses : array_like, optional
+            Modal masses [kg], one per identified mode, for shapes of 1 at their largest value.
+        sensor_positions : array_like, optional
+            The sensors' positions along the walkway [m].
+        walkway : (float, float), optional
+            The walkway's (start, end) [m].
+        width : float, optional
+            Walkway width [m].
+        name : str
+            A label for reports.
         """
         if structure is not None:
             return self._paired_with(structure)
@@ -153,14 +179,25 @@ class ModeIdentification:
     def error_levels(self, levels: Mapping[str, Sequence[float]] | None = None
                      ) -> dict[str, tuple[float, ...]]:
         """Modelling-error levels for :func:`~crowdvib.studies.modelling_error_study`
-        from this identification (see :func:`identified_error_levels`)."""
+        from this identification (see :func:`identified_error_levels`).
+
+        Parameters
+        ----------
+        levels : dict, optional
+            The other parameters' levels (default the paper's ``PAPER_ERROR_LEVELS``).
+        """
         return identified_error_levels(self.frequencies, self.frequency_std, self.damping_ratios,
                                        self.damping_std, levels)
 
     def plot_stabilisation(self, ax: "Axes | None" = None) -> "Figure | SubFigure":
         """SSI-cov: the stabilisation diagram (poles per model order, stable ones filled, modes
-        marked). EFDD: the singular values of the spectral matrix with the SDOF bells shaded
-        (:meth:`plot_spectrum`)."""
+        marked), or for EFDD the singular values with the SDOF bells shaded (:meth:`plot_spectrum`).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default a new figure).
+        """
         import matplotlib.pyplot as plt
 
         if self.method == "efdd":
@@ -176,8 +213,11 @@ class ModeIdentification:
                 label="pole")
         ax.plot(self.poles["frequency"][stable], order[stable], "o", color="C0", ms=3,
                 label="stable pole")
-        for f in self.frequencies:
-            ax.axvline(f, color="C3", lw=0.8)
+        for k, f in enumerate(self.frequencies):
+            ax.axvline(f, color="C3", lw=0.8, label="identified mode" if k == 0 else None)
+        for k, column in enumerate(self.missed):
+            ax.axvline(column["frequency"], color="C1", lw=1.2, ls="--",
+                       label="stable column not reported" if k == 0 else None)
         ax.set_xlabel("frequency [Hz]")
         ax.set_ylabel("model order")
         ax.set_title("SSI-cov stabilisation diagram")
@@ -185,7 +225,13 @@ class ModeIdentification:
         return ax.figure
 
     def plot_spectrum(self, ax: "Axes | None" = None) -> "Figure | SubFigure":
-        """EFDD: singular values of the output spectral matrix (log scale), bells shaded."""
+        """EFDD: singular values of the output spectral matrix (log scale), bells shaded.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default a new figure).
+        """
         import matplotlib.pyplot as plt
 
         if "singular_values" not in self.poles:
@@ -218,6 +264,10 @@ class ModeIdentification:
                        "damping_std": float(self.damping_std[j]),
                        "mode_shape": [float(v) for v in self.mode_shapes[:, j]]}
                       for j in range(self.n_modes)]}
+        if self.settings:
+            result["settings"] = dict(self.settings)
+        if self.missed:
+            result["missed"] = [dict(column) for column in self.missed]
         if self.cross_check is not None:
             result["cross_check"] = self.cross_check.to_dict()
         if self.setups:

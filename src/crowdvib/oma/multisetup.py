@@ -136,7 +136,9 @@ def merge_setups(setups: Sequence[ModeIdentification], references: Sequence[np.n
         frequency_std=np.array([r[2] for r in rows]), damping_std=np.array([r[3] for r in rows]),
         mode_shapes=np.column_stack([r[4] for r in rows]) if rows else np.zeros((count, 0)),
         sensor_names=names, sample_rate=setups[0].sample_rate, poles={},
-        method=setups[0].method, setups=tuple(setups))
+        method=setups[0].method, setups=tuple(setups), settings=setups[0].settings,
+        missed=tuple({**column, "setup": s} for s, setup in enumerate(setups, start=1)
+                     for column in setup.missed))
 
 
 def _merged_names(setups, references):
