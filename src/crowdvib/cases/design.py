@@ -268,6 +268,11 @@ def damper_frf(found: CaseCheck) -> dict | None:
     crowd of MSDs at the check's density) on f_j (1 ∓ 0.3), fine enough to resolve the
     undamped peak (a quarter of its half-power half-width).
 
+    Parameters
+    ----------
+    found : CaseCheck
+        The design check of a case (:func:`check_case`).
+
     Returns
     -------
     dict or None

@@ -170,7 +170,13 @@ class Results:
         return estimate(self.data)
 
     def interval(self, parameter: str) -> tuple[float, float, float] | None:
-        """(low, high, level) of an estimated parameter's confidence interval, or None."""
+        """(low, high, level) of an estimated parameter's confidence interval, or None.
+
+        Parameters
+        ----------
+        parameter : str
+            ``"frequency"``, ``"damping_ratio"`` or ``"mass_ratio"``.
+        """
         found = (self.estimate or {}).get("interval")
         ends = found.get(parameter) if isinstance(found, dict) else None
         if not isinstance(ends, list) or len(ends) != 2 or None in ends:
@@ -193,8 +199,9 @@ class Results:
 
     # ------------------------------------------------------------------------------- tables
     def table(self) -> list[dict]:
-        """The result's main table as rows (dicts of one column each); :meth:`to_dataframe`
-        makes it a pandas DataFrame. Here: one row per estimated parameter (name, value,
+        """The result's main table as rows (dicts of one column each).
+
+        :meth:`to_dataframe` makes it a pandas DataFrame. Here: one row per estimated parameter (name, value,
         interval, standard error, expected or true value); the kinds with a table of their own
         override it."""
         found = self.estimate or {}
@@ -276,8 +283,9 @@ class EstimateResults(Results):
 
     def hsi_estimate(self) -> HSIEstimate:
         """The :class:`~crowdvib.identification.HSIEstimate` (via ``HSIEstimate.from_dict``);
-        its fitted step frequencies, if any, in the case's crowd (``inputs.crowd``). A joint
-        fit's estimate has one crowd per record and is rebuilt without one.
+        its fitted step frequencies, if any, in the case's crowd (``inputs.crowd``).
+
+        A joint fit's estimate has one crowd per record and is rebuilt without one.
 
         Raises
         ------
@@ -304,7 +312,7 @@ class EstimateResults(Results):
 
     def convergence_table(self) -> list[dict]:
         """The PSD's convergence with the record length: per output and number of windows,
-        the record length [s] and the change ΔG [-] (paper Fig. 15); empty for a joint fit."""
+        the record length [s] and the change ΔG [-] (paper Figure 15); empty for a joint fit."""
         found = hsi(self.data, "convergence")
         if not isinstance(found, dict):
             return []

@@ -127,7 +127,17 @@ class DesignCheck:
         return self.peak_accelerations[self.models.index(self.primary)]
 
     def governing_of(self, model: str) -> np.ndarray:
-        """Largest peak acceleration over the modes [m/s²] per output, for one model."""
+        """Largest peak acceleration over the modes [m/s²] per output, for one model.
+
+        Parameters
+        ----------
+        model : str
+            One of ``models`` ("empty", "added_mass", "hsi").
+
+        Returns
+        -------
+        ndarray, shape (n_outputs,)
+        """
         if model not in self.models:
             raise ParameterError(f"model must be one of {list(self.models)}, got {model!r}")
         return self.peak_accelerations[self.models.index(model)].max(axis=1)

@@ -44,7 +44,29 @@ class DesignCode(ABC):
     def check(self, structure, *, traffic_class, density, crowd, msd, dampers,
               **options) -> DesignCheck:
         """The comfort check (inputs shared by all codes already validated by design_check;
-        ``dampers`` a tuple of TunedMassDamper; ``options`` only those given, not None)."""
+        ``dampers`` a tuple of TunedMassDamper; ``options`` only those given, not None).
+
+        Parameters
+        ----------
+        structure : ModalModel
+            The empty bridge.
+        traffic_class : str or None
+            The code's class, if given.
+        density : float
+            Crowd density of the check [persons/m²].
+        crowd : Crowd
+            The walkers at that density.
+        msd : MSDModel or None
+            The pedestrians' MSD for the check with HSI.
+        dampers : tuple of TunedMassDamper
+            Dampers on the deck.
+        **options
+            The code's own options of :func:`~crowdvib.design.design_check` that were given.
+
+        Returns
+        -------
+        DesignCheck
+        """
 
 
 _CODES: dict[str, DesignCode] = {}

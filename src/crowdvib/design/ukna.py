@@ -295,7 +295,21 @@ class UKNACode(DesignCode):
 
     def check(self, structure, *, traffic_class, density, crowd, msd, dampers,  # type: ignore[override]
               site_factors=None, weighting=None) -> DesignCheck:
-        """The comfort check of :func:`crowdvib.design.design_check` to the UK NA."""
+        """The comfort check of :func:`crowdvib.design.design_check` to the UK NA.
+
+        Parameters
+        ----------
+        structure, traffic_class, density, crowd, msd, dampers
+            As for :meth:`DesignCode.check`.
+        site_factors : dict, optional
+            The UK NA's site factors (:func:`~crowdvib.design.design_check`).
+        weighting : str, optional
+            As for :func:`~crowdvib.design.design_check`.
+
+        Returns
+        -------
+        DesignCheck
+        """
         return ukna_check(structure, traffic_class=traffic_class, density=density, crowd=crowd,
                           msd=msd, dampers=dampers, site_factors=site_factors,
                           weighting=weighting)

@@ -274,7 +274,13 @@ class PSDObjective:
         return use
 
     def spectral_model(self, crowd):
-        """The forward model on the band grid for another crowd (same structure, filter, window)."""
+        """The forward model on the band grid for another crowd (same structure, filter, window).
+
+        Parameters
+        ----------
+        crowd : Crowd
+            The other crowd.
+        """
         inputs = dict(self._model_inputs)
         if self._profile is not None:
             return self._varying_model(crowd, self.frequency, inputs)
@@ -300,6 +306,11 @@ class PSDObjective:
         For an estimate that fits the step-frequency distribution with the MSD: the last model
         is kept, so the evaluations of one optimiser step (which share μ_fs, σ_fs when only the
         MSD moves) build it once.
+
+        Parameters
+        ----------
+        steps : (float, float)
+            (μ_fs, σ_fs) [Hz].
         """
         key = (float(steps[0]), float(steps[1]))
         if self._steps_model[0] != key:
@@ -318,11 +329,22 @@ class PSDObjective:
 
         For what follows a fit of the step frequencies: the levels, the crowd-size term and
         the bootstrap's replicates then use the fitted crowd (a new objective; this one is kept).
+
+        Parameters
+        ----------
+        steps : (float, float)
+            (μ_fs, σ_fs) [Hz].
         """
         return self._evolve(model=self.model_for(steps))
 
     def exact_model(self, frequency: np.ndarray):
-        """The forward model without the Welch kernel on another grid (same crowd, filter)."""
+        """The forward model without the Welch kernel on another grid (same crowd, filter).
+
+        Parameters
+        ----------
+        frequency : ndarray
+            The grid [Hz].
+        """
         inputs = dict(self._model_inputs, welch_window_length=None)
         if self._profile is not None:
             return self._varying_model(self.model.crowd, frequency, inputs)
@@ -335,6 +357,11 @@ class PSDObjective:
         the measured PSD (each output over its peak; least squares over its norm). For the
         Wishart likelihood ``psd`` is a cross-spectral matrix (p, p, K), normalised by the
         objective's own levels (the deviance does not depend on them).
+
+        Parameters
+        ----------
+        psd : ndarray
+            The other measured PSD on the objective's bins.
         """
         if self.wishart is not None:
             cross = np.asarray(psd, dtype=complex)
@@ -354,7 +381,13 @@ class PSDObjective:
         return self._evolve(target=target, level=level, _target=normalised, _scale=scale)
 
     def with_level(self, factor) -> "PSDObjective":
-        """The same misfit with the measured PSD read ``factor`` times larger (a unit mix-up undone)."""
+        """The same misfit with the measured PSD read ``factor`` times larger (a unit mix-up undone).
+
+        Parameters
+        ----------
+        factor : float
+            The factor the measured PSD is multiplied by, > 0.
+        """
         return self._evolve(level=self.level * factor)
 
     def residuals(self, msd, *, model=None, steps=None):
@@ -362,6 +395,15 @@ class PSDObjective:
 
         ``model`` replaces the objective's own forward model (e.g. one for another crowd);
         ``steps`` = (μ_fs, σ_fs) uses :meth:`model_for` those step frequencies.
+
+        Parameters
+        ----------
+        msd : MSDModel or None
+            The pedestrians' MSD θ; None for the structure without HSI.
+        model : SpectralModel or FluctuatingSpectralModel, optional
+            A forward model in place of the objective's own.
+        steps : (float, float), optional
+            (μ_fs, σ_fs) [Hz]: the model for these step frequencies (:meth:`model_for`).
         """
         modelled = self.modelled(msd, model=model, steps=steps)
         if self.wishart is not None:
@@ -377,7 +419,17 @@ class PSDObjective:
     def modelled(self, msd, *, model=None, steps=None):
         """The model PSD in the objective's normalised units (each output over its level), or
         for the Wishart likelihood the cross-spectral matrix (p, p, K), S_ab over
-        sqrt(level_a level_b). ``steps`` = (μ_fs, σ_fs) uses :meth:`model_for` them."""
+        sqrt(level_a level_b).
+
+        Parameters
+        ----------
+        msd : MSDModel or None
+            The pedestrians' MSD θ; None for the structure without HSI.
+        model : SpectralModel or FluctuatingSpectralModel, optional
+            A forward model in place of the objective's own.
+        steps : (float, float), optional
+            (μ_fs, σ_fs) [Hz]: the model for these step frequencies (:meth:`model_for`).
+        """
         if steps is not None:
             model = self.model_for(steps)
         model = self.model if model is None else model
@@ -446,12 +498,23 @@ class PSDObjective:
 
         ∫ G̃_l df / ∫ G_l(θ) df over the band: far from 1 at the optimum means the data and the
         model disagree on the level itself (units, gain, channel), which no MSD can fix.
+
+        Parameters
+        ----------
+        msd : MSDModel or None
+            The pedestrians' MSD θ; None for the structure without HSI.
         """
         with np.errstate(divide="ignore"):
             return self._target.sum(axis=1) / (self.model.psd_array(msd).sum(axis=1)
                                                / self.level)
 
     def cost(self, msd):
-        """J(θ) of paper Eq. (6), or the deviance D(θ) for the likelihood [-]."""
+        """J(θ) of paper Equation (6), or the deviance D(θ) for the likelihood [-].
+
+        Parameters
+        ----------
+        msd : MSDModel or None
+            The pedestrians' MSD θ; None for the structure without HSI.
+        """
         r = self.residuals(msd)
         return float(r @ r)

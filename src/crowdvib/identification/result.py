@@ -110,7 +110,13 @@ class HSIEstimate:
     crowd: Crowd | None = None
 
     def value(self, parameter: str) -> float:
-        """The estimated value of a free parameter (an MSD's or the fitted crowd's) [its unit]."""
+        """The estimated value of a free parameter (an MSD's or the fitted crowd's) [its unit].
+
+        Parameters
+        ----------
+        parameter : str
+            A name of ``free_parameters``.
+        """
         if parameter not in self.free_parameters:
             raise ParameterError(f"parameter must be one of {list(self.free_parameters)}, "
                                  f"got {parameter!r}")
@@ -143,6 +149,13 @@ class HSIEstimate:
 
         The profile interval when it was computed at this level, else the Wald interval
         estimate ± z·SE from the sandwich covariance; both clipped to the search bounds.
+
+        Parameters
+        ----------
+        parameter : str
+            A name of ``free_parameters`` (``"frequency"``, ``"damping_ratio"``, ...).
+        level : float
+            Confidence level, in (0, 1).
         """
         value = self.value(parameter)
         if not 0 < level < 1:

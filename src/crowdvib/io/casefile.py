@@ -171,6 +171,11 @@ class Case:
 
         ``sections`` keeps only those tables (e.g. a simulation has no use for ``estimation``);
         ``not_set`` lists the keys the file left to their defaults, for the report to mark.
+
+        Parameters
+        ----------
+        sections : sequence of str, optional
+            The tables to keep (default all).
         """
         def plain(value):
             if isinstance(value, Path):

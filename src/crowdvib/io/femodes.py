@@ -91,6 +91,17 @@ class FEModes:
 
         Σ φ_v² / Σ (φ_x² + φ_y² + φ_z²) over the deck nodes; 1 when the export holds the vertical
         component only (it cannot say otherwise).
+
+        Parameters
+        ----------
+        vertical : {"x", "y", "z"}
+            The vertical axis of the export.
+        deck_nodes : array_like, optional
+            The deck's node numbers (default every node).
+
+        Returns
+        -------
+        ndarray, shape (n_modes,)
         """
         rows = self._deck(deck_nodes)
         shapes = self.shapes[rows]

@@ -169,7 +169,13 @@ class Record:
         return self.replace(data=self.data[rows], channel_names=tuple(mapping))
 
     def frame(self, start: float | None = None, end: float | None = None) -> Record:
-        """The samples with start <= t < end [s] (times as in :attr:`time`)."""
+        """The samples with start <= t < end [s] (times as in :attr:`time`).
+
+        Parameters
+        ----------
+        start, end : float, optional
+            The frame [s] (default the record's first and last sample).
+        """
         first = 0 if start is None else int(np.ceil((start - self.start_time) * self.sample_rate
                                                     - 1e-9))
         last = self.n_samples if end is None else int(np.ceil((end - self.start_time)
@@ -184,7 +190,13 @@ class Record:
                             start_time=self.start_time + first / self.sample_rate)
 
     def replace(self, **changes: Any) -> Record:
-        """A copy with some fields changed (validated again)."""
+        """A copy with some fields changed (validated again).
+
+        Parameters
+        ----------
+        **changes
+            Fields of :class:`Record` and their new values.
+        """
         fields = dict(data=self.data, sample_rate=self.sample_rate,
                       channel_names=self.channel_names, start_time=self.start_time,
                       source=self.source)

@@ -196,6 +196,19 @@ class Crowd:
         >>> crowd = Crowd.from_density(0.5)
         >>> round(crowd.walking_speed, 3), round(crowd.step_frequency_mean, 3)
         (1.298, 1.89)
+
+        Parameters
+        ----------
+        density : float
+            Crowd density d [persons/m²], > 0 and below the jam density.
+        body_mass, step_frequency_std, forward_fraction, body_mass_std
+            As for :class:`Crowd`.
+
+        Returns
+        -------
+        Crowd
+            With ``walking_speed`` = :func:`~crowdvib.models.weidmann_speed` (d) and
+            ``step_frequency_mean`` = :func:`~crowdvib.models.bruno_venuti_step_frequency` (v).
         """
         speed = float(weidmann_speed(density))
         with derived():          # warned below, at the caller's line rather than here
@@ -210,6 +223,11 @@ class Crowd:
         """The same walkers at another density (speed and step frequencies unchanged).
 
         The walkers were checked for plausibility when this crowd was built: no warning again.
+
+        Parameters
+        ----------
+        density : float
+            The new density [persons/m²], >= 0 and below the jam density.
         """
         with derived():
             return replace(self, density=density)
@@ -219,11 +237,33 @@ class Crowd:
         return STANDARD_GRAVITY**2 * (self.body_mass**2 + self.body_mass_std**2)
 
     def arrival_rate(self, width: float) -> float:
-        """Poisson arrival rate λ = d·B·v [persons/s] onto a walkway of width B (docs: theory, Poisson arrivals)."""
+        """Poisson arrival rate λ = d·B·v [persons/s] onto a walkway of width B (docs: theory, Poisson arrivals).
+
+        Parameters
+        ----------
+        width : float
+            Walkway width B [m].
+
+        Returns
+        -------
+        float
+            λ [persons/s].
+        """
         return self.density * check_positive("width", width, unit="m") * self.walking_speed
 
     def step_frequency_pdf(self, step_frequency: ArrayLike) -> np.ndarray:
-        """Gaussian density p_fs of the step frequencies [1/Hz]."""
+        """Gaussian density p_fs of the step frequencies [1/Hz].
+
+        Parameters
+        ----------
+        step_frequency : array_like
+            Step frequencies f_s [Hz].
+
+        Returns
+        -------
+        ndarray
+            N(μ_fs, σ_fs) density at each step frequency [1/Hz].
+        """
         z = (np.asarray(step_frequency, dtype=float) - self.step_frequency_mean) / self.step_frequency_std
         return np.exp(-0.5 * z * z) / (self.step_frequency_std * np.sqrt(2.0 * np.pi))
 

@@ -89,6 +89,11 @@ class TunedMassDamper:
     def shape_row(self, structure: ModalModel) -> np.ndarray:
         """Mode-shape row φ(x_d, y_d) of ``structure`` at the damper [scaling of the model].
 
+        Parameters
+        ----------
+        structure : ModalModel
+            The structure the damper is fixed to.
+
         Raises
         ------
         ParameterError

@@ -77,10 +77,26 @@ class ForceModel(Protocol):
 
     def sample(self, step_frequency: ArrayLike,
                rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-        """DLFs α_c [-] and phases θ_c [rad], each shape (n_pedestrians, n_components)."""
+        """DLFs α_c [-] and phases θ_c [rad], each shape (n_pedestrians, n_components).
+
+        Parameters
+        ----------
+        step_frequency : array_like, shape (n_pedestrians,)
+            Each walker's step frequency [Hz].
+        rng : numpy.random.Generator
+            The draws' generator.
+        """
 
     def load_spectrum(self, frequency: ArrayLike, crowd: Crowd) -> np.ndarray:
-        """One-sided crowd-load PSD per unit influence s(f) [N²/Hz], shape of ``frequency``."""
+        """One-sided crowd-load PSD per unit influence s(f) [N²/Hz], shape of ``frequency``.
+
+        Parameters
+        ----------
+        frequency : array_like
+            Frequencies [Hz].
+        crowd : Crowd
+            The crowd (its step-frequency distribution, body masses and density).
+        """
 
 
 #: The members each side calls (see :class:`ForceModel`).
@@ -118,6 +134,13 @@ class WalkingForce:
                rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
         """DLFs α_c [-] and phases θ_c [rad] of pedestrians with the given step frequencies.
 
+        Parameters
+        ----------
+        step_frequency : array_like, shape (n_pedestrians,)
+            Each walker's step frequency [Hz].
+        rng : numpy.random.Generator
+            The draws' generator.
+
         Returns
         -------
         amplitudes, phases : ndarray, shape (n_pedestrians, n_components)
@@ -146,7 +169,17 @@ class WalkingForce:
 
     def modal_load_psd(self, frequency: ArrayLike, crowd: Crowd,
                        structure: ModalModel) -> np.ndarray:
-        """One-sided modal-load cross-PSD G_QQ(f) [N²/Hz], shape (n_f, n_modes, n_modes)."""
+        """One-sided modal-load cross-PSD G_QQ(f) [N²/Hz], shape (n_f, n_modes, n_modes).
+
+        Parameters
+        ----------
+        frequency : array_like
+            Frequencies [Hz].
+        crowd : Crowd
+            The crowd.
+        structure : ModalModel
+            The structure whose modes the load projects on (its influence matrix Ψ).
+        """
         return modal_load_psd(self, frequency, crowd, structure)
 
     def time_history(self, time: ArrayLike, step_frequency: float, body_mass: float,
@@ -238,7 +271,15 @@ class ZivanovicForce(WalkingForce):
 
     @staticmethod
     def first_harmonic_dlf(step_frequency: ArrayLike) -> np.ndarray:
-        """Mean first-harmonic DLF μ₁(f_s) (Kerr 1998 fit; docs: theory, Živanović, Pavić & Reynolds (2007)). μ₁(1.89) = 0.3644."""
+        """Mean first-harmonic DLF μ₁(f_s) (Kerr 1998 fit; docs: theory, Živanović, Pavić & Reynolds (2007)).
+
+        Check value: μ₁(1.89) = 0.3644.
+
+        Parameters
+        ----------
+        step_frequency : array_like
+            Step frequencies f_s [Hz].
+        """
         return np.polyval(ZIVANOVIC_DLF1_POLYNOMIAL, step_frequency)
 
     def mean_square_dlf(self, step_frequency: ArrayLike) -> np.ndarray:

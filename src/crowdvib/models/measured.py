@@ -203,12 +203,28 @@ class MeasuredForce(_ReplayedForce):
 
     def sample(self, step_frequency: ArrayLike,
                rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-        """No harmonic components (zero DLF, zero phase; draws nothing): see :meth:`sample_replay`."""
+        """No harmonic components (zero DLF, zero phase; draws nothing): see :meth:`sample_replay`.
+
+        Parameters
+        ----------
+        step_frequency : array_like, shape (n_pedestrians,)
+            Each walker's step frequency [Hz].
+        rng : numpy.random.Generator
+            Not used.
+        """
         n = np.asarray(step_frequency).size
         return np.zeros((n, 1)), np.zeros((n, 1))
 
     def sample_replay(self, step_frequency: ArrayLike, rng: np.random.Generator) -> ReplayDraws:
-        """Record, start, time scale and force factor of each walker (from ``rng``, in that order)."""
+        """Record, start, time scale and force factor of each walker (from ``rng``, in that order).
+
+        Parameters
+        ----------
+        step_frequency : array_like, shape (n_pedestrians,)
+            Each walker's step frequency [Hz]: the recorded walks are time-scaled to it.
+        rng : numpy.random.Generator
+            The draws' generator.
+        """
         step_frequency = np.asarray(step_frequency, dtype=float).ravel()
         n = step_frequency.size
         record = rng.integers(0, self.n_records, size=n).astype(np.int64)

@@ -61,15 +61,33 @@ class MSDModel:
         warn_if_implausible("msd_frequency", self.frequency, "frequency", stacklevel=3)
 
     def sprung_mass(self, body_mass: ArrayLike) -> np.ndarray | float:
-        """m_h1 = μ_h1·m_h [kg]."""
+        """m_h1 = μ_h1·m_h [kg].
+
+        Parameters
+        ----------
+        body_mass : float or array_like
+            Body mass m_h [kg].
+        """
         return self.mass_ratio * body_mass
 
     def stiffness(self, body_mass: ArrayLike) -> np.ndarray | float:
-        """k_h1 = m_h1 ω_h1² [N/m]."""
+        """k_h1 = m_h1 ω_h1² [N/m].
+
+        Parameters
+        ----------
+        body_mass : float or array_like
+            Body mass m_h [kg].
+        """
         return self.sprung_mass(body_mass) * (2.0 * np.pi * self.frequency) ** 2
 
     def damping(self, body_mass: ArrayLike) -> np.ndarray | float:
-        """c_h1 = 2 ξ_h1 m_h1 ω_h1 [N·s/m]."""
+        """c_h1 = 2 ξ_h1 m_h1 ω_h1 [N·s/m].
+
+        Parameters
+        ----------
+        body_mass : float or array_like
+            Body mass m_h [kg].
+        """
         return 2.0 * self.damping_ratio * self.sprung_mass(body_mass) * 2.0 * np.pi * self.frequency
 
     def apparent_mass(self, frequency: ArrayLike, body_mass: ArrayLike) -> np.ndarray | complex:

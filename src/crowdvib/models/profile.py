@@ -87,7 +87,13 @@ class CrowdProfile:
     @classmethod
     def constant(cls, density: float) -> CrowdProfile:
         """The stationary crowd of one density (a simulation with it is bit-identical to one
-        with ``crowd.with_density(density)``)."""
+        with ``crowd.with_density(density)``).
+
+        Parameters
+        ----------
+        density : float
+            The density [persons/m²], >= 0.
+        """
         return cls([0.0], [density])
 
     @classmethod
@@ -131,16 +137,34 @@ class CrowdProfile:
         return float(self.density.max())
 
     def scaled(self, factor: float) -> CrowdProfile:
-        """The same profile with every density times ``factor`` (>= 0)."""
+        """The same profile with every density times ``factor`` (>= 0).
+
+        Parameters
+        ----------
+        factor : float
+            The factor, >= 0.
+        """
         return CrowdProfile(self.time, self.density * float(factor), self.kind)
 
     def shifted(self, offset: float) -> CrowdProfile:
         """The same profile on a time axis that starts ``offset`` [s] later (t → t − offset):
-        for a record cut from ``offset`` on."""
+        for a record cut from ``offset`` on.
+
+        Parameters
+        ----------
+        offset : float
+            The shift of the time axis [s].
+        """
         return CrowdProfile(self.time - float(offset), self.density, self.kind)
 
     def density_at(self, t: ArrayLike) -> np.ndarray:
-        """d(t) [persons/m²] at times ``t`` [s]."""
+        """d(t) [persons/m²] at times ``t`` [s].
+
+        Parameters
+        ----------
+        t : array_like
+            Times [s].
+        """
         t = np.asarray(t, dtype=float)
         if self.kind == "linear":
             return np.interp(t, self.time, self.density)
@@ -148,7 +172,13 @@ class CrowdProfile:
         return self.density[index]
 
     def cumulative(self, t: ArrayLike) -> np.ndarray:
-        """C(t) = ∫_{time[0]}^{t} d(s) ds [persons·s/m²] (negative before the first point)."""
+        """C(t) = ∫_{time[0]}^{t} d(s) ds [persons·s/m²] (negative before the first point).
+
+        Parameters
+        ----------
+        t : array_like
+            Times [s].
+        """
         t = np.asarray(t, dtype=float)
         i = np.clip(np.searchsorted(self.time, t, "right") - 1, 0, self.time.size - 1)
         s = t - self.time[i]
@@ -162,7 +192,13 @@ class CrowdProfile:
 
     def inverse_cumulative(self, c: ArrayLike) -> np.ndarray:
         """The time t with C(t) = c [s]: turns uniform draws of the cumulative rate into the
-        arrival times of the non-homogeneous Poisson stream (inversion)."""
+        arrival times of the non-homogeneous Poisson stream (inversion).
+
+        Parameters
+        ----------
+        c : array_like
+            Values of the cumulative density C [persons·s/m²].
+        """
         c = np.asarray(c, dtype=float)
         knots, time, density = self._knots, self.time, self.density
         i = np.clip(np.searchsorted(knots, c, "right") - 1, 0, time.size - 1)
@@ -181,14 +217,28 @@ class CrowdProfile:
         return time[i] + s
 
     def mean(self, start: float, end: float) -> float:
-        """The mean density over [start, end] [persons/m²]."""
+        """The mean density over [start, end] [persons/m²].
+
+        Parameters
+        ----------
+        start, end : float
+            The interval [s].
+        """
         if not end > start:
             raise ParameterError(f"end must be > start, got [{start:g}, {end:g}] s")
         return float((self.cumulative(end) - self.cumulative(start)) / (end - start))
 
     def deck_density(self, t: ArrayLike, crossing_time: float) -> np.ndarray:
         """The mean density on the deck at ``t`` [persons/m²]: the stream's density averaged
-        over the last crossing, (C(t) − C(t − τ))/τ with τ = L/v [s] (module docstring)."""
+        over the last crossing, (C(t) − C(t − τ))/τ with τ = L/v [s] (module docstring).
+
+        Parameters
+        ----------
+        t : array_like
+            Times [s].
+        crossing_time : float
+            τ = L/v, the time a walker spends on the deck [s].
+        """
         t = np.asarray(t, dtype=float)
         if not crossing_time > 0:
             return self.density_at(t)

@@ -256,6 +256,11 @@ class ModalModel:
         pressure applied with the sign of each mode shape (the design codes' resonant load). Same
         quadrature as :meth:`influence_matrix`.
 
+        Parameters
+        ----------
+        absolute : bool
+            Integrate |φ_j| instead of φ_j.
+
         Returns
         -------
         ndarray, shape (n_modes,)
@@ -264,7 +269,19 @@ class ModalModel:
         return np.einsum("lp,lpj->j", self._area_weights, shapes)
 
     def modal_mass_ratios(self, density: float, body_mass: float) -> np.ndarray:
-        """Crowd-to-structure modal mass ratios μ_m,j = m_h Ψ_jj / m_j [-] (docs: theory, The smeared crowd and the occupied bridge)."""
+        """Crowd-to-structure modal mass ratios μ_m,j = m_h Ψ_jj / m_j [-] (docs: theory, The smeared crowd and the occupied bridge).
+
+        Parameters
+        ----------
+        density : float
+            Crowd density d [persons/m²].
+        body_mass : float
+            Mean body mass m_h [kg].
+
+        Returns
+        -------
+        ndarray, shape (n_modes,)
+        """
         body_mass = check_positive("body_mass", body_mass, unit="kg")
         return body_mass * np.diag(self.influence_matrix(density)) / self.modal_masses
 
@@ -300,7 +317,13 @@ class ModalModel:
         return (1 - t) * lower + t * upper
 
     def output_index(self, names: str | Sequence[str]) -> np.ndarray:
-        """Indices of the named outputs; a :class:`ParameterError` lists the known names."""
+        """Indices of the named outputs; a :class:`ParameterError` lists the known names.
+
+        Parameters
+        ----------
+        names : str or sequence of str
+            Output names.
+        """
         return name_indices(names, self.output_names)
 
     # ------------------------------------------------------------------ variants
@@ -308,6 +331,11 @@ class ModalModel:
         """The same physics with mode j scaled by ``factors[j]`` (m_j scales by factors[j]²).
 
         A negative factor flips the sign of a mode; ``1/sqrt(m_j)`` gives mass-normalised shapes.
+
+        Parameters
+        ----------
+        factors : array_like, shape (n_modes,)
+            Scale factor of each mode shape, non-zero.
         """
         factors = as_float_array("factors", np.broadcast_to(factors, (self.n_modes,)))
         if np.any(factors == 0):
@@ -322,7 +350,13 @@ class ModalModel:
         return self.rescaled(1.0 / np.sqrt(self.modal_masses))
 
     def replace(self, **changes: Any) -> ModalModel:
-        """A copy with some fields changed (validated again)."""
+        """A copy with some fields changed (validated again).
+
+        Parameters
+        ----------
+        **changes
+            Fields of :class:`ModalModel` and their new values.
+        """
         fields = dict(frequencies=self.frequencies, damping_ratios=self.damping_ratios,
                       modal_masses=self.modal_masses, positions=self.positions,
                       mode_shapes=self.mode_shapes, width=self.width,

@@ -303,6 +303,11 @@ class FluctuatingSpectralModel:
         The occupancy law, hence the nodes and weights, depends on the density and the mode
         shape alone: it is kept, and only the smeared models are built again (an estimate that
         fits μ_fs and σ_fs builds hundreds of these).
+
+        Parameters
+        ----------
+        crowd : Crowd
+            The crowd with other step frequencies (same density, speed and body mass).
         """
         check_type("crowd", crowd, Crowd)
         # The occupancy law (density), its path (walking speed) and the drift correction per
@@ -324,13 +329,25 @@ class FluctuatingSpectralModel:
         return other
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
-        """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
+        """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies).
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
         return _mixture(self.weights, self._models, msd) + self._modulation(msd, cross=False)
 
     def cross_psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
         """Expected cross-spectral matrix, shape (n_outputs, n_outputs, n_frequencies): the
         same mixture Σ_i w_i S(f; λ_i d), each term linear in the occupancy state's record
-        (docs: theory, The cross-spectral matrix)."""
+        (docs: theory, The cross-spectral matrix).
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
         return _mixture(self.weights, self._models, msd, cross=True) + self._modulation(
             msd, cross=True)
 
@@ -358,7 +375,13 @@ class FluctuatingSpectralModel:
         return rule.apply(delta.reshape(size * size, -1)).reshape(size, size, -1)
 
     def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
-        """Expected PSD at the outputs → :class:`ResponsePSD`."""
+        """Expected PSD at the outputs → :class:`ResponsePSD`.
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
         return ResponsePSD(frequency=self.frequency, psd=self.psd_array(msd),
                            output_names=self.output_names,
                            window_length=self.welch_window_length, lowpass=self.lowpass,

@@ -57,14 +57,40 @@ class FRF:
              input: str | None = None, band: tuple[float, float] | None = None,
              ax: Axes | None = None, title: str | None = None) -> Axes:
         """Draw |H| of one output/input pair, with an occupied FRF beside it if given
-        (see :func:`crowdvib.reporting.plotting.plot_frf`)."""
+        (see :func:`crowdvib.reporting.plotting.plot_frf`).
+
+        Parameters
+        ----------
+        occupied : FRF, optional
+            The occupied structure's FRF, drawn beside.
+        output, input : str, optional
+            The pair drawn (default the first output, and input = output).
+        band : (float, float), optional
+            Frequency range drawn [Hz].
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default a new figure).
+        title : str, optional
+            The axes' title.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
         from .plots import plot_frf
 
         return plot_frf(self, occupied, output=output, input=input, band=band, ax=ax,
                         title=title)
 
     def magnitude(self, output: str, input: str | None = None) -> np.ndarray:
-        """|H| [(m/s²)/N] of one output/input pair (input defaults to the output itself)."""
+        """|H| [(m/s²)/N] of one output/input pair (input defaults to the output itself).
+
+        Parameters
+        ----------
+        output : str
+            The output.
+        input : str, optional
+            The input (default ``output``).
+        """
         o = self.output_names.index(output)
         i = self.input_names.index(output if input is None else input)
         return np.abs(self.values[o, i])
@@ -218,6 +244,11 @@ class Simulation:
         """What a comfort check reads first, per output: RMS, peak |a| and the largest running
         RMS over ``window`` seconds, all in m/s² (docs: theory, Design checks).
 
+        Parameters
+        ----------
+        window : float
+            Running-RMS window [s].
+
         Returns
         -------
         dict
@@ -240,7 +271,25 @@ class Simulation:
              axes: Sequence[Axes] | None = None, title: str | None = None,
              weighting: str | None = None) -> FigureAxes:
         """Draw the record, its running RMS (``weighting="Wb"``: of the W_b-weighted record)
-        and the people on the deck (see :func:`crowdvib.reporting.plotting.plot_time_history`)."""
+        and the people on the deck (see :func:`crowdvib.reporting.plotting.plot_time_history`).
+
+        Parameters
+        ----------
+        output : str, optional
+            The output drawn (default the first).
+        window : float
+            Running-RMS window [s].
+        axes : sequence of matplotlib.axes.Axes, optional
+            Two axes to draw on (default a new figure).
+        title : str, optional
+            The figure's title.
+        weighting : {"Wb"}, optional
+            The running RMS of the W_b-weighted record (BS 6841) instead.
+
+        Returns
+        -------
+        FigureAxes
+        """
         from .plots import plot_time_history
 
         return plot_time_history(self, output=output, window=window, axes=axes, title=title,

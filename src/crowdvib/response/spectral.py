@@ -188,13 +188,25 @@ class SpectralModel:
         return ((crowd_part,) if crowd_part is not None else ()) + self._dampers
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
-        """PSD [(m/s²)²/Hz] as an array of shape (n_outputs, n_frequencies)."""
+        """PSD [(m/s²)²/Hz] as an array of shape (n_outputs, n_frequencies).
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
         return self._expected(msd, cross=False)
 
     def cross_psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
         """Cross-spectral matrix S_ab(f) = E[X_a conj(X_b)] [(m/s²)²/Hz] of the outputs, shape
         (n_outputs, n_outputs, n_frequencies), Hermitian in (a, b), its diagonal the PSD
-        (docs: theory, The cross-spectral matrix); with the same Welch kernel and filter."""
+        (docs: theory, The cross-spectral matrix); with the same Welch kernel and filter.
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
         return self._expected(msd, cross=True)
 
     def _expected(self, msd, cross):
@@ -244,7 +256,13 @@ class SpectralModel:
         return rule.apply(exact.reshape(size * size, -1)).reshape(size, size, -1)
 
     def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
-        """PSD at the outputs → :class:`ResponsePSD`."""
+        """PSD at the outputs → :class:`ResponsePSD`.
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
         return ResponsePSD(frequency=self.frequency, psd=self.psd_array(msd),
                            output_names=self.output_names,
                            window_length=self.welch_window_length, lowpass=self.lowpass,

@@ -205,7 +205,13 @@ class VaryingCrowdModel:
 
     def with_step_frequencies(self, crowd: Crowd) -> VaryingCrowdModel:
         """The same average for walkers that differ only in their step-frequency distribution
-        (the levels and their shares are kept)."""
+        (the levels and their shares are kept).
+
+        Parameters
+        ----------
+        crowd : Crowd
+            The walkers with other step frequencies.
+        """
         check_type("crowd", crowd, Crowd)
         other = copy.copy(self)
         other.crowd = crowd.with_density(self.crowd.density)
@@ -216,17 +222,35 @@ class VaryingCrowdModel:
         return other
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
-        """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
+        """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies).
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
         return _mixture(self.probabilities, self._models, msd)
 
     def cross_psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
-        """Expected cross-spectral matrix, shape (n_outputs, n_outputs, n_frequencies)."""
+        """Expected cross-spectral matrix, shape (n_outputs, n_outputs, n_frequencies).
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
         return _mixture(self.probabilities, self._models, msd, cross=True)
 
     def variance_ratio(self, msd: MSDModel | None = None) -> np.ndarray:
         """Σ p_i G_i² / Ḡ² per output and bin [-], >= 1: how much more the Welch average of
         windows with different expectations scatters than a stationary record of Ḡ would, when
-        the windows are independent (docs: theory, A crowd that changes)."""
+        the windows are independent (docs: theory, A crowd that changes).
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
         squares = sum(p * m.psd_array(msd) ** 2 for p, m in zip(self.probabilities,
                                                                 self._models))
         mean = self.psd_array(msd)
@@ -246,6 +270,21 @@ def varying_response_psd(structure: ModalModel, crowd: Crowd, profile: CrowdProf
                          **options: Any) -> ResponsePSD:
     """The expected (Welch) PSD of a record of ``duration`` whose crowd follows ``profile``:
     :class:`VaryingCrowdModel` in one call (docs: theory, A crowd that changes).
+
+    Parameters
+    ----------
+    structure, crowd, profile, frequency, duration, welch_window_length, overlap, crowd_model
+        As for :class:`VaryingCrowdModel`.
+    msd : MSDModel, optional
+        The pedestrians' MSD; None for no HSI.
+    outputs : str or sequence of str, optional
+        Output names (default all).
+    **options
+        Passed to :class:`VaryingCrowdModel` (``levels``, ``force``, ``lowpass``, ...).
+
+    Returns
+    -------
+    ResponsePSD
 
     Examples
     --------

@@ -176,7 +176,13 @@ class TaskStore:
                       StudyWarning, stacklevel=4)
 
     def get(self, key):
-        """The stored result of ``key``, or None (with a :class:`StudyWarning` if damaged)."""
+        """The stored result of ``key``, or None (with a :class:`StudyWarning` if damaged).
+
+        Parameters
+        ----------
+        key : str
+            The task's key.
+        """
         path = self._path(key)
         if not path.exists():
             return None
@@ -188,7 +194,19 @@ class TaskStore:
         return record["result"] if record["key"] == key else None
 
     def put(self, key, result, *, name=None, inputs=None):
-        """Store the result of ``key`` atomically, on disk before this returns."""
+        """Store the result of ``key`` atomically, on disk before this returns.
+
+        Parameters
+        ----------
+        key : str
+            The task's key (it names the file).
+        result : object
+            The task's result, JSON-serialisable.
+        name : str, optional
+            The task's function, for the record.
+        inputs : dict, optional
+            The task's inputs, stored as their hashes (:func:`fingerprint`).
+        """
         record = {"key": key, "name": key if name is None else name, "inputs": inputs or {},
                   "result": result}
         record["sha256"] = record_digest(record)
@@ -196,7 +214,20 @@ class TaskStore:
 
     def records(self, *, warn=True, fields=()):
         """Every readable task record, by key; damaged files (or results lacking one of
-        ``fields``) are skipped with a warning."""
+        ``fields``) are skipped with a warning.
+
+        Parameters
+        ----------
+        warn : bool
+            Warn (:class:`StudyWarning`) of each file skipped.
+        fields : sequence of str
+            Keys every result must hold to be returned.
+
+        Returns
+        -------
+        dict
+            Key → the task's record (``key``, ``name``, ``inputs``, ``result``, ``sha256``).
+        """
         records = {}
         for path in sorted(self.directory.glob("*.json")):
             try:

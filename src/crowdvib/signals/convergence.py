@@ -47,7 +47,13 @@ class PSDConvergence:
     norm: str
 
     def duration_to_reach(self, level: float) -> np.ndarray:
-        """Shortest k·T [s] from which ΔG stays below ``level`` for every output (None if never)."""
+        """Shortest k·T [s] from which ΔG stays below ``level`` for every output (None if never).
+
+        Parameters
+        ----------
+        level : float
+            The convergence level ΔG [-] (the paper: 0.1).
+        """
         below = np.all(self.error < level, axis=0)
         for k in range(below.size):
             if below[k:].all():

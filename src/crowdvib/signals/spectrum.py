@@ -134,7 +134,13 @@ class ResponsePSD:
         return self
 
     def select(self, names: str | Sequence[str]) -> ResponsePSD:
-        """The PSDs of the named outputs, in that order."""
+        """The PSDs of the named outputs, in that order.
+
+        Parameters
+        ----------
+        names : str or sequence of str
+            Output names.
+        """
         rows = name_indices(names, self.output_names)
         return self._with(psd=self.psd[rows],
                           output_names=tuple(self.output_names[i] for i in rows),
@@ -142,7 +148,13 @@ class ResponsePSD:
                           cross=None if self.cross is None else self.cross[np.ix_(rows, rows)])
 
     def band(self, lower: float, upper: float) -> ResponsePSD:
-        """The PSDs restricted to lower <= f <= upper [Hz]."""
+        """The PSDs restricted to lower <= f <= upper [Hz].
+
+        Parameters
+        ----------
+        lower, upper : float
+            The band [Hz].
+        """
         keep = (self.frequency >= lower) & (self.frequency <= upper)
         return self._with(frequency=self.frequency[keep], psd=self.psd[:, keep],
                           dispersion=None if self.dispersion is None
@@ -150,12 +162,24 @@ class ResponsePSD:
                           cross=None if self.cross is None else self.cross[..., keep])
 
     def variance(self, lower: float = 0.0, upper: float = np.inf) -> np.ndarray:
-        """Band variance ∫ G df over [lower, upper] per output [(m/s²)²], trapezoid rule."""
+        """Band variance ∫ G df over [lower, upper] per output [(m/s²)²], trapezoid rule.
+
+        Parameters
+        ----------
+        lower, upper : float
+            The band [Hz] (default every frequency).
+        """
         keep = (self.frequency >= lower) & (self.frequency <= upper)
         return np.trapezoid(self.psd[:, keep], self.frequency[keep], axis=-1)
 
     def rms(self, lower: float = 0.0, upper: float = np.inf) -> np.ndarray:
-        """RMS value per output over a band [m/s²]."""
+        """RMS value per output over a band [m/s²].
+
+        Parameters
+        ----------
+        lower, upper : float
+            The band [Hz] (default every frequency).
+        """
         return np.sqrt(self.variance(lower, upper))
 
     def peak_frequency(self) -> np.ndarray:
@@ -172,7 +196,25 @@ class ResponsePSD:
 
     def plot(self, *, output: str | None = None, band: tuple[float, float] | None = None,
              ax: Axes | None = None, title: str | None = None, label: str | None = None) -> Axes:
-        """Draw the PSD of one output (see :func:`crowdvib.reporting.plotting.plot_psd_comparison`)."""
+        """Draw the PSD of one output (see :func:`crowdvib.reporting.plotting.plot_psd_comparison`).
+
+        Parameters
+        ----------
+        output : str, optional
+            The output drawn (default the first).
+        band : (float, float), optional
+            Frequency range drawn [Hz] (default all).
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default a new figure).
+        title : str, optional
+            The axes' title.
+        label : str, optional
+            The curve's legend label (default ``source``).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
         from .plots import plot_psd_comparison
 
         return plot_psd_comparison({label or self.source: self}, output=output, band=band,

@@ -55,11 +55,23 @@ class LowPassFilter:
                               fs=self.sample_rate)
 
     def apply(self, signals: ArrayLike) -> np.ndarray:
-        """Filtered copy of ``signals`` (time on the last axis)."""
+        """Filtered copy of ``signals`` (time on the last axis).
+
+        Parameters
+        ----------
+        signals : array_like
+            Records sampled at ``sample_rate``.
+        """
         return _signal.sosfiltfilt(self._sos(), np.asarray(signals, dtype=float), axis=-1)
 
     def power_gain(self, frequency: ArrayLike) -> np.ndarray:
-        """|H(f)|⁴ [-]: the PSD gain of the forward-backward filter (docs: theory, What a Welch estimate sees: the expectation kernel)."""
+        """|H(f)|⁴ [-]: the PSD gain of the forward-backward filter (docs: theory, What a Welch estimate sees: the expectation kernel).
+
+        Parameters
+        ----------
+        frequency : array_like
+            Frequencies [Hz].
+        """
         _, response = _signal.sosfreqz(self._sos(), worN=np.asarray(frequency, dtype=float),
                                        fs=self.sample_rate)
         return np.abs(response) ** 4

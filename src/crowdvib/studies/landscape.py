@@ -73,7 +73,19 @@ class ObjectiveMap:
         return along_f / along_xi
 
     def plot(self, *, uncertainty=None, search_bounds=None, ax=None, title=None):
-        """Draw the map with its optimum (see :func:`crowdvib.reporting.plotting.plot_objective_map`)."""
+        """Draw the map with its optimum (see :func:`crowdvib.reporting.plotting.plot_objective_map`).
+
+        Parameters
+        ----------
+        uncertainty : SensitivityResult or dict, optional
+            A modelling-error study: its nominal ± bound drawn around the optimum.
+        search_bounds : dict, optional
+            The estimator's bounds, parameter → (lower, upper), drawn as a box.
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default a new figure).
+        title : str, optional
+            The axes' title.
+        """
         from .plots import plot_objective_map
 
         return plot_objective_map(self, uncertainty=uncertainty, search_bounds=search_bounds,

@@ -77,7 +77,19 @@ class ErrorCase:
         return f"{PARAMETER_WORDS[name]} {'+' if value > 0 else '−'}{100 * abs(value):g} %"
 
     def apply(self, structure, crowd):
-        """The structure and crowd with this case's relative errors applied."""
+        """The structure and crowd with this case's relative errors applied.
+
+        Parameters
+        ----------
+        structure : ModalModel
+            The nominal structure.
+        crowd : Crowd
+            The nominal crowd.
+
+        Returns
+        -------
+        (ModalModel, Crowd)
+        """
         changes = dict(self.perturbations)
         structure_changes = {name: getattr(structure, name) * (1 + changes[name])
                              for name in _STRUCTURE_PARAMETERS if name in changes}
@@ -191,7 +203,15 @@ class SensitivityResult:
                 "damping_ratio": max(abs(c["delta_damping_ratio"]) for c in chosen)}
 
     def individual_effect(self, parameter, level=None):
-        """Largest |Δ| [%] of the individual cases of one parameter, per estimated parameter."""
+        """Largest |Δ| [%] of the individual cases of one parameter, per estimated parameter.
+
+        Parameters
+        ----------
+        parameter : str
+            The perturbed input (a key of ``PAPER_ERROR_LEVELS``).
+        level : int, optional
+            Error level index (default all levels).
+        """
         chosen = [c for c in self.cases if c["kind"] == "individual" and "error" not in c
                   and c["perturbations"][0][0] == parameter
                   and (level is None or c["level"] == level)]
@@ -199,7 +219,13 @@ class SensitivityResult:
                 "damping_ratio": max(abs(c["delta_damping_ratio"]) for c in chosen)}
 
     def summary(self, level=None):
-        """The paper's final result: nominal ± joint bound, in units of the parameters."""
+        """The paper's final result: nominal ± joint bound, in units of the parameters.
+
+        Parameters
+        ----------
+        level : int, optional
+            Error level index (default the highest).
+        """
         bound = self.bound(level)
         return {name: {"nominal": self.nominal[name],
                        "bound": self.nominal[name] * bound[name] / 100.0,
@@ -240,7 +266,15 @@ class SensitivityResult:
         return result
 
     def plot(self, *, axes=None, title=None):
-        """Draw Δ per error case (see :func:`crowdvib.reporting.plotting.plot_estimation_errors`)."""
+        """Draw Δ per error case (see :func:`crowdvib.reporting.plotting.plot_estimation_errors`).
+
+        Parameters
+        ----------
+        axes : sequence of two matplotlib.axes.Axes, optional
+            Axes to draw on (default a new figure).
+        title : str, optional
+            The figure's title.
+        """
         from .plots import plot_estimation_errors
 
         return plot_estimation_errors(self, axes=axes, title=title)

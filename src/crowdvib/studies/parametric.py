@@ -75,12 +75,32 @@ class ParametricResult:
     truth: dict
 
     def select(self, **criteria):
-        """Rows matching every ``key=value`` given."""
+        """Rows matching every ``key=value`` given.
+
+        Parameters
+        ----------
+        **criteria
+            Column → value; a row is kept when it has every one.
+
+        Returns
+        -------
+        list of dict
+        """
         return [r for r in self.rows if all(np.isclose(r[k], v) if isinstance(v, float)
                                             else r[k] == v for k, v in criteria.items())]
 
     def plot(self, *, parameters=None, axes=None, title=None):
-        """Draw estimated/true ratios (see :func:`crowdvib.reporting.plotting.plot_parametric_ratios`)."""
+        """Draw estimated/true ratios (see :func:`crowdvib.reporting.plotting.plot_parametric_ratios`).
+
+        Parameters
+        ----------
+        parameters : sequence of str, optional
+            Perturbed inputs to show (default all in the result).
+        axes : array of matplotlib.axes.Axes, optional
+            Axes to draw on (default a new figure).
+        title : str, optional
+            The figure's title.
+        """
         from .plots import plot_parametric_ratios
 
         return plot_parametric_ratios(self, parameters=parameters, axes=axes, title=title)

@@ -171,8 +171,13 @@ class SeasonResult:
         return path
 
     def coverage(self, truth):
-        """Fraction of the rows with an interval whose interval holds ``truth`` (a dict
-        parameter → value, e.g. the MSD a synthetic season was made with), per parameter."""
+        """Fraction of the rows with an interval whose interval holds ``truth``, per parameter.
+
+        Parameters
+        ----------
+        truth : dict
+            Parameter → value, for instance the MSD a synthetic season was made with.
+        """
         rows = [row for row in self.rows if row.get("interval")]
         return {name: (float(np.mean([row["interval"][name][0] <= value
                                       <= row["interval"][name][1] for row in rows]))
@@ -180,7 +185,15 @@ class SeasonResult:
                 for name, value in truth.items() if name in _PARAMETERS}
 
     def plot(self, *, axes=None, title=None):
-        """The trend figures (:func:`crowdvib.studies.plots.plot_season_trends`)."""
+        """The trend figures (:func:`crowdvib.studies.plots.plot_season_trends`).
+
+        Parameters
+        ----------
+        axes : sequence of four matplotlib.axes.Axes, optional
+            Axes to draw on (default a new figure).
+        title : str, optional
+            The figure's title.
+        """
         from .plots import plot_season_trends
 
         return plot_season_trends(self.table(), joint=self.joint, axes=axes, title=title)
