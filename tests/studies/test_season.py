@@ -12,37 +12,20 @@ import warnings
 import numpy as np
 import pytest
 
-from crowdvib import Crowd, ModalModel, MSDModel, load_case
+from crowdvib import MSDModel, load_case
 from crowdvib.cases import season_case
 from crowdvib.errors import DataError, PlausibilityWarning
+from crowdvib.models.examples import paper_example
 from crowdvib.runner import TaskStore, study_executor
 from crowdvib.studies.season import TABLE_COLUMNS, write_synthetic_season
+from tests.conftest import copy_paper_case
 
 #: The paper's numerical example (docs: theory, The paper's numerical example): its bridge,
-#: crowd and MSD; the season's records are 600 s at 25 Hz, at eight densities.
+#: crowd, MSD and estimator (tests.conftest.copy_paper_case); the season's records are 600 s at
+#: 25 Hz, at eight densities.
 TRUTH = MSDModel(3.0, 0.30, 0.95)
 DENSITIES = np.linspace(0.2, 1.0, 8)
 AREA = 50.0 * 3.0
-CASE = """name = "season"
-[structure]
-type = "simply_supported_beam"
-span = 50.0
-width = 3.0
-frequency = 2.0
-damping_ratio = 0.005
-modal_mass = 50e3
-outputs = { midspan = 25.0 }
-[crowd]
-density = 0.5
-walking_speed = 1.30
-step_frequency_mean = 1.89
-step_frequency_std = 0.175
-[measurement]
-window_length = 60.0
-[estimation]
-band = [0.5, 8.0]
-method = "least_squares"
-"""
 
 
 @pytest.fixture(scope="module")
@@ -50,11 +33,9 @@ def season(tmp_path_factory):
     """The records, a crowd table (counts for half the rows, a night record with no one on the
     deck, times) and the case."""
     folder = tmp_path_factory.mktemp("season")
-    bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3,
-                                              outputs={"midspan": 25.0})
-    crowd = Crowd(density=0.5, walking_speed=1.30, step_frequency_mean=1.89,
-                  step_frequency_std=0.175)
-    write_synthetic_season(folder, bridge, crowd, TRUTH, densities=[*DENSITIES, 0.3],
+    paper = paper_example()
+    write_synthetic_season(folder, paper.structure, paper.crowd, TRUTH,
+                           densities=[*DENSITIES, 0.3],
                            duration=600.0, sample_rate=25.0, rng=28)
     lines = ["record,count,density,time"]
     for number, density in enumerate(DENSITIES, start=1):
@@ -62,12 +43,13 @@ def season(tmp_path_factory):
         lines.append(f"record_{number:03d}.npz,{crowd_cells},2026-05-0{number}T12:00")
     lines.append("record_009.npz,0,,2026-05-09T03:00")       # night: no one on the deck
     (folder / "crowd.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
-    (folder / "season.toml").write_text(CASE, encoding="utf-8")
+    copy_paper_case(folder, "season.toml")       # the paper's bridge and least squares
     return folder
 
 
 def _run(folder, **options):
-    return season_case(load_case(folder / "season.toml"), folder / "crowd.csv", **options)
+    return season_case(load_case(folder / "season.toml"), folder / "crowd.csv", records=folder,
+                       **options)
 
 
 @pytest.fixture(scope="module")
@@ -135,7 +117,7 @@ def test_a_crowd_table_naming_a_record_that_is_not_there_is_refused(season, tmp_
     table = tmp_path / "crowd.csv"
     table.write_text("record,density\nrecord_001.npz,0.5\nrecord_042.npz,0.5\n")
     with pytest.raises(DataError, match=r"crowd.csv: row 2, column 'record': 'record_042.npz' "
-                                        r"is not among the season's 9 record\(s\)"):
+                                        r"is not among the season's 10 record\(s\)"):
         season_case(load_case(season / "season.toml"), table, records=season)
 
 
