@@ -135,7 +135,13 @@ class SeasonResult:
 
     def to_csv(self, path):
         """Write :meth:`table` as CSV (:data:`TABLE_COLUMNS`; empty cells for none), atomically;
-        needs no pandas."""
+        needs no pandas.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The CSV file written.
+        """
         import csv
 
         from .._files import atomic_path
@@ -150,6 +156,11 @@ class SeasonResult:
     def to_parquet(self, path):
         """Write :meth:`to_dataframe` as Parquet, atomically (needs pandas and pyarrow:
         ``pip install 'crowdvib[parquet]'``).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The Parquet file written.
 
         Raises
         ------
