@@ -56,6 +56,8 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "structure.mode_shapes": "CSV of shapes along the walkway, or a CSV node table; left "
                                   "out when modal_table is a UFF file (it holds the shapes)",
          "report.measurement_date": "a date (2024-05-01, TOML's date) or text",
+         "report.template": "a Jinja2 HTML page around the report (docs: Case files, "
+                            "[report])",
          "case.seed": "a non-negative integer", "case.name": "default: the file name",
          "case.force": "\"zivanovic\" (default), \"young\" or \"measured\" (the packaged "
                        "PhysioNet walks replayed; simulate only: no load PSD)",

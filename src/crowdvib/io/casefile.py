@@ -28,7 +28,8 @@ A case file describes one bridge and one crowd, and how its records are read and
                    [design.classes] per code; [design.site_factors] k1–k4 (UK NA);
                    [design.msd] (else [hsi]); [design.damper] (used by `crowdvib check`)
     [report]       client, project, bridge, location, engineer, measurement_date: who the
-                   reports are for, shown in the header of every report of the case
+                   reports are for, shown in the header of every report of the case;
+                   template: the consultancy's own page (Jinja2) around the report
 
 Paths are relative to the case file. Every value is checked once here; a bad one raises a
 :class:`ParameterError` that names the file and the key, e.g.
@@ -534,6 +535,8 @@ def _report(table):
     if date is not None and not isinstance(date, str):
         raise table.error("measurement_date", "must be a date (2024-05-01) or text", date)
     found["measurement_date"] = date
+    template = table.file("template", None)        # a Jinja2 page (crowdvib.reporting.template)
+    found["template"] = None if template is None else str(template)
     table.finish()
     return {key: value for key, value in found.items() if value is not None}
 

@@ -48,7 +48,7 @@ __all__ = ["write_report", "render_report", "provenance", "REPORT_NAME", "SECTIO
 REPORT_NAME = "report.html"
 
 
-def write_report(directory, *, results=None):
+def write_report(directory, *, results=None, template=None):
     """Write ``report.html`` into a results directory, atomically, and list it in its manifest.
 
     Parameters
@@ -57,6 +57,9 @@ def write_report(directory, *, results=None):
         A directory written by a crowdvib command (holds ``results.json`` and figures).
     results : Results or dict, optional
         The results to report (default: read ``directory/results.json``).
+    template : str or pathlib.Path, optional
+        A Jinja2 template of the page (:mod:`crowdvib.reporting.template`; default the case's
+        ``[report] template``, else the built-in page).
 
     Returns
     -------
@@ -83,14 +86,14 @@ def write_report(directory, *, results=None):
                                  "does not overwrite it; move it away first")
     if results is None:
         results = read_results(directory / "results.json")
-    text = render_report(results, directory)
+    text = render_report(results, directory, template=template)
     with atomic_path(path) as temporary:
         temporary.write_text(text, encoding="utf-8")
     record_file(directory, REPORT_NAME, "report")
     return path
 
 
-def render_report(results, directory=None):
+def render_report(results, directory=None, *, template=None):
     """The report as one HTML string.
 
     Parameters
@@ -100,6 +103,10 @@ def render_report(results, directory=None):
         crowdvib version: keys it lacks are left out).
     directory : str or pathlib.Path, optional
         Where to find the figures ``results["figures"]`` names (none embedded without it).
+    template : str or pathlib.Path, optional
+        As for :func:`write_report`. The case's template, recorded in the results, is used only
+        while it exists (else the built-in page, saying so): a report can be rewritten on
+        another machine.
 
     Returns
     -------
@@ -114,6 +121,13 @@ def render_report(results, directory=None):
     # path the run recorded.
     shown = without_machine_paths(results, case_folder(results))
     notes, figures, diagnostics = _assess(results, shown, directory)
+    recorded = _report_table(results).get("template")
+    if template is None and isinstance(recorded, str):
+        template = Path(recorded)
+        if not template.is_file():
+            notes.warn(html("the report template {} of the case is not found here: the "
+                            "built-in layout is used.", template.name))
+            template = None
     body = [
         sections.header(shown),
         sections.nav(shown),
@@ -125,7 +139,21 @@ def render_report(results, directory=None):
         sections.provenance_section(results, directory),
     ]
     title = html("crowdvib {} — {}", shown.get("command", "results"), case_name(shown))
-    return str(page(title, f"crowdvib {__version__}", body))
+    generator = f"crowdvib {__version__}"
+    if template is None:
+        return str(page(title, generator, body))
+    from .html import CSS
+    from .template import BLOCKS, render_template
+
+    return render_template(template, dict(zip(BLOCKS, body)), title=title, generator=generator,
+                           css=CSS, report=_report_table(shown))
+
+
+def _report_table(results):
+    """The case's ``[report]`` table a results dict records (``inputs.report``), or {}."""
+    inputs = results.get("inputs")
+    table = inputs.get("report") if isinstance(inputs, dict) else None
+    return table if isinstance(table, dict) else {}
 
 
 def _assess(results, shown, directory):

@@ -21,7 +21,7 @@ from .oma_section import modes_headline
 from .paths import relative_path
 from .text import interval_of, with_interval
 
-__all__ = ["Notes", "finding_markup", "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "header", "nav", "section_titles", "run_warnings", "summary_section",
+__all__ = ["REPORT_FIELDS", "Notes", "finding_markup", "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "header", "nav", "section_titles", "run_warnings", "summary_section",
            "estimate_section",
            "diagnostics_section", "figures_section", "inputs_section", "provenance_section"]
 
@@ -80,7 +80,7 @@ class Notes:
 
 
 #: The case file's ``[report]`` keys in the order the header shows them, with their labels.
-_REPORT_FIELDS = (("client", "Client"), ("project", "Project"), ("bridge", "Bridge"),
+REPORT_FIELDS = (("client", "Client"), ("project", "Project"), ("bridge", "Bridge"),
                   ("location", "Location"), ("engineer", "Engineer"),
                   ("measurement_date", "Date of measurement"))
 
@@ -90,7 +90,7 @@ def header(results):
     given = get(results, ("inputs", "report"))
     given = given if isinstance(given, dict) else {}
     rows = join(html("<tr><th>{}</th><td>{}</td></tr>", title, given[key])
-                for key, title in _REPORT_FIELDS if isinstance(given.get(key), str))
+                for key, title in REPORT_FIELDS if isinstance(given.get(key), str))
     about = html('<table class="kv letterhead">{}</table>', rows) if rows else ""
     return html('<header><p class="kicker">crowdvib {} report</p><h1>{}</h1>'
                 '<p class="muted">{}</p>{}</header>', results.get("command", "results"),
