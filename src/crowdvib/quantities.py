@@ -37,6 +37,12 @@ QUANTITIES = MappingProxyType({
     "mean_on_deck": ("mean number on the deck", "-"), "n_pedestrians": ("pedestrians", "-"),
     "time_step": ("time step", "s"), "peak": ("peak acceleration", "m/s²"),
     "k4": ("exposure factor k4", "-"), "n_boot": ("bootstrap refits", "-"),
+    # operational modal analysis (crowdvib modes)
+    "frequency_band": ("frequency band", "Hz"), "n_modes": ("modes asked", "-"),
+    "block_rows": ("SSI-cov block rows", "-"), "max_order": ("highest model order", "-"),
+    "decimation": ("decimation factor", "-"), "n_blocks": ("data blocks for σ", "-"),
+    "segment_length": ("Welch segment", "samples"), "mac_threshold": ("MAC threshold", "-"),
+    "groups": ("jackknife groups", "-"),
 })
 
 

@@ -3,7 +3,9 @@ file asks, the modal model they make (docs: :ref:`theory-oma`)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from .._version import __version__
@@ -44,13 +46,32 @@ class AmbientModes(AsResults):
 
     def to_dict(self) -> dict:
         """The results ``crowdvib modes`` writes to results.json, without its files, figures and
-        warnings."""
+        warnings; ``inputs`` holds the record(s) and the identification options as used (the
+        block rows and model order SSI-cov chose: ``settings``)."""
         return {**schema_header("modes"), "command": "modes", "crowdvib_version": __version__,
                 "versions": software_versions(), "ambient": str(self.path), "name": self.name,
-                **self.modes.to_dict()}
+                "inputs": self.inputs(), **self.modes.to_dict()}
+
+    def inputs(self) -> dict:
+        """The ambient file (``path``; the report shows paths relative to its folder), per setup
+        its record (file, sample rate, channels, length) and the identification options."""
+        records = {(f"record {s}" if len(self.records) > 1 else "record"): {
+            "file": record.source, "sample_rate": record.sample_rate,
+            "channel_names": list(record.channel_names), "duration": record.duration,
+            "n_samples": record.n_samples} for s, record in enumerate(self.records, start=1)}
+        options = {k: v for k, v in self.options.items() if v is not None}
+        options.pop("reference_sensors", None)         # the names are under reference_channels
+        if len(self.records) > 1:
+            options["reference_channels"] = [self.records[0].channel_names[i] for i in
+                                             self.options["reference_sensors"][0]]
+        # What SSI-cov / EFDD ran with, chosen or given (the first setup's with several).
+        options.update(self.modes.settings)
+        return {"path": str(Path(self.path).resolve()), "name": self.name, **records,
+                "identification": options}
 
 
-def identify_ambient(path, *, cross_check: bool = False) -> AmbientModes:
+def identify_ambient(path, *, cross_check: bool = False,
+                     progress: Callable[[int, int], None] | None = None) -> AmbientModes:
     """Identify the modes of an ambient-test file, without writing anything.
 
     Parameters
@@ -60,6 +81,9 @@ def identify_ambient(path, *, cross_check: bool = False) -> AmbientModes:
         :ref:`ambient-files`; an example: ``examples/ambient/paper_beam_ambient.toml``).
     cross_check : bool
         Also identify with the other method and compare (as ``cross_check = true``).
+    progress : callable, optional
+        ``progress(done, total)`` as the identification advances
+        (:func:`~crowdvib.oma.identify_modes`).
 
     Returns
     -------
@@ -77,7 +101,8 @@ def identify_ambient(path, *, cross_check: bool = False) -> AmbientModes:
     modes = identify_modes([r.data for r in records] if several else records[0].data,
                            records[0].sample_rate,
                            sensor_names=([r.channel_names for r in records] if several
-                                         else records[0].channel_names), **options)
+                                         else records[0].channel_names), progress=progress,
+                           **options)
     structure = None if spec is None else _modal_model(modes, spec)
     return AmbientModes(path, name, records, options, modes, structure,
                         time.perf_counter() - started)

@@ -18,7 +18,8 @@ The ambient file (TOML, paths relative to it)::
     cross_check = true              # optional: run the other method too and compare
     n_modes = 3                     # optional (default every consistently stable mode)
     frequency_band = [1.0, 9.0]     # optional [Hz]
-    max_order = 40                  # optional (SSI-cov)
+    max_order = 20                  # optional (SSI-cov; default from n_modes: 4 n_modes + 8, or 40)
+    block_rows = 50                 # optional (SSI-cov; default from the band's lower end)
     segment_length = 2048           # optional (EFDD, samples)
     reference_channels = ["ref"]    # several setups: the channels every record shares
 
@@ -35,8 +36,10 @@ order. ``--cross-check`` on the command line is ``cross_check = true``.
 
 Writes ``modes.csv`` (f, ξ and their standard deviations per mode), ``mode_shapes.csv`` (at the
 sensors), ``cross_check.csv`` (with the cross-check), the stabilisation diagram (SSI-cov) or
-singular values (EFDD) per setup and method, the modal-model CSV files when ``[modal_model]`` is
-given, ``results.json`` and ``report.html``. Modes the two methods disagree on are warnings.
+singular values (EFDD) per setup and method, ``mode_shapes.png``, the modal-model CSV files
+when ``[modal_model]`` is given, ``results.json`` and ``report.html``. Modes the two methods
+disagree on are warnings, and so is a stable column of the diagram not among the ``n_modes``
+reported. A progress bar shows the identification advancing.
 """
 
 import csv
@@ -44,8 +47,8 @@ import sys
 import warnings
 from pathlib import Path
 
-from .common import (add_output_arguments, say, say_verdict, staged_output, warning_texts,
-                     write_results)
+from .common import (add_output_arguments, progress_printer, say, say_verdict, staged_output,
+                     warning_texts, write_results)
 
 
 def add_arguments(parser):
@@ -77,7 +80,18 @@ def _figures(modes, staging):
             if identification.poles:
                 names.append(save_figure(identification.plot_stabilisation(),
                                          staging / f"{stem}{suffix}.png").name)
+    if modes.n_modes:
+        names.append(save_figure(modes.plot_mode_shapes(), staging / "mode_shapes.png").name)
     return names
+
+
+def _method_words(method, settings):
+    """"ssi-cov, 50 block rows, orders up to 20, decimated 2×" from the settings it ran with."""
+    if method != "ssi-cov" or "block_rows" not in settings:
+        return method
+    words = f"{method}, {settings['block_rows']} block rows, orders up to {settings['max_order']}"
+    return words + (f", decimated {settings['decimation']}×" if settings["decimation"] > 1
+                    else "")
 
 
 def _cross_check_rows(check):
@@ -99,13 +113,16 @@ def run(args):
         # Doubtful modes are warnings of the identification: they go to the verdict and report.
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            found = identify_ambient(args.ambient, cross_check=args.cross_check)
+            # The bar is drawn at once: a long SSI-cov run is seen advancing (issue 27 §4).
+            found = identify_ambient(args.ambient, cross_check=args.cross_check,
+                                     progress=progress_printer("identification", unit="steps"))
         records, options, modes, structure = (found.records, found.options, found.modes,
                                               found.structure)
         say(f"crowdvib modes: {found.name}, {len(records)} setup(s), "
             f"{sum(r.n_channels for r in records)} channel(s), "
             f"{sum(r.duration for r in records):g} s at {records[0].sample_rate:g} Hz "
-            f"({options['method']}{', cross-checked' if options['cross_check'] else ''})")
+            f"({_method_words(options['method'], modes.settings)}"
+            f"{', cross-checked' if options['cross_check'] else ''})")
         for text in warning_texts(caught):
             print(f"crowdvib modes: warning: {text}", file=sys.stderr)
         _write_csv(staging / "modes.csv", ["mode", "frequency", "frequency_std", "damping_ratio",

@@ -43,7 +43,9 @@ def read_ambient(path):
     ident = root.table("identification")
     options = {"n_modes": _count(ident, "n_modes", None, 1),
                "frequency_band": ident.pair("frequency_band", None),
-               "max_order": _count(ident, "max_order", 40, 2),
+               # SSI-cov's order and block rows: chosen from n_modes and the band unless given
+               "max_order": _count(ident, "max_order", None, 2),
+               "block_rows": _count(ident, "block_rows", None, 2),
                "method": ident.string("method", "ssi-cov", choices=("ssi-cov", "efdd")),
                "cross_check": ident.boolean("cross_check", False),
                "segment_length": _count(ident, "segment_length", None, 64)}

@@ -291,8 +291,7 @@ def _ssi_settings(n_sensors, sample_rate, band, block_rows, max_order):
         # (block rows − 1) × sensors >= order: pyOMA2's shifted observability matrix is square
         block_rows = max(20, int(np.ceil(LAG_PERIODS * rate / lowest)),
                          -(-max_order // n_sensors) + 1)
-    return {"block_rows": int(block_rows), "max_order": int(max_order), "decimation": decimation,
-            "sample_rate": rate}
+    return {"block_rows": int(block_rows), "max_order": int(max_order), "decimation": decimation}
 
 
 def _decimated(data, factor):
@@ -319,7 +318,8 @@ def _ssi(data, sample_rate, names, band, n_modes, options, count, warn=True):
 
     algorithm = SSI(name="ssi", method="cov", br=settings["block_rows"],
                     ordmax=settings["max_order"], calc_unc=True, nb=options["n_blocks"])
-    setup = SingleSetup(_decimated(data, settings["decimation"]).T, fs=settings["sample_rate"])
+    setup = SingleSetup(_decimated(data, settings["decimation"]).T,
+                        fs=sample_rate / settings["decimation"])
     setup.add_algorithms(algorithm)
 
     def counted(*bounds):

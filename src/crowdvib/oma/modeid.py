@@ -33,6 +33,7 @@ __all__ = ["ModeIdentification", "ModeCrossCheck", "compare_identifications",
 AGREEMENT_LEVEL = 1.96
 #: Modes of two identifications pair when their frequencies differ by less than this share.
 PAIRING_TOLERANCE = 0.05
+_METHOD_NAMES = {"ssi-cov": "SSI-cov", "efdd": "EFDD"}
 
 
 @dataclass(frozen=True)
@@ -67,9 +68,9 @@ class ModeIdentification:
     setups : tuple of ModeIdentification
         Several setups: each setup's own identification (its sensors only); else empty.
     settings : dict
-        SSI-cov: the ``block_rows``, ``max_order``, ``n_blocks``, ``decimation``, the
-        ``sample_rate`` SSI ran at and the ``frequency_band`` (chosen or given); EFDD: the
-        ``segment_length`` and ``mac_threshold``.
+        SSI-cov: the ``block_rows``, ``max_order``, ``n_blocks``, ``decimation`` (SSI ran at
+        ``sample_rate / decimation``) and the ``frequency_band`` (chosen or given); EFDD: the
+        ``segment_length``, ``mac_threshold``, jackknife ``groups`` and ``frequency_band``.
     missed : tuple of dict
         SSI-cov with ``n_modes``: columns of stable poles that pass the checks of a physical mode
         but are not reported (none within ``PAIRING_TOLERANCE``): ``frequency``,
@@ -222,6 +223,32 @@ class ModeIdentification:
         ax.set_ylabel("model order")
         ax.set_title("SSI-cov stabilisation diagram")
         ax.legend(loc="lower right")
+        return ax.figure
+
+    def plot_mode_shapes(self, ax: "Axes | None" = None) -> "Figure | SubFigure":
+        """The mode shapes at the sensors (+1 at each mode's largest component): per sensor one
+        bar per mode.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default a new figure).
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 3.5))
+        sensors = np.arange(len(self.sensor_names))
+        width = 0.8 / max(self.n_modes, 1)
+        for j in range(self.n_modes):
+            ax.bar(sensors + (j - (self.n_modes - 1) / 2) * width, self.mode_shapes[:, j], width,
+                   label=f"mode {j + 1}: {self.frequencies[j]:.3f} Hz")
+        ax.axhline(0.0, color="0.3", lw=0.6)
+        ax.set_xticks(sensors, self.sensor_names)
+        ax.set_xlabel("sensor")
+        ax.set_ylabel("mode shape [-] (1 at its largest)")
+        ax.set_title(f"Mode shapes at the sensors ({_METHOD_NAMES.get(self.method, self.method)})")
+        ax.legend(loc="best", fontsize="small")
         return ax.figure
 
     def plot_spectrum(self, ax: "Axes | None" = None) -> "Figure | SubFigure":

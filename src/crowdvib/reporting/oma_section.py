@@ -36,7 +36,11 @@ def modes_section(results: dict) -> Markup:
              number(m.get("damping_ratio"), 4), number(m.get("damping_std"), 2)]
             for j, m in enumerate(modes)]
     parts = [html("<p>{} modes identified by {}; standard deviations σ.</p>", len(modes), method),
-             table(["mode", "f [Hz]", "σ_f [Hz]", "ξ [-]", "σ_ξ [-]"], rows, "data")]
+             table(["mode", "f [Hz]", "σ_f [Hz]", "ξ [-]", "σ_ξ [-]"], rows, "data"),
+             _shapes(modes, results.get("sensor_names"))]
+    missed = results.get("missed")
+    if isinstance(missed, list) and missed:
+        parts.append(_missed(missed, len(modes)))
     check = results.get("cross_check")
     if isinstance(check, dict) and isinstance(check.get("modes"), list):
         parts.append(_cross_check(check, modes, method))
@@ -44,6 +48,40 @@ def modes_section(results: dict) -> Markup:
     if isinstance(setups, list) and setups:
         parts.append(_setups(setups, len(modes)))
     return html('<section id="modes"><h2>Identified modes</h2>{}</section>', join(parts))
+
+
+def _shapes(modes, sensors):
+    """Mode × sensor table of the real shapes, 1 at each mode's largest component."""
+    shapes = [m.get("mode_shape") if isinstance(m.get("mode_shape"), list) else [] for m in modes]
+    count = max(map(len, shapes), default=0)
+    if not count:
+        return Markup("")
+    sensors = sensors if isinstance(sensors, list) and len(sensors) == count else [
+        f"sensor {i + 1}" for i in range(count)]
+    rows = [[f"mode {j + 1}", number(m.get("frequency"), 4)]
+            + [number(shape[i], 3) if i < len(shape) else "—" for i in range(count)]
+            for j, (m, shape) in enumerate(zip(modes, shapes))]
+    return html("<h3>Mode shapes</h3><p>Real mode shapes at the sensors, each scaled to 1 at "
+                "its largest component (OMA gives no modal masses, hence no absolute scale).</p>"
+                "{}", table(["mode", "f [Hz]", *map(str, sensors)], rows, "data"))
+
+
+def _missed(missed, n_modes):
+    """Stable columns of the stabilisation diagram that are not among the modes reported."""
+    rows = []
+    for column in missed:
+        column = column if isinstance(column, dict) else {}
+        rows.append([number(column.get("frequency"), 4), number(column.get("damping_ratio"), 3),
+                     html("{} of {}", column.get("orders", "—"), column.get("of_orders", "—"))]
+                    + ([str(column["setup"])] if "setup" in column else []))
+    setup = any(isinstance(c, dict) and "setup" in c for c in missed)
+    return html('<div class="callout warn"><h3>Stable columns not reported</h3><p>The '
+                "stabilisation diagram has {} column(s) of stable poles that pass the checks of a physical "
+                "mode but are not among the {} mode(s) reported (dashed on the diagram). Raise "
+                "<code>n_modes</code> to report them, or narrow <code>frequency_band</code> to "
+                "leave them out.</p>{}</div>", len(missed), n_modes,
+                table(["f [Hz]", "ξ [-]", "stable over model orders"]
+                      + (["setup"] if setup else []), rows, "data"))
 
 
 def _cross_check(check, modes, method):
