@@ -165,11 +165,13 @@ CITING = ("crowdvib.estimate_hsi", "crowdvib.estimate_hsi_joint", "crowdvib.resp
           "crowdvib.studies.objective_map", "crowdvib.studies.modelling_error_study",
           "crowdvib.studies.parametric_study", "crowdvib.design_check", "crowdvib.tune_damper",
           "crowdvib.design.optimal_tuning", "crowdvib.predict_response", "crowdvib.identify_modes",
-          "crowdvib.models.weidmann_speed", "crowdvib.models.bruno_venuti_step_frequency")
+          "crowdvib.models.weidmann_speed", "crowdvib.models.bruno_venuti_step_frequency",
+          "crowdvib.ZivanovicForce", "crowdvib.YoungForce", "crowdvib.MeasuredForce",
+          "crowdvib.MSDModel", "crowdvib.weight_wb", "crowdvib.running_rms")
 #: Those whose See Also is enough (a neighbour holds the sources).
 NEIGHBOURS = ("crowdvib.estimate_step_frequencies", "crowdvib.simulate_many",
               "crowdvib.studies.monte_carlo", "crowdvib.studies.record_length_study",
-              "crowdvib.ModalModel", "crowdvib.Crowd")
+              "crowdvib.ModalModel", "crowdvib.Crowd", "crowdvib.HSIEstimate")
 #: The objects a reader needs an example of first (issue 26 §4, the brief's list).
 EXAMPLES = ("crowdvib.ModalModel", "crowdvib.Crowd", "crowdvib.response_psd", "crowdvib.welch_psd",
             "crowdvib.simulate", "crowdvib.design_check", "crowdvib.tune_damper")

@@ -82,6 +82,10 @@ class HSIEstimate:
     crowd : Crowd or None
         With ``free_step_frequencies``, the crowd with the fitted step-frequency distribution
         (``step_frequency_mean`` μ_fs, ``step_frequency_std`` σ_fs [Hz]); else None.
+
+    See Also
+    --------
+    crowdvib.estimate_hsi : what makes it.
     """
 
     msd: MSDModel

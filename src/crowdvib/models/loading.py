@@ -257,6 +257,23 @@ class ZivanovicForce(WalkingForce):
         check values of docs: theory, Spectral-model numbers assume).
     scale : float
         Factor on every DLF (1 = the published model); for load-model sensitivity studies.
+
+    See Also
+    --------
+    YoungForce : Young's mean DLFs.
+    MeasuredForce : measured walking forces replayed.
+    crowdvib.response_psd
+
+    References
+    ----------
+    S. Živanović, A. Pavić and P. Reynolds, "Probability-based prediction of multi-mode vibration
+    response to walking excitation", *Engineering Structures* 29(6):942–954, 2007.
+
+    K. Van Nimmen, P. Van den Broeck, G. Lombaert and F. Tubino, "Pedestrian-induced vibrations of
+    footbridges: an extended spectral approach", *Journal of Bridge Engineering*, 2020. The spectral
+    load of the harmonics and subharmonics.
+
+    The theory pages cite them (docs: theory, References).
     """
 
     subharmonics_follow_sampled_dlf: bool = True
@@ -370,6 +387,17 @@ class YoungForce(WalkingForce):
     ----------
     scale : float
         Factor on every DLF.
+
+    See Also
+    --------
+    ZivanovicForce : the default, with random DLFs and subharmonics.
+
+    References
+    ----------
+    P. Young, "Improved floor vibration prediction methodologies", Arup Vibration Seminar on
+    Engineering for Structural Vibration, 2001. Mean dynamic load factors.
+
+    The theory pages cite them (docs: theory, References).
     """
 
     scale: float = 1.0

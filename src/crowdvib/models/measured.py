@@ -127,10 +127,27 @@ class MeasuredForce(_ReplayedForce):
         Other records instead of the packaged ones: total vertical force [N], shape
         (n_records, n_samples) (or one 1-D record), at ``sample_rate`` [Hz]; used whole.
 
+    See Also
+    --------
+    ZivanovicForce : the default harmonic model.
+
     Notes
     -----
     Usable with :func:`crowdvib.simulate` (``force=MeasuredForce()``) only; the spectral model
     needs a load PSD, which a replayed record does not have.
+
+    References
+    ----------
+    A. L. Goldberger et al., "PhysioBank, PhysioToolkit, and PhysioNet: components of a new research
+    resource for complex physiologic signals", *Circulation* 101(23):e215–e220, 2000. PhysioNet,
+    which publishes the gait database.
+
+    G. Yogev, N. Giladi, C. Peretz, S. Springer, E. S. Simon and J. M. Hausdorff, "Dual tasking,
+    gait rhythmicity, and Parkinson's disease: which aspects of gait are attention demanding?",
+    *European Journal of Neuroscience* 22(5):1248–1256, 2005. The study that recorded the packaged
+    walks.
+
+    The theory pages cite them (docs: theory, References).
     """
 
     records: tuple | None = None

@@ -42,9 +42,26 @@ class MSDModel:
     mass_ratio : float
         μ_h1 = m_h1/m_h [-] in (0, 1); 0.95 after Matsumoto & Griffin (2003), as in the paper.
 
+    See Also
+    --------
+    crowdvib.estimate_hsi : the MSD from measured PSDs.
+    crowdvib.Crowd
+
     Notes
     -----
     Defaults (3.0 Hz, 0.30, 0.95) are the paper's numerical example (docs: theory, The paper's numerical example).
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The single-degree-of-freedom pedestrian (Eq. 1–4).
+
+    K. Van Nimmen, G. Lombaert, G. De Roeck and P. Van den Broeck, "The impact of vertical
+    human–structure interaction on the response of footbridges to pedestrian excitation", *Journal
+    of Sound and Vibration* 402:104–121, 2017. The crowd–structure model with MSD pedestrians.
+
+    The theory pages cite them (docs: theory, References).
     """
 
     frequency: float = 3.0

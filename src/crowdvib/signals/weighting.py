@@ -72,6 +72,21 @@ def weight_wb(acceleration: ArrayLike, sample_rate: float) -> np.ndarray:
     Returns
     -------
     ndarray, shape of ``acceleration``
+
+    See Also
+    --------
+    wb_response : the weighting's transfer function.
+    running_rms
+
+    References
+    ----------
+    BSI, *Measurement and evaluation of human exposure to whole-body mechanical vibration and
+    repeated shock*, BS 6841:1987. The W_b weighting.
+
+    ISO, *Bases for design of structures — Serviceability of buildings and walkways against
+    vibrations*, ISO 10137:2007. Weighted comfort values for walkways.
+
+    The theory pages cite them (docs: theory, References).
     """
     values = np.asarray(as_float_array("acceleration", acceleration))
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
