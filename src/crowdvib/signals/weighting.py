@@ -115,6 +115,17 @@ def running_rms(acceleration: ArrayLike, sample_rate: float, window: float = 1.0
     Returns
     -------
     ndarray, shape (..., n_samples − m + 1), m = round(window · sample_rate)
+
+    See Also
+    --------
+    weight_wb
+
+    References
+    ----------
+    ISO, *Bases for design of structures — Serviceability of buildings and walkways against
+    vibrations*, ISO 10137:2007. Comfort limits as RMS values of the weighted acceleration.
+
+    The theory pages cite them (docs: theory, References).
     """
     values = np.asarray(as_float_array("acceleration", acceleration))
     sample_rate = check_positive("sample_rate", sample_rate, unit="Hz")
