@@ -8,6 +8,7 @@ from scipy import stats
 
 from crowdvib import (Crowd, CrowdProfile, ModalModel, MSDModel, ParameterError, SpectralModel,
                       VaryingCrowdModel, simulate, simulate_psd, welch_psd)
+from crowdvib.response.varying import density_law
 from crowdvib.signals.welch import welch_degrees_of_freedom
 
 HOUR, WINDOW, RATE = 3600.0, 60.0, 50.0
@@ -74,15 +75,22 @@ def test_constant_profile_model_is_the_spectral_model(bridge, walkers):
         welch_window_length=WINDOW).psd_array(MSDModel()), rel=1e-12)
 
 
-def test_levels_keep_the_mean_density(bridge, walkers):
-    # Hat binning keeps the Welch-weighted mean density; a ramp's deck mean over [0, 3600] s is
-    # 0.6 less the half-crossing lag 0.8/3600 · τ/2, near the ends weighed less by Hann².
-    model = VaryingCrowdModel(bridge, walkers, PROFILES["ramp"], np.arange(60, 181) / WINDOW,
+def test_levels_are_a_gauss_rule_of_the_density_law(bridge, walkers):
+    # The n-point Gauss rule integrates polynomials of degree 2n − 1 exactly: the levels give
+    # the density law's mean and variance (density_law: deck densities weighted by the Welch
+    # windows' Hann²). A ramp's deck mean over [0, 3600] s is 0.6 less the half-crossing lag
+    # 0.8/3600 · τ/2, the ends weighed less by Hann².
+    ramp = PROFILES["ramp"]
+    model = VaryingCrowdModel(bridge, walkers, ramp, np.arange(60, 181) / WINDOW,
                               duration=HOUR, welch_window_length=WINDOW)
+    density, weight = density_law(bridge, walkers, ramp, HOUR, welch_window_length=WINDOW)
+    assert model.levels.size >= 3 and model.probabilities.sum() == pytest.approx(1.0)
+    for power in (1, 2, 3):
+        assert model.probabilities @ model.levels**power == pytest.approx(
+            weight @ density**power, rel=1e-9)
+    assert np.all((model.levels > 0.2) & (model.levels < 1.0))
     tau = bridge.length / walkers.walking_speed
-    assert model.probabilities.sum() == pytest.approx(1.0)
     assert model.crowd.density == pytest.approx(0.6 - 0.8 / HOUR * tau / 2, abs=2e-3)
-    assert model.levels.size >= 5 and model.levels.min() < 0.25 and model.levels.max() > 0.95
 
 
 @pytest.fixture(scope="module")
@@ -109,9 +117,7 @@ def test_expected_psd_matches_the_simulator(bridge, walkers, records, name, crow
     nu = len(psds) * welch_degrees_of_freedom(psds[0].n_windows)
     options = dict(duration=HOUR, welch_window_length=WINDOW, crowd_model=crowd_model,
                    **({"n_nodes": 3} if crowd_model == "fluctuating" else {}))
-    # (the fluctuating levels fixed at 9, the smeared ones chosen: 17 here; a second apart)
-    model = VaryingCrowdModel(bridge, walkers, PROFILES[name], frequency[band],
-                              levels=9 if crowd_model == "fluctuating" else None, **options)
+    model = VaryingCrowdModel(bridge, walkers, PROFILES[name], frequency[band], **options)
     expected, ratio = model.psd_array(MSDModel())[0], model.variance_ratio(MSDModel())[0]
     near = expected > 0.1 * expected.max()
     half = near.sum() / 2
@@ -124,7 +130,7 @@ def test_expected_psd_matches_the_simulator(bridge, walkers, records, name, crow
 
 
 def test_bad_varying_model(bridge, walkers):
-    with pytest.raises(ParameterError, match=r"levels must be an integer from 1 to 65, got 0"):
+    with pytest.raises(ParameterError, match=r"levels must be an integer from 1 to 40, got 0"):
         VaryingCrowdModel(bridge, walkers, PROFILES["ramp"], [1.0, 2.0], duration=HOUR, levels=0)
     with pytest.raises(ParameterError, match=r"duration must hold one Welch window: 30 s"):
         VaryingCrowdModel(bridge, walkers, PROFILES["ramp"], [1.0, 2.0], duration=30.0,

@@ -9,9 +9,10 @@ stationary crowd's at the density then on the deck, and the record's is their av
 
 W the Welch windows' summed Hann² weight (each window's periodogram weighs its samples by w²) and
 d_deck the profile's mean over the last crossing (:meth:`CrowdProfile.deck_density`). The density
-law seen this way is put on a few levels d_i by linear (hat) binning, which keeps its mean exactly,
-and Ḡ = Σ_i p_i G(f; d_i) with a smeared or a fluctuating model per level; the number of levels
-grows until the next finer set changes Ḡ by less than 0.5 % of its peak.
+law seen this way is put on a few levels d_i by a Gauss rule of that law (exact for polynomials
+in d of degree 2n − 1, the mean among them), and Ḡ = Σ_i p_i G(f; d_i) with a smeared or a
+fluctuating model per level; the number of levels grows until the next changes Ḡ by less than
+0.5 % of its peak.
 """
 
 from __future__ import annotations
@@ -30,14 +31,15 @@ from ..models.pedestrian import MSDModel
 from ..models.profile import CrowdProfile
 from ..models.structure import ModalModel
 from ..signals import ResponsePSD
-from .fluctuation import FluctuatingSpectralModel, _mixture, spectral_model
+from .fluctuation import FluctuatingSpectralModel, _gauss_rule, _mixture, spectral_model
 
 __all__ = ["VaryingCrowdModel", "varying_response_psd", "density_law"]
 
-#: Level counts tried (each grid holds the one before), and the change of Ḡ over its peak below
-#: which a count is enough.
-_LEVEL_COUNTS = (2, 3, 5, 9, 17, 33)
+#: Level counts tried, and the change of Ḡ over its peak below which a count is enough.
+_LEVEL_COUNTS = (1, 2, 3, 4, 5, 6, 8, 10, 12, 16)
 _LEVEL_TOLERANCE = 5e-3
+#: Options of a smeared model (the fluctuating model's own are left out when choosing levels).
+_SMEARED_OPTIONS = ("force", "outputs", "lowpass", "dampers")
 #: Reference MSD with which the level count is chosen (the paper's values).
 _REFERENCE_MSD = MSDModel()
 #: Time points per Welch window (or per record without windows) for the density law.
@@ -89,18 +91,14 @@ def density_law(structure: ModalModel, crowd: Crowd, profile: CrowdProfile, dura
 
 
 def _levels(density, weight, count):
-    """Hat binning of a density law on ``count`` even levels from its lowest to its highest
-    value → (levels, probabilities); the mean density is kept exactly."""
-    low, high = density.min(), density.max()
-    if count == 1 or high - low <= 1e-9 * max(high, 1e-9):
+    """The ``count``-point Gauss rule of a density law → (levels, probabilities): Σ p_i g(d_i)
+    is exact for polynomials g of degree 2·count − 1 (Golub & Welsch, as the occupancy's rule).
+    One density only: that density."""
+    if np.all(density == density[0]):
+        return density[:1].copy(), np.ones(1)
+    if count == 1:
         return np.array([float(weight @ density)]), np.ones(1)
-    levels = low + (high - low) * (np.arange(count) / (count - 1))
-    position = (density - low) / (high - low) * (count - 1)
-    below = np.minimum(np.floor(position).astype(int), count - 2)
-    fraction = position - below
-    probability = (np.bincount(below, weight * (1 - fraction), count)
-                   + np.bincount(below + 1, weight * fraction, count))
-    return levels, probability
+    return _gauss_rule(density, weight, count)
 
 
 class VaryingCrowdModel:
@@ -130,8 +128,10 @@ class VaryingCrowdModel:
     crowd_model : {"smeared", "fluctuating"}
         The model of each level (docs: theory, The fluctuating crowd).
     levels : int, optional
-        Density levels (default: the fewest of 2, 3, 5, 9, 17, 33 that the next count changes by
-        less than 0.5 % of the peak, with the paper's MSD; one for a record at one density).
+        Density levels, the nodes of the Gauss rule of the record's density law (default: the
+        fewest of 1, 2, 3, 4, 5, 6, 8, 10, 12, 16 that the next count changes by less than 0.5 %
+        of the peak, judged with smeared models and the paper's MSD; one for a record at one
+        density).
     **options
         Passed to each level's model (``force``, ``outputs``, ``lowpass``, ``dampers``; for the
         fluctuating model also ``n_nodes``, ``mode``, ``finite_crossing``, ``modulation``).
@@ -153,40 +153,40 @@ class VaryingCrowdModel:
         check_type("crowd", crowd, Crowd)
         check_type("profile", profile, CrowdProfile)
         if levels is not None and (not isinstance(levels, (int, np.integer))
-                                   or not 1 <= levels <= 65):
-            raise ParameterError(f"levels must be an integer from 1 to 65, got {levels!r}")
+                                   or not 1 <= levels <= 40):
+            raise ParameterError(f"levels must be an integer from 1 to 40, got {levels!r}")
         density, weight = density_law(structure, crowd, profile, duration,
                                       welch_window_length=welch_window_length, overlap=overlap)
         self.duration, self.overlap, self.crowd_model = float(duration), overlap, crowd_model
-        models = {}
+        smeared = {}
 
-        def model(level):
-            if level not in models:
-                models[level] = spectral_model(structure, crowd.with_density(level), frequency,
-                                               crowd_model=crowd_model,
-                                               welch_window_length=welch_window_length,
-                                               **options)
-            return models[level]
+        def model(level, kind=crowd_model):
+            return spectral_model(structure, crowd.with_density(level), frequency,
+                                  crowd_model=kind, welch_window_length=welch_window_length,
+                                  **{k: v for k, v in options.items()
+                                     if kind == crowd_model or k in _SMEARED_OPTIONS})
 
-        def rule(count):
-            values, probability = _levels(density, weight, count)
-            use = probability > 0
-            return values[use], probability[use], [model(v) for v in values[use]]
+        def mixture(rule):          # judged with the smeared models: cheap, and G(f; d) as smooth
+            for level in rule[0]:
+                if level not in smeared:
+                    smeared[level] = model(level, "smeared")
+            return _mixture(rule[1], [smeared[d] for d in rule[0]], _REFERENCE_MSD)
 
-        if levels is not None:
-            current = rule(levels)
-        else:
-            current = rule(_LEVEL_COUNTS[0])
-            for count in _LEVEL_COUNTS[1:]:
-                if current[0].size == 1:
+        if levels is None:
+            current = _levels(density, weight, _LEVEL_COUNTS[0])
+            for count in _LEVEL_COUNTS[1:] if np.ptp(density) > 0 else ():
+                try:
+                    finer = _levels(density, weight, count)
+                except ParameterError:          # the law has fewer points than nodes
                     break
-                finer = rule(count)
-                coarse = _mixture(current[1], current[2], _REFERENCE_MSD)
-                fine = _mixture(finer[1], finer[2], _REFERENCE_MSD)
+                coarse, fine = mixture(current), mixture(finer)
                 if np.abs(coarse - fine).max() <= _LEVEL_TOLERANCE * fine.max():
                     break
                 current = finer
-        self.levels, self.probabilities, self._models = current
+        else:
+            current = _levels(density, weight, levels)
+        self.levels, self.probabilities = current
+        self._models = [model(level) for level in self.levels]
         first = self._models[0]
         self.structure, self.frequency, self.force = structure, first.frequency, first.force
         self.output_names, self.lowpass = first.output_names, first.lowpass
