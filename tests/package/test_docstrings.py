@@ -174,7 +174,8 @@ NEIGHBOURS = ("crowdvib.estimate_step_frequencies", "crowdvib.simulate_many",
               "crowdvib.ModalModel", "crowdvib.Crowd", "crowdvib.HSIEstimate")
 #: The objects a reader needs an example of first (issue 26 §4, the brief's list).
 EXAMPLES = ("crowdvib.ModalModel", "crowdvib.Crowd", "crowdvib.response_psd", "crowdvib.welch_psd",
-            "crowdvib.simulate", "crowdvib.design_check", "crowdvib.tune_damper")
+            "crowdvib.estimate_hsi", "crowdvib.simulate", "crowdvib.design_check",
+            "crowdvib.tune_damper")
 
 
 def _resolve(dotted):
