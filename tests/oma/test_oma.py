@@ -232,7 +232,7 @@ def test_modes_cli_cross_check(ambient, tmp_path, capsys):
     assert table["agree"].tolist() == [True] * 3                 # genfromtxt reads True
     results = json.loads((out / "results.json").read_text())
     assert results["cross_check"]["method"] == "efdd"
-    assert results["figures"] == ["stabilisation.png", "singular_values.png"]
+    assert results["figures"] == ["stabilisation.png", "singular_values.png", "mode_shapes.png"]
     report = (out / "report.html").read_text(encoding="utf-8")
     assert "Cross-check by EFDD" in report
     assert "EFDD confirms all 3 modes of SSI-cov within 1.96 combined σ" in report
