@@ -175,7 +175,7 @@ NEIGHBOURS = ("crowdvib.estimate_step_frequencies", "crowdvib.simulate_many",
 #: The objects a reader needs an example of first (issue 26 §4, the brief's list).
 EXAMPLES = ("crowdvib.ModalModel", "crowdvib.Crowd", "crowdvib.response_psd", "crowdvib.welch_psd",
             "crowdvib.estimate_hsi", "crowdvib.simulate", "crowdvib.design_check",
-            "crowdvib.tune_damper")
+            "crowdvib.tune_damper", "crowdvib.identify_modes")
 
 
 def _resolve(dotted):

@@ -157,6 +157,19 @@ def identify_modes(signals: ArrayLike | Sequence[ArrayLike], sample_rate: float,
     decomposition", *Proceedings of IMAC XIX*, 2001, 698–703. EFDD.
 
     The theory pages cite them (docs: theory, References).
+
+    Examples
+    --------
+    Ten minutes of ambient response of a 2 Hz mode with 1 % damping, identified by EFDD (no
+    optional dependency):
+
+    >>> from crowdvib import ModalModel, identify_modes
+    >>> from crowdvib.oma import ambient_response
+    >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.01, 50e3)
+    >>> record = ambient_response(bridge, 600.0, 50.0, load_psd=1e4, rng=1)
+    >>> modes = identify_modes(record, 50.0, frequency_band=(1.0, 4.0), n_modes=1, method="efdd")
+    >>> round(float(modes.frequencies[0]), 1)
+    2.0
     """
     if method not in METHODS:
         raise ParameterError(f"method must be one of {', '.join(map(repr, METHODS))}, "
