@@ -28,8 +28,10 @@ The layer order, lowest first; a module may import its own layer and the layers 
     with ``io`` and computes with the layers below it, so each command only prints and writes)
 12. ``_manifest``: a results directory's manifest (it reads the runner's task files)
 13. ``reporting``: figures and the HTML report
-14. ``cli``: the command line
-15. the package itself (``crowdvib/__init__``, ``__main__``): it re-exports the public API.
+14. ``runs``: the commands as calls (a case's work, its figures and report in a results folder
+    written safely), so each command is argument parsing, one call and printing
+15. ``cli``: the command line
+16. the package itself (``crowdvib/__init__``, ``__main__``): it re-exports the public API.
 """
 
 import ast
@@ -46,7 +48,8 @@ BASE = ("crowdvib.errors", "crowdvib._validation", "crowdvib._plausibility", "cr
 LAYERS = (BASE, ("crowdvib.models",), ("crowdvib.signals",), ("crowdvib.io",),
           ("crowdvib.response",), ("crowdvib.runner",), ("crowdvib.identification",),
           ("crowdvib.studies",), ("crowdvib.oma",), ("crowdvib.design",),
-          ("crowdvib.cases",), ("crowdvib._manifest",), ("crowdvib.reporting",), ("crowdvib.cli",),
+          ("crowdvib.cases",), ("crowdvib._manifest",), ("crowdvib.reporting",), ("crowdvib.runs",),
+          ("crowdvib.cli",),
           ("crowdvib", "crowdvib.__main__"))
 
 def _module_name(path):

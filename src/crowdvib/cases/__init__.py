@@ -9,11 +9,15 @@ a :class:`~crowdvib.io.casefile.Case` thus gets what the command gets:
 - :func:`map_case` (``crowdvib map``);
 - :func:`check_case` (``crowdvib check``);
 - :func:`simulate_case` (``crowdvib simulate``);
+- :func:`study_case` (``crowdvib sensitivity``), :func:`demo_case` (``crowdvib demo``);
 - :func:`identify_ambient` (``crowdvib modes``, on an ambient-test file).
 
 Each returns an object whose ``to_dict()`` is the command's results.json and whose
 ``results()`` is that as a :class:`Results`, the object :func:`load_results` reads back from the
 file (docs: :doc:`/results`); ``verdict()`` gives the findings the command prints.
+
+:mod:`crowdvib.runs` adds to each its figures and report, written as the command's results
+folder (the layer above reporting: results folders need the report).
 
 The names load with their module on first use: the command line imports
 :mod:`crowdvib.cases.results` at start-up and the rest only when a command runs.

@@ -5,16 +5,13 @@ For every code of ``design.codes`` the case's structure is checked with
 another run estimated: ``--msd-from``), optionally with a tuned mass damper, and the case's crowd
 stream is predicted with :func:`crowdvib.design.predict_response`. The results directory holds
 ``results.json`` (every check in full and a verdict table), the figures and ``report.html``.
+The work is :func:`crowdvib.runs.run_check`; this command parses its arguments and prints.
 """
 
 import argparse
-import sys
-import warnings
 from pathlib import Path
 
-from ..cases.results import provenance
-from .common import (add_output_arguments, case_inputs, say, say_verdict, staged_output,
-                     warning_texts, write_results)
+from .common import add_output_arguments, say, say_verdict, say_warnings
 
 __all__ = ["add_arguments", "run"]
 
@@ -28,95 +25,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    # The warnings of the case and of the checks go into results.json, hence into the verdict:
-    # ξ = 0.5 for 0.5 % must not pass a failing bridge with "no warnings" (issue 24).
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        return _run(args, caught)
+    from ..runs import run_check
 
-
-def _run(args, caught):
-    from ..cases import check_case, check_design_table, design_msd, estimated_msd
-    from ..io.casefile import load_case
-    from ..reporting.reading import read_results
-
-    case = load_case(args.case)
-    check_design_table(case)
-    estimated = None if args.msd_from is None else read_results(args.msd_from / "results.json")
-    msd, msd_source = (design_msd(case) if estimated is None
-                       else (estimated_msd(case, estimated, source=f"--msd-from {args.msd_from}"),
-                             f"the estimate in {args.msd_from}"))
-    inputs = case_inputs(case) + ([] if args.msd_from is None
-                                  else [("the MSD results", args.msd_from / "results.json")])
-    say(f"crowdvib check: {case.name}, codes {', '.join(case.design.codes)}, "
-        f"{'HSI from ' + msd_source if msd is not None else 'no HSI'}")
-    with staged_output(args.out, args.force, command="check", inputs=inputs) as staging:
-        # The estimate's interval carried into the checks (issue 27 §3): a range, not a point.
-        found = check_case(case, msd=msd, msd_source=msd_source, estimate_results=estimated)
-        figures = _figures(found.checks, staging, case.name)
-        results = {**found.to_dict(), "figures": figures, **provenance(case.path),
-                   "warnings": list(dict.fromkeys(warning_texts(caught)))}   # once each
-        for text in results["warnings"]:
-            print(f"crowdvib check: warning: {text}", file=sys.stderr)
-        write_results(staging, results)
-    for line in _table_lines(found.rows):
-        say("  " + line)
-    if estimated is not None:
-        for line in _range_lines(found.spread, args.msd_from):
-            say("  " + line)
-    prediction = found.prediction
-    if prediction is not None:
-        for model, rms, peak in zip(prediction.models, prediction.rms, prediction.expected_peak):
-            say(f"  crowd stream, {model}: RMS {_join(rms)} m/s², expected peak over "
-                f"{prediction.duration:g} s {_join(peak)} m/s²")
-    say(f"  wrote results.json, {', '.join(figures)} and report.html to {args.out} "
-        f"({found.seconds:.1f} s)")
+    say_warnings("check", run_check(args.case, args.out, msd_from=args.msd_from,
+                                    force=args.force, say=say))
     return say_verdict(args.out)
-
-
-def _join(values):
-    import numpy as np     # here: crowdvib --help does without numpy
-
-    return "/".join(f"{v:.3f}" for v in np.atleast_1d(values))
-
-
-def _range_lines(spread, msd_from):
-    """Per code, the HSI utilisation at the estimate, its range over the interval and the
-    verdict at the conservative end; one note if the results hold no interval."""
-    if spread is None:
-        return [f"HSI: the point estimate only ({msd_from}/results.json holds no interval: "
-                "estimation.interval = \"none\")"]
-    box = spread.interval
-    over = (f"the {100 * box['level']:g} % interval of f_h1 and ξ_h1"
-            + (" widened by the modelling bound" if "modelling" in box["interval"] else ""))
-    lines = [f"HSI over the box of {box['interval']} (f_h1 {box['frequency'][0]:.3g}–{box['frequency'][1]:.3g} Hz, "
-             f"ξ_h1 {box['damping_ratio'][0]:.3g}–{box['damping_ratio'][1]:.3g}, "
-             f"{spread.grid} × {spread.grid} grid):"]
-    for code, row in spread.hsi_range().items():
-        lines.append(f"  {code:7s} utilisation {row['utilisation']:.2f} (range {row['low']:.2f}–"
-                     f"{row['high']:.2f} over {over}): {row['verdict']}"
-                     + ("" if row["monotone"] else
-                        "; not monotone over the grid, a finer grid may widen the range"))
-    return lines
-
-
-def _table_lines(rows):
-    header = (f"{'code':7s} {'class':5s} {'model':10s} {'output':12s} {'a [m/s²]':>9s} "
-              f"{'limit':>6s} {'util.':>6s} {'comfort':>7s}")
-    lines = [header]
-    for row in rows:
-        lines.append(f"{row['code']:7s} {row['traffic_class'] or '-':5s} {row['model']:10s} "
-                     f"{row['output'][:12]:12s} {row['governing']:9.3f} {row['limit']:6.2f} "
-                     f"{row['utilisation']:6.2f} {row['comfort_class']:>7s}"
-                     f"{'' if row['passes'] else '  FAILS'}")
-    return lines
-
-
-def _figures(checks, staging, name):
-    from ..reporting.design_plots import plot_mode_accelerations, plot_utilisation
-    from .._figures import save_figure
-
-    return [save_figure(plot_utilisation(checks, title=f"{name}: design checks"),
-                        staging / "design_utilisation.png").name,
-            save_figure(plot_mode_accelerations(checks, title=f"{name}: peak acceleration per "
-                                                "mode"), staging / "design_modes.png").name]

@@ -3,10 +3,7 @@
 import argparse
 from pathlib import Path
 
-from ..cases.results import provenance
-from .common import (add_output_arguments, case_inputs, positive_float, progress_printer, say,
-                     say_verdict, staged_output, warning_texts, write_results)
-from .estimate import say_crowd, say_measurement
+from .common import add_output_arguments, positive_float, progress_printer, say, say_verdict
 
 
 # ------------------------------------------------------------------------------ map/sensitivity
@@ -45,35 +42,11 @@ def add_arguments(parser):
 
 
 def run(args):
-    import warnings
-
-    from ..cases import map_case
     from ..io.casefile import load_case
-    from ..reporting.plotting import plot_objective_map, save_figure
+    from ..runs import run_map
 
-    case = load_case(args.case)
-    stamp = provenance(case.path)
-    with staged_output(args.out, args.force, command="map",
-                       inputs=case_inputs(case)) as staging:
-        say(f"crowdvib map: {case.name} ({case.path.name})")
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            found = map_case(case, frequencies=args.frequencies,
-                             damping_ratios=args.damping_ratios,
-                             progress=progress_printer("grid", unit="points"),
-                             max_seconds=60.0 * args.max_minutes)
-        say_measurement(found.record.measurement)
-        say_crowd(case, found.record.crowd, found.record.step_frequencies)
-        landscape, estimate, best = found.landscape, found.estimate, found.landscape.optimum
-        say(f"  {landscape.cost.size} grid points in {found.seconds:.1f} s; "
-            f"grid minimum f_h1 = {best.frequency:.3f} Hz, ξ_h1 = {best.damping_ratio:.3f}; "
-            f"optimiser {estimate.msd.frequency:.3f} Hz, {estimate.msd.damping_ratio:.3f}")
-        say(f"  curvature along f_h1 / along ξ_h1 at the minimum: "
-            f"{landscape.curvature_ratio():.3g}")
-        ax = plot_objective_map(landscape, search_bounds=estimate.bounds,
-                                title=f"{case.name}: objective J(f_h1, ξ_h1)")
-        figure = save_figure(ax, staging / "objective_map.png").name
-        write_results(staging, {**found.to_dict(), "warnings": warning_texts(caught),
-                                "figures": [figure], **stamp})
-    say(f"  wrote {args.out / 'results.json'}, {figure} and report.html")
+    # Its warnings are in the verdict, not printed twice.
+    run_map(load_case(args.case), args.out, frequencies=args.frequencies,
+            damping_ratios=args.damping_ratios, max_seconds=60.0 * args.max_minutes,
+            force=args.force, say=say, progress=progress_printer("grid", unit="points"))
     return say_verdict(args.out)

@@ -1,12 +1,11 @@
-"""``crowdvib simulate``: a simulated record of a case, written in the chosen formats."""
+"""``crowdvib simulate``: a simulated record of a case, written in the chosen formats.
 
-import time
+The work is :func:`crowdvib.runs.run_simulate`; this command parses its arguments and prints.
+"""
+
 from pathlib import Path
 
-from .._files import unique_filenames
-from ..cases.results import provenance
-from .common import (add_output_arguments, case_inputs, progress_printer, record_formats, say,
-                     say_if_compiling, say_verdict, staged_output, write_results)
+from .common import add_output_arguments, progress_printer, record_formats, say, say_verdict
 
 
 def add_arguments(parser):
@@ -27,55 +26,13 @@ def add_arguments(parser):
 
 
 def run(args):
-    from ..cases.simulation import simulate_case, simulation_msd
     from ..io.casefile import load_case, paper_example_case
-    from ..io.records import RECORD_FORMATS, write_record
-    from ..reporting.plotting import plot_psd_comparison, plot_time_history, save_figure
-    from ..signals import welch_psd
+    from ..runs import run_simulate
 
     case = paper_example_case() if args.case is None else load_case(args.case)
-    spec = case.simulation
-    formats = spec.formats if args.format is None else args.format
-    duration = spec.duration if args.duration_s is None else args.duration_s
-    sample_rate = spec.sample_rate if args.sample_rate is None else args.sample_rate
-    hsi = spec.hsi and not args.no_hsi
-    msd = simulation_msd(case) if hsi else None
-    pedestrians = ("moving forces only (no HSI)" if msd is None else
-                   f"MSD pedestrians f_h1 = {msd.frequency:g} Hz, ξ_h1 = {msd.damping_ratio:g}, "
-                   f"μ_h1 = {msd.mass_ratio:g}")
-    say(f"crowdvib simulate: {case.name}, {duration:g} s at {sample_rate:g} Hz, {pedestrians}")
-    with staged_output(args.out, args.force, command="simulate",
-                       inputs=case_inputs(case)) as staging:
-        started = time.perf_counter()
-        say_if_compiling(case.structure, hsi)
-        found = simulate_case(case, duration=duration, sample_rate=sample_rate, seed=args.seed,
-                              hsi=hsi, progress=progress_printer(
-                                  f"simulated (after {spec.warm_up:g} s warm-up)",
-                                  offset=spec.warm_up))
-        simulation, record = found.simulation, found.record
-        files = []
-        for fmt in formats:
-            suffix = "_v73.mat" if fmt == "mat73" else RECORD_FORMATS[fmt][0]
-            files.append(write_record(record, staging / f"record{suffix}", format=fmt,
-                                      dtype=spec.dtype).name)
-        elapsed = time.perf_counter() - started
-        window = min(case.measurement.window_length, record.duration)
-        psd = welch_psd(record.data, record.sample_rate, window_length=window,
-                        output_names=record.channel_names)
-        # Every output on the PSD figure, named; one time history per output.
-        figures = [save_figure(plot_psd_comparison(
-            {name: psd.select(name) for name in psd.output_names},
-            band=(0.0, min(record.sample_rate / 2, 12.0)),
-            title=f"{case.name}: simulated record (Welch PSD)"), staging / "psd.png").name]
-        names = unique_filenames(simulation.output_names, prefix="time_history_", suffix=".png",
-                                 taken=("psd.png",))
-        for name in simulation.output_names:
-            figures.append(save_figure(plot_time_history(
-                simulation, output=name, title=f"{case.name}: simulated time history at {name}"),
-                staging / names[name]).name)
-        results = found.to_dict()
-        results["record"]["files"] = files
-        results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path)})
-        write_results(staging, results)
-    say(f"  wrote {', '.join(files)} and results.json to {args.out} ({elapsed:.1f} s)")
+    warm_up = case.simulation.warm_up
+    run_simulate(case, args.out, duration=args.duration_s, sample_rate=args.sample_rate,
+                 seed=args.seed, formats=args.format, hsi=False if args.no_hsi else None,
+                 force=args.force, say=say, progress=progress_printer(
+                     f"simulated (after {warm_up:g} s warm-up)", offset=warm_up))
     return say_verdict(args.out)

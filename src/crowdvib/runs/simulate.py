@@ -1,0 +1,114 @@
+"""``crowdvib simulate`` as a call: a simulated record of a case, written in the chosen formats
+beside its figures, results.json and report.html."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..cases.results import provenance
+from .folders import case_inputs, staged_output, write_results
+from .lines import Say, silent
+
+if TYPE_CHECKING:
+    from collections.abc import Callable, Sequence
+
+    from ..cases.results import Results
+    from ..io.casefile import Case
+
+__all__ = ["run_simulate"]
+
+
+def run_simulate(case: Case, out: str | Path, *, duration: float | None = None,
+                 sample_rate: float | None = None, seed: int | None = None,
+                 formats: Sequence[str] | None = None, hsi: bool | None = None,
+                 force: bool = False, say: Say = silent,
+                 progress: Callable[[float, float], None] | None = None) -> Results:
+    """What ``crowdvib simulate`` does: :func:`~crowdvib.cases.simulate_case`, the record in each
+    of ``formats`` (default ``simulation.formats``), its PSD and time histories, results.json and
+    report.html in ``out``.
+
+    Parameters
+    ----------
+    case : Case
+        With a ``[simulation]`` table (or :func:`~crowdvib.io.paper_example_case`).
+    out : str or pathlib.Path
+        The results folder (:func:`~crowdvib.runs.staged_output`'s rules).
+    duration, sample_rate, seed, hsi
+        As :func:`~crowdvib.cases.simulate_case` (default the case's).
+    formats : sequence of str, optional
+        Record formats among :data:`~crowdvib.io.RECORD_FORMATS` (default
+        ``simulation.formats``).
+    force : bool
+        Replace crowdvib's earlier results in ``out``.
+    say : callable, optional
+        Called with each line the command prints.
+    progress : callable, optional
+        ``progress(done, total)`` [s of simulated time, warm-up included].
+
+    Returns
+    -------
+    Results
+    """
+    from ..cases.simulation import simulate_case, simulation_msd
+    from ..io.records import RECORD_FORMATS, write_record
+    from ..reporting.plotting import plot_psd_comparison, save_figure
+    from ..response.simulation import kernel_needs_compiling
+    from ..signals import welch_psd
+
+    spec = case.simulation
+    formats = spec.formats if formats is None else formats
+    duration = spec.duration if duration is None else duration
+    sample_rate = spec.sample_rate if sample_rate is None else sample_rate
+    hsi = spec.hsi if hsi is None else hsi
+    msd = simulation_msd(case) if hsi else None
+    pedestrians = ("moving forces only (no HSI)" if msd is None else
+                   f"MSD pedestrians f_h1 = {msd.frequency:g} Hz, ξ_h1 = {msd.damping_ratio:g}, "
+                   f"μ_h1 = {msd.mass_ratio:g}")
+    say(f"crowdvib simulate: {case.name}, {duration:g} s at {sample_rate:g} Hz, {pedestrians}")
+    with staged_output(out, force, command="simulate", inputs=case_inputs(case)) as staging:
+        started = time.perf_counter()
+        if kernel_needs_compiling(case.structure, hsi):
+            say(COMPILING)
+        found = simulate_case(case, duration=duration, sample_rate=sample_rate, seed=seed,
+                              hsi=hsi, progress=progress)
+        simulation, record = found.simulation, found.record
+        files = []
+        for fmt in formats:
+            suffix = "_v73.mat" if fmt == "mat73" else RECORD_FORMATS[fmt][0]
+            files.append(write_record(record, staging / f"record{suffix}", format=fmt,
+                                      dtype=spec.dtype).name)
+        elapsed = time.perf_counter() - started
+        window = min(case.measurement.window_length, record.duration)
+        psd = welch_psd(record.data, record.sample_rate, window_length=window,
+                        output_names=record.channel_names)
+        # Every output on the PSD figure, named; one time history per output.
+        figures = [save_figure(plot_psd_comparison(
+            {name: psd.select(name) for name in psd.output_names},
+            band=(0.0, min(record.sample_rate / 2, 12.0)),
+            title=f"{case.name}: simulated record (Welch PSD)"), staging / "psd.png").name]
+        figures += _time_histories(case, simulation, staging)
+        results = found.to_dict()
+        results["record"]["files"] = files
+        results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path)})
+        written = write_results(staging, results)
+    say(f"  wrote {', '.join(files)} and results.json to {out} ({elapsed:.1f} s)")
+    return written
+
+
+#: Said when the simulation kernel is about to be compiled: numba caches the compiled kernel
+#: beside its source, one per kind of run (with or without HSI, one or several modes, station
+#: grid); the first run of a kind compiles for a while, which must not look like a hang.
+COMPILING = "  compiling the simulation kernel (first run of this kind only, some 10–30 s) …"
+
+
+def _time_histories(case, simulation, staging):
+    from .._files import unique_filenames
+    from ..reporting.plotting import plot_time_history, save_figure
+
+    names = unique_filenames(simulation.output_names, prefix="time_history_", suffix=".png",
+                             taken=("psd.png",))
+    return [save_figure(plot_time_history(simulation, output=name,
+                                          title=f"{case.name}: simulated time history at {name}"),
+                        staging / names[name]).name for name in simulation.output_names]
