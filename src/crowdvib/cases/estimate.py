@@ -120,18 +120,20 @@ class CaseEstimate(AsResults):
         (ResponsePSD, ResponsePSD)
             The model PSD with the estimated MSD, and without HSI.
         """
-        from ..response.fluctuation import spectral_model
+        from ..response.varying import record_model
 
         crowd = self.crowd if part is None else part.crowd
         part = self.records[0] if part is None else part
         est, measured = self.case.estimation, part.measurement.psd
-        model = spectral_model(self.case.structure, crowd, measured.frequency,
-                               force=self.case.force,
-                               outputs=part.measurement.record.channel_names,
-                               welch_window_length=measured.window_length if est.match_welch
-                               else None,
-                               lowpass=part.measurement.lowpass if est.match_welch else None,
-                               crowd_model=est.crowd_model)
+        model = record_model(self.case.structure, crowd, measured.frequency,
+                             crowd_profile=self.case.record_crowd_profile(),
+                             record_windows=(measured.window_length, measured.n_windows),
+                             force=self.case.force,
+                             outputs=part.measurement.record.channel_names,
+                             welch_window_length=measured.window_length if est.match_welch
+                             else None,
+                             lowpass=part.measurement.lowpass if est.match_welch else None,
+                             crowd_model=est.crowd_model)
         return model.psd(self.estimate.msd), model.psd(None)
 
     def to_dict(self) -> dict:

@@ -26,7 +26,7 @@ from ..models.crowd import Crowd
 from ..models.profile import CrowdProfile
 from ..models.structure import ModalModel
 from ..response.fluctuation import spectral_model
-from ..response.varying import VaryingCrowdModel
+from ..response.varying import record_model
 from ..signals.spectrum import ResponsePSD
 from ..signals.welch import welch_bin_correlation, welch_degrees_of_freedom
 from .uncertainty import score_variance
@@ -152,14 +152,8 @@ class PSDObjective:
         self._profile = None
         if crowd_profile is not None:
             check_type("crowd_profile", crowd_profile, CrowdProfile)
-            if not (measured.window_length and measured.n_windows):
-                raise ParameterError(
-                    "crowd_profile needs a Welch estimate (measured.window_length and n_windows "
-                    "known) to place the record on the profile, got window_length = "
-                    f"{measured.window_length!r}, n_windows = {measured.n_windows!r}")
-            # The record's windows at 50 % overlap from t = 0 (as welch_psd's default).
-            duration = measured.window_length * (1 + 0.5 * (measured.n_windows - 1))
-            self._profile = (crowd_profile, None, dict(duration=duration, overlap=0.5))
+            # The record's windows: its Welch estimate's, placed from t = 0 (record_model).
+            self._profile = (crowd_profile, None, (measured.window_length, measured.n_windows))
             crowd = crowd.with_density(crowd_profile.peak)      # checked > 0 just below
         if crowd.density <= 0:
             raise ParameterError(
@@ -297,8 +291,8 @@ class PSDObjective:
         profile, mean, windows = self._profile
         if mean is not None and crowd.density != mean:
             profile = profile.scaled(crowd.density / mean)
-        return VaryingCrowdModel(inputs.pop("structure"), crowd, profile, frequency,
-                                 **windows, **inputs)
+        return record_model(inputs.pop("structure"), crowd, frequency, crowd_profile=profile,
+                            record_windows=windows, **inputs)
 
     def model_for(self, steps):
         """The forward model with the crowd's step frequencies N(μ_fs, σ_fs), ``steps`` = (μ_fs, σ_fs) [Hz].

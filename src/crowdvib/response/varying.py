@@ -33,7 +33,7 @@ from ..models.structure import ModalModel
 from ..signals import ResponsePSD
 from .fluctuation import FluctuatingSpectralModel, _gauss_rule, _mixture, spectral_model
 
-__all__ = ["VaryingCrowdModel", "varying_response_psd", "density_law"]
+__all__ = ["VaryingCrowdModel", "varying_response_psd", "density_law", "record_model"]
 
 #: Level counts tried, and the change of Ḡ over its peak below which a count is enough.
 _LEVEL_COUNTS = (1, 2, 3, 4, 5, 6, 8, 10, 12, 16)
@@ -302,3 +302,26 @@ def varying_response_psd(structure: ModalModel, crowd: Crowd, profile: CrowdProf
     return VaryingCrowdModel(structure, crowd, profile, frequency, duration=duration,
                              welch_window_length=welch_window_length, overlap=overlap,
                              crowd_model=crowd_model, outputs=outputs, **options).psd(msd)
+
+
+def record_model(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
+                 crowd_profile: CrowdProfile | None = None,
+                 record_windows: tuple[float | None, int | None] = (None, None),
+                 crowd_model: str = "smeared", **options: Any) -> Any:
+    """The expected PSD of a measured record: the stationary crowd's model
+    (:func:`~crowdvib.response.fluctuation.spectral_model`), or with ``crowd_profile`` the
+    :class:`VaryingCrowdModel` of the record whose Welch estimate has ``record_windows`` =
+    (window length [s], number of windows), the windows at 50 % overlap from t = 0 as
+    :func:`crowdvib.welch_psd` places them (what the estimator fits and a report draws).
+    ``options`` are the models' (``welch_window_length`` among them)."""
+    if crowd_profile is None:
+        return spectral_model(structure, crowd, frequency, crowd_model=crowd_model, **options)
+    window, n_windows = record_windows
+    if not (window and n_windows):
+        raise ParameterError(
+            "crowd_profile needs a Welch estimate (its window_length and n_windows known) to "
+            f"place the record on the profile, got window_length = {window!r}, "
+            f"n_windows = {n_windows!r}")
+    return VaryingCrowdModel(structure, crowd, crowd_profile, frequency,
+                             duration=window * (1 + 0.5 * (n_windows - 1)),
+                             crowd_model=crowd_model, **options)
