@@ -27,8 +27,8 @@ import importlib
 
 from .results import (DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES, CheckResults,
                       DemoResults, EstimateResults, MapResults, ModesResults, Results,
-                      SensitivityResults, SimulateResults, load_results, results_of,
-                      software_versions)
+                      SeasonResults, SensitivityResults, SimulateResults, load_results,
+                      results_of, software_versions)
 from .schema import KINDS, SCHEMA
 
 #: Public name → the module of this package that defines it.
@@ -49,8 +49,8 @@ _MODULES = {
 
 __all__ = ["DESIGN_TABLES", "ESTIMATION_TABLES", "SIMULATION_TABLES", "software_versions",
            "Results", "EstimateResults", "SensitivityResults", "CheckResults", "ModesResults",
-           "SimulateResults", "MapResults", "DemoResults", "load_results", "results_of",
-           "SCHEMA", "KINDS", *_MODULES]
+           "SimulateResults", "MapResults", "DemoResults", "SeasonResults", "load_results",
+           "results_of", "SCHEMA", "KINDS", *_MODULES]
 
 
 def __getattr__(name):

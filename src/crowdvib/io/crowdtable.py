@@ -98,7 +98,15 @@ class CrowdRow:
 
 @dataclass(frozen=True)
 class CrowdTable:
-    """A crowd table read and checked (:func:`read_crowd_table`)."""
+    """A crowd table read and checked (:func:`read_crowd_table`).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The CSV file.
+    rows : tuple of CrowdRow
+        Its rows, in the file's order.
+    """
 
     path: Path
     rows: tuple
@@ -109,6 +117,15 @@ class CrowdTable:
 
 def read_crowd_table(path) -> CrowdTable:
     """Read and check a crowd table CSV (the columns of :mod:`crowdvib.io.crowdtable`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file (UTF-8, a byte-order mark allowed).
+
+    Returns
+    -------
+    CrowdTable
 
     Raises
     ------

@@ -11,9 +11,9 @@ from .modelling_error import (PAPER_ERROR_LEVELS, ErrorCase, SensitivityResult,
                               modelling_error_study, record_length_study)
 from .monte_carlo import monte_carlo, record_statistics
 from .parametric import ParametricResult, parametric_study
-from .season import SeasonResult, season_study
+from .season import SeasonResult, season_study, write_synthetic_season
 
 __all__ = ["objective_map", "ObjectiveMap", "modelling_error_study", "ErrorCase",
            "SensitivityResult", "record_length_study", "parametric_study", "ParametricResult",
            "PAPER_ERROR_LEVELS", "monte_carlo", "record_statistics", "season_study",
-           "SeasonResult"]
+           "SeasonResult", "write_synthetic_season"]
