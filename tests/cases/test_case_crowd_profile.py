@@ -48,6 +48,8 @@ def test_counts_become_the_case_profile(tmp_path):
      r"missing column\(s\) \['density'\]"),
     ('counts = "counts.csv"\n', '[measurement]\ntime_frame = "stationary"\n',
      r'must come with one \[measurement\] .* got time_frame = "stationary"'),
+    ('counts = "counts.csv"\n', '[measurement]\noverlap = 0.75\n',
+     r"Welch windows at overlap 0.5 \(as the estimator places them\), got overlap = 0.75"),
     ('counts = "counts.csv"\nprofile_kind = "cubic"\n', "",
      r"crowd.profile_kind must be one of \['linear', 'step'\], got 'cubic'"),
 ])
@@ -62,6 +64,20 @@ def test_bad_counts_name_the_file(tmp_path):
     with pytest.raises(ParameterError, match=r"case.toml: crowd.counts \(counts.csv\): count must "
                                              r"stay below the jam density"):
         load_case(path)
+
+
+def test_simulate_case_follows_the_counts(tmp_path):
+    # crowdvib simulate draws the case's stream: 30 then 90 people counted (a step at 600 s).
+    # Means over 5-minute blocks away from the step, within 4 Poisson standard deviations of a
+    # time-average (variance m τ/B, tests/response/test_varying_crowd.py).
+    from crowdvib.cases import simulate_case
+
+    case = load_case(_case(tmp_path, 'counts = "counts.csv"\n'))
+    on_deck = simulate_case(case, duration=1200.0, sample_rate=10.0, seed=4,
+                            hsi=False).simulation.n_on_deck
+    tau = 50.0 / case.crowd.walking_speed
+    for people, block in ((30, slice(2000, 5000)), (90, slice(8000, 11000))):
+        assert abs(on_deck[block].mean() - people) < 4 * np.sqrt(people * tau / 300)
 
 
 def test_estimate_case_uses_the_counts(tmp_path):

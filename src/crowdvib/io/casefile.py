@@ -606,12 +606,16 @@ def _case(path, data):
                              "frequencies in a joint fit of several [[measurement]] blocks (each "
                              "record has its own crowd: fit its step frequencies first, "
                              "[estimation.step_frequencies])")
-    if crowd_profile is not None and (records or measurement.time_frame == "stationary"):
+    if crowd_profile is not None and (records or measurement.time_frame == "stationary"
+                                      or measurement.overlap != 0.5):
         raise ParameterError(
             f"{path.name}: crowd.counts or crowd.density_profile must come with one "
             "[measurement] whose time_frame is the whole record or [start, end] (the profile "
-            "is on the record's time), got " + ("several [[measurement]] blocks" if records
-                                                else 'time_frame = "stationary"'))
+            "is on the record's time) and Welch windows at overlap 0.5 (as the estimator "
+            "places them), got " + ("several [[measurement]] blocks" if records
+                                    else 'time_frame = "stationary"'
+                                    if measurement.time_frame == "stationary"
+                                    else f"overlap = {measurement.overlap:g}"))
     for spec in [block.measurement for block in records] or [measurement]:
         if spec.channels is not None:
             try:
