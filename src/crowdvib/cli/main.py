@@ -1,12 +1,13 @@
 """Command line: ``crowdvib demo`` and the case-file commands.
 
-The CLI only parses arguments, calls the public API and writes through the file and plotting
-helpers. Exit status (docs: Command line, Exit status): 0 finished, 1 an error, 2 a usage error,
-3 finished and written but the verdict doubts the result, 130 Ctrl-C. Whatever ends a command,
-it ends in one line on stderr (the traceback only with ``--verbose``): a crowdvib error's
-message, an ``OSError`` as its path and cause, Ctrl-C as "interrupted", and any other exception
-as a bug in crowdvib, with how to report it. ``--quiet`` leaves the verdict, warnings and errors;
-``--verbose`` adds the log records of the estimator and the studies, and tracebacks.
+The CLI only parses arguments, makes one call of the library (:mod:`crowdvib.runs`) and prints.
+Exit status (docs: Command line, Exit status): 0 finished, 1 an error, 2 a usage error, 3
+finished and written but the verdict doubts the result (1 with ``--strict``), 130 Ctrl-C.
+Whatever ends a command, it ends in one line on stderr (the traceback only with ``--verbose``):
+a crowdvib error's message, an ``OSError`` as its path and cause, Ctrl-C as "interrupted", and
+any other exception as a bug in crowdvib, with how to report it. ``--quiet`` leaves the verdict,
+warnings and errors; ``--verbose`` adds the log records of the estimator and the studies, and
+tracebacks; ``--strict`` makes a result in doubt a failure (issue 27 §2).
 """
 
 import argparse
@@ -18,7 +19,7 @@ from .._version import __version__
 from .._files import os_error_text, require_file
 from ..errors import CrowdvibError
 from . import check, demo, estimate, init, landscape, modes, sensitivity, simulate
-from .common import close_progress, say, set_quiet
+from .common import IN_DOUBT, close_progress, say, set_quiet
 
 __all__ = ["main", "build_parser"]
 
@@ -76,16 +77,19 @@ def build_parser():
 
 #: The exit statuses, as every command's help ends.
 EXIT_STATUS = ("exit status: 0 finished; 1 error; 2 usage error; 3 finished and written, but the "
-               "verdict doubts the result (check before use); 130 interrupted")
+               "verdict doubts the result (check before use; 1 with --strict); 130 interrupted")
 
 
 def _add_verbosity(parser, suppress):
-    """--verbose/-v and --quiet/-q, before or after the command name."""
+    """--verbose/-v, --quiet/-q and --strict, before or after the command name."""
     parser.add_argument("-v", "--verbose", action="store_true", **suppress,
                         help="show the estimator's and the studies' log records, and tracebacks "
                              "of errors")
     parser.add_argument("-q", "--quiet", action="store_true", **suppress,
                         help="print only the verdict, warnings and errors")
+    parser.add_argument("--strict", action="store_true", **suppress,
+                        help="a result in doubt is a failure: exit status 1 instead of 3 (the "
+                             "results are written all the same), for scripts and CI")
 
 
 def main(argv=None):
@@ -102,7 +106,7 @@ def main(argv=None):
         if isinstance(case, Path):
             # Before the command imports scipy and numba: a wrong path is answered at once.
             require_file(case, "case")
-        return _COMMANDS[args.command][1].run(args)
+        status = _COMMANDS[args.command][1].run(args)
     except KeyboardInterrupt:
         # What a command keeps is its business (sensitivity keeps its finished tasks and says
         # so); a staged one has removed its unfinished results by now.
@@ -115,6 +119,11 @@ def main(argv=None):
             raise
         print(f"crowdvib {args.command}: error: {_one_line(error)}", file=sys.stderr)
         return 1
+    if status == IN_DOUBT and args.strict:
+        print(f"crowdvib {args.command}: error: --strict: the verdict doubts the result (see "
+              f"above; written to {getattr(args, 'out', '--out')})", file=sys.stderr)
+        return 1
+    return status
 
 
 def _log_records(verbose):
