@@ -18,7 +18,7 @@ from pathlib import Path
 from .._version import __version__
 from .._files import os_error_text, require_file
 from ..errors import CrowdvibError
-from . import check, demo, estimate, init, landscape, modes, sensitivity, simulate
+from . import check, demo, estimate, init, landscape, modes, season, sensitivity, simulate
 from .common import IN_DOUBT, close_progress, say, set_quiet
 
 __all__ = ["main", "build_parser"]
@@ -56,6 +56,7 @@ _COMMANDS = {
     "check": ("design checks of a case's [design] table (codes, with and without HSI)", check),
     "modes": ("the empty bridge's modes from an ambient record (operational modal analysis)",
               modes),
+    "season": ("a season of records with a crowd table: each estimated, one MSD for all", season),
 }
 
 
