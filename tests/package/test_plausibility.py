@@ -70,6 +70,9 @@ def test_record_in_m_s2_declared_as_g_is_named(measured, paper_bridge, paper_cro
 
 
 @pytest.mark.filterwarnings("ignore::crowdvib.errors.BoundWarning")
+# numpy's overflow inside scipy's trf at the profile of a parameter the level dragged to a bound
+# reached the user on numpy 2.5 / scipy 1.18 (identification/uncertainty.py, profile_interval).
+@pytest.mark.filterwarnings("error::RuntimeWarning")
 def test_gain_error_without_a_unit_mix_up_still_warns(measured, paper_bridge, paper_crowd):
     # A factor 20 in variance is no unit mix-up of the list, but the level is still wrong.
     with pytest.warns(PlausibilityWarning, match="check the units, the sensor gain"):
