@@ -6,7 +6,8 @@ report.html shows the same findings as ``Results.verdict()``."""
 import pytest
 
 from crowdvib.cases import SCHEMA, Results
-from crowdvib.cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, Finding, findings
+from crowdvib.cases.verdict import (CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, Finding, findings,
+                                    in_doubt)
 from crowdvib.reporting.report import render_report
 
 
@@ -49,6 +50,29 @@ def test_a_design_check_failing_with_the_primary_model_fails():
     found = findings({"design": {"verdict": rows}})
     assert found == (Finding("fail", "hivoss TC3 fails at mid with HSI: 1.38 m/s² above the "
                              "limit 1 m/s² (utilisation 1.38).", "design.verdict"),)
+
+
+def test_a_code_passing_at_the_estimate_and_failing_at_the_conservative_end_fails():
+    # Issue 27 §3: the verdict at the conservative end of the estimate's interval. The paper
+    # example's UK NA row (tests/cli/test_check_interval.py): 0.91 at the estimate, 0.83–1.01
+    # over the 95 % box, the high end at (f_h1 high, ξ_h1 low).
+    box = {"interval": "estimate 95 %", "frequency": [2.9, 3.2], "damping_ratio": [0.2, 0.4]}
+    ranges = {"ukna": {**box, "utilisation": 0.91, "low": 0.83, "high": 1.01,
+                       "conservative_end": {"frequency": 3.2, "damping_ratio": 0.2}},
+              "hivoss": {**box, "utilisation": 0.5, "low": 0.45, "high": 0.6},
+              "setra": {**box, "utilisation": 1.2, "low": 1.1, "high": 1.3}}
+    found = findings({"hsi_range": ranges})
+    assert found == (
+        Finding("fail", "ukna passes at the estimate (utilisation 0.91) but fails at the "
+                "conservative end of the estimate 95 % interval of f_h1 and ξ_h1 (f_h1 = 3.2 Hz, "
+                "ξ_h1 = 0.2): utilisation 1.01 there (range 0.83–1.01).", "hsi_range.ukna"),
+        Finding("ok", "hivoss passes over the estimate 95 % interval of f_h1 and ξ_h1 "
+                "(utilisation 0.45–0.6).", "hsi_range.hivoss"))
+    # Sétra fails at the estimate: the design rule's failure, an answer, not this rule's.
+    # The interval's failure is undecided by the data: in doubt (exit status 3); a failure at
+    # the estimate alone is not.
+    assert in_doubt(found) and not in_doubt(found[1:])
+    assert not in_doubt((Finding("fail", "setra fails", "design.verdict"),))
 
 
 def test_a_mode_the_cross_check_misses_is_a_doubt():

@@ -3,13 +3,16 @@ per code as a range over the box of f_h1 and ξ_h1 the estimate allows, and the 
 range's conservative end (docs: theory, Design checks, "With an identified MSD")."""
 
 import json
+import re
 from pathlib import Path
 
 import pytest
 
 from crowdvib import MSDModel, ParameterError, load_case
-from crowdvib.cases import check_case, check_over_interval, msd_interval
+from crowdvib.cases import check_case, check_over_interval, load_results, msd_interval
+from crowdvib.cases.verdict import Finding, in_doubt
 from crowdvib.cli import main
+from crowdvib.cli.common import IN_DOUBT
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 CASE = EXAMPLES / "check_paper.toml"
@@ -97,7 +100,7 @@ def test_sensitivity_results_give_the_interval_widened_by_the_modelling_bound(es
 
 def test_check_cli_prints_the_range_and_writes_hsi_range(estimate_dir, tmp_path, capsys):
     out = tmp_path / "check"
-    main(["check", str(CASE), "--msd-from", str(estimate_dir), "--out", str(out)])
+    status = main(["check", str(CASE), "--msd-from", str(estimate_dir), "--out", str(out)])
     printed = capsys.readouterr().out
     written = _results(out)["hsi_range"]
     assert set(written) == {"hivoss", "setra", "en1990", "ukna"}
@@ -110,6 +113,28 @@ def test_check_cli_prints_the_range_and_writes_hsi_range(estimate_dir, tmp_path,
         assert (f"{code:7s} utilisation {row['utilisation']:.2f} (range {row['low']:.2f}–"
                 f"{row['high']:.2f} over the 95 % interval of f_h1 and ξ_h1): "
                 f"{row['verdict']}") in printed
+    # Issue 27 §3, the interval's verdict: the UK NA passes at the estimate (0.91) and fails at
+    # the conservative end of the 95 % box (0.83–1.01), at its corner (f_h1 high, ξ_h1 low; see
+    # the first test). That is a failure (the other codes fail at the estimate already) the
+    # data do not decide: on the verdict line, in the results' verdict and the report, and a
+    # doubt in the exit status (docs: Command line, Exit status).
+    ukna = written["ukna"]
+    assert (round(ukna["utilisation"], 2), round(ukna["low"], 2), round(ukna["high"], 2)) == (
+        0.91, 0.83, 1.01)
+    assert ukna["conservative_end"] == {"frequency": ukna["frequency"][1],
+                                        "damping_ratio": ukna["damping_ratio"][0]}
+    text = (f"ukna passes at the estimate (utilisation {ukna['utilisation']:.3g}) but fails at "
+            "the conservative end of the estimate 95 % interval of f_h1 and ξ_h1 (f_h1 = "
+            f"{ukna['frequency'][1]:.3g} Hz, ξ_h1 = {ukna['damping_ratio'][0]:.3g}): utilisation "
+            f"{ukna['high']:.3g} there (range {ukna['low']:.3g}–{ukna['high']:.3g}).")
+    assert f"    - {text}" in printed.splitlines()
+    assert Finding("fail", text, "hsi_range.ukna") in load_results(out).verdict()
+    report = re.sub(r"<[^>]+>|\s+", "", (out / "report.html").read_text(encoding="utf-8"))
+    assert re.sub(r"\s+", "", text.replace("f_h1", "fh1").replace("ξ_h1", "ξh1")) in report
+    assert status == IN_DOUBT
+    # The codes failing at the estimate alone are answers, not doubts (the verdict without the
+    # interval's finding exits 0): the status is the interval's.
+    assert not in_doubt([f for f in load_results(out).verdict() if f.key != "hsi_range.ukna"])
 
 
 def test_results_without_an_interval_give_the_point_estimate_with_a_note(tmp_path, capsys):

@@ -403,8 +403,9 @@ class IntervalCheck:
     rows : list of dict
         Per code and model: ``code``, ``model``, ``utilisation`` at the point estimate,
         ``low``/``high`` over the grid and the point (largest utilisation over the outputs),
-        ``monotone`` (the grid's utilisation is monotone along each parameter: its extremes are
-        at the box's corners), ``passes`` (at the conservative end, ``high`` ≤ 1) and
+        ``conservative_end`` (the f_h1 and ξ_h1 of ``high``), ``monotone`` (the grid's
+        utilisation is monotone along each parameter: its extremes are at the box's corners),
+        ``passes`` (at the conservative end, ``high`` ≤ 1) and
         ``verdict`` (``"passes"``, ``"FAILS"`` or ``"FAILS at the conservative end"``: the
         interval decides).
     """
@@ -481,8 +482,14 @@ def check_over_interval(case: Case, results: dict, *, grid: int = 3) -> Interval
         values = np.array([[cell[key] for cell in row] for row in cells])   # [ξ, f]
         low = min(values.min(), utilisation)
         high = max(values.max(), utilisation)
+        # Where the high end is: the MSD the verdict at the conservative end is for.
+        i, j = np.unravel_index(values.argmax(), values.shape)
+        end = ((damping_ratios[i], frequencies[j]) if values.max() >= utilisation
+               else (msd.damping_ratio, msd.frequency))
         rows.append({"code": key[0], "model": key[1], "utilisation": utilisation,
                      "low": float(low), "high": float(high),
+                     "conservative_end": {"frequency": float(end[1]),
+                                          "damping_ratio": float(end[0])},
                      "monotone": bool(_monotone(values, 0) and _monotone(values, 1)),
                      "passes": bool(high <= 1.0),
                      "verdict": ("passes" if high <= 1.0 else "FAILS" if low > 1.0

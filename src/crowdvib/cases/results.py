@@ -197,6 +197,14 @@ class Results:
         """True when the verdict has no doubt and no failure."""
         return all(finding.severity == "ok" for finding in self.verdict())
 
+    @property
+    def in_doubt(self) -> bool:
+        """True when the verdict doubts the result (:func:`~crowdvib.cases.verdict.in_doubt`):
+        the command line then exits with status 3 (1 with ``--strict``)."""
+        from .verdict import in_doubt
+
+        return in_doubt(self.verdict())
+
     # ------------------------------------------------------------------------------- tables
     def table(self) -> list[dict]:
         """The result's main table as rows (dicts of one column each).

@@ -14,7 +14,8 @@ from typing import NamedTuple
 
 from .schema import get, hsi, real, sensitivity
 
-__all__ = ["Finding", "findings", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "SEVERITIES"]
+__all__ = ["Finding", "findings", "in_doubt", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL",
+           "SEVERITIES"]
 
 #: The paper's convergence criterion for a Welch PSD (Fig. 15): ΔG below 10 %.
 CONVERGENCE_LEVEL = 0.10
@@ -192,6 +193,56 @@ def _design(results):
             for r in rows if r.get("model") == primary and r.get("passes") is False]
 
 
+def _interval(results):
+    """``crowdvib check --msd-from`` (issue 27 §3): per code, the HSI verdict over the estimate's
+    interval. A code that passes at the estimate but fails at the conservative end of the
+    interval (the highest utilisation over the box of f_h1 and ξ_h1) fails there: the data do
+    not decide it, so it is also in doubt (:func:`in_doubt`). A code failing at the estimate
+    is :func:`_design`'s."""
+    ranges = results.get("hsi_range")
+    if not isinstance(ranges, dict):
+        return []
+    found = []
+    for code, row in ranges.items():
+        row = row if isinstance(row, dict) else {}
+        point, low, high = (real(row.get(key)) for key in ("utilisation", "low", "high"))
+        if point is None or high is None or point > 1.0:
+            continue
+        over = f"the {row.get('interval') or 'estimate'} interval of f_h1 and ξ_h1"
+        span = f"{_g(low, 3)}–{_g(high, 3)}"
+        if high <= 1.0:
+            found.append(Finding("ok", f"{code} passes over {over} (utilisation {span}).",
+                                 f"hsi_range.{code}"))
+            continue
+        end = row.get("conservative_end") if isinstance(row.get("conservative_end"), dict) else {}
+        at = (f" (f_h1 = {_g(end.get('frequency'), 3)} Hz, ξ_h1 = "
+              f"{_g(end.get('damping_ratio'), 3)})" if end else "")
+        found.append(Finding(
+            "fail", f"{code} passes at the estimate (utilisation {_g(point, 3)}) but fails at the "
+            f"conservative end of {over}{at}: utilisation {_g(high, 3)} there (range {span}).",
+            f"hsi_range.{code}"))
+    return found
+
+
+def in_doubt(found) -> bool:
+    """Whether a verdict doubts its result: a ``"doubt"``, or a ``"fail"`` the data do not
+    decide (a design code that passes at the estimate and fails at the conservative end of its
+    interval). A code the bridge fails at the estimate is an answer, not a doubt (docs: Command
+    line, Exit status: status 3).
+
+    Parameters
+    ----------
+    found : sequence of Finding
+        A verdict (:func:`findings`).
+
+    Returns
+    -------
+    bool
+    """
+    return any(f.severity == "doubt" or (f.severity == "fail" and f.key.startswith("hsi_range."))
+               for f in found)
+
+
 _METHODS = {"ssi-cov": "SSI-cov", "efdd": "EFDD"}
 
 
@@ -237,4 +288,4 @@ def _where(results, key):
 
 
 _RULES = (_relative_cost, _optimiser, _active_bounds, _convergence, _record_length, _study,
-          _run_warnings, _design, _modes)
+          _run_warnings, _design, _interval, _modes)

@@ -92,12 +92,14 @@ def say_verdict(directory):
     Returns
     -------
     int
-        The command's exit status: 0, or :data:`IN_DOUBT` when a finding doubts the result (a
-        design code the bridge fails is an answer, not a doubt).
+        The command's exit status: 0, or :data:`IN_DOUBT` when the verdict doubts the result
+        (``Results.in_doubt``: a design code the bridge fails at the estimate is an answer, not
+        a doubt; one that fails only at the conservative end of the estimate's interval is).
     """
     from ..cases.results import load_results
 
-    warnings = [f for f in load_results(directory).verdict() if f.severity != "ok"]
+    found = load_results(directory)
+    warnings = [f for f in found.verdict() if f.severity != "ok"]
     if not warnings:
         say("  verdict: no warnings (details in report.html)", always=True)
         return 0
@@ -105,7 +107,7 @@ def say_verdict(directory):
         always=True)
     for finding in warnings:
         say(f"    - {finding.text}", always=True)
-    return IN_DOUBT if any(f.severity == "doubt" for f in warnings) else 0
+    return IN_DOUBT if found.in_doubt else 0
 
 
 def positive_float(text):
