@@ -23,7 +23,6 @@ Four tables, each with the machine's load beside it (asserts nothing):
 """
 
 import argparse
-import concurrent.futures
 import contextlib
 import math
 import os

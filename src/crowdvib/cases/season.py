@@ -4,7 +4,7 @@ The case file describes the bridge, the crowd's other properties (body mass, wal
 step frequencies when the table has none), how a record is read and processed
 (``[measurement]``) and the estimator (``[estimation]``). The season's records are the
 ``measurement.files`` of the case, where a folder stands for every record file in it, or the
-folder given; the crowd table (:mod:`crowdvib.io.crowdtable`) names, per record or time
+folder given; the crowd table (:func:`crowdvib.io.read_crowd_table`) names, per record or time
 window, the crowd on the deck. :func:`season_case` estimates each row with ``crowdvib
 estimate``'s pipeline (:func:`~crowdvib.cases.estimate_case`, bit for bit) and its crowd, as
 the tasks of :func:`crowdvib.studies.season_study`, then one MSD for all rows.
@@ -219,7 +219,7 @@ def season_case(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
         From :func:`~crowdvib.io.load_case`: the bridge, the crowd's other properties, the
         record processing and the estimator (its ``[estimation]`` method for each row).
     crowd_table : path or CrowdTable
-        The crowd table CSV (:mod:`crowdvib.io.crowdtable`), or the table read.
+        The crowd table CSV (:func:`crowdvib.io.read_crowd_table`), or the table read.
     records : path or sequence of paths, optional
         Where the records are (:func:`season_records`; default the case's
         ``measurement.files``, else the crowd table's folder).

@@ -1,34 +1,7 @@
 """The crowd table of a monitoring season: who was on the bridge during each record (issue 28 §2).
 
-A CSV file, ``#`` lines comments, one header line, one row per record or per time window of a
-record::
-
-    record,          start, end,  count, step_frequency_mean, time
-    day1_0800.npz,       ,     ,   42,   1.85,                2026-05-04T08:00
-    day1_0900.npz,      0,  600,   12,       ,                2026-05-04T09:00
-    day1_0900.npz,    600, 1200,   30,       ,                2026-05-04T09:10
-
-Columns (any order; only ``record`` and one of ``count`` / ``density`` are required):
-
-``record``
-    The record's file name, relative to the records folder (or as listed in the case file).
-``count`` or ``density``
-    The mean number of persons on the deck, or the density [persons/m²]; one of them per row.
-    A density of 0 (a night record) is kept in the table and not estimated.
-``step_frequency_mean``, ``step_frequency_std``
-    The crowd's step-frequency distribution [Hz] during the row (else the case file's).
-``start``, ``end``
-    A time window [s] on the record's time axis, as the case file's ``measurement.time_frame``
-    (both or neither); a row without them is the whole record.
-``duration``
-    The length [s] the row's count was taken over: a record of another length is refused
-    (the count would belong to another stretch). Not with ``start``/``end``.
-``time``
-    When the record (or window) began, ISO 8601 (``2026-05-04T08:00``): the trend figures'
-    time axis (else the rows' order).
-
-Every problem is a :class:`DataError` naming the file, the row (counted from 1, after the
-header) and the column.
+Its columns and rules: :func:`read_crowd_table`. Registered in the formats table
+(:mod:`crowdvib.io.formats`) as the ``"csv"`` format of ``"crowd"`` data.
 """
 
 import csv
@@ -116,7 +89,34 @@ class CrowdTable:
 
 
 def read_crowd_table(path) -> CrowdTable:
-    """Read and check a crowd table CSV (the columns of :mod:`crowdvib.io.crowdtable`).
+    """Read and check a crowd table CSV: per record, or time window of one, its crowd.
+
+    A CSV file, ``#`` lines comments, one header line, one row per record or per time window of a
+    record::
+
+        record,          start, end,  count, step_frequency_mean, time
+        day1_0800.npz,       ,     ,   42,   1.85,                2026-05-04T08:00
+        day1_0900.npz,      0,  600,   12,       ,                2026-05-04T09:00
+        day1_0900.npz,    600, 1200,   30,       ,                2026-05-04T09:10
+
+    Columns (any order; only ``record`` and one of ``count`` / ``density`` are required):
+
+    ``record``
+        The record's file name, relative to the records folder (or as listed in the case file).
+    ``count`` or ``density``
+        The mean number of persons on the deck, or the density [persons/m²]; one of them per row.
+        A density of 0 (a night record) is kept in the table and not estimated.
+    ``step_frequency_mean``, ``step_frequency_std``
+        The crowd's step-frequency distribution [Hz] during the row (else the case file's).
+    ``start``, ``end``
+        A time window [s] on the record's time axis, as the case file's ``measurement.time_frame``
+        (both or neither); a row without them is the whole record.
+    ``duration``
+        The length [s] the row's count was taken over: a record of another length is an error
+        in its row (the count belongs to another stretch). Not with ``start``/``end``.
+    ``time``
+        When the record (or window) began, ISO 8601 (``2026-05-04T08:00``): the trend figures'
+        time axis (else the rows' order).
 
     Parameters
     ----------

@@ -34,7 +34,7 @@ def run_season(case: Case, crowd_table: str | Path, out: str | Path, *,
     ----------
     case : Case
     crowd_table : str or pathlib.Path
-        The crowd table CSV (:mod:`crowdvib.io.crowdtable`).
+        The crowd table CSV (:func:`crowdvib.io.read_crowd_table`).
     out : str or pathlib.Path
         The results folder, written in place (each finished record kept in ``out/tasks``).
     records : path or sequence of paths, optional
