@@ -23,7 +23,8 @@ reference sensor and compares the merged shapes with the sine modes (MAC). ``spe
 SSI-cov (CPU seconds of the process) on a 30-minute two-channel record at 50 Hz of a bridge with
 modes at 1.69, 2.0 and 7.5 Hz, with and without a band, at the block rows and model order
 identify_modes chooses, and prints the modes found against the truth (issue 27: under a minute
-of CPU; before the choice, 23 s with the band and 54 s without, 78 s wall).
+of CPU. At a load of 6 to 11 on 2 cores: before, 23 s with the band and 57–59 s without; after,
+1.6–2.7 s and 5.5–5.7 s; docs: theory, Operational modal analysis, the cost of SSI-cov).
 """
 
 import os

@@ -328,6 +328,7 @@ def _ssi(data, sample_rate, names, band, n_modes, options, count, warn=True):
                              options["max_order"])
     SSI, SingleSetup = _pyoma2()
     from pyoma2.functions import ssi as loops
+    from threadpoolctl import threadpool_limits
 
     algorithm = SSI(name="ssi", method="cov", br=settings["block_rows"],
                     ordmax=settings["max_order"], calc_unc=True, nb=options["n_blocks"])
@@ -344,7 +345,11 @@ def _ssi(data, sample_rate, names, band, n_modes, options, count, warn=True):
     level = logger.level
     logger.setLevel(logging.WARNING)
     try:
-        with _PYOMA2_LOOPS, mock.patch.object(loops, "trange", counted):
+        # One BLAS thread: pyOMA2's matrices have a few hundred rows, too small for threads to
+        # gain, and on a loaded machine idle threads spin (issue 27: 12 minutes under load; the
+        # benchmark's band case 22 → 2 s of CPU at a load of 11 on 2 cores).
+        with _PYOMA2_LOOPS, mock.patch.object(loops, "trange", counted), \
+                threadpool_limits(limits=1, user_api="blas"):
             setup.run_by_name("ssi")
     finally:
         logger.setLevel(level)
