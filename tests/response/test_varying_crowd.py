@@ -7,7 +7,7 @@ import pytest
 from scipy import stats
 
 from crowdvib import (Crowd, CrowdProfile, ModalModel, MSDModel, ParameterError, SpectralModel,
-                      VaryingCrowdModel, simulate, simulate_psd, welch_psd)
+                      VaryingCrowdModel, simulate, simulate_many, simulate_psd, welch_psd)
 from crowdvib.response.varying import density_law
 from crowdvib.signals.welch import welch_degrees_of_freedom
 
@@ -41,6 +41,9 @@ def test_profiled_record_is_reproducible(bridge, walkers):
     first = simulate(bridge, walkers, 300.0, rng=8, sample_rate=RATE, crowd_profile=profile)
     again = simulate(bridge, walkers, 300.0, rng=8, sample_rate=RATE, crowd_profile=profile)
     assert np.array_equal(first.acceleration, again.acceleration)
+    (batch,) = simulate_many(bridge, walkers, 300.0, seeds=[8], sample_rate=RATE,
+                             crowd_profile=profile)
+    assert np.array_equal(first.acceleration, batch.acceleration)
     summary = simulate_psd(bridge, walkers, 300.0, rng=8, sample_rate=RATE, window_length=30.0,
                            crowd_profile=profile)
     assert summary.psd.psd == pytest.approx(

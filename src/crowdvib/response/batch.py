@@ -19,7 +19,7 @@ from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.structure import ModalModel
 from .results import Simulation
-from .simulation import _check_run, simulate
+from .simulation import _check_run, _with_profile, simulate
 
 __all__ = ["simulate_many"]
 
@@ -45,7 +45,7 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
     **options
         Any keyword of :func:`crowdvib.simulate` but ``rng``, ``progress`` and
         ``chunk_duration`` (``pedestrians``, ``msd``, ``force``, ``sample_rate``,
-        ``include_static_weight``, ``record_modal_load``, ``warm_up``).
+        ``include_static_weight``, ``record_modal_load``, ``warm_up``, ``crowd_profile``).
 
     Returns
     -------
@@ -79,7 +79,8 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
     # Every record is kept: the batch must fit as a whole, which each run alone cannot see.
     run = {**{name: p.default for name, p in inspect.signature(simulate).parameters.items()},
            **options}
-    _check_run(structure, crowd, duration, run["pedestrians"], run["msd"], run["force"],
+    _check_run(structure, _with_profile(crowd, run["crowd_profile"])[0], duration,
+               run["pedestrians"], run["msd"], run["force"],
                run["sample_rate"], run["record_modal_load"], run["warm_up"], records=len(seeds))
 
     def one(seed):
