@@ -2,6 +2,12 @@
 
 The browser is Debian's ``chromium`` (``.ci/run`` installs it). Without it these tests fail under
 CI (the env var ``CI`` set) and are skipped on a developer's machine.
+
+Each command's report must be one a consultant can send (issue 27 §4, "Must show"): run as a
+user runs it (a subprocess, its output captured), on a case with a [report] table, a damper and
+a doubtful input, the rendered report names no folder of the machine, holds every warning the
+command printed, shows the case's [report] table, breaks no table cell inside a word, and a
+design report shows the damper crowdvib designed.
 """
 
 import base64
@@ -12,6 +18,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -20,14 +27,19 @@ import pytest
 from crowdvib import DataError
 from crowdvib.cli import main
 from crowdvib.cli.common import IN_DOUBT
+from crowdvib.reporting.paths import without_machine_paths
 from crowdvib.reporting.report import (REPORT_NAME, SECTIONS, provenance, render_report,
                              write_report)
+from tests.conftest import copy_paper_case
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
 PAPER_CASE = EXAMPLES / "paper_example.toml"
 
 # Sets data attributes on <body> once every image has loaded (or failed to): how many images the
-# page holds and how many did not decode. Injected into a copy; the report itself has no script.
+# page holds and how many did not decode; and the words of table cells the browser broke across
+# lines (a letter or digit run whose line boxes lie on more than one line; code, such as a
+# hash, may break anywhere). Injected into a copy; the report itself has no script.
 _PROBE = """<script>
 window.addEventListener("load", function () {
   var images = document.images, broken = 0;
@@ -36,6 +48,25 @@ window.addEventListener("load", function () {
   }
   document.body.setAttribute("data-images", String(images.length));
   document.body.setAttribute("data-broken-images", String(broken));
+  var split = [], cells = document.querySelectorAll("th, td");
+  for (var c = 0; c < cells.length; c++) {
+    var walker = document.createTreeWalker(cells[c], NodeFilter.SHOW_TEXT), node;
+    while ((node = walker.nextNode())) {
+      if (node.parentElement.closest("code")) { continue; }
+      var words = /[\\p{L}\\p{N}]+/gu, word;
+      while ((word = words.exec(node.data))) {
+        var range = document.createRange(), lines = {};
+        range.setStart(node, word.index);
+        range.setEnd(node, word.index + word[0].length);
+        var boxes = range.getClientRects();
+        for (var k = 0; k < boxes.length; k++) {
+          if (boxes[k].width > 0) { lines[Math.round(boxes[k].top)] = true; }
+        }
+        if (Object.keys(lines).length > 1) { split.push(word[0]); }
+      }
+    }
+  }
+  document.body.setAttribute("data-split-words", split.join(" "));
 });
 </script>"""
 
@@ -68,8 +99,10 @@ def _open_in_browser(report, tmp_path):
     probe = tmp_path / "probe.html"
     probe.write_text(report.read_text(encoding="utf-8").replace("</body>", _PROBE + "</body>"),
                      encoding="utf-8")
-    # The virtual-time budget lets the load event (after every image) fire before the dump.
-    dom = _browser(probe.as_uri(), tmp_path, "--virtual-time-budget=10000", "--dump-dom")
+    # The virtual-time budget lets the load event (after every image) fire before the dump; a
+    # window 800 px wide squeezes the tables as a narrow screen or a printed page does.
+    dom = _browser(probe.as_uri(), tmp_path, "--virtual-time-budget=10000", "--dump-dom",
+                   "--window-size=800,2000")
     screenshot = tmp_path / "screenshot.png"
     _browser(report.as_uri(), tmp_path, f"--screenshot={screenshot}", "--window-size=1280,2000")
     pdf = tmp_path / "print.pdf"
@@ -84,6 +117,8 @@ def _check_in_browser(report, tmp_path):
     images = int(re.search(r'data-images="(\d+)"', dom).group(1))
     broken = int(re.search(r'data-broken-images="(\d+)"', dom).group(1))
     assert images >= 1 and broken == 0, f"{broken} of {images} images did not decode"
+    # Issue 27 §4: "estima|te" split over two lines in a table header.
+    assert re.search(r'data-split-words="([^"]*)"', dom).group(1) == "", "words broken in cells"
     for section in SECTIONS:
         assert re.search(rf'<section id="{section}">\s*<h2>', dom), f"section {section} missing"
     pixels = np.asarray(Image.open(screenshot).convert("L"), dtype=float)
@@ -102,7 +137,7 @@ def _check_in_browser(report, tmp_path):
 _NAMES = {"name", "path", "description", "seed", "source", "files", "output names",
           "channel names", "outputs", "formats", "format", "dtype", "record units",
           "convergence norm", "design codes", "hivoss", "setra", "en1990", "ukna",
-          "comfort class", "height of the deck k3"}
+          "comfort class", "height of the deck k3", "mode"}
 
 
 def _input_rows_without_units(dom):
@@ -149,13 +184,6 @@ def demo_dir(tmp_path_factory):
     return out
 
 
-@pytest.fixture(scope="module")
-def estimate_dir(tmp_path_factory):
-    out = tmp_path_factory.mktemp("estimate") / "out"
-    assert main(["estimate", str(PAPER_CASE), "--out", str(out)]) == 0
-    return out
-
-
 def test_demo_writes_its_report_and_prints_the_path(tmp_path, capsys):
     out = tmp_path / "demo"
     assert main(["demo", "--spectral", "--seed", "5", "--out", str(out)]) == 0
@@ -178,50 +206,165 @@ def test_demo_report_in_the_browser(demo_dir, tmp_path):
     assert _decode_embedded_images(dom) and all(w > 500 for w, _ in _decode_embedded_images(dom))
 
 
-def test_estimate_report_in_the_browser(estimate_dir, tmp_path):
-    assert main(["report", str(estimate_dir)]) == 0
-    report = estimate_dir / REPORT_NAME
-    dom = _check_in_browser(report, tmp_path)
-    results = json.loads((estimate_dir / "results.json").read_text())
+#: The case's [report] table (issue 27 §4), with characters the report must escape.
+REPORT_TABLE = {"client": "City of <Ghent> & Co", "project": "Footbridge comfort",
+                "bridge": "Paper footbridge", "location": "Ghent, Belgium",
+                "engineer": "A. N. Engineer", "measurement_date": "2024-05-01"}
+
+
+@pytest.fixture(scope="module")
+def report_case(tmp_path_factory):
+    """The paper example (its least squares: the estimator is not the point) with a [report]
+    table, design checks with a damper tuned to its mode, and a walking speed of 3.2 m/s: legal
+    but doubtful (km/h?), so every command prints a PlausibilityWarning its report must hold."""
+    case = copy_paper_case(tmp_path_factory.mktemp("case"))
+    text = case.read_text(encoding="utf-8")
+    assert "walking_speed = 1.30" in text
+    text = text.replace("walking_speed = 1.30", "walking_speed = 3.2", 1)
+    text += ('\n[design]\ncodes = ["hivoss", "en1990"]\nprediction = false\n'
+             '[design.classes]\nhivoss = "TC3"\nen1990 = "TC3"\n'
+             "[design.damper]\nmode = 1\nmass_ratio = 0.02\n"
+             "[report]\n" + "".join(f"{key} = {json.dumps(value)}\n"
+                                    for key, value in REPORT_TABLE.items()))
+    case.write_text(text, encoding="utf-8")
+    return case
+
+
+class Run:
+    """A command run as a user runs it: its results folder and what it printed."""
+
+    def __init__(self, case, command, *options):
+        self.case, self.out = case, case.parent / command
+        done = subprocess.run([sys.executable, "-m", "crowdvib", command, *options,
+                               "--out", str(self.out)], capture_output=True, text=True,
+                              timeout=600, check=False, cwd=case.parent)
+        self.status, self.printed = done.returncode, done.stdout + done.stderr
+        assert self.status in (0, IN_DOUBT), self.printed[-3000:]
+        self.results = json.loads((self.out / "results.json").read_text(encoding="utf-8"))
+
+
+@pytest.fixture(scope="module")
+def estimate_run(report_case):
+    return Run(report_case, "estimate", str(report_case))
+
+
+@pytest.fixture(scope="module")
+def check_run(report_case):
+    return Run(report_case, "check", str(report_case))
+
+
+@pytest.fixture(scope="module")
+def map_run(report_case):
+    return Run(report_case, "map", str(report_case), "--frequencies", "2:4:5",
+               "--damping-ratios", "0.2:0.4:3")
+
+
+@pytest.fixture(scope="module")
+def sensitivity_run(report_case):
+    return Run(report_case, "sensitivity", str(report_case), "--no-joint",
+               "--no-record-length")
+
+
+@pytest.fixture(scope="module")
+def simulate_run(report_case):
+    return Run(report_case, "simulate", str(report_case), "--duration-s", "30")
+
+
+def _rendered_text(dom):
+    """The text a reader sees: no markup, style, script or image data; entities decoded."""
+    body = re.sub(r"<(style|script)\b.*?</\1>", " ", dom, flags=re.S)
+    return html.unescape(re.sub(r"<[^>]+>", " ", body))
+
+
+#: An absolute path as text: "/" + a name + "/" + a name, not after a letter or bracket (so not
+#: the m/s² of a unit or (m/s²)/N), or a Windows drive path.
+_ABSOLUTE = re.compile(r"(?<![\w.)\]/])/[\w.\-]+/[\w.\-]+|\b[A-Za-z]:\\[\w.\-]+")
+
+
+def _printed_warnings(run):
+    """Every warning the command printed (a Python warning's line, "crowdvib …: warning: …" or
+    the verdict's "- …Warning: …"), with its paths as the report shows them."""
+    found = []
+    for line in run.printed.splitlines():
+        match = (re.search(r"\b(\w+Warning: .+)", line)
+                 or re.search(r"warning: (.+)", line, re.IGNORECASE))
+        if match:
+            found.append(without_machine_paths(match.group(1), str(run.case.parent)))
+    return list(dict.fromkeys(found))
+
+
+def _plain(text):
+    """Text compared without white space and underscores (the report typesets f_h1 as f<sub>h1
+    </sub>, and wraps lines)."""
+    return re.sub(r"[\s_]", "", text)
+
+
+def _check_sendable(run, tmp_path):
+    """The report of ``run`` in the browser (:func:`_check_in_browser`), and what issue 27's
+    must-show asks of every report type; returns the DOM."""
+    dom = _check_in_browser(run.out / REPORT_NAME, tmp_path)
+    text = _rendered_text(dom)
+    # No folder of the machine: not the case's, not the repository's, no absolute path at all.
+    for folder in (run.case.parent, ROOT, Path.home()):
+        assert str(folder) not in text
+    assert _ABSOLUTE.findall(text) == []
+    # The case's [report] table heads the report, escaped in the page.
+    header = dom[dom.index("<header>"):dom.index("</header>")]
+    for key, value in REPORT_TABLE.items():
+        assert html.escape(value, quote=False) in header, key
+    # Every warning the command printed is in the report (the walking speed's at least).
+    printed = _printed_warnings(run)
+    assert any("walking_speed = 3.2 m/s" in w for w in printed), run.printed[-3000:]
+    missing = [w for w in printed if _plain(w) not in _plain(text)]
+    assert missing == [], f"printed but not in the report: {missing}"
+    return dom
+
+
+def test_estimate_report_in_the_browser(estimate_run, tmp_path):
+    assert main(["report", str(estimate_run.out)]) == 0
+    report = estimate_run.out / REPORT_NAME
+    dom = _check_sendable(estimate_run, tmp_path)
+    results = estimate_run.results
     # Both figures the command wrote are embedded, in its order, and nothing else is drawn.
     assert re.findall(r'alt="([^"]+)"', dom) == results["figures"]
     # Provenance: the case file's SHA-256 as it is on disk.
     import hashlib
 
-    digest = hashlib.sha256(PAPER_CASE.read_bytes()).hexdigest()
+    digest = hashlib.sha256(estimate_run.case.read_bytes()).hexdigest()
     assert digest in dom
     assert "PSD convergence" in dom and "midspan" in dom
     assert len(_decode_embedded_images(report.read_text(encoding="utf-8"))) == 2
 
 
-def test_simulate_report_in_the_browser(tmp_path):
-    out = tmp_path / "simulate"
-    assert main(["simulate", "--duration-s", "30", "--out", str(out)]) == 0
-    write_report(out)
-    dom = _check_in_browser(out / REPORT_NAME, tmp_path)
+def test_simulate_report_in_the_browser(simulate_run, tmp_path):
+    dom = _check_sendable(simulate_run, tmp_path)
     assert "These results hold no MSD estimate (command simulate)" in dom
     assert "psd.png" in dom
 
 
-def test_map_report_in_the_browser(tmp_path):
-    out = tmp_path / "map"
-    assert main(["map", str(PAPER_CASE), "--out", str(out), "--frequencies", "2:4:5",
-                 "--damping-ratios", "0.2:0.4:3"]) == 0
-    write_report(out)
-    dom = _check_in_browser(out / REPORT_NAME, tmp_path)
+def test_map_report_in_the_browser(map_run, tmp_path):
+    dom = _check_sendable(map_run, tmp_path)
     assert "objective_map" in dom
 
 
-def test_sensitivity_report_in_the_browser(tmp_path):
-    out = tmp_path / "sensitivity"
-    assert main(["sensitivity", str(PAPER_CASE), "--out", str(out), "--no-joint",
-                 # finished; a case ends on a search bound, which the verdict doubts (exit 3)
-                 "--no-record-length"]) == IN_DOUBT
-    write_report(out)
-    dom = _check_in_browser(out / REPORT_NAME, tmp_path)
-    summary = json.loads((out / "results.json").read_text())["sensitivity"]["summary"]
+def test_sensitivity_report_in_the_browser(sensitivity_run, tmp_path):
+    dom = _check_sendable(sensitivity_run, tmp_path)
+    summary = sensitivity_run.results["sensitivity"]["summary"]
     bound = summary["frequency"]["bound"]
     assert f"± {bound:.2g}" in html.unescape(dom)
+
+
+def test_check_report_in_the_browser(check_run, tmp_path):
+    # The design-check report: its inputs carry units like every other report's (issue 10),
+    # and the damper crowdvib designed is shown with its numbers and its FRF (issue 27 §4).
+    dom = _check_sendable(check_run, tmp_path)
+    text = " ".join(_rendered_text(dom).split())
+    (damper,) = check_run.results["design"]["dampers"]
+    row = (f"damper 1 {damper['mass']:.4g} {damper['frequency']:.4g} "
+           f"{damper['damping_ratio']:.3g} {damper['position']:.4g}")
+    assert row in text, "the designed damper's parameters are missing"
+    assert "damper_frf.png (drawn from results.json)" in dom
+    assert "without the tuned mass damper (dashed) and with it" in text
 
 
 # ------------------------------------------------------------------------------ content
@@ -377,11 +520,3 @@ def test_statistical_interval_and_modelling_bound_side_by_side_and_together():
     assert "with the interval: 2.77–3.36" in section
     assert "with the interval: 0.166–0.373" in section
     assert "widened on each side by the bound" in section
-
-
-def test_check_report_in_the_browser(tmp_path):
-    # The design-check report: its inputs carry units like every other report's (issue 10).
-    out = tmp_path / "check"
-    assert main(["check", str(EXAMPLES / "check_paper.toml"), "--out", str(out)]) == 0
-    dom = _check_in_browser(out / REPORT_NAME, tmp_path)
-    assert "UK NA site factors" in html.unescape(dom)
