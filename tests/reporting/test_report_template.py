@@ -78,3 +78,16 @@ def test_a_missing_template_file_is_refused_when_the_case_is_read(folder):
     (folder / "letterhead.html").unlink()
     with pytest.raises(DataError, match="report.template names a file that does not exist"):
         load_case(folder / "case.toml")
+
+
+def test_templated_report_opens_in_the_browser_with_its_logo(folder, tmp_path):
+    # The letterhead's logo decodes in a real browser (tests/reporting/test_report.py's probe),
+    # and no cell is broken inside a word under the template's style either.
+    from tests.reporting.test_report import _PROBE, _browser
+
+    probe = tmp_path / "probe.html"
+    probe.write_text(_page(folder).replace("</body>", _PROBE + "</body>"), encoding="utf-8")
+    dom = _browser(probe.as_uri(), tmp_path, "--virtual-time-budget=10000", "--dump-dom",
+                   "--window-size=800,2000")
+    assert 'data-images="1"' in dom and 'data-broken-images="0"' in dom
+    assert 'data-split-words=""' in dom
