@@ -9,6 +9,8 @@ The ambient file (TOML, paths relative to it)::
     channels = ["s1", "s2", "s3"]   # optional: the sensors, in order (default all channels), or
                                     #   a table sensor = "channel in file" (renames them)
     sample_rate = 50.0              # optional: for a CSV without a time column [Hz]
+    units = "g"                     # optional: "m/s2" (default) or "g", as in a case file
+    time_column = "Time [s]"        # optional: the CSV's time column (format: from the suffix)
 
     # several setups instead: one [[record]] block per setup (same keys), and
     # identification.reference_channels naming the sensors that stay in place

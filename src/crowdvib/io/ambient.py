@@ -6,7 +6,7 @@ identification options and the modal-model table, every key checked through
 from pathlib import Path
 
 from ._toml import Table, read_toml
-from .records import read_record
+from .records import _UNIT_ALIASES, RECORD_FORMATS, read_record
 
 __all__ = ["read_ambient"]
 
@@ -26,9 +26,16 @@ def _records(root):
         elif channels is not None and not all(isinstance(v, str) for v in channels.values()):
             raise table.error("channels", "must be a list of channels or a table sensor = "
                                           "\"channel in file\"", channels)
-        records.append(read_record(table.file("file"), channels=channels,
-                                   sample_rate=table.number("sample_rate", None,
-                                                            rule="positive")))
+        # The reader of a case file's [measurement], with its keys: format, units, time column.
+        units = table.string("units", None)
+        if units is not None and units.strip().lower().replace(" ", "") not in _UNIT_ALIASES:
+            raise table.error("units", "must be 'm/s2' or 'g'", units)
+        records.append(read_record(
+            table.file("file"), format=table.string("format", None,
+                                                    choices=tuple(RECORD_FORMATS)),
+            channels=channels, units=units,
+            sample_rate=table.number("sample_rate", None, rule="positive"),
+            time_column=table.string("time_column", "time")))
         table.finish()
     return records
 
