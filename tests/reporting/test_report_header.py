@@ -91,3 +91,22 @@ def test_report_table_round_trips_through_results_json(tmp_path):
     assert loaded.to_dict()["inputs"]["report"] == found.case.report
     assert loaded.to_dict() == found.results().to_dict()
     assert "City of &lt;Ghent&gt; &amp; Co" in render_report(loaded)
+
+
+def test_case_file_reference_lists_the_report_table(tmp_path):
+    # The docs' key reference is generated from the parser (docs/_ext/casefile_keys.py): the
+    # [report] table gets its own section with every key, none required.
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "docs" / "_ext"))
+    from casefile_keys import parser_sources, write_reference
+
+    from crowdvib.quantities import QUANTITIES
+
+    keys = write_reference(parser_sources(), QUANTITIES, tmp_path / "keys.rst")
+    report = {name: row for name, row in keys.items() if name.startswith("report.")}
+    assert sorted(report) == [f"report.{key}" for key in (
+        "bridge", "client", "engineer", "location", "measurement_date", "project", "template")]
+    assert not any(row[2] for row in report.values())                  # none required
+    assert "``[report]``\n^^^^^^^^^^^^" in (tmp_path / "keys.rst").read_text(encoding="utf-8")
