@@ -147,6 +147,7 @@ def test_modes_report_shows_its_inputs_shapes_and_the_missed_column(ambient, tmp
                   "highest model order [-] 16", "decimation factor [-] 2",
                   "frequency band [Hz] 1, 9", "Stable columns not reported"):
         assert shown in text, shown
+    assert "Identified mode shapes at the sensors, each 1 at its largest component." in text
     # the shapes as a table, mode × sensor, 1 at each mode's largest component
     shapes = re.search(r"<h3>Mode shapes</h3>.*?</table>", report, re.S).group(0)
     assert "<th>s1</th><th>s2</th>" in shapes and shapes.count("<td>1</td>") == 2

@@ -33,7 +33,9 @@ _CAPTIONS = {
     "design_utilisation": "Governing utilisation a/a_limit of each design check without HSI, "
                           "with the crowd's mass and with HSI; dashed: the limit.",
     "stabilisation": "SSI-cov stabilisation diagram: poles per model order, stable ones "
-                     "filled; red lines: the identified modes.",
+                     "filled; red lines: the identified modes; dashed, where drawn: stable "
+                     "columns not reported.",
+    "mode_shapes": "Identified mode shapes at the sensors, each 1 at its largest component.",
     "singular_values": "EFDD: singular values of the output spectral matrix; shaded: the SDOF "
                        "bells, red lines: the identified modes.",
     "design_modes": "Peak acceleration of every mode at the governing output, per code and "
