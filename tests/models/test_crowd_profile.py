@@ -76,3 +76,16 @@ def test_bad_counts():
         CrowdProfile.from_counts([0, 60], [10, -3], 150.0)
     with pytest.raises(ParameterError, match=r"area must be > 0 m²"):
         CrowdProfile.from_counts([0, 60], [10, 3], 0.0)
+
+
+def test_times_in_minutes_are_doubted():
+    # A table that ends within the first thirtieth of the record but spans it ×60 or ×3600 is
+    # likely in minutes or hours (common rules: PlausibilityWarning naming the value, the mix-up
+    # and the value it would then be).
+    assert CrowdProfile([0, 30, 60], [0.2, 0.5, 1.0]).implausibilities(3600.0) == [
+        "crowd_profile times end at 60 s of a 3600 s record: in minutes? (they would span "
+        "3600 s)"]
+    assert "in hours?" in CrowdProfile([0, 1], [0.2, 1.0]).implausibilities(3600.0)[0]
+    assert RAMP.implausibilities(3600.0) == [] and DAY.implausibilities(600.0) == []
+    # A profile of one point, or one ending before t = 0, has no span to doubt.
+    assert CrowdProfile.constant(0.5).implausibilities(3600.0) == []

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from crowdvib import (Crowd, CrowdProfile, ModalModel, MSDModel, ParameterError, SpectralModel,
+from crowdvib import (Crowd, CrowdProfile, ModalModel, MSDModel, ParameterError,
+                      PlausibilityWarning, SpectralModel,
                       VaryingCrowdModel, simulate, simulate_many, simulate_psd, welch_psd)
 from crowdvib.response.varying import density_law
 from crowdvib.signals.welch import welch_degrees_of_freedom
@@ -142,3 +143,10 @@ def test_bad_varying_model(bridge, walkers):
         simulate(bridge, None, 10.0, pedestrians=[], crowd_profile=PROFILES["ramp"])
     with pytest.raises(ParameterError, match=r"crowd_profile must be"):
         simulate(bridge, walkers, 10.0, crowd_profile=[0.2, 0.4])
+
+
+def test_profile_in_minutes_warns_at_the_call(bridge, walkers):
+    with pytest.warns(PlausibilityWarning, match=r"in minutes\? \(they would span 300 s\)") as caught:
+        simulate(bridge, walkers, 300.0, rng=1, sample_rate=RATE,
+                 crowd_profile=CrowdProfile([0.0, 5.0], [0.2, 0.8]))
+    assert caught[0].filename == __file__

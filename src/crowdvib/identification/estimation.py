@@ -24,8 +24,10 @@ from .._plausibility import warn_notes
 from .._validation import as_float_array, check_flag
 from ..errors import BoundWarning, EstimationError, ParameterError
 from ..models.pedestrian import MSDModel
+from ..models.profile import CrowdProfile
 from .bootstrap import bootstrap_estimates, percentile_interval
 from .diagnostics import _check_identifiability, _check_level, _diagnose
+from ..response.varying import record_duration
 from .objective import PSDObjective
 from .result import HSIEstimate
 from .uncertainty import profile_interval, sandwich_covariance
@@ -33,7 +35,6 @@ from .uncertainty import profile_interval, sandwich_covariance
 if TYPE_CHECKING:
     from .._typing import ForceModel, Seed
     from ..models.crowd import Crowd
-    from ..models.profile import CrowdProfile
     from ..models.structure import ModalModel
     from ..signals.spectrum import ResponsePSD
 
@@ -199,6 +200,10 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     crowd_model, free_step_frequencies = estimator_defaults(method, crowd_model,
                                                             free_step_frequencies)
     free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
+    if (isinstance(crowd_profile, CrowdProfile)            # the objective checks the types
+            and getattr(measured, "window_length", None) and getattr(measured, "n_windows", None)):
+        warn_notes(crowd_profile.implausibilities(record_duration(
+            measured.window_length, measured.n_windows)), stacklevel=2)
 
     def objective(crowd, model=crowd_model):
         return PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,

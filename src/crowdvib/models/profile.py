@@ -146,6 +146,19 @@ class CrowdProfile:
         """
         return CrowdProfile(self.time, self.density * float(factor), self.kind)
 
+    def implausibilities(self, duration: float) -> list[str]:
+        """Doubts about this profile for a record of ``duration`` [s]: a table whose times end
+        within the first thirtieth of the record but would span it in minutes or hours is
+        likely in those units (docs: theory, A crowd that changes)."""
+        span = float(self.time[-1] - self.time[0])
+        if self.time.size < 2 or not 0 < self.time[-1] <= duration / 30:
+            return []
+        for unit, factor in (("minutes", 60.0), ("hours", 3600.0)):
+            if 0.5 * duration <= span * factor <= 2 * duration:
+                return [f"crowd_profile times end at {self.time[-1]:g} s of a {duration:g} s "
+                        f"record: in {unit}? (they would span {span * factor:g} s)"]
+        return []
+
     def shifted(self, offset: float) -> CrowdProfile:
         """The same profile on a time axis that starts ``offset`` [s] later (t → t − offset):
         for a record cut from ``offset`` on.

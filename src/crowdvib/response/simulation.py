@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import _kernels, _slots
+from .._plausibility import warn_notes
 from .._validation import check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import JAM_DENSITY, Crowd
@@ -431,6 +432,8 @@ def _prepare(structure, crowd, duration, pedestrians, msd, force, sample_rate, s
     force, duration, sample_rate, n_samples, warm_up_samples = _check_run(
         structure, crowd, duration, pedestrians, msd, force, sample_rate, record_modal_load,
         warm_up, keep_record=keep_record)
+    if profile is not None:
+        warn_notes(profile.implausibilities(duration), stacklevel=4)   # simulate's caller
     pedestrians = list(pedestrians) if pedestrians is not None else []
     rng = np.random.default_rng(seed)
     start = -warm_up_samples / sample_rate

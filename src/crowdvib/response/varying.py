@@ -33,7 +33,8 @@ from ..models.structure import ModalModel
 from ..signals import ResponsePSD
 from .fluctuation import FluctuatingSpectralModel, _gauss_rule, _mixture, spectral_model
 
-__all__ = ["VaryingCrowdModel", "varying_response_psd", "density_law", "record_model"]
+__all__ = ["VaryingCrowdModel", "varying_response_psd", "density_law", "record_model",
+           "record_duration"]
 
 #: Level counts tried, and the change of Ḡ over its peak below which a count is enough.
 _LEVEL_COUNTS = (1, 2, 3, 4, 5, 6, 8, 10, 12, 16)
@@ -323,5 +324,11 @@ def record_model(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
             f"place the record on the profile, got window_length = {window!r}, "
             f"n_windows = {n_windows!r}")
     return VaryingCrowdModel(structure, crowd, crowd_profile, frequency,
-                             duration=window * (1 + 0.5 * (n_windows - 1)),
+                             duration=record_duration(window, n_windows),
                              crowd_model=crowd_model, **options)
+
+
+def record_duration(window_length: float, n_windows: int) -> float:
+    """The length [s] of a record whose Welch estimate has ``n_windows`` windows of
+    ``window_length`` at 50 % overlap."""
+    return window_length * (1 + 0.5 * (n_windows - 1))
