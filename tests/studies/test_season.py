@@ -110,6 +110,8 @@ def test_a_season_on_a_dask_cluster_in_batches_gives_the_same_table(season, alon
                                   host="127.0.0.1", dashboard_address=None) as cluster:
         with study_executor(scheduler=cluster.scheduler_address) as executor:
             remote = _run(season, executor=executor, batch_size=3).season.table()
+            # Asked, the cluster cuts 320 tasks into 16 batches per worker thread: 10 each.
+            assert executor.batch_size(320) == 10
     assert remote == alone.season.table()
 
 
@@ -140,8 +142,13 @@ def test_a_record_of_another_length_than_the_table_says_is_an_error_in_its_row(s
     table = tmp_path / "crowd.csv"
     table.write_text("record,density,duration\nrecord_001.npz,0.2,3600\n"
                      "record_002.npz,0.3,600\n")
-    rows = season_case(load_case(season / "season.toml"), table, records=season,
-                       joint=False).season.table()
+    found = season_case(load_case(season / "season.toml"), table, records=season, joint=False)
+    rows = found.season.table()
     assert rows[0]["status"] == "error" and "the record is 600 s long, the crowd table's " \
         "duration is 3600 s" in rows[0]["warnings"]
     assert rows[1]["status"] in ("ok", "doubt")
+    # The verdict doubts a season with a failed row (cases.verdict), naming it.
+    doubts = [f.text for f in found.verdict() if f.severity == "doubt"]
+    assert doubts == ["1 of 2 row(s) of the season failed, e.g. record_001.npz: DataError: "
+                      "record_001.npz: the record is 600 s long, the crowd table's duration is "
+                      "3600 s: its count belongs to another stretch of time"]

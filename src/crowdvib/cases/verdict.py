@@ -148,6 +148,19 @@ def _record_length(results):
                     f"{failed[0]['error']}", "record_length")]
 
 
+def _season(results):
+    """A season's rows: failed ones, and a joint estimate that failed, are doubts."""
+    rows = [r for r in results.get("records") or [] if isinstance(r, dict) and "status" in r]
+    failed = [r for r in rows if r["status"] == "error"]
+    found = [Finding("doubt", f"{len(failed)} of {len(rows)} row(s) of the season failed, e.g. "
+                     f"{failed[0].get('name')}: {failed[0].get('warnings')}", "records")
+             ] if failed else []
+    if results.get("joint_error"):
+        found.append(Finding("doubt", f"the joint estimate failed: {results['joint_error']}",
+                             "joint_error"))
+    return found
+
+
 def _study(results):
     study = sensitivity(results)
     if not study:
@@ -288,4 +301,4 @@ def _where(results, key):
 
 
 _RULES = (_relative_cost, _optimiser, _active_bounds, _convergence, _record_length, _study,
-          _run_warnings, _design, _interval, _modes)
+          _season, _run_warnings, _design, _interval, _modes)
