@@ -30,8 +30,9 @@ def test_counts_become_the_case_profile(tmp_path):
     assert case.crowd_profile.kind == "step"
     assert case.crowd_profile.density == pytest.approx([0.2, 0.6])
     assert case.crowd.density == pytest.approx(0.2)          # the mean over [0, 600] s
-    assert case.to_dict()["crowd_profile"] == {"kind": "step", "time": [0.0, 600.0],
-                                               "density": pytest.approx([0.2, 0.6])}
+    # Every command's inputs (results.json, the report) show it with the crowd.
+    assert case.to_dict(["crowd"])["crowd"]["profile"] == {
+        "kind": "step", "time": [0.0, 600.0], "density": pytest.approx([0.2, 0.6])}
     # A density profile is linear by default; a time frame moves the record's t = 0.
     path = _case(tmp_path, 'density_profile = "d.csv"\ndensity = 0.5\n',
                  '[measurement]\ntime_frame = [100.0, 700.0]\n',

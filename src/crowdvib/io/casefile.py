@@ -205,10 +205,11 @@ class Case:
                 "simulation": plain(self.simulation), "expected": dict(self.expected),
                 **({} if self.design is None else {"design": plain(self.design)}),
                 **({"records": plain(self.records)} if self.records else {}),
-                **({"report": dict(self.report)} if self.report else {}),
-                **({} if self.crowd_profile is None else {"crowd_profile": {
-                    "kind": self.crowd_profile.kind, "time": self.crowd_profile.time.tolist(),
-                    "density": self.crowd_profile.density.tolist()}})}
+                **({"report": dict(self.report)} if self.report else {})}
+        if self.crowd_profile is not None:      # with the crowd: every command's inputs
+            data["crowd"]["profile"] = {"kind": self.crowd_profile.kind,
+                                        "time": self.crowd_profile.time.tolist(),
+                                        "density": self.crowd_profile.density.tolist()}
         if sections is not None:
             # Every command's report shows the [report] table in its header.
             data = {k: v for k, v in data.items()
