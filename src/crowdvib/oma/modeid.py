@@ -237,7 +237,7 @@ class ModeIdentification:
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(7, 3.5))
+            _, ax = plt.subplots(figsize=(7, 4), layout="constrained")
         sensors = np.arange(len(self.sensor_names))
         width = 0.8 / max(self.n_modes, 1)
         for j in range(self.n_modes):
