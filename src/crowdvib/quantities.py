@@ -38,7 +38,7 @@ QUANTITIES = MappingProxyType({
     "time_step": ("time step", "s"), "peak": ("peak acceleration", "m/s²"),
     "k4": ("exposure factor k4", "-"), "n_boot": ("bootstrap refits", "-"),
     # operational modal analysis (crowdvib modes)
-    "frequency_band": ("frequency band", "Hz"), "n_modes": ("modes asked", "-"),
+    "frequency_band": ("frequency band", "Hz"), "n_modes": ("number of modes", "-"),
     "block_rows": ("SSI-cov block rows", "-"), "max_order": ("highest model order", "-"),
     "decimation": ("decimation factor", "-"), "n_blocks": ("data blocks for σ", "-"),
     "segment_length": ("Welch segment", "samples"), "mac_threshold": ("MAC threshold", "-"),
