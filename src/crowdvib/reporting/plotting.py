@@ -11,11 +11,12 @@ Axes and never calls ``plt.show()``; matplotlib is imported only when a plot is 
 
 from .._figures import FigureAxes, figure_bytes, save_figure
 from ..identification.plots import plot_psd_residuals
-from ..studies.plots import plot_estimation_errors, plot_objective_map, plot_parametric_ratios
+from ..studies.plots import (plot_estimation_errors, plot_objective_map, plot_parametric_ratios,
+                             plot_season_trends)
 from ..response.plots import plot_frf, plot_hsi_effect, plot_load_psd, plot_time_history
 from ..signals.plots import plot_psd_comparison, plot_psd_convergence
 
 __all__ = ["FigureAxes", "plot_psd_comparison", "plot_psd_residuals", "plot_psd_convergence",
            "plot_load_psd", "plot_hsi_effect", "plot_frf", "plot_objective_map",
-           "plot_estimation_errors", "plot_parametric_ratios", "plot_time_history", "save_figure",
-           "figure_bytes"]
+           "plot_estimation_errors", "plot_parametric_ratios", "plot_season_trends",
+           "plot_time_history", "save_figure", "figure_bytes"]
