@@ -125,3 +125,25 @@ def test_chunks_reproduce_one_call_on_the_general_path():
     np.testing.assert_array_equal(chunked.acceleration, whole.acceleration)
     np.testing.assert_array_equal(chunked.modal_load, whole.modal_load)
     assert np.abs(whole.acceleration).max() > 0
+
+
+def test_walkers_on_the_deck_are_those_between_their_on_and_off_times():
+    # Reference: the kernel integrates walker k at step t exactly when t_on <= t < t_off
+    # (docs: theory, Walkers on the deck as arrays), counted here by brute force from the run's
+    # own arrival and leaving times. The kernel decides who leaves by comparing t with the
+    # earliest t_off on the deck, kept across kernel calls: a run in short chunks (0.37 s) and
+    # a crowd with walkers in both directions (different leaving orders) exercise both.
+    from crowdvib.response.simulation import _prepare
+
+    crowd = Crowd(density=0.3, walking_speed=1.3, step_frequency_mean=1.9,
+                  step_frequency_std=0.15, body_mass=70.0, forward_fraction=0.5)
+    bridge = _two_lane_bridge(np.linspace(0.0, 40.0, 21))
+    record = simulate(bridge, crowd, 60.0, msd=MSDModel(3.0, 0.3, 0.9), rng=4,
+                      chunk_duration=0.37)
+    run = _prepare(bridge, crowd, 60.0, None, MSDModel(3.0, 0.3, 0.9), None, 100.0, 4, False,
+                   False, 0.0)[0]
+    t_on, t_off = run.walkers.t_on, run.walkers.t_off       # everybody of a short run
+    times = np.arange(record.n_on_deck.size) / 100.0
+    expected = [np.sum((t_on <= t) & (t < t_off)) for t in times]
+    assert max(expected) > 15 and np.ptp(expected) > 10      # walkers come and go
+    np.testing.assert_array_equal(record.n_on_deck, expected)

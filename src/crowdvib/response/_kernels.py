@@ -23,11 +23,10 @@ bit.
 import numpy as np
 from numba import njit
 
-from ._slots import (END, INLINE, MID, NOW, OPTIONS, SEGMENT, cells_walk, count_leaving, enter,
+from ._slots import (END, INLINE, MID, NOW, OPTIONS, SEGMENT, cells_walk, earliest_leaving, enter,
                      gather_lanes, harmonic_forces, leave, replayed_forces, rows_uniform,
                      rows_uniform_lanes)
-from ._stages import (REST, mass_factors, modal_loads, next_instant, step_forces, step_msd,
-                      step_msd_one_mode)
+from ._stages import REST, mass_factors, modal_loads, step_forces, step_msd, step_msd_one_mode
 
 __all__ = ["ENTRY_POINTS", "entry_point", "mass_factors"]
 
@@ -104,6 +103,7 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
     segment_mid = np.zeros(capacity, dtype=np.int64)
     keep = np.zeros(capacity, dtype=np.int64)
     half = 0.5 * h
+    leaving = earliest_leaving(counters[1], slots)
 
     for step in range(n_steps):
         n = first_step + step
@@ -115,9 +115,10 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
 
         # Pedestrians who have walked off leave; order of the others is kept (shift down).
         changed = False
-        if count_leaving(t, n_active, slots) > 0:
+        if t >= leaving:
             n_active = leave(t, n_active, slots, index, phi, force, wave_now, wave_prev, wave_cos,
                              u, ud, keep)
+            leaving = earliest_leaving(n_active, slots)
             changed = True
 
         # Newcomers enter at the end of the list, their MSD at rest relative to the deck.
@@ -133,12 +134,13 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
                   phase, two_cos, replay, table, positions, inverse_spacing, n_lanes, slots,
                   index, phi, u, ud, force, wave_now, wave_prev, wave_cos)
             n_active += 1
+            leaving = min(leaving, t_off[k])
             changed = True
 
         # Shapes and forces at t + h/2 and t + h.
         if rows_kind == UNIFORM:
             rows_uniform(n_active, t_mid, t_end, slots, index, positions, inverse_spacing, table,
-                         cell, frac, phi)
+                         cell, frac, phi, wave_now, wave_prev, wave_cos, force)
         elif inverse_spacing > 0.0:
             rows_uniform_lanes(n_active, t_mid, t_end, slots, index, positions, inverse_spacing,
                                n_lanes, table, cell, frac, phi)
@@ -149,7 +151,8 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
             cells_walk(first_slot, n_active, t_end, slots, index, positions, n_lanes, segment_mid,
                        segment, cell, frac)
             gather_lanes(first_slot, n_active, cell, frac, slots, table, positions.size, phi, end)
-        harmonic_forces(n_active, slots, wave_now, wave_prev, wave_cos, force)
+        if rows_kind != UNIFORM:
+            harmonic_forces(n_active, slots, wave_now, wave_prev, wave_cos, force)
         if replaying:
             replayed_forces(n_active, t_mid, t_end, slots, index, replay, force)
         # The mass matrix and its factor at t + h/2 and t + h (and at t after a change).
@@ -164,7 +167,8 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
             # Moving forces only: the modal load at each instant is summed once.
             modal_loads(phi, force, n_active, now, end, load)
 
-        # RK4 on (z, ż, u, u̇); the accelerations of the stage at t are a[0].
+        # RK4 on (z, ż, u, u̇); the accelerations of the stage at t are a[0]. The step ends
+        # with the shapes, forces and mass factor at t + h made those at t (the next step's).
         if step_kind == FORCES:
             step_forces(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
                         modal_stiffness, load, zs, zds)
@@ -187,8 +191,6 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
                 for j in range(n_modes):
                     modal_load[j, i] = recorded[NOW, j]
 
-        # The end of this step is the start of the next.
-        next_instant(phi, force, factor, n_active)
         counters[0] = next_pedestrian
         counters[1] = n_active
 

@@ -177,12 +177,14 @@ def gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instan
 
 @njit(**OPTIONS)
 def rows_uniform(n_active, t_mid, t_end, slots, index, positions, inverse_spacing, table, cell,
-                 frac, phi):
-    """Shape rows at t + h/2 and t + h on a uniform grid with one lane, in one call."""
+                 frac, phi, wave_now, wave_prev, two_cos, force):
+    """Shape rows and walking forces at t + h/2 and t + h on a uniform grid with one lane, in
+    one call (a call costs more than these loops when few walkers are on the deck)."""
     _cells_uniform(0, n_active, t_mid, slots, index, positions, inverse_spacing, 1, cell, frac)
     _gather(0, n_active, cell, frac, table, phi, MID)
     _cells_uniform(0, n_active, t_end, slots, index, positions, inverse_spacing, 1, cell, frac)
     _gather(0, n_active, cell, frac, table, phi, END)
+    _harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force)
 
 
 @njit(**OPTIONS)
@@ -198,8 +200,8 @@ def rows_uniform_lanes(n_active, t_mid, t_end, slots, index, positions, inverse_
     _gather_lanes(0, n_active, cell, frac, slots, table, n_positions, phi, END)
 
 
-@njit(**OPTIONS)
-def harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force):
+@njit(**INLINE)
+def _harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force):
     """Walking forces at t + h/2 and t + h; the components advance by δ = ω_c h/2 twice.
 
     sin(θ + δ) = 2 cos δ · sin θ − sin(θ − δ) (Chebyshev recurrence): no sine in the loop. The sum
@@ -223,6 +225,12 @@ def harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force):
             wave_now[c + 1, slot] = end2
             force[MID, slot] = (force[MID, slot] + mid) + mid2
             force[END, slot] = (force[END, slot] + end) + end2
+
+
+@njit(**OPTIONS)
+def harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force):
+    """:func:`_harmonic_forces` as a call of its own."""
+    _harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force)
 
 
 # --- Measured-force replay (table look-up), kept apart from the harmonic path ---------------
@@ -320,12 +328,13 @@ def enter(k, t, half, slot, z, zd, t_off, t_arrival, x_start, velocity, lane_low
 
 
 @njit(**OPTIONS)
-def count_leaving(t, n_active, slots):
-    """Number of walkers on the deck with t >= t_off (they leave at this step)."""
-    leaving = 0
+def earliest_leaving(n_active, slots):
+    """The earliest t_off of the walkers on the deck (inf on an empty deck): nobody leaves
+    before it, so a step compares t with this one number instead of every walker's t_off."""
+    earliest = np.inf
     for slot in range(n_active):
-        leaving += t >= slots[T_OFF, slot]
-    return leaving
+        earliest = min(earliest, slots[T_OFF, slot])
+    return earliest
 
 
 @njit(**OPTIONS)

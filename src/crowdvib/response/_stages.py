@@ -145,8 +145,8 @@ def _rk4_update(h, z, zd, a, n_msd, u, ud, b):
         ud[slot] += sixth * (b[0, slot] + 2.0 * b[1, slot] + 2.0 * b[2, slot] + b[3, slot])
 
 
-@njit(**OPTIONS)
-def next_instant(phi, force, factor, n_active):
+@njit(**INLINE)
+def _next_instant(phi, force, factor, n_active):
     """The shape rows, forces and mass factor at t + h become those at t (the next step's)."""
     for j in range(phi.shape[1]):
         for slot in range(n_active):
@@ -200,6 +200,7 @@ def step_forces(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_dampi
                      modal_stiffness, load, a, zs, zds)
         _solve(factor, instant, a, stage)
     _rk4_update(h, z, zd, a, 0, u, ud, b)
+    _next_instant(phi, force, factor, n_active)
 
 
 @njit(**_REDUCTION)
@@ -245,6 +246,7 @@ def step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
         _project(phi, instant, g, n_active, a, stage)
         _solve(factor, instant, a, stage)
     _rk4_update(h, z, zd, a, n_active, u, ud, b)
+    _next_instant(phi, force, factor, n_active)
 
 
 @njit(**_REDUCTION)
@@ -270,3 +272,4 @@ def step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal
         a[stage, 0] += acc
         _solve(factor, instant, a, stage)
     _rk4_update(h, z, zd, a, n_active, u, ud, b)
+    _next_instant(phi, force, factor, n_active)
