@@ -122,13 +122,15 @@ def findings(rows):
         f"×{growth_low[1]:.1f} at 10 %",
         "agrees" if min(growth_low) > 2 and growth_low[0] > growth_low[1] else
         "partly" if max(growth_low) > 2 else "disagrees")
-    high = (rows.median(STRUCTURAL, structure_frequency=_near(6.0))
-            / rows.median(STRUCTURAL, structure_frequency=_near(3.0)))
-    below = (rows.median(STRUCTURAL, structure_frequency=_near(1.5))
+    # Judged on ε_f, the input the paper names ("particularly relevant for modeling errors
+    # related to the natural frequency"): the median over the three inputs hides it.
+    high = (rows.median(("frequencies",), structure_frequency=_near(6.0))
+            / rows.median(("frequencies",), structure_frequency=_near(3.0)))
+    every = (rows.median(STRUCTURAL, structure_frequency=_near(6.0))
              / rows.median(STRUCTURAL, structure_frequency=_near(3.0)))
     add("Fig. 5: above 3 Hz the impact grows slowly",
-        f"median error 6 Hz / 3 Hz ×{high:.1f} (1.5 Hz / 3 Hz ×{below:.1f})",
-        "agrees" if high < 2 else "partly" if high < below else "disagrees")
+        f"median error 6 Hz / 3 Hz: ε_f ×{high:.1f}, all three inputs ×{every:.1f}",
+        "agrees" if high < 2 else "partly" if every < 2 else "disagrees")
     per_input = {p: rows.median((p,)) for p in STRUCTURAL}
     top = max(per_input, key=per_input.get)
     add("Fig. 5: of the bridge's inputs the natural frequency matters most",
@@ -196,7 +198,7 @@ def main():
     for name, parameters in (("fig5", ("modal_masses", "damping_ratios", "frequencies")),
                              ("fig6", STEPS)):
         handles = study.plot(parameters=parameters, title=f"crowdvib, paper {name[:3]}. {name[3]}")
-        handles.figure.savefig(args.out / f"{name}.png", dpi=90)
+        handles.figure.savefig(args.out / f"{name}.png", dpi=60)
     failed = sum("error" in r for r in study.rows)
     print(f"{len(study.rows)} rows, {failed} failed\n")
     for reading in READINGS:
