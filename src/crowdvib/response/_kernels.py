@@ -24,8 +24,7 @@ import numpy as np
 from numba import njit
 
 from ._slots import (END, INLINE, MID, NOW, OPTIONS, SEGMENT, cells_walk, earliest_leaving, enter,
-                     gather_lanes, harmonic_forces, leave, replayed_forces, rows_uniform,
-                     rows_uniform_lanes)
+                     gather_lanes, harmonic_forces, leave, replayed_forces, rows_uniform)
 from ._stages import REST, mass_factors, modal_loads, step_forces, step_msd, step_msd_one_mode
 
 __all__ = ["ENTRY_POINTS", "entry_point", "mass_factors"]
@@ -84,6 +83,7 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
     segment = index[SEGMENT]
     # Plain int64 arguments: a literal constant in a call compiles a version of its own.
     first_slot = np.int64(0)
+    one_lane = np.int64(1)
     now = np.int64(NOW)
     mid = np.int64(MID)
     end = np.int64(END)
@@ -139,11 +139,11 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
 
         # Shapes and forces at t + h/2 and t + h.
         if rows_kind == UNIFORM:
-            rows_uniform(n_active, t_mid, t_end, slots, index, positions, inverse_spacing, table,
-                         cell, frac, phi, wave_now, wave_prev, wave_cos, force)
+            rows_uniform(n_active, t_mid, t_end, slots, index, positions, inverse_spacing,
+                         one_lane, table, cell, frac, phi)
         elif inverse_spacing > 0.0:
-            rows_uniform_lanes(n_active, t_mid, t_end, slots, index, positions, inverse_spacing,
-                               n_lanes, table, cell, frac, phi)
+            rows_uniform(n_active, t_mid, t_end, slots, index, positions, inverse_spacing,
+                         n_lanes, table, cell, frac, phi)
         else:
             cells_walk(first_slot, n_active, t_mid, slots, index, positions, n_lanes, segment,
                        segment_mid, cell, frac)
@@ -151,14 +151,15 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
             cells_walk(first_slot, n_active, t_end, slots, index, positions, n_lanes, segment_mid,
                        segment, cell, frac)
             gather_lanes(first_slot, n_active, cell, frac, slots, table, positions.size, phi, end)
-        if rows_kind != UNIFORM:
-            harmonic_forces(n_active, slots, wave_now, wave_prev, wave_cos, force)
+        harmonic_forces(n_active, slots, wave_now, wave_prev, wave_cos, force)
         if replaying:
             replayed_forces(n_active, t_mid, t_end, slots, index, replay, force)
-        # The mass matrix and its factor at t + h/2 and t + h (and at t after a change).
-        if step_kind != FORCES and added_mass:
-            mass_factors(modal_masses, phi, slots, n_active, NOW if changed else MID, weighted,
-                         factor)
+        # The mass matrix and its factor at t + h/2 and t + h (and at t after a change); none
+        # (from past END) without unsprung mass. The call is not under a branch taken at run
+        # time: numba would count references to its arrays (atomic operations) at every step.
+        if step_kind != FORCES:
+            first_factor = (NOW if changed else MID) if added_mass else END + 1
+            mass_factors(modal_masses, phi, slots, n_active, first_factor, weighted, factor)
         sample = (n >= 0 and n % substeps == 0
                   and 0 <= n // substeps - first_sample < n_samples)
         if sample and record_load:

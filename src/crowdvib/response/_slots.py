@@ -19,9 +19,11 @@ branch and no indirect index, and LLVM vectorises them; only the look-up of the 
 
 The functions the step loop calls at every step are leaves with no branch around their loops:
 numba passes arrays to a call with reference counting (atomic operations) unless it can prove them
-unneeded, and a call inside, a branch or an early return defeats that proof. (Helpers marked
-``INLINE`` are merged into their caller by numba and do not count as calls.) Inputs are trusted,
-as in ``_kernels``.
+unneeded, and a call inside a loop, under a branch taken at run time or before an early return
+defeats that proof. Helpers marked ``INLINE`` are merged into their caller by numba, but their
+arrays are counted the same way when the merge lands inside a loop or between loops, so the leaves
+of the paper's path (``rows_uniform``, ``_stages.step_msd_one_mode``) are written out instead.
+Inputs are trusted, as in ``_kernels``.
 """
 
 import math
@@ -100,26 +102,6 @@ def locate(x, positions):
     return low
 
 
-@njit(**INLINE)
-def _cells_uniform(start, stop, t, slots, index, positions, inverse_spacing, n_lanes, cell, frac):
-    """Table column and fraction of each slot's point at time t, on a uniform station grid.
-
-    The segment is s = ⌊(x − x₀)/Δx⌋ (at most the last); off the walkway the zero lane, fraction 0.
-    """
-    n_positions = positions.size
-    first = positions[0]
-    last = positions[n_positions - 1]
-    top = n_positions - 2
-    off = n_lanes * n_positions
-    for slot in range(start, stop):
-        x = slots[X_START, slot] + slots[VELOCITY, slot] * (t - slots[ARRIVAL, slot])
-        a = (x - first) * inverse_spacing
-        s = min(max(int(a), 0), top)
-        on = (x >= first) & (x <= last)
-        cell[slot] = index[LANE, slot] * n_positions + s if on else off
-        frac[slot] = a - s if on else 0.0
-
-
 @njit(**OPTIONS)
 def cells_walk(start, stop, t, slots, index, positions, n_lanes, segment_in, segment_out, cell,
                frac):
@@ -147,18 +129,10 @@ def cells_walk(start, stop, t, slots, index, positions, n_lanes, segment_in, seg
         frac[slot] = (x - positions[s]) / (positions[s + 1] - positions[s])
 
 
-@njit(**INLINE)
-def _gather(start, stop, cell, frac, table, phi, instant):
-    """Mode-shape rows φ[instant, j, slot] by linear interpolation in x from the table (one lane)."""
-    for j in range(phi.shape[1]):
-        for slot in range(start, stop):
-            c = cell[slot]
-            phi[instant, j, slot] = table[j, c] + frac[slot] * (table[j, c + 1] - table[j, c])
-
-
-@njit(**INLINE)
-def _gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instant):
-    """As :func:`_gather`, then linearly across the two lanes either side of the walker."""
+@njit(**OPTIONS)
+def gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instant):
+    """Mode-shape rows φ[instant, j, slot] by linear interpolation in x from the table, then
+    linearly across the two lanes either side of the walker."""
     for j in range(phi.shape[1]):
         for slot in range(start, stop):
             c = cell[slot]
@@ -170,38 +144,42 @@ def _gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, insta
 
 
 @njit(**OPTIONS)
-def gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instant):
-    """:func:`_gather_lanes` as a call of its own."""
-    _gather_lanes(start, stop, cell, frac, slots, table, n_positions, phi, instant)
+def rows_uniform(n_active, t_mid, t_end, slots, index, positions, inverse_spacing, n_lanes, table,
+                 cell, frac, phi):
+    """Shape rows at t + h/2 and t + h on a uniform station grid, in one call.
 
-
-@njit(**OPTIONS)
-def rows_uniform(n_active, t_mid, t_end, slots, index, positions, inverse_spacing, table, cell,
-                 frac, phi, wave_now, wave_prev, two_cos, force):
-    """Shape rows and walking forces at t + h/2 and t + h on a uniform grid with one lane, in
-    one call (a call costs more than these loops when few walkers are on the deck)."""
-    _cells_uniform(0, n_active, t_mid, slots, index, positions, inverse_spacing, 1, cell, frac)
-    _gather(0, n_active, cell, frac, table, phi, MID)
-    _cells_uniform(0, n_active, t_end, slots, index, positions, inverse_spacing, 1, cell, frac)
-    _gather(0, n_active, cell, frac, table, phi, END)
-    _harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force)
-
-
-@njit(**OPTIONS)
-def rows_uniform_lanes(n_active, t_mid, t_end, slots, index, positions, inverse_spacing, n_lanes,
-                       table, cell, frac, phi):
-    """Shape rows at t + h/2 and t + h on a uniform grid across lanes, in one call."""
+    The segment is s = ⌊(x − x₀)/Δx⌋ (at most the last); off the walkway the zero lane, fraction
+    0; then the linear interpolation in x and, across lanes, that of :func:`gather_lanes`.
+    Written out: helpers inlined by numba would count references to their arrays (atomic
+    operations) at every step.
+    """
     n_positions = positions.size
-    _cells_uniform(0, n_active, t_mid, slots, index, positions, inverse_spacing, n_lanes, cell,
-                   frac)
-    _gather_lanes(0, n_active, cell, frac, slots, table, n_positions, phi, MID)
-    _cells_uniform(0, n_active, t_end, slots, index, positions, inverse_spacing, n_lanes, cell,
-                   frac)
-    _gather_lanes(0, n_active, cell, frac, slots, table, n_positions, phi, END)
+    first = positions[0]
+    last = positions[n_positions - 1]
+    top = n_positions - 2
+    off = n_lanes * n_positions
+    for instant in range(MID, END + 1):
+        t = t_mid if instant == MID else t_end
+        for slot in range(n_active):
+            x = slots[X_START, slot] + slots[VELOCITY, slot] * (t - slots[ARRIVAL, slot])
+            a = (x - first) * inverse_spacing
+            s = min(max(int(a), 0), top)
+            on = (x >= first) & (x <= last)
+            cell[slot] = index[LANE, slot] * n_positions + s if on else off
+            frac[slot] = a - s if on else 0.0
+        for j in range(phi.shape[1]):
+            for slot in range(n_active):
+                c = cell[slot]
+                low = table[j, c] + frac[slot] * (table[j, c + 1] - table[j, c])
+                if n_lanes > 1:
+                    c += n_positions
+                    high = table[j, c] + frac[slot] * (table[j, c + 1] - table[j, c])
+                    low = low + slots[LANE_WEIGHT, slot] * (high - low)
+                phi[instant, j, slot] = low
 
 
-@njit(**INLINE)
-def _harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force):
+@njit(**OPTIONS)
+def harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force):
     """Walking forces at t + h/2 and t + h; the components advance by δ = ω_c h/2 twice.
 
     sin(θ + δ) = 2 cos δ · sin θ − sin(θ − δ) (Chebyshev recurrence): no sine in the loop. The sum
@@ -226,11 +204,6 @@ def _harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force):
             force[MID, slot] = (force[MID, slot] + mid) + mid2
             force[END, slot] = (force[END, slot] + end) + end2
 
-
-@njit(**OPTIONS)
-def harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force):
-    """:func:`_harmonic_forces` as a call of its own."""
-    _harmonic_forces(n_active, slots, wave_now, wave_prev, two_cos, force)
 
 
 # --- Measured-force replay (table look-up), kept apart from the harmonic path ---------------

@@ -253,13 +253,13 @@ def step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
 def step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
                       modal_stiffness, load, zs, zds, slots):
     """:func:`step_msd` for one mode (the common footbridge case): the same arithmetic, one pass
-    over the walkers per stage."""
+    over the walkers per stage, the modal stage and the solve (a division by L twice) written
+    out: helpers inlined by numba inside the stage loop would count references to their arrays
+    (atomic operations) at every stage."""
     for stage in range(4):
         instant, pos, vel, scale, inner = _stage_plan(stage, h)
-        _modal_stage(stage, instant, pos, vel, scale, inner, z, zd, modal_damping,
-                     modal_stiffness, load, a, zs, zds)
-        z0 = zs[0]
-        zd0 = zds[0]
+        z0 = z[0] + scale * (zd[0] + inner * a[pos, 0])
+        zd0 = zd[0] + scale * a[vel, 0]
         acc = 0.0
         for slot in range(n_active):
             p = phi[instant, 0, slot]
@@ -269,7 +269,8 @@ def step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal
                        + slots[DAMPING, slot] * (uds - p * zd0))
             b[stage, slot] = -contact * slots[INV_SPRUNG, slot]
             acc += p * (force[instant, slot] + contact)
-        a[stage, 0] += acc
-        _solve(factor, instant, a, stage)
+        total = (-modal_damping[0] * zd0 - modal_stiffness[0] * z0 + load[instant, 0]) + acc
+        root = factor[instant, 0, 0]
+        a[stage, 0] = total / root / root
     _rk4_update(h, z, zd, a, n_active, u, ud, b)
     _next_instant(phi, force, factor, n_active)
