@@ -135,10 +135,12 @@ def walker_steps(record):
     return float(record.n_on_deck.sum()) * round(1 / (record.time_step * record.sample_rate))
 
 
-def kernel_row(name, case, msd, seconds, reference_seconds):
+def kernel_row(name, case, msd, seconds, reference_seconds, crowd=None):
     """µs per walker-step of simulate and of the plain-numpy RK4 on the same walkers."""
+    crowd = crowd or case.crowd
+
     def run(seed):
-        return simulate(case.structure, case.crowd, seconds, msd=msd, rng=seed)
+        return simulate(case.structure, crowd, seconds, msd=msd, rng=seed)
 
     run(0)                                                  # compile or load the cache
     timings, cpu, steps = [], [], []
@@ -150,12 +152,12 @@ def kernel_row(name, case, msd, seconds, reference_seconds):
         steps.append(walker_steps(record))
     ours = statistics.median(t / s for t, s in zip(timings, steps)) * 1e6
     ours_cpu = statistics.median(t / s for t, s in zip(cpu, steps)) * 1e6
-    integrator, n_samples, *_ = _prepare(case.structure, case.crowd, reference_seconds, None, msd,
+    integrator, n_samples, *_ = _prepare(case.structure, crowd, reference_seconds, None, msd,
                                          None, 100.0, 7, False, False, 0.0)
     started = time.perf_counter()
     expected = simulate_rk4(integrator, n_samples * integrator.substeps)
     numpy_time = time.perf_counter() - started
-    record = simulate(case.structure, case.crowd, reference_seconds, msd=msd, rng=7)
+    record = simulate(case.structure, crowd, reference_seconds, msd=msd, rng=7)
     numpy_us = numpy_time / walker_steps(record) * 1e6
     error = np.abs(record.acceleration - expected).max() / np.abs(expected).max()
     on_deck = statistics.mean(s / (seconds * 100.0) for s in steps)
@@ -164,17 +166,55 @@ def kernel_row(name, case, msd, seconds, reference_seconds):
           f"{error:12.1e}  {load()}")
 
 
+def kernel_only(case, crowd, msd, seconds, repeat=7):
+    """CPU µs per RK4 step of the kernel alone (no drawing of walkers: ``_Integrator.advance``
+    over a prepared run) and the mean number on the deck; the fastest of ``repeat`` runs."""
+    best, on_deck = np.inf, 0.0
+    for seed in range(repeat):
+        run, n_samples, *_ = _prepare(case.structure, crowd, seconds, None, msd, None, 100.0,
+                                      seed, False, False, 0.0)
+        run.advance(run.substeps)                           # the first window, outside the timing
+        steps = (n_samples - 1) * run.substeps
+        started = time.process_time()
+        run.advance(steps)
+        best = min(best, (time.process_time() - started) / steps)
+        on_deck += run.n_on_deck[:n_samples - 1].mean() / repeat
+    return best * 1e6, on_deck
+
+
+def fixed_cost(case, seconds=120.0):
+    """The kernel's cost per step apart from the walkers, with HSI: on an empty deck, and as the
+    intercept of a straight line through the costs at 0.1, 0.5 and 1 P/m²."""
+    print(f"Kernel alone, one thread, paper example with HSI ({seconds:g} s, fastest of 7, "
+          "CPU µs)")
+    print(f"{'crowd':28s}{'on deck':>9s}{'µs/step':>10s}{'µs/walker-step':>16s}  load")
+    empty, _ = kernel_only(case, case.crowd.with_density(1e-6), case.msd, seconds)
+    print(f"{'empty deck':28s}{0:9.0f}{empty:10.3f}{'-':>16s}  {load()}")
+    points = []
+    for density in (0.1, 0.5, 1.0):
+        per_step, on_deck = kernel_only(case, case.crowd.with_density(density), case.msd, seconds)
+        points.append((on_deck, per_step))
+        print(f"{f'{density:g} P/m²':28s}{on_deck:9.1f}{per_step:10.3f}"
+              f"{per_step / on_deck:16.4f}  {load()}")
+    slope, intercept = np.polyfit(*zip(*points), 1)
+    print(f"fixed cost per step: {empty:.3f} µs on an empty deck, {intercept:.3f} µs by the "
+          f"straight line ({slope:.4f} µs per walker on the deck)")
+
+
 def bench_kernel(seconds=300.0):
     case = paper_example()
     print(f"Simulation kernel, one thread, paper example ({seconds:g} s records, median of 5; "
           "numpy: 20 s)")
     print(f"{'case':28s}{'on deck':>9s}{'µs wall':>10s}{'µs CPU':>10s}{'ms/s':>8s}"
           f"{'numpy µs':>10s}{'ratio':>8s}{'max|Δ|/peak':>12s}  load")
-    kernel_row("HSI (target <= 0.05 µs)", case, case.msd, seconds, 20.0)
+    kernel_row("HSI (target <= 0.012 µs)", case, case.msd, seconds, 20.0)
+    kernel_row("HSI, 0.1 P/m²", case, case.msd, seconds, 20.0, case.crowd.with_density(0.1))
     kernel_row("no HSI", case, None, seconds, 20.0)
     print("(µs per walker-step: wall and CPU time of simulate() over the walkers on the deck "
           "summed over the RK4 steps; ms/s: wall per simulated second; numpy: wall µs of "
           "benchmarks/_numpy_reference.py simulate_rk4 on the same walkers, ratio numpy/ours)")
+    print()
+    fixed_cost(case)
     print()
     print("Modes: the paper's deck and crowd with HSI, n modes at 2–12 Hz (h = 5 ms), 120 s records")
     print(f"{'modes':>6s}{'µs/walker-step':>16s}{'ms/s':>8s}  load")
