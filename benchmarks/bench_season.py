@@ -224,23 +224,41 @@ def synthetic(n_records, workers):
             warnings.simplefilter("ignore")
             started = time.perf_counter()
             found = season_case(case, folder / "crowd.csv", records=folder / "records",
-                                executor=executor)
+                                executor=executor, store=folder / "tasks")
             wall = time.perf_counter() - started
+            # The same rows (from the store), the joint estimate of the crowds of 0.3
+            # persons/m² and more only.
+            dense = season_case(case, folder / "crowd.csv", records=folder / "records",
+                                store=folder / "tasks", joint_min_density=0.3).season
     season, truth = found.season, paper.msd
     coverage = season.coverage(truth.to_dict())
-    states = [row["status"] for row in season.table()]
+    rows = season.table()
+    states = [row["status"] for row in rows]
     print(f"\n4. A synthetic season: {n_records} records of 600 s at 25 Hz, densities "
           f"{min(densities):.2f}–{max(densities):.2f} persons/m² from a daily profile, counts "
           f"in the table; the paper's least squares; {wall:.0f} s on {workers} workers "
           f"({_load()}); {states.count('ok')} ok, {states.count('doubt')} in doubt (on a "
           f"bound), {states.count('error')} failed")
-    joint = season.joint
+    bins = ((0.0, 0.15), (0.15, 0.3), (0.3, 0.5), (0.5, 10.0))
+    print(f"  {'':6s}{'truth':>7s}{'coverage':>10s}" + "".join(
+        f"{f'{low:g}–{high:g}' if high < 10 else f'>= {low:g}':>12s}" for low, high in bins)
+        + "   (95 % coverage per record, all and by density [persons/m²])")
     for name, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1")):
-        low, high = joint.interval(name, 0.95)
         value = getattr(truth, name)
-        print(f"  {label}: truth {value:g}; per-record 95 % coverage {coverage[name]:.1%}; joint "
-              f"{joint.value(name):.4f} (95 %: {low:.4f}–{high:.4f}) "
-              f"{'covers' if low <= value <= high else 'MISSES'} the truth")
+        cells = []
+        for low, high in bins:
+            held = [row[f"{name}_low"] <= value <= row[f"{name}_high"] for row in rows
+                    if low <= row["density"] < high and row[f"{name}_low"] is not None]
+            cells.append(f"{np.mean(held):6.1%} ({len(held):3d})" if held else "—")
+        print(f"  {label:6s}{value:7g}{coverage[name]:10.1%}" + "".join(f"{c:>12s}"
+                                                                   for c in cells))
+    for part, which in ((season, "every row"), (dense, "the rows of 0.3 persons/m² and more")):
+        joint, used = part.joint, sum(row["in_joint"] for row in part.table())
+        print(f"  joint estimate of {which} ({used}): " + "; ".join(
+            f"{label} {joint.value(name):.4f} (95 %: {low:.4f}–{high:.4f}) "
+            f"{'covers' if low <= getattr(truth, name) <= high else 'MISSES'} the truth"
+            for name, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1"))
+            for low, high in [joint.interval(name, 0.95)]))
 
 
 def main():

@@ -152,3 +152,16 @@ def test_a_record_of_another_length_than_the_table_says_is_an_error_in_its_row(s
     assert doubts == ["1 of 2 row(s) of the season failed, e.g. record_001.npz: DataError: "
                       "record_001.npz: the record is 600 s long, the crowd table's duration is "
                       "3600 s: its count belongs to another stretch of time"]
+
+
+def test_rows_of_thin_crowds_can_be_left_out_of_the_joint_estimate(season, alone):
+    # The rows from the store (nothing estimated again); the joint estimate holds only the four
+    # records of 0.6 persons/m² and more, and its interval still covers the truth.
+    found = _run(season, store=TaskStore(season / "tasks"), joint_min_density=0.6).season
+    used = [row["density"] for row in found.table() if row["in_joint"]]
+    assert used == pytest.approx(DENSITIES[DENSITIES >= 0.6]) and len(used) == 4
+    assert all(row["in_joint"] for row in alone.season.table()[:8])
+    for name in ("frequency", "damping_ratio"):
+        low, high = found.joint.interval(name, 0.95)
+        assert low <= getattr(TRUTH, name) <= high
+        assert found.joint.value(name) != alone.season.joint.value(name)

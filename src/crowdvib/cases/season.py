@@ -209,7 +209,7 @@ class CaseSeason(AsResults):
 
 def season_case(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
                 records: str | os.PathLike | Sequence | None = None, joint: bool = True,
-                executor=None, store=None, progress: Callable[[int, int], None] | None = None,
+                joint_min_density: float = 0.0, executor=None, store=None, progress: Callable[[int, int], None] | None = None,
                 batch_size: int | None = None) -> CaseSeason:
     """Run ``crowdvib season``: every row of a crowd table estimated, then all together.
 
@@ -226,6 +226,9 @@ def season_case(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
     joint : bool
         Also estimate one MSD for every row (:func:`crowdvib.estimate_hsi_joint`: the
         paper's least squares, each row with the crowd its estimate ended with).
+    joint_min_density : float
+        Rows of a thinner crowd [persons/m²] stay out of the joint estimate
+        (:func:`~crowdvib.studies.season_study`).
     executor, store, progress, batch_size
         As for :func:`crowdvib.runner.run_tasks` (a store makes the season resumable).
 
@@ -251,6 +254,7 @@ def season_case(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
     band = options.pop("band")
     options["free_mass_ratio"] = "mass_ratio" in case.estimation.free_parameters
     season = season_study(windows, _estimate_window, case.structure, band=band, joint=joint,
-                          joint_options=options, executor=executor, store=store,
+                          joint_options=options, joint_min_density=joint_min_density,
+                          executor=executor, store=store,
                           progress=progress, batch_size=batch_size)
     return CaseSeason(case, table, season, unmatched)

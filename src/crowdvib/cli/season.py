@@ -38,6 +38,9 @@ def add_arguments(parser):
                         help="start afresh, replacing an existing output directory")
     parser.add_argument("--no-joint", action="store_true",
                         help="only each record's estimate (skip the joint one)")
+    parser.add_argument("--joint-min-density", type=float, metavar="D", default=0.0,
+                        help="leave rows of fewer persons/m² out of the joint estimate (their "
+                             "records hold little of the MSD; default 0: every row)")
 
 
 def _resume_command(args):
@@ -53,6 +56,8 @@ def _resume_command(args):
         words += ["--workers", str(args.workers)]
     if args.batch_size is not None:
         words += ["--batch-size", str(args.batch_size)]
+    if args.joint_min_density:
+        words += ["--joint-min-density", f"{args.joint_min_density:g}"]
     return shlex.join(words + ["--no-joint"] * args.no_joint + ["--resume"])
 
 
@@ -65,7 +70,8 @@ def run(args):
     try:
         run_season(case, args.crowd_table, args.out, records=args.records,
                    workers=args.workers, scheduler=args.scheduler, hung_after=args.hung_after,
-                   joint=not args.no_joint, batch_size=args.batch_size, resume=args.resume,
+                   joint=not args.no_joint, joint_min_density=args.joint_min_density,
+                   batch_size=args.batch_size, resume=args.resume,
                    force=args.force, say=say, progress=progress_printer("records", unit=""))
     except KeyboardInterrupt:
         if not (args.out / "tasks").is_dir():

@@ -25,7 +25,7 @@ SEASON_STORES = ("tasks",)
 def run_season(case: Case, crowd_table: str | Path, out: str | Path, *,
                records: str | Path | Sequence | None = None, workers: int = 1,
                scheduler: str | None = None, hung_after: float = 60.0, joint: bool = True,
-               batch_size: int | None = None, resume: bool = False, force: bool = False,
+               joint_min_density: float = 0.0, batch_size: int | None = None, resume: bool = False, force: bool = False,
                say: Say = silent, progress: Callable[[int, int], None] | None = None) -> Results:
     """What ``crowdvib season`` does: :func:`~crowdvib.cases.season_case`, its table (CSV, and
     Parquet when pyarrow is installed), trend figure, results.json and report.html in ``out``.
@@ -41,7 +41,7 @@ def run_season(case: Case, crowd_table: str | Path, out: str | Path, *,
         As :func:`~crowdvib.cases.season_case`.
     workers, scheduler, hung_after
         Where the tasks run (:func:`~crowdvib.runner.study_executor`).
-    joint, batch_size
+    joint, joint_min_density, batch_size
         As :func:`~crowdvib.cases.season_case`.
     resume, force : bool
         Continue the season in ``out``; replace crowdvib's earlier results in it.
@@ -64,12 +64,12 @@ def run_season(case: Case, crowd_table: str | Path, out: str | Path, *,
     with folder_lock(out, "season"):
         return _season(case, table, Path(out), inputs, records=records,
                        workers=workers, scheduler=scheduler, hung_after=hung_after, joint=joint,
-                       batch_size=batch_size, resume=resume, force=force, say=say,
+                       joint_min_density=joint_min_density, batch_size=batch_size, resume=resume, force=force, say=say,
                        progress=progress)
 
 
 def _season(case, table, out, inputs, *, records, workers, scheduler, hung_after, joint,
-            batch_size, resume, force, say, progress):
+            joint_min_density, batch_size, resume, force, say, progress):
     from .._files import write_json
     from .._manifest import record_file
     from ..cases import season_case
@@ -89,7 +89,7 @@ def _season(case, table, out, inputs, *, records, workers, scheduler, hung_after
         warnings.simplefilter("always")
         with study_executor(workers, scheduler, timeout_floor=hung_after) as executor:
             found = season_case(case, table, records=records, joint=joint,
-                                executor=executor, store=store, progress=progress,
+                                joint_min_density=joint_min_density, executor=executor, store=store, progress=progress,
                                 batch_size=batch_size)
     season = found.season
     _say_season(found, say)

@@ -27,7 +27,8 @@ from ..runner.tasks import run_tasks
 from ..signals.spectrum import ResponsePSD
 from ..signals.welch import LowPassFilter
 
-__all__ = ["SeasonResult", "season_study", "season_row", "write_synthetic_season", "TABLE_COLUMNS"]
+__all__ = ["SeasonResult", "season_study", "season_row", "write_synthetic_season",
+           "TABLE_COLUMNS"]
 
 #: The estimated parameters a season's table shows, each with its interval.
 _PARAMETERS = ("frequency", "damping_ratio")
@@ -38,7 +39,7 @@ _ROW_FIELDS = ("frequency", "damping_ratio", "mass_ratio", "interval", "relative
 TABLE_COLUMNS = ("name", "record", "start", "end", "time", "count", "density",
                  "step_frequency_mean", "step_frequency_std", "frequency", "frequency_low",
                  "frequency_high", "damping_ratio", "damping_ratio_low", "damping_ratio_high",
-                 "mass_ratio", "level", "relative_cost", "status", "warnings")
+                 "mass_ratio", "level", "relative_cost", "status", "warnings", "in_joint")
 
 
 # ------------------------------------------------------------------------------ one record
@@ -241,7 +242,8 @@ def _table_row(row):
 
 
 def season_study(windows, function, structure, *, band, joint=True, joint_options=None,
-                 executor=None, store=None, progress=None, batch_size=None):
+                 joint_min_density=0.0, executor=None, store=None, progress=None,
+                 batch_size=None):
     """Estimate every record of a season with its interval, then one MSD for all of them.
 
     Parameters
@@ -262,6 +264,12 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
     joint_options : dict, optional
         Keywords of :func:`crowdvib.estimate_hsi_joint` (its defaults: the paper's least
         squares with the smeared crowd, profile intervals).
+    joint_min_density : float
+        Rows of a lower density [persons/m²] are left out of the joint estimate (column
+        ``in_joint``). The least squares weigh every record alike, and a record of a thin crowd
+        holds little of the MSD: many of them pull the joint f_h1 low (measured in
+        ``benchmarks/bench_season.py``: 100 records of a daily profile, f_h1 within 78–83 % of
+        its 95 % intervals below 0.3 persons/m², 96–100 % above). Default 0: every row.
     executor, store, progress, batch_size
         As for :func:`crowdvib.runner.run_tasks`: where the tasks run, where finished ones
         are kept (a season given the same store resumes), ``progress(done, total)``, tasks
@@ -280,7 +288,11 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
         found = results.get(name, {}) if payload is not None else {}
         rows.append({"name": name, **info, **{k: v for k, v in found.items() if k != "psd"}})
     done = [results[name] for name, payload, _ in windows
-            if payload is not None and "error" not in results[name]]
+            if payload is not None and "error" not in results[name]
+            and results[name]["crowd"]["density"] >= joint_min_density]
+    for row in rows:
+        row["in_joint"] = bool(joint) and "frequency" in row and row["crowd"]["density"] >= \
+            joint_min_density
     estimate, failed = None, None
     if joint and done:
         with derived():               # each record's crowd was judged when its row was read
