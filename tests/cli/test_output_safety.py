@@ -407,7 +407,7 @@ def test_an_interrupted_study_can_be_resumed_or_replaced(tmp_path):
     # the hidden temporary of an unfinished atomic write (src/crowdvib/_files.py atomic_path).
     # A task file is crowdvib's by its content (issue 24 §3: its digest), so it is written by
     # the TaskStore here, not faked as "{}" (which is now a user's file --force refuses).
-    from crowdvib.cli.common import prepare_output
+    from crowdvib.runs import prepare_output
     from crowdvib.runner import TaskStore
 
     out = tmp_path / "study"
@@ -425,7 +425,7 @@ def test_an_interrupted_study_can_be_resumed_or_replaced(tmp_path):
 
 
 def test_a_study_from_before_manifests_resumes_but_is_not_replaced(tmp_path):
-    from crowdvib.cli.common import prepare_output
+    from crowdvib.runs import prepare_output
     from crowdvib.errors import ParameterError
 
     out = tmp_path / "study"

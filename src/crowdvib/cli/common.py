@@ -1,26 +1,25 @@
 """What every command shares: printing, progress bars, the verdict line and the argument types.
 
-The results folder's rules and writing are the library's (:mod:`crowdvib.runs.folders`), named
-here for the command modules.
+The results folder's rules and writing are the library's (:mod:`crowdvib.runs.folders`); the
+commands that write a folder themselves (modes) find them here.
 """
 
 import argparse
+import contextlib
 import sys
+import warnings
 import weakref
 from pathlib import Path
 
 from tqdm import tqdm
 
-from ..cases.results import (DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES,
-                             software_versions as versions)
-from ..runs.folders import (case_inputs, check_clash, check_output, finish_output,
-                            prepare_output, staged_output, write_results)
+from ..cases.results import ESTIMATION_TABLES, SIMULATION_TABLES
+from ..runs.folders import staged_output, write_results
 from ..runs.lines import warning_texts
 
-__all__ = ["add_output_arguments", "ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "say",
-           "say_verdict", "say_warnings", "case_inputs", "check_clash", "check_output",
-           "prepare_output", "finish_output", "staged_output", "versions", "warning_texts",
-           "progress_printer", "write_results"]
+__all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "staged_output", "write_results",
+           "warning_texts", "say", "say_verdict", "say_warnings", "warnings_as_lines",
+           "progress_printer", "add_output_arguments"]
 
 
 #: Exit status of a command that finished and wrote its results, but whose verdict doubts them
@@ -38,6 +37,25 @@ def set_quiet(quiet):
 def say(message="", *, always=False):
     if always or not _QUIET[0]:
         print(message, flush=True)
+
+
+@contextlib.contextmanager
+def warnings_as_lines(command):
+    """Print each crowdvib warning as one line on stderr when it happens (a damaged task file,
+    inputs changed since a study began), not as a Python warning with a source line."""
+    from ..errors import CrowdvibWarning
+
+    with warnings.catch_warnings():
+        others = warnings.showwarning
+
+        def show(message, category, *rest):
+            if not issubclass(category, CrowdvibWarning):
+                return others(message, category, *rest)
+            print(f"crowdvib {command}: warning: {message}", file=sys.stderr, flush=True)
+
+        warnings.simplefilter("always", CrowdvibWarning)
+        warnings.showwarning = show
+        yield
 
 
 def say_warnings(command, results):

@@ -26,10 +26,8 @@ def add_arguments(parser):
 
 
 def run(args):
-    from ..cases.demo import DEMO_WARM_UP
     from ..runs import run_demo
 
     run_demo(args.out, duration=args.duration_s, seed=args.seed, spectral=args.spectral,
-             force=args.force, say=say, progress=progress_printer(
-                 f"simulated (after {DEMO_WARM_UP:g} s warm-up)", offset=DEMO_WARM_UP))
+             force=args.force, say=say, progress=progress_printer)
     return say_verdict(args.out)

@@ -15,9 +15,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from ..io.casefile import load_case
     from ..runs import run_estimate
 
-    say_warnings("estimate", run_estimate(load_case(args.case), args.out, force=args.force,
-                                          say=say))
+    say_warnings("estimate", run_estimate(args.case, args.out, force=args.force, say=say))
     return say_verdict(args.out)

@@ -42,11 +42,10 @@ def add_arguments(parser):
 
 
 def run(args):
-    from ..io.casefile import load_case
     from ..runs import run_map
 
     # Its warnings are in the verdict, not printed twice.
-    run_map(load_case(args.case), args.out, frequencies=args.frequencies,
+    run_map(args.case, args.out, frequencies=args.frequencies,
             damping_ratios=args.damping_ratios, max_seconds=60.0 * args.max_minutes,
-            force=args.force, say=say, progress=progress_printer("grid", unit="points"))
+            force=args.force, say=say, progress=progress_printer)
     return say_verdict(args.out)

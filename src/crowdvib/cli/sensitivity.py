@@ -4,13 +4,11 @@ The work is :func:`crowdvib.runs.run_sensitivity`; this command parses its argum
 and on Ctrl-C says how to resume.
 """
 
-import contextlib
 import sys
-import warnings
 from pathlib import Path
 
 from .common import (add_workers_argument, close_progress, dask_address, progress_printer, say,
-                     say_verdict)
+                     say_verdict, warnings_as_lines)
 
 
 def add_arguments(parser):
@@ -52,38 +50,17 @@ def _resume_command(args):
     return shlex.join(words + ["--resume"])
 
 
-@contextlib.contextmanager
-def _warnings_as_lines():
-    """Print each crowdvib warning as one line on stderr when it happens (a damaged task file,
-    inputs changed since the study began), not as a Python warning with a source line."""
-    from ..errors import CrowdvibWarning
-
-    with warnings.catch_warnings():
-        others = warnings.showwarning
-
-        def show(message, category, *rest):
-            if not issubclass(category, CrowdvibWarning):
-                return others(message, category, *rest)
-            print(f"crowdvib sensitivity: warning: {message}", file=sys.stderr, flush=True)
-
-        warnings.simplefilter("always", CrowdvibWarning)
-        warnings.showwarning = show
-        yield
-
-
 def run(args):
-    from ..io.casefile import load_case
     from ..runs import run_sensitivity
     from ..runs.sensitivity import finished_tasks
 
-    case = load_case(args.case)
     try:
-        with _warnings_as_lines():
-            run_sensitivity(case, args.out, workers=args.workers, scheduler=args.scheduler,
+        with warnings_as_lines("sensitivity"):
+            run_sensitivity(args.case, args.out, workers=args.workers, scheduler=args.scheduler,
                             hung_after=args.hung_after, joint=not args.no_joint,
                             record_length=not args.no_record_length, modes_from=args.modes_from,
                             resume=args.resume, force=args.force, say=say,
-                            progress=lambda stage: progress_printer(stage, unit="tasks"))
+                            progress=progress_printer)
     except KeyboardInterrupt:
         if not (args.out / "tasks").is_dir():
             raise           # before the study began: nothing kept, nothing to resume

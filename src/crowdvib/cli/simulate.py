@@ -5,7 +5,8 @@ The work is :func:`crowdvib.runs.run_simulate`; this command parses its argument
 
 from pathlib import Path
 
-from .common import add_output_arguments, progress_printer, record_formats, say, say_verdict
+from .common import (add_output_arguments, progress_printer, record_formats, say, say_verdict,
+                     warnings_as_lines)
 
 
 def add_arguments(parser):
@@ -26,13 +27,10 @@ def add_arguments(parser):
 
 
 def run(args):
-    from ..io.casefile import load_case, paper_example_case
     from ..runs import run_simulate
 
-    case = paper_example_case() if args.case is None else load_case(args.case)
-    warm_up = case.simulation.warm_up
-    run_simulate(case, args.out, duration=args.duration_s, sample_rate=args.sample_rate,
-                 seed=args.seed, formats=args.format, hsi=False if args.no_hsi else None,
-                 force=args.force, say=say, progress=progress_printer(
-                     f"simulated (after {warm_up:g} s warm-up)", offset=warm_up))
+    with warnings_as_lines("simulate"):
+        run_simulate(args.case, args.out, duration=args.duration_s, sample_rate=args.sample_rate,
+                     seed=args.seed, formats=args.format, hsi=False if args.no_hsi else None,
+                     force=args.force, say=say, progress=progress_printer)
     return say_verdict(args.out)

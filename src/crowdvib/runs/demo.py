@@ -9,11 +9,9 @@ from typing import TYPE_CHECKING
 from ..cases.results import provenance
 from ..reporting.text import interval_of
 from .folders import check_output, staged_output, write_results
-from .lines import Say, silent
+from .lines import Progress, Say, silent
 
 if TYPE_CHECKING:
-    from collections.abc import Callable
-
     from ..cases.results import Results
 
 __all__ = ["run_demo"]
@@ -21,8 +19,7 @@ __all__ = ["run_demo"]
 
 def run_demo(out: str | Path = "crowdvib-demo", *, duration: float = 3600.0,
              seed: int = 20230101, spectral: bool = False, force: bool = False,
-             say: Say = silent, progress: Callable[[float, float], None] | None = None
-             ) -> Results:
+             say: Say = silent, progress: Progress | None = None) -> Results:
     """What ``crowdvib demo`` does: :func:`~crowdvib.cases.demo_case`, its figure, results.json
     and report.html in ``out``.
 
@@ -37,13 +34,15 @@ def run_demo(out: str | Path = "crowdvib-demo", *, duration: float = 3600.0,
     say : callable, optional
         Called with each line the command prints.
     progress : callable, optional
-        ``progress(done, total)`` [s of simulated time, warm-up included].
+        ``progress(label, unit, offset)`` → the ``progress(done, total)`` callback of the
+        simulation [s of simulated time, counted after the warm-up].
 
     Returns
     -------
     Results
     """
-    from ..cases.demo import DEMO_ESTIMATORS, DEMO_SAMPLE_RATE, demo_case, require_demo_duration
+    from ..cases.demo import (DEMO_ESTIMATORS, DEMO_SAMPLE_RATE, DEMO_WARM_UP, demo_case,
+                              require_demo_duration)
     from ..models.examples import paper_example
     from ..response.simulation import kernel_needs_compiling
     from .simulate import COMPILING
@@ -62,7 +61,9 @@ def run_demo(out: str | Path = "crowdvib-demo", *, duration: float = 3600.0,
         f"μ_h1 = {truth.mass_ratio:g}")
     if not spectral and kernel_needs_compiling(structure, truth is not None):
         say(COMPILING)
-    found = demo_case(duration=duration, seed=seed, spectral=spectral, progress=progress)
+    found = demo_case(duration=duration, seed=seed, spectral=spectral,
+                      progress=None if progress is None else progress(
+                          f"simulated (after {DEMO_WARM_UP:g} s warm-up)", "s", DEMO_WARM_UP))
     if spectral:
         say(f"  'measured' PSD: spectral model with HSI as a Welch estimate of a "
             f"{duration:g} s record (T = {window:g} s, {found.n_windows} windows, seeded "

@@ -10,11 +10,9 @@ from typing import TYPE_CHECKING
 from ..cases.results import provenance
 from ..reporting.text import interval_of, with_interval
 from .folders import case_inputs, staged_output, write_results
-from .lines import Say, silent, warning_texts
+from .lines import Progress, Say, as_case, silent, warning_texts
 
 if TYPE_CHECKING:
-    from collections.abc import Callable
-
     from numpy.typing import ArrayLike
 
     from ..cases.results import Results
@@ -23,15 +21,16 @@ if TYPE_CHECKING:
 __all__ = ["run_estimate", "run_map"]
 
 
-def run_estimate(case: Case, out: str | Path, *, force: bool = False,
+def run_estimate(case: Case | str | Path, out: str | Path, *, force: bool = False,
                  say: Say = silent) -> Results:
     """What ``crowdvib estimate`` does: :func:`~crowdvib.cases.estimate_case`, its figures,
     results.json and report.html in ``out`` (written whole or not at all).
 
     Parameters
     ----------
-    case : Case
-        From :func:`~crowdvib.io.load_case`.
+    case : Case, str or pathlib.Path
+        From :func:`~crowdvib.io.load_case`, or its file (read here: the warnings of reading it
+        are recorded with the run's).
     out : str or pathlib.Path
         The results folder (:func:`~crowdvib.runs.staged_output`'s rules).
     force : bool
@@ -46,31 +45,32 @@ def run_estimate(case: Case, out: str | Path, *, force: bool = False,
     """
     from ..cases import estimate_case
 
-    stamp = provenance(case.path)
-    with staged_output(out, force, command="estimate", inputs=case_inputs(case)) as staging:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        case = as_case(case)
+        stamp = provenance(case.path)
+        with staged_output(out, force, command="estimate", inputs=case_inputs(case)) as staging:
             fit = estimate_case(case)
             _say_fit(fit, say)
             results = fit.to_dict()
             results["figures"] = (_joint_figures if fit.joint else _figures)(fit, staging)
-        results.update(stamp)
-        results["warnings"] = warning_texts(caught)
-        written = write_results(staging, results)
+            results.update(stamp)
+            results["warnings"] = warning_texts(caught)
+            written = write_results(staging, results)
     say(f"  wrote {Path(out) / 'results.json'}, figures and report.html")
     return written
 
 
-def run_map(case: Case, out: str | Path, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
+def run_map(case: Case | str | Path, out: str | Path, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
             max_seconds: float | None = None, force: bool = False, say: Say = silent,
-            progress: Callable[[int, int], None] | None = None) -> Results:
+            progress: Progress | None = None) -> Results:
     """What ``crowdvib map`` does: :func:`~crowdvib.cases.map_case`, its figure, results.json and
     report.html in ``out``.
 
     Parameters
     ----------
-    case : Case
-        One ``[measurement]``.
+    case : Case, str or pathlib.Path
+        One ``[measurement]`` (a file is read here, as by :func:`run_estimate`).
     out : str or pathlib.Path
         The results folder (:func:`~crowdvib.runs.staged_output`'s rules).
     frequencies, damping_ratios : array_like
@@ -82,7 +82,7 @@ def run_map(case: Case, out: str | Path, *, frequencies: ArrayLike, damping_rati
     say : callable, optional
         Called with each line the command prints.
     progress : callable, optional
-        ``progress(done, total)`` [grid points].
+        ``progress(label, unit)`` → the ``progress(done, total)`` callback of the grid [points].
 
     Returns
     -------
@@ -92,26 +92,29 @@ def run_map(case: Case, out: str | Path, *, frequencies: ArrayLike, damping_rati
     from ..cases import map_case
     from ..reporting.plotting import plot_objective_map, save_figure
 
-    stamp = provenance(case.path)
-    with staged_output(out, force, command="map", inputs=case_inputs(case)) as staging:
-        say(f"crowdvib map: {case.name} ({case.path.name})")
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        case = as_case(case)
+        stamp = provenance(case.path)
+        with staged_output(out, force, command="map", inputs=case_inputs(case)) as staging:
+            say(f"crowdvib map: {case.name} ({case.path.name})")
             found = map_case(case, frequencies=frequencies, damping_ratios=damping_ratios,
-                             progress=progress, max_seconds=max_seconds)
-        say(measurement_line(found.record.measurement))
-        _say_crowd(case, found.record.step_frequencies, say)
-        landscape, estimate, best = found.landscape, found.estimate, found.landscape.optimum
-        say(f"  {landscape.cost.size} grid points in {found.seconds:.1f} s; "
-            f"grid minimum f_h1 = {best.frequency:.3f} Hz, ξ_h1 = {best.damping_ratio:.3f}; "
-            f"optimiser {estimate.msd.frequency:.3f} Hz, {estimate.msd.damping_ratio:.3f}")
-        say(f"  curvature along f_h1 / along ξ_h1 at the minimum: "
-            f"{landscape.curvature_ratio():.3g}")
-        ax = plot_objective_map(landscape, search_bounds=estimate.bounds,
-                                title=f"{case.name}: objective J(f_h1, ξ_h1)")
-        figure = save_figure(ax, staging / "objective_map.png").name
-        written = write_results(staging, {**found.to_dict(), "warnings": warning_texts(caught),
-                                          "figures": [figure], **stamp})
+                             progress=None if progress is None else progress("grid", "points"),
+                             max_seconds=max_seconds)
+            texts = warning_texts(caught)
+            say(measurement_line(found.record.measurement))
+            _say_crowd(case, found.record.step_frequencies, say)
+            landscape, estimate, best = found.landscape, found.estimate, found.landscape.optimum
+            say(f"  {landscape.cost.size} grid points in {found.seconds:.1f} s; grid minimum "
+                f"f_h1 = {best.frequency:.3f} Hz, ξ_h1 = {best.damping_ratio:.3f}; "
+                f"optimiser {estimate.msd.frequency:.3f} Hz, {estimate.msd.damping_ratio:.3f}")
+            say(f"  curvature along f_h1 / along ξ_h1 at the minimum: "
+                f"{landscape.curvature_ratio():.3g}")
+            ax = plot_objective_map(landscape, search_bounds=estimate.bounds,
+                                    title=f"{case.name}: objective J(f_h1, ξ_h1)")
+            figure = save_figure(ax, staging / "objective_map.png").name
+            written = write_results(staging, {**found.to_dict(), "warnings": texts,
+                                              "figures": [figure], **stamp})
     say(f"  wrote {Path(out) / 'results.json'}, {figure} and report.html")
     return written
 

@@ -8,22 +8,19 @@ from typing import TYPE_CHECKING
 
 from ..cases.results import Results, provenance
 from .folders import case_inputs, check_clash, finish_output, prepare_output
-from .lines import Say, silent
+from .lines import Progress, Say, as_case, recorded_warnings, silent
 
 if TYPE_CHECKING:
-    from collections.abc import Callable
-
     from ..io.casefile import Case
 
 __all__ = ["run_sensitivity", "finished_tasks"]
 
 
-def run_sensitivity(case: Case, out: str | Path, *, workers: int = 1,
+def run_sensitivity(case: Case | str | Path, out: str | Path, *, workers: int = 1,
                     scheduler: str | None = None, hung_after: float = 60.0,
                     joint: bool = True, record_length: bool = True,
                     modes_from: str | Path | None = None, resume: bool = False,
-                    force: bool = False, say: Say = silent,
-                    progress: Callable[[str], Callable[[int, int], None]] | None = None
+                    force: bool = False, say: Say = silent, progress: Progress | None = None
                     ) -> Results:
     """What ``crowdvib sensitivity`` does: :func:`~crowdvib.cases.study_case`, its figure,
     results.json and report.html in ``out``.
@@ -35,7 +32,9 @@ def run_sensitivity(case: Case, out: str | Path, *, workers: int = 1,
 
     Parameters
     ----------
-    case : Case
+    case : Case, str or pathlib.Path
+        One ``[measurement]``, or its file (read here: the warnings of reading it are recorded
+        with the run's).
     out : str or pathlib.Path
         The results folder (:func:`~crowdvib.runs.prepare_output`'s rules).
     workers, scheduler, hung_after
@@ -51,22 +50,29 @@ def run_sensitivity(case: Case, out: str | Path, *, workers: int = 1,
     say : callable, optional
         Called with each line the command prints.
     progress : callable, optional
-        As :func:`~crowdvib.cases.study_case`.
+        ``progress(label, unit)`` → the ``progress(done, total)`` callback of a stage
+        (``"estimations"``, ``"record lengths"``) [tasks].
 
     Returns
     -------
     Results
+        As written, with the run's warnings (:func:`~crowdvib.runs.lines.recorded_warnings`:
+        each also shown when it happens).
     """
     from .._files import folder_lock
     from ..cases import identified_levels
 
-    levels = None if modes_from is None else identified_levels(modes_from)
-    check_clash(out, case_inputs(case))
-    # The study writes `out` in place, task by task: no second run may write it meanwhile.
-    with folder_lock(out, "sensitivity"):
-        return _study(case, Path(out), levels, modes_from, resume=resume, force=force,
-                      workers=workers, scheduler=scheduler, hung_after=hung_after, joint=joint,
-                      record_length=record_length, say=say, progress=progress)
+    with recorded_warnings() as caught:
+        case = as_case(case)
+        levels = None if modes_from is None else identified_levels(modes_from)
+        check_clash(out, case_inputs(case))
+        # The study writes `out` in place, task by task: no second run may write it meanwhile.
+        with folder_lock(out, "sensitivity"):
+            return _study(case, Path(out), levels, modes_from, resume=resume, force=force,
+                          workers=workers, scheduler=scheduler, hung_after=hung_after,
+                          joint=joint, record_length=record_length, say=say,
+                          progress=None if progress is None
+                          else (lambda stage: progress(stage, "tasks")), caught=caught)
 
 
 def finished_tasks(out: str | Path) -> int:
@@ -79,7 +85,7 @@ def finished_tasks(out: str | Path) -> int:
 
 
 def _study(case, out, levels, modes_from, *, resume, force, workers, scheduler, hung_after,
-           joint, record_length, say, progress):
+           joint, record_length, say, progress, caught):
     from .._files import write_json
     from .._manifest import record_file
     from ..cases import CaseRecordFit, case_crowd, measure_case, study_case
@@ -117,7 +123,8 @@ def _study(case, out, levels, modes_from, *, resume, force, workers, scheduler, 
     # full disk) leaves only files crowdvib owns, so --resume may replace them.
     figure = save_figure(axes, out / "estimation_errors.png").name
     record_file(out, figure, "sensitivity")
-    results = {**found.to_dict(), "figures": [figure], **stamp}
+    results = {**found.to_dict(), "figures": [figure], **stamp,
+               "warnings": list(caught)}
     write_json(out / "results.json", results)
     record_file(out, "results.json", "sensitivity")
     report = write_report(out)

@@ -9,10 +9,10 @@ from typing import TYPE_CHECKING
 
 from ..cases.results import provenance
 from .folders import case_inputs, staged_output, write_results
-from .lines import Say, silent
+from .lines import Progress, Say, as_case, recorded_warnings, silent
 
 if TYPE_CHECKING:
-    from collections.abc import Callable, Sequence
+    from collections.abc import Sequence
 
     from ..cases.results import Results
     from ..io.casefile import Case
@@ -20,19 +20,21 @@ if TYPE_CHECKING:
 __all__ = ["run_simulate"]
 
 
-def run_simulate(case: Case, out: str | Path, *, duration: float | None = None,
-                 sample_rate: float | None = None, seed: int | None = None,
-                 formats: Sequence[str] | None = None, hsi: bool | None = None,
-                 force: bool = False, say: Say = silent,
-                 progress: Callable[[float, float], None] | None = None) -> Results:
+def run_simulate(case: Case | str | Path | None, out: str | Path, *,
+                 duration: float | None = None, sample_rate: float | None = None,
+                 seed: int | None = None, formats: Sequence[str] | None = None,
+                 hsi: bool | None = None, force: bool = False, say: Say = silent,
+                 progress: Progress | None = None) -> Results:
     """What ``crowdvib simulate`` does: :func:`~crowdvib.cases.simulate_case`, the record in each
     of ``formats`` (default ``simulation.formats``), its PSD and time histories, results.json and
     report.html in ``out``.
 
     Parameters
     ----------
-    case : Case
-        With a ``[simulation]`` table (or :func:`~crowdvib.io.paper_example_case`).
+    case : Case, str, pathlib.Path or None
+        With a ``[simulation]`` table, or its file (read here: the warnings of reading it are
+        recorded with the run's); None: the paper's example
+        (:func:`~crowdvib.io.paper_example_case`).
     out : str or pathlib.Path
         The results folder (:func:`~crowdvib.runs.staged_output`'s rules).
     duration, sample_rate, seed, hsi
@@ -45,12 +47,25 @@ def run_simulate(case: Case, out: str | Path, *, duration: float | None = None,
     say : callable, optional
         Called with each line the command prints.
     progress : callable, optional
-        ``progress(done, total)`` [s of simulated time, warm-up included].
+        ``progress(label, unit, offset)`` → the ``progress(done, total)`` callback of the
+        simulation [s of simulated time, counted after the warm-up].
 
     Returns
     -------
     Results
+        As written, with the run's warnings (:func:`~crowdvib.runs.lines.recorded_warnings`:
+        each also shown when it happens).
     """
+    from ..io.casefile import paper_example_case
+
+    with recorded_warnings() as caught:
+        case = paper_example_case() if case is None else as_case(case)
+        return _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say,
+                         progress, caught)
+
+
+def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, progress,
+              caught):
     from ..cases.simulation import simulate_case, simulation_msd
     from ..io.records import RECORD_FORMATS, write_record
     from ..reporting.plotting import plot_psd_comparison, save_figure
@@ -71,8 +86,10 @@ def run_simulate(case: Case, out: str | Path, *, duration: float | None = None,
         started = time.perf_counter()
         if kernel_needs_compiling(case.structure, hsi):
             say(COMPILING)
-        found = simulate_case(case, duration=duration, sample_rate=sample_rate, seed=seed,
-                              hsi=hsi, progress=progress)
+        found = simulate_case(
+            case, duration=duration, sample_rate=sample_rate, seed=seed, hsi=hsi,
+            progress=None if progress is None else progress(
+                f"simulated (after {spec.warm_up:g} s warm-up)", "s", spec.warm_up))
         simulation, record = found.simulation, found.record
         files = []
         for fmt in formats:
@@ -91,7 +108,8 @@ def run_simulate(case: Case, out: str | Path, *, duration: float | None = None,
         figures += _time_histories(case, simulation, staging)
         results = found.to_dict()
         results["record"]["files"] = files
-        results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path)})
+        results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path),
+                        "warnings": list(caught)})
         written = write_results(staging, results)
     say(f"  wrote {', '.join(files)} and results.json to {out} ({elapsed:.1f} s)")
     return written

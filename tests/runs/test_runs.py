@@ -1,0 +1,35 @@
+"""The commands as calls (issue 26 §1): each command of the command line is one call of
+:mod:`crowdvib.runs`, so a Python user gets the command's folder, lines and verdict."""
+
+from pathlib import Path
+
+from crowdvib.cases import load_results
+from crowdvib.cli import main
+from crowdvib.runs import run_check
+
+CASE = Path(__file__).resolve().parents[2] / "examples" / "check_paper.toml"
+#: What differs between two runs of the same case: when, how long, and the figures' pixels.
+VOLATILE = ("created", "elapsed_s")
+
+
+def _stable(results):
+    data = results.to_dict()
+    return {key: value for key, value in data.items() if key not in VOLATILE}
+
+
+def test_run_check_from_python_is_the_command(tmp_path, capsys):
+    lines = []
+    found = run_check(CASE, tmp_path / "python", say=lines.append)
+    assert main(["check", str(CASE), "--out", str(tmp_path / "cli")]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    # The same results.json (but for the time stamps), read back as the same object, and the
+    # same verdict: the paper example fails every code without HSI and passes none with it
+    # but the UK NA (examples/check_paper.toml; docs: theory, Design checks).
+    assert _stable(found) == _stable(load_results(tmp_path / "cli"))
+    assert found.verdict() == load_results(tmp_path / "cli").verdict()
+    assert {f.text.split()[0] for f in found.verdict() if f.severity == "fail"} == {
+        "hivoss", "setra", "en1990"}
+    # The same lines, the folder's name and the run time aside; the verdict line is the CLI's.
+    assert [line for line in lines if not line.startswith("  wrote")] == [
+        line for line in printed[:len(lines)] if not line.startswith("  wrote")]
+    assert printed[len(lines)].startswith("  verdict: check before use")
