@@ -45,6 +45,9 @@ def test_demo_spectral_variant(tmp_path):
     results = json.loads((out / "results.json").read_text())
     assert results["seed"] == 3
     assert results["measured"]["source"] == "synthetic"
+    # Issue 26 §2 (one layout): the versions as every command's results.json records them.
+    assert results["versions"]["crowdvib"] == results["crowdvib_version"]
+    assert set(results["versions"]) == {"crowdvib", "numpy", "scipy", "python"}
     assert results["estimate"]["frequency"] == pytest.approx(3.0, rel=0.03)
     assert results["estimate"]["damping_ratio"] == pytest.approx(0.30, rel=0.15)
 

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
 from ..errors import ParameterError
-from .results import AsResults
+from .results import AsResults, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
@@ -92,8 +92,9 @@ class CaseDemo(AsResults):
         """The results ``crowdvib demo`` writes to results.json, without its figures and
         provenance; the default estimate's keys at the top level."""
         estimate, paper = self.estimates["default"], self.estimates["paper"]
+        # The software versions as every other command records them (issue 26 §2: one layout).
         return {**schema_header("demo"), "command": "demo", "crowdvib_version": __version__,
-                "seed": self.seed, "case": self.case.name, "truth": self.case.msd.to_dict(),
+                "versions": software_versions(), "seed": self.seed, "case": self.case.name, "truth": self.case.msd.to_dict(),
                 **estimate.to_dict(), "paper_estimator": paper.to_dict(),
                 "occupied_structure": self.occupied.to_dict(),
                 "measured": {"source": self.measured.source, "duration_s": self.duration,
