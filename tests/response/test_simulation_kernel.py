@@ -152,9 +152,10 @@ def test_walkers_on_the_deck_are_those_between_their_on_and_off_times():
 def test_the_paper_path_agrees_with_the_general_kernel():
     # Reference: the general entry point (several-mode RK4 step, segment walk) on the same run.
     # The paper's path (one mode, uniform grid: response/_stages.step_msd_one_mode and
-    # _slots.rows_uniform, written out for speed) does the same arithmetic; only the vector
-    # partial sums over the walkers may be grouped differently by the compiler, so the records
-    # agree to rounding: within 1e-9 of the RMS (issue 28 §4; ~1e-14 measured).
+    # _slots.rows_uniform, written out for speed) solves the same equations; it divides by the
+    # 1×1 mass matrix instead of twice by its Cholesky factor, and the compiler may group the
+    # vector partial sums over the walkers differently, so the records agree to rounding: within
+    # 1e-9 of the RMS (issue 28 §4; ~1e-14 measured against the code before the change).
     from crowdvib.models.examples import paper_example
     from crowdvib.response import _kernels
     from crowdvib.response.simulation import _prepare

@@ -60,7 +60,8 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
     (``phi[NOW]``, ``force[NOW]``; the other instants are scratch), the force components
     W α_c sin(ω_c (t − t_k) + θ_c) (component, slot) at t and t − h/2 with their
     2 cos(ω_c h/2) (``wave_cos``; an even number of rows, the last one zero if need be), and the
-    Cholesky factor of the mass matrix at t (``factor[NOW]``). A pedestrian with
+    Cholesky factor of the mass matrix at t (``factor[NOW]``; one mode with HSI sums its 1×1
+    mass matrix in the RK4 step instead). A pedestrian with
     ``replay[0][k] >= 0`` adds a replayed measured force (``_slots.replayed``) to that sum.
     """
     (modal_masses, modal_damping, modal_stiffness, table, positions, inverse_spacing, n_lanes,
@@ -155,9 +156,9 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
         if replaying:
             replayed_forces(n_active, t_mid, t_end, slots, index, replay, force)
         # The mass matrix and its factor at t + h/2 and t + h (and at t after a change); none
-        # (from past END) without unsprung mass. The call is not under a branch taken at run
+        # (from past END) without unsprung mass; one mode sums it in the RK4 step. The call is not under a branch taken at run
         # time: numba would count references to its arrays (atomic operations) at every step.
-        if step_kind != FORCES:
+        if step_kind == MSD:
             first_factor = (NOW if changed else MID) if added_mass else END + 1
             mass_factors(modal_masses, phi, slots, n_active, first_factor, weighted, factor)
         sample = (n >= 0 and n % substeps == 0
@@ -175,7 +176,7 @@ def _advance(step_kind, rows_kind, first_step, n_steps, substeps, h, structure, 
                         modal_stiffness, load, zs, zds)
         elif step_kind == MSD_ONE_MODE:
             step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active,
-                              modal_damping, modal_stiffness, load, zs, zds, slots)
+                              modal_damping, modal_stiffness, load, zs, zds, slots, modal_masses)
         else:
             step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
                      modal_stiffness, load, zs, zds, slots, dz, dzd, g)

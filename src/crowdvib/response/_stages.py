@@ -251,16 +251,18 @@ def step_msd(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
 
 @njit(**_REDUCTION)
 def step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal_damping,
-                      modal_stiffness, load, zs, zds, slots):
+                      modal_stiffness, load, zs, zds, slots, modal_masses):
     """:func:`step_msd` for one mode (the common footbridge case): the same arithmetic, one pass
-    over the walkers per stage, the modal stage and the solve (a division by L twice) written
-    out: helpers inlined by numba inside the stage loop would count references to their arrays
-    (atomic operations) at every stage."""
+    over the walkers per stage, which also sums the added mass Σ m_h0 φ² at the stage's instant,
+    so the 1×1 mass matrix needs no factor (nor a pass of its own). Written out: helpers inlined
+    by numba inside the stage loop would count references to their arrays (atomic operations)
+    at every stage."""
     for stage in range(4):
         instant, pos, vel, scale, inner = _stage_plan(stage, h)
         z0 = z[0] + scale * (zd[0] + inner * a[pos, 0])
         zd0 = zd[0] + scale * a[vel, 0]
         acc = 0.0
+        added = 0.0
         for slot in range(n_active):
             p = phi[instant, 0, slot]
             us = u[slot] + scale * (ud[slot] + inner * b[pos, slot])
@@ -269,8 +271,8 @@ def step_msd_one_mode(h, z, zd, a, b, u, ud, phi, force, factor, n_active, modal
                        + slots[DAMPING, slot] * (uds - p * zd0))
             b[stage, slot] = -contact * slots[INV_SPRUNG, slot]
             acc += p * (force[instant, slot] + contact)
+            added += (slots[UNSPRUNG, slot] * p) * p
         total = (-modal_damping[0] * zd0 - modal_stiffness[0] * z0 + load[instant, 0]) + acc
-        root = factor[instant, 0, 0]
-        a[stage, 0] = total / root / root
+        a[stage, 0] = total / (modal_masses[0] + added)
     _rk4_update(h, z, zd, a, n_active, u, ud, b)
     _next_instant(phi, force, factor, n_active)
