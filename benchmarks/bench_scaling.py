@@ -8,8 +8,11 @@
   replaced and against a plain-numpy reference (benchmarks/_numpy_reference.py), with the
   largest difference relative to the peak.
 * The simulation kernel on one core: µs per walker-step (walkers on the deck × RK4 steps) for the
-  paper example, with and without HSI, against the plain-numpy RK4 of _numpy_reference.py (same
-  walkers; the largest difference of the two records relative to the peak is printed).
+  paper example, with and without HSI and at 0.1 P/m², against the plain-numpy RK4 of
+  _numpy_reference.py (same walkers; the largest difference of the two records relative to the
+  peak is printed); then the kernel alone (no drawing of walkers) per RK4 step on an empty deck
+  and at 0.1, 0.5 and 1 P/m², and its fixed cost per step (issue 28 §4). Run it with
+  NUMBA_NUM_THREADS=1.
 * simulate_many: records of the paper example in 1 and 2 threads, records per second, and the
   extrapolated time of 100 one-hour records; ``hundred`` times the 100 one-hour records themselves
   (two threads).
