@@ -158,12 +158,12 @@ def add_output_arguments(parser):
 
 
 def add_workers_argument(parser):
-    """``--workers N``: local worker processes, by default the machine's physical cores."""
-    from .._threads import default_workers
-
+    """``--workers N``: local worker processes, by default the machine's physical cores (counted
+    by :func:`crowdvib.cli.main.main` once the command is known to run: psutil is slow to import
+    for ``--help``)."""
     # The help names no number: it is published in the docs, built on another machine.
     parser.add_argument(
-        "--workers", type=positive_int, default=default_workers(),
+        "--workers", type=positive_int, default=None,
         help="local worker processes, each with its share of the cores for BLAS and numba "
              "(default: the physical cores of the machine it runs on; 1 runs in this process)")
     parser.add_argument(

@@ -107,6 +107,10 @@ def main(argv=None):
         if isinstance(case, Path):
             # Before the command imports scipy and numba: a wrong path is answered at once.
             require_file(case, "case")
+        if getattr(args, "workers", 0) is None:   # --workers' default, counted when it runs
+            from .._threads import default_workers
+
+            args.workers = default_workers()
         status = _COMMANDS[args.command][1].run(args)
     except KeyboardInterrupt:
         # What a command keeps is its business (sensitivity keeps its finished tasks and says
