@@ -268,8 +268,8 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
         Rows of a lower density [persons/m²] are left out of the joint estimate (column
         ``in_joint``). The least squares weigh every record alike, and a record of a thin crowd
         holds little of the MSD: many of them pull the joint f_h1 low (measured in
-        ``benchmarks/bench_season.py``: 100 records of a daily profile, f_h1 within 78–83 % of
-        its 95 % intervals below 0.3 persons/m², 96–100 % above). Default 0: every row.
+        ``benchmarks/bench_season.py``: 200 records of a daily profile, f_h1 within 84 % of its
+        95 % intervals below 0.3 persons/m², 92–96 % above). Default 0: every row.
     executor, store, progress, batch_size
         As for :func:`crowdvib.runner.run_tasks`: where the tasks run, where finished ones
         are kept (a season given the same store resumes), ``progress(done, total)``, tasks
