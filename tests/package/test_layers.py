@@ -181,11 +181,11 @@ def test_no_private_name_across_subpackages():
 
 
 def test_function_level_relative_and_type_only_imports_are_seen():
-    # the walk reaches into functions and resolves ``..``: cli/modes.py imports the ambient
-    # pipeline inside run() (it brings numpy and io, crowdvib --help must not); _typing's imports
-    # of the forces are under TYPE_CHECKING, so they do not run
+    # the walk reaches into functions and resolves ``..``: runs/modes.py imports the ambient
+    # pipeline inside run_modes() (it brings numpy and io, crowdvib --help must not); _typing's
+    # imports of the forces are under TYPE_CHECKING, so they do not run
     assert ("crowdvib.cases.ambient", "identify_ambient") in {
-        (target, name) for target, name, _, runs in IMPORTS["crowdvib.cli.modes"] if runs}
+        (target, name) for target, name, _, runs in IMPORTS["crowdvib.runs.modes"] if runs}
     typing_rows = {(target, runs) for target, _, _, runs in IMPORTS["crowdvib._typing"]}
     assert ("crowdvib.models.loading", False) in typing_rows
 
