@@ -147,9 +147,21 @@ class CrowdProfile:
         return CrowdProfile(self.time, self.density * float(factor), self.kind)
 
     def implausibilities(self, duration: float) -> list[str]:
-        """Doubts about this profile for a record of ``duration`` [s]: a table whose times end
-        within the first thirtieth of the record but would span it in minutes or hours is
-        likely in those units (docs: theory, A crowd that changes)."""
+        """Doubts about this profile for a record of ``duration`` [s].
+
+        A table whose times end within the first thirtieth of the record but would span it in
+        minutes or hours is likely in those units (docs: theory, A crowd that changes).
+
+        Parameters
+        ----------
+        duration : float
+            The record's length [s].
+
+        Returns
+        -------
+        list of str
+            One sentence per doubt (empty: none).
+        """
         span = float(self.time[-1] - self.time[0])
         if self.time.size < 2 or not 0 < self.time[-1] <= duration / 30:
             return []
