@@ -64,9 +64,11 @@ def test_record_in_g_read_as_m_s2_is_named(measured, paper_bridge, paper_crowd):
 
 @pytest.mark.filterwarnings("ignore::crowdvib.errors.BoundWarning")  # the level drags ξ to a bound
 def test_record_in_m_s2_declared_as_g_is_named(measured, paper_bridge, paper_crowd):
+    # The warning is the diagnosis's, not the intervals' (skipped: the profiles of a fit dragged
+    # to its bounds took minutes).
     with pytest.warns(PlausibilityWarning, match="record in m/s² declared as g"):
         estimate_hsi(_scaled(measured, STANDARD_GRAVITY**2), paper_bridge, paper_crowd,
-                     band=(0.0, 10.0))
+                     band=(0.0, 10.0), interval=None)
 
 
 @pytest.mark.filterwarnings("ignore::crowdvib.errors.BoundWarning")
@@ -104,7 +106,7 @@ def test_damping_in_percent_warns(measured, paper_crowd):
     with pytest.warns(PlausibilityWarning, match="percent instead of fraction"):  # built: issue 24
         bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.5, 50e3)
     with pytest.warns(PlausibilityWarning) as caught:
-        estimate_hsi(measured, bridge, paper_crowd, band=(0.0, 10.0))
+        estimate_hsi(measured, bridge, paper_crowd, band=(0.0, 10.0), interval=None)
     messages = [str(w.message) for w in caught if w.category is PlausibilityWarning]
     assert messages[0] == ("structure: damping_ratios[0] = 0.5 is above 0.1, unusual for a "
                            "footbridge mode: percent instead of fraction? (0.5 % is 0.005)")
