@@ -153,7 +153,7 @@ def read_crowd_table(path) -> CrowdTable:
                             f"column, got {header}")
         rows = tuple(_row(path, header, values, number)
                      for number, values in enumerate(cells[1:], start=1))
-    seen = {}
+    seen: dict[tuple, int] = {}
     for row in rows:
         key = (row.record, row.start, row.end)
         if key in seen:

@@ -12,7 +12,7 @@ are a :class:`~crowdvib.models.Crowd`'s.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -52,6 +52,8 @@ class CrowdProfile:
     time: np.ndarray
     density: np.ndarray
     kind: str = "linear"
+    #: ∫ d dt at each point [persons·s/m²], set once in __post_init__ (not an argument).
+    _knots: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
         time = as_float_array("time", self.time, ndim=1)
@@ -119,7 +121,7 @@ class CrowdProfile:
         count = as_float_array("count", count, ndim=1)
         if np.any(~np.isfinite(count)) or np.any(count < 0):
             raise ParameterError(f"count must be finite and >= 0 people, got "
-                                 f"{count[~(np.isfinite(count) & (count >= 0))][0]:g}")
+                                 f"{float(count[~(np.isfinite(count) & (count >= 0))][0]):g}")
         if count.size and count.max() / area >= JAM_DENSITY:
             raise ParameterError(
                 f"count must stay below the jam density × area = {JAM_DENSITY * area:g} people "
