@@ -89,6 +89,20 @@ def test_psd_comparison_draws_every_curve(paper_bridge, paper_crowd, paper_msd, 
     assert ax.get_ylabel() == "Acceleration PSD [(m/s²)²/Hz]"
 
 
+def test_psd_comparison_leaves_out_the_0_hz_bin(paper_bridge, paper_crowd, welch_grid):
+    # Issue 27 §4: a measured record's 0 Hz bin (its offset, e.g. gravity on an accelerometer)
+    # set the axis of the estimate's figures and hid the resonance eight decades below it.
+    model = response_psd(paper_bridge, paper_crowd, welch_grid)
+    spiked = model.psd.copy()
+    spiked[:, 0] = 1e6 * spiked.max()
+    measured = ResponsePSD(frequency=model.frequency, psd=spiked,
+                           output_names=model.output_names)
+    ax = plotting.plot_psd_comparison({"measured": measured}, band=(0.0, 10.0))
+    assert ax.get_lines()[0].get_xdata().min() == welch_grid[1]
+    # The axis top is the resonance's (×3 headroom), not the spike's.
+    assert ax.get_ylim()[1] == pytest.approx(3 * model.psd[0, 1:].max())
+
+
 # ------------------------------------------------------------------------------ Figs. 4, 10
 def _bowl_map(estimate=None):
     frequencies = np.linspace(1.0, 6.0, 11)

@@ -210,7 +210,7 @@ def _figures(fit, out):
     figures = []
     for name in outputs:
         ax = plot_psd_comparison({"measured": measured, "fitted MSD": fitted, "no HSI": no_hsi},
-                                 output=name, band=(0.0, max(est.band[1], 2 * est.band[0])),
+                                 output=name, band=(est.band[0], max(est.band[1], 2 * est.band[0])),
                                  analysis_band=est.band, title=f"{case.name}: {name}")
         figures.append(save_figure(ax, out / names[name]).name)
     figures.append(save_figure(plot_psd_convergence(fit.convergence, title=f"{case.name}: PSD "

@@ -23,7 +23,8 @@ def plot_psd_comparison(curves, *, output=None, band=None, analysis_band=None, l
     output : str, optional
         Output name (default the first output of the first curve).
     band : (float, float), optional
-        Frequency range [Hz] to show.
+        Frequency range [Hz] to show. The 0 Hz bin is never drawn: it holds what is left of the
+        record's offset, not its vibration, and would set the axis (issue 27 §4).
     analysis_band : (float, float), optional
         The estimator's analysis band [Hz], shaded and named in the legend.
     logscale : bool
@@ -47,8 +48,9 @@ def plot_psd_comparison(curves, *, output=None, band=None, analysis_band=None, l
         name = output or psd.output_names[0]
         row = psd.select(name)
         keep = in_band(row.frequency, band)
-        values = row.psd[0][keep]
-        ax.plot(row.frequency[keep], np.where(values > 0, values, np.nan) if logscale else values,
+        frequency, values = row.frequency[keep], row.psd[0][keep]
+        frequency, values = frequency[frequency > 0], values[frequency > 0]
+        ax.plot(frequency, np.where(values > 0, values, np.nan) if logscale else values,
                 label=label, **style)
         unit = row.unit
         top = max(top, float(np.nanmax(values, initial=0.0)))
