@@ -16,6 +16,10 @@ from pathlib import Path
 
 from .errors import DataError, OutputError, ParameterError
 
+#: File name of the manifest every command writes into its results folder (crowdvib._manifest):
+#: a folder holding one is crowdvib's output, never anyone's input.
+MANIFEST_NAME = "crowdvib-manifest.json"
+
 # ------------------------------------------------------------------------------ write failures
 #: What an errno means for someone writing results, and what to do about it.
 _CAUSES = {

@@ -24,14 +24,12 @@ import re
 from pathlib import Path
 
 from ._version import __version__
-from ._files import sha256_file, write_json
+from ._files import MANIFEST_NAME, sha256_file, write_json
 from .errors import ParameterError
 
 __all__ = ["MANIFEST_NAME", "read_manifest", "write_manifest", "only_stores", "foreign_files",
            "record_file", "remove_owned"]
 
-#: File name of the manifest inside a results directory.
-MANIFEST_NAME = "crowdvib-manifest.json"
 _FORMAT = 1
 
 

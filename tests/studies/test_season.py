@@ -165,3 +165,20 @@ def test_rows_of_thin_crowds_can_be_left_out_of_the_joint_estimate(season, alone
         low, high = found.joint.interval(name, 0.95)
         assert low <= getattr(TRUTH, name) <= high
         assert found.joint.value(name) != alone.season.joint.value(name)
+
+
+def test_a_results_folder_among_the_records_is_not_read_as_records(season, tmp_path):
+    # An --out placed inside the records folder: its season.csv (a CSV, a record suffix) was
+    # listed as a record on the next run. A folder with crowdvib's manifest holds outputs.
+    from crowdvib.cases.season import season_records
+
+    folder = tmp_path / "records"
+    folder.mkdir()
+    (folder / "record_001.npz").write_bytes((season / "record_001.npz").read_bytes())
+    (folder / "out").mkdir()
+    (folder / "out" / "crowdvib-manifest.json").write_text("{}", encoding="utf-8")
+    (folder / "out" / "season.csv").write_text("record\n", encoding="utf-8")
+    (folder / "other").mkdir()
+    (folder / "other" / "record_002.csv").write_text("t,a\n", encoding="utf-8")
+    found = season_records(load_case(season / "season.toml"), folder)
+    assert sorted(found) == ["other/record_002.csv", "record_001.npz", "record_002.csv"]

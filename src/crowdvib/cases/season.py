@@ -80,6 +80,7 @@ def season_records(case: Case, records: str | os.PathLike | Sequence | None = No
         Name → path, each record under its path relative to its folder (``day1/0800.npz``) and
         under its file name alone when that is unique.
     """
+    from .._files import MANIFEST_NAME
     from ..io.records import RECORD_FORMATS
 
     if records is None:
@@ -92,8 +93,12 @@ def season_records(case: Case, records: str | os.PathLike | Sequence | None = No
     found = {}
     for entry in map(Path, records):
         if entry.is_dir():
+            # crowdvib's own results folders (a --out placed among the records) hold outputs,
+            # season.csv among them, never records.
+            outputs = {m.parent for m in entry.rglob(MANIFEST_NAME)}
             for path in sorted(entry.rglob("*")):
-                if path.is_file() and path.suffix.lower() in suffixes and path.name != skip:
+                if (path.is_file() and path.suffix.lower() in suffixes and path.name != skip
+                        and not outputs.intersection(path.parents)):
                     found[path.relative_to(entry).as_posix()] = path.resolve()
         else:
             found[entry.name] = entry.resolve()
