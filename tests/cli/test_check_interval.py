@@ -131,6 +131,12 @@ def test_check_cli_prints_the_range_and_writes_hsi_range(estimate_dir, tmp_path,
     assert Finding("fail", text, "hsi_range.ukna") in load_results(out).verdict()
     report = re.sub(r"<[^>]+>|\s+", "", (out / "report.html").read_text(encoding="utf-8"))
     assert re.sub(r"\s+", "", text.replace("f_h1", "fh1").replace("ξ_h1", "ξh1")) in report
+    # One report for the client: the MSD, the box its interval allows and each code's range,
+    # with the verdict at the conservative end, side by side (issue 27 §3).
+    section = report[report.index("Overtheestimate'suncertainty"):]
+    assert (f"UKNA{ukna['utilisation']:.3g}{ukna['low']:.3g}–{ukna['high']:.3g}"
+            f"{ukna['frequency'][1]:.4g}Hz,{ukna['damping_ratio'][0]:.3g}"
+            "FAILSattheconservativeend") in section
     assert status == IN_DOUBT
     # The codes failing at the estimate alone are answers, not doubts (the verdict without the
     # interval's finding exits 0): the status is the interval's.

@@ -101,9 +101,36 @@ def msd_section(results):
                 [Markup("ξ<sub>h1</sub> [-]"), number(msd.get("damping_ratio"))],
                 [Markup("μ<sub>h1</sub> [-]"), number(msd.get("mass_ratio"))]]
         body = html("<p>The HSI rows of the checks model each pedestrian by this MSD (from "
-                    "{}).</p>{}", msd.get("source") or "the case file",
-                    table(["parameter", "value"], rows, "data narrow"))
+                    "{}).</p>{}{}", msd.get("source") or "the case file",
+                    table(["parameter", "value"], rows, "data narrow"), _over_interval(results))
     return html('<section id="estimate"><h2>MSD model used</h2>{}</section>', body)
+
+
+def _over_interval(results):
+    """Identification → uncertainty → design in one table (issue 27 §3): each code's utilisation
+    at the estimate and over the box of f_h1 and ξ_h1 the estimate allows, with the verdict at
+    the conservative end (``hsi_range``, :func:`crowdvib.cases.design.check_over_interval`)."""
+    ranges = results.get("hsi_range")
+    if not isinstance(ranges, dict) or not ranges:
+        return Markup("")
+    first = next(iter(ranges.values()))
+    box = html("f<sub>h1</sub> {}–{} Hz, ξ<sub>h1</sub> {}–{}",
+               *(number(v, 4) for name in ("frequency", "damping_ratio")
+                 for v in (first.get(name) or [None, None])))
+    rows = []
+    for code, row in ranges.items():
+        end = row.get("conservative_end") or {}
+        rows.append([CODE_LABELS.get(code, code), number(row.get("utilisation"), 3),
+                     html("{}–{}", number(row.get("low"), 3), number(row.get("high"), 3)),
+                     html("{} Hz, {}", number(end.get("frequency"), 4),
+                          number(end.get("damping_ratio"), 3)),
+                     row.get("verdict") or "—"])
+    return html("<h3>Over the estimate's uncertainty</h3><p>The checks repeated across the box "
+                "{} ({}; μ<sub>h1</sub> held), which is wider than the joint confidence region: "
+                "the verdict is the one at the conservative end, where the utilisation is "
+                "highest.</p>{}", box, first.get("interval") or "interval",
+                table(["code", "utilisation at the estimate", "over the box",
+                       "conservative end (f_h1, ξ_h1)", "verdict"], rows, "data"))
 
 
 def design_section(results: dict) -> Markup:
