@@ -6,6 +6,7 @@ over an existing file) and names the next command.
 
 from pathlib import Path
 
+from ..runs.lines import caught_warnings
 from .common import positive_float, say, warning_texts
 
 
@@ -27,13 +28,11 @@ def add_arguments(parser):
 
 def run(args):
     import shlex
-    import warnings
 
     from ..io.draft import inspect_record, new_case_path, write_draft
 
     output = new_case_path(args.record, args.output)   # refused before the record is read
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with caught_warnings() as caught:
         found = inspect_record(args.record, format=args.format, sample_rate=args.sample_rate,
                                time_column=args.time_column)
     time = (f"column {found.time_column!r}" if found.time_column else "none")

@@ -3,13 +3,12 @@ with HSI (optionally across an estimate's interval), written as a results folder
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..cases.results import provenance
 from .folders import case_inputs, staged_output, write_results
-from .lines import Say, silent, warning_texts
+from .lines import Say, caught_warnings, silent, warning_texts
 
 if TYPE_CHECKING:
     from ..cases.results import Results
@@ -49,8 +48,7 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
     from ..io.casefile import load_case
     from ..reporting.reading import read_results
 
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with caught_warnings() as caught:
         case = case if hasattr(case, "design") else load_case(case)
         check_design_table(case)
         msd_from = None if msd_from is None else Path(msd_from)

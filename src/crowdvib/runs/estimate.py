@@ -3,14 +3,13 @@ written as a results folder, with the lines the command prints."""
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..cases.results import provenance
 from ..reporting.text import interval_of, with_interval
 from .folders import case_inputs, staged_output, write_results
-from .lines import Progress, Say, as_case, silent, warning_texts
+from .lines import Progress, Say, as_case, caught_warnings, silent, warning_texts
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -45,8 +44,7 @@ def run_estimate(case: Case | str | Path, out: str | Path, *, force: bool = Fals
     """
     from ..cases import estimate_case
 
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with caught_warnings() as caught:
         case = as_case(case)
         stamp = provenance(case.path)
         with staged_output(out, force, command="estimate", inputs=case_inputs(case)) as staging:
@@ -92,8 +90,7 @@ def run_map(case: Case | str | Path, out: str | Path, *, frequencies: ArrayLike,
     from ..cases import map_case
     from ..reporting.plotting import plot_objective_map, save_figure
 
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with caught_warnings() as caught:
         case = as_case(case)
         stamp = provenance(case.path)
         with staged_output(out, force, command="map", inputs=case_inputs(case)) as staging:

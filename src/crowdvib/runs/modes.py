@@ -13,12 +13,11 @@ a stable column of the diagram not among the ``n_modes`` reported.
 from __future__ import annotations
 
 import csv
-import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .folders import staged_output, write_results
-from .lines import Progress, Say, silent, warning_texts
+from .lines import Progress, Say, caught_warnings, silent, warning_texts
 
 if TYPE_CHECKING:
     from ..cases.results import Results
@@ -58,8 +57,7 @@ def run_modes(ambient: str | Path, out: str | Path, *, cross_check: bool = False
     with staged_output(out, force, command="modes",
                        inputs=[("the ambient file", Path(ambient))]) as staging:
         # Doubtful modes are warnings of the identification: they go to the verdict and report.
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
+        with caught_warnings() as caught:
             # The bar is drawn at once: a long SSI-cov run is seen advancing (issue 27 §4).
             found = identify_ambient(ambient, cross_check=cross_check,
                                      progress=None if progress is None

@@ -3,13 +3,12 @@ written in place, task by task, so that an interrupted season resumes where it s
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..cases.results import Results, provenance
 from .folders import case_inputs, check_clash, finish_output, prepare_output
-from .lines import Say, silent, warning_texts
+from .lines import Say, caught_warnings, silent, warning_texts
 
 if TYPE_CHECKING:
     from collections.abc import Callable, Sequence
@@ -85,8 +84,7 @@ def _season(case, table, out, inputs, *, records, workers, scheduler, hung_after
     done = len(store.keys())
     if done:
         say(f"  resuming: {done} finished record(s) found in {store.directory}")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with caught_warnings() as caught:
         with study_executor(workers, scheduler, timeout_floor=hung_after) as executor:
             found = season_case(case, table, records=records, joint=joint,
                                 joint_min_density=joint_min_density, executor=executor, store=store, progress=progress,
