@@ -166,6 +166,7 @@ def holder():
     for process in started:
         process.kill()
         process.wait()
+        process.stdout.close()      # else the garbage collector warns of it in a later test
 
 
 @pytest.mark.parametrize("command", ["sensitivity", "simulate"])
@@ -219,6 +220,7 @@ def test_a_killed_runs_forked_worker_does_not_keep_the_lock(tmp_path, capsys):
         assert f"pid {parent.pid} on host" in capsys.readouterr().err      # taken over
     finally:
         os.kill(child, signal.SIGKILL)
+        parent.stdout.close()
 
 
 def test_a_file_system_without_locks_is_written_with_a_note(tmp_path, capsys, monkeypatch):

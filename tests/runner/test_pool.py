@@ -147,6 +147,8 @@ def test_workers_ignore_ctrl_c_and_die_with_their_parent_even_by_sigkill(tmp_pat
         assert alive == []
     finally:
         parent.kill()
+        parent.wait()
+        parent.stdout.close()       # else the garbage collector warns of it in a later test
 
 
 def test_the_pool_is_a_concurrent_futures_executor():

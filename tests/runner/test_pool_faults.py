@@ -257,6 +257,7 @@ def cluster(tmp_path):
         except ProcessLookupError:
             pass
         process.wait(timeout=30)
+        process.stdout.close()      # else the garbage collector warns of it in a later test
 
 
 def _study_losing_its_scheduler(address, store, lose):
