@@ -109,7 +109,14 @@ def test_estimate_reproduces_the_recorded_numbers(measured, key):
                 if key.endswith("bootstrap") or not name.startswith("step_frequency")}
     assert set(estimate.intervals) == set(profiled)
     for name, ends in profiled.items():
-        _close(estimate.intervals[name], ends, tolerance)
+        if key.endswith("/profile"):
+            # Since issue 28 §4 a profile's end is found to 1 % of the interval's half-width,
+            # its inner fits to 1e-6 (docs: theory, Profile intervals), for a quarter less of
+            # the estimate's time: the ends recorded to round-off agree to within that.
+            half = (ends[1] - ends[0]) / 2
+            np.testing.assert_allclose(estimate.intervals[name], ends, rtol=0, atol=0.01 * half)
+        else:
+            _close(estimate.intervals[name], ends, tolerance)
     if key.endswith("profile") and estimate.crowd is not None:
         for name in ("step_frequency_mean", "step_frequency_std"):
             half = 1.959963984540054 * np.sqrt(expected["covariance"][

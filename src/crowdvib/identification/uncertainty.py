@@ -154,7 +154,7 @@ def profile_interval(residuals, estimate, index, lower, upper, covariance, hessi
                 with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
                     theta[others] = found[t] = optimize.least_squares(
                         inner, start, method="trf", bounds=(lower[others], upper[others]),
-                        x_scale="jac").x
+                        x_scale="jac", ftol=1e-6, xtol=1e-6).x
             r = residuals(theta)
             known[t] = factor * (float(r @ r) - best)
         return known[t]
@@ -173,7 +173,7 @@ def profile_interval(residuals, estimate, index, lower, upper, covariance, hessi
             if side * (trial - limit) >= 0:
                 trial = float(limit)
             if excess(trial) > 0:
-                end = optimize.brentq(excess, inside, trial, xtol=1e-3 * half_width)
+                end = optimize.brentq(excess, inside, trial, xtol=1e-2 * half_width)
                 break
             if trial == limit:
                 end, hit = float(limit), True
