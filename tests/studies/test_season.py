@@ -182,3 +182,32 @@ def test_a_results_folder_among_the_records_is_not_read_as_records(season, tmp_p
     (folder / "other" / "record_002.csv").write_text("t,a\n", encoding="utf-8")
     found = season_records(load_case(season / "season.toml"), folder)
     assert sorted(found) == ["other/record_002.csv", "record_001.npz", "record_002.csv"]
+
+
+@pytest.mark.slow
+def test_the_default_estimator_joins_time_domain_records_into_one_covering_estimate(
+        tmp_path):
+    # Records simulated in the time domain (walkers arriving at random: the crowd fluctuates),
+    # estimated by crowdvib's default estimator (the likelihood with the fluctuating crowd and
+    # the step frequencies fitted per record), joined by the same likelihood, each record's crowd
+    # held as its fit left it (docs: theory, A season of records). The joint 95 % interval holds
+    # the truth and is narrower than any record's.
+    from tests.conftest import EXAMPLES
+
+    paper = paper_example()
+    densities = np.linspace(0.3, 1.0, 6)
+    write_synthetic_season(tmp_path, paper.structure, paper.crowd, TRUTH, densities=densities,
+                           duration=600.0, sample_rate=25.0, simulate=True, rng=5)
+    (tmp_path / "season.toml").write_text(
+        (EXAMPLES / "paper_example.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    case = load_case(tmp_path / "season.toml")
+    assert case.estimation.method == "likelihood"
+    with study_executor(2) as executor, warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        found = season_case(case, tmp_path / "crowd.csv", records=tmp_path, executor=executor)
+    joint, rows = found.season.joint, found.season.table()
+    assert joint.method == "likelihood" and joint.crowd_model == "fluctuating"
+    for name in ("frequency", "damping_ratio"):
+        low, high = joint.interval(name, 0.95)
+        assert low <= getattr(TRUTH, name) <= high
+        assert high - low < min(row[f"{name}_high"] - row[f"{name}_low"] for row in rows)

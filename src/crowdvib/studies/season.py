@@ -6,7 +6,7 @@ one) on its own, as independent tasks of :func:`crowdvib.runner.run_tasks` (in t
 local workers or on a dask cluster, each finished one kept in a
 :class:`~crowdvib.runner.TaskStore`, so a season resumes where it stopped), and then all of
 them together with :func:`crowdvib.estimate_hsi_joint` (one MSD, each record with its own
-crowd). :class:`SeasonResult` holds the table (one row per record: its crowd, f_h1 and ξ_h1
+crowd, by the records' estimator: docs: theory, A season of records). :class:`SeasonResult` holds the table (one row per record: its crowd, f_h1 and ξ_h1
 with their intervals, its status and warnings), the joint estimate and the trend figures.
 
 A task's function (:func:`crowdvib.cases.season_case` gives the one of a case file) returns
@@ -52,7 +52,7 @@ def season_row(estimate, measured, crowd, caught=()):
         The record's estimate, with its interval (else the row has none).
     measured : ResponsePSD
         The record's measured PSD; kept over the estimate's band (one bin more each side) for
-        the joint fit, without cross-spectra (the joint fit is least squares).
+        the joint fit, without cross-spectra (the joint fit reads each output's PSD).
     crowd : Crowd
         The crowd the joint fit is to hold for this record: the one the estimate ended with
         (its fitted step frequencies, when they were free).
@@ -263,13 +263,16 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
         estimated, each with the crowd its row holds.
     joint_options : dict, optional
         Keywords of :func:`crowdvib.estimate_hsi_joint` (its defaults: the paper's least
-        squares with the smeared crowd, profile intervals).
+        squares with the smeared crowd, profile intervals; :func:`crowdvib.cases.season_case`
+        gives the case's estimator with Wald intervals). Without ``starts``, one start at the
+        records' median estimate.
     joint_min_density : float
         Rows of a lower density [persons/m²] are left out of the joint estimate (column
-        ``in_joint``). The least squares weigh every record alike, and a record of a thin crowd
-        holds little of the MSD: many of them pull the joint f_h1 low (measured in
+        ``in_joint``). The paper's least squares weigh every record alike, and a record of a
+        thin crowd holds little of the MSD: many of them pull its joint f_h1 low (measured in
         ``benchmarks/bench_season.py``: 200 records of a daily profile, f_h1 within 84 % of its
-        95 % intervals below 0.3 persons/m², 92–96 % above). Default 0: every row.
+        95 % intervals below 0.3 persons/m², 92–96 % above); the likelihood weighs each record
+        by what it holds. Default 0: every row.
     executor, store, progress, batch_size
         As for :func:`crowdvib.runner.run_tasks`: where the tasks run, where finished ones
         are kept (a season given the same store resumes), ``progress(done, total)``, tasks
@@ -297,14 +300,27 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
     if joint and done:
         with derived():               # each record's crowd was judged when its row was read
             crowds = [Crowd(**row["crowd"]) for row in done]
+        options = dict(joint_options or {})
+        if options.get("starts") is None:
+            options["starts"] = [_median_start(done)]
         try:
             estimate = estimate_hsi_joint([_psd(row["psd"]) for row in done], structure, crowds,
-                                          band=band, **dict(joint_options or {}))
+                                          band=band, **options)
         except CrowdvibError as error:
             failed = f"{type(error).__name__}: {error}"
             warnings.warn(f"the joint estimate of the season failed ({failed}); the records' "
                           "own estimates stand", StudyWarning, stacklevel=2)
     return SeasonResult(tuple(rows), estimate, failed)
+
+
+def _median_start(done):
+    """The joint fit's one start: the records' median estimate, off a bound where some are.
+    Every record's own fit has searched its basin; their median lies in the joint one, so one
+    start does what four spread ones would at a quarter of the cost (the joint fit is the
+    season's longest single step: a model of every record per evaluation)."""
+    inside = [row for row in done if not row["active_bounds"]] or done
+    return tuple(float(np.median([row[name] for row in inside]))
+                 for name in ("frequency", "damping_ratio"))
 
 
 # ------------------------------------------------------------------------------ synthetic
