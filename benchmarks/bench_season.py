@@ -2,7 +2,8 @@
 local pool and on dask, and a synthetic season identified back.
 
     python benchmarks/bench_season.py [--records N] [--workers 2] [--synthetic M]
-                                      [--estimator least_squares|default]
+                                      [--estimator least_squares|default] [--simulate]
+                                      [--keep DIR]
                                       [--skip-dask] [--skip-hours]
 
 Four tables, each with the machine's load beside it (asserts nothing):
@@ -20,9 +21,12 @@ Four tables, each with the machine's load beside it (asserts nothing):
 4. (c) A synthetic season: M records of 600 s at 25 Hz every 10 minutes, 06:00–22:30, with
    densities from a daily profile (morning and evening peaks), the crowd table giving counts
    of persons (rounded, as a counter would), estimated back with the paper's least squares
-   (``--estimator default``: crowdvib's default): per-record coverage of the 95 % intervals,
-   by density, and whether the joint interval covers the truth (every row, and the rows of 0.3
-   persons/m² and more).
+   (``--estimator default``: crowdvib's default), each record and jointly (``--simulate``:
+   records of walkers arriving at random instead of Gaussian records of the smeared crowd;
+   ``--keep DIR``: keep them and the finished tasks, so that a re-run resumes): per-record
+   coverage of the 95 % intervals, by density, and whether the joint interval covers the truth
+   (every row, the rows of 0.3 persons/m² and more, and each whole day of 100 records as a
+   season of its own).
 """
 
 import argparse
@@ -195,7 +199,7 @@ def daily_profile(hour):
             + 0.75 * np.exp(-((hour - 17.5) / 1.8) ** 2))
 
 
-def synthetic(n_records, workers, estimator):
+def synthetic(n_records, workers, estimator, simulate=False, keep=None):
     from crowdvib import load_case
     from crowdvib.cases import season_case
     from crowdvib.models.examples import paper_example
@@ -209,11 +213,13 @@ def synthetic(n_records, workers, estimator):
     densities = [float(daily_profile(hour)) for _, hour in days]
     times = [f"2026-05-{4 + day:02d}T{int(hour):02d}:{round(60 * (hour % 1)):02d}"
              for day, hour in days]
-    with tempfile.TemporaryDirectory(prefix="crowdvib-season-") as directory:
+    with (contextlib.nullcontext(keep) if keep else
+          tempfile.TemporaryDirectory(prefix="crowdvib-season-")) as directory:
         folder = Path(directory)
-        write_synthetic_season(folder / "records", paper.structure, paper.crowd, paper.msd,
-                               densities=densities, duration=600.0, sample_rate=25.0,
-                               times=times, rng=17)
+        if not (folder / "records").is_dir():          # --keep: records and tasks of a re-run
+            write_synthetic_season(folder / "records", paper.structure, paper.crowd, paper.msd,
+                                   densities=densities, duration=600.0, sample_rate=25.0,
+                                   times=times, rng=17, simulate=simulate)
         area = paper.structure.area
         # A counter gives whole persons: the table's crowd is the count, rounded.
         lines = ["record,count,time"] + [f"record_{i:03d}.npz,{max(round(d * area), 1)},{t}"
@@ -234,14 +240,25 @@ def synthetic(n_records, workers, estimator):
             # persons/m² and more only.
             dense = season_case(case, folder / "crowd.csv", records=folder / "records",
                                 store=folder / "tasks", joint_min_density=0.3).season
+            # Each day a season of its own (its rows from the store): as many draws of the
+            # joint interval's coverage as there are whole days.
+            day_seasons = []
+            for day in range(n_records // len(starts)):
+                table = folder / f"crowd_day{day + 1}.csv"
+                first = 1 + day * len(starts)
+                table.write_text("\n".join([lines[0], *lines[first:first + len(starts)]])
+                                 + "\n", encoding="utf-8")
+                day_seasons.append(season_case(case, table, records=folder / "records",
+                                               store=folder / "tasks").season)
     season, truth = found.season, paper.msd
     coverage = season.coverage(truth.to_dict())
     rows = season.table()
     states = [row["status"] for row in rows]
     print(f"\n4. A synthetic season: {n_records} records of 600 s at 25 Hz, densities "
           f"{min(densities):.2f}–{max(densities):.2f} persons/m² from a daily profile, counts "
-          f"in the table; the {case.estimation.method} estimator per record, least squares "
-          f"jointly; {wall:.0f} s on {workers} workers "
+          f"in the table ({'simulated walkers' if simulate else 'Gaussian, smeared crowd'}); "
+          f"the {case.estimation.method} estimator per record and jointly; {wall:.0f} s on "
+          f"{workers} workers "
           f"({_load()}); {states.count('ok')} ok, {states.count('doubt')} in doubt (on a "
           f"bound), {states.count('error')} failed")
     bins = ((0.0, 0.15), (0.15, 0.3), (0.3, 0.5), (0.5, 10.0))
@@ -257,7 +274,9 @@ def synthetic(n_records, workers, estimator):
             cells.append(f"{np.mean(held):6.1%} ({len(held):3d})" if held else "—")
         print(f"  {label:6s}{value:7g}{coverage[name]:10.1%}" + "".join(f"{c:>12s}"
                                                                    for c in cells))
-    for part, which in ((season, "every row"), (dense, "the rows of 0.3 persons/m² and more")):
+    parts = [(season, "every row"), (dense, "the rows of 0.3 persons/m² and more")] + [
+        (day, f"day {number}") for number, day in enumerate(day_seasons, 1)]
+    for part, which in parts:
         joint, used = part.joint, sum(row["in_joint"] for row in part.table())
         print(f"  joint estimate of {which} ({used}): " + "; ".join(
             f"{label} {joint.value(name):.4f} (95 %: {low:.4f}–{high:.4f}) "
@@ -276,6 +295,12 @@ def main():
     parser.add_argument("--estimator", choices=("least_squares", "default"),
                         default="least_squares",
                         help="of each record of the synthetic season (default: the paper's)")
+    parser.add_argument("--simulate", action="store_true",
+                        help="synthetic records simulated with walkers (the crowd fluctuates) "
+                             "instead of Gaussian records of the smeared crowd")
+    parser.add_argument("--keep", metavar="DIR",
+                        help="keep the synthetic season's records and tasks in DIR (a re-run "
+                             "resumes)")
     parser.add_argument("--skip-dask", action="store_true")
     parser.add_argument("--skip-hours", action="store_true")
     args = parser.parse_args()
@@ -284,7 +309,7 @@ def main():
     if not args.skip_hours:
         hours(args.records, args.workers, dask)
     if args.synthetic:
-        synthetic(args.synthetic, args.workers, args.estimator)
+        synthetic(args.synthetic, args.workers, args.estimator, args.simulate, args.keep)
 
 
 if __name__ == "__main__":
