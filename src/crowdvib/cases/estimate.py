@@ -126,7 +126,7 @@ class CaseEstimate(AsResults):
         part = self.records[0] if part is None else part
         est, measured = self.case.estimation, part.measurement.psd
         model = record_model(self.case.structure, crowd, measured.frequency,
-                             crowd_profile=self.case.record_crowd_profile(),
+                             crowd_profile=part.case.record_crowd_profile(),
                              record_windows=(measured.window_length, measured.n_windows),
                              force=self.case.force,
                              outputs=part.measurement.record.channel_names,
@@ -329,7 +329,8 @@ def estimate_case(case: Case) -> CaseEstimate:
     if case.records:
         estimate = estimate_hsi_joint([p.measurement.psd for p in parts], case.structure,
                                       [p.crowd for p in parts], free_mass_ratio=free_mass,
-                                      **options)
+                                      crowd_profiles=[p.case.record_crowd_profile()
+                                                      for p in parts], **options)
         return CaseEstimate(case, tuple(parts), estimate)
     (part,) = parts
     record, spec = part.measurement.record, case.measurement

@@ -200,10 +200,7 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     crowd_model, free_step_frequencies = estimator_defaults(method, crowd_model,
                                                             free_step_frequencies)
     free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
-    if (isinstance(crowd_profile, CrowdProfile)            # the objective checks the types
-            and getattr(measured, "window_length", None) and getattr(measured, "n_windows", None)):
-        warn_notes(crowd_profile.implausibilities(record_duration(
-            measured.window_length, measured.n_windows)), stacklevel=2)
+    _warn_implausible_profile(crowd_profile, measured)
 
     def objective(crowd, model=crowd_model):
         return PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
@@ -251,7 +248,9 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
                        force: ForceModel | None = None, match_welch: bool = True,
                        method: str = DEFAULT_JOINT_METHOD, interval: str = "profile",
                        level: float = 0.95, crowd_model: str | None = None, n_boot: int = 200,
-                       rng: Seed = None) -> HSIEstimate:
+                       rng: Seed = None,
+                       crowd_profiles: Sequence[CrowdProfile | None] | None = None
+                       ) -> HSIEstimate:
     """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
 
     The records are independent, so their misfits add (for the likelihood: their likelihoods
@@ -273,6 +272,10 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
         As in :func:`estimate_hsi`, the same for every record.
     free_mass_ratio, force, match_welch, method, interval, level, crowd_model, n_boot, rng
         As in :func:`estimate_hsi`, the same for every record.
+    crowd_profiles : sequence of CrowdProfile or None, optional
+        Per record, the crowd's density against its time (``crowd_profile`` of
+        :func:`estimate_hsi`), or None for a record whose crowd stays as its ``crowds`` entry
+        says; default: every crowd stationary.
 
     Returns
     -------
@@ -300,14 +303,30 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
     if not measurements or len(measurements) != len(crowds):
         raise ParameterError(f"measurements and crowds must pair up one record with one crowd, "
                              f"got {len(measurements)} measurement(s) and {len(crowds)} crowd(s)")
+    profiles = [None] * len(crowds) if crowd_profiles is None else list(crowd_profiles)
+    if len(profiles) != len(crowds):
+        raise ParameterError(f"crowd_profiles must give one profile (or None) per record, got "
+                             f"{len(profiles)} for {len(crowds)} record(s)")
+    for measured, profile in zip(measurements, profiles):
+        _warn_implausible_profile(profile, measured)
     parts = [(PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                            output_weights=output_weights, frequency_weights=frequency_weights,
-                           match_welch=match_welch, method=method, crowd_model=crowd_model),
+                           match_welch=match_welch, method=method, crowd_model=crowd_model,
+                           crowd_profile=profile),
               measured)
-             for measured, crowd in zip(measurements, crowds)]
+             for measured, crowd, profile in zip(measurements, crowds, profiles)]
     return _estimate(parts, structure, starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                      free_mass_ratio=free_mass_ratio, method=method, interval=interval,
                      level=level, n_boot=n_boot, rng=rng)
+
+
+def _warn_implausible_profile(profile, measured):
+    """A crowd profile's doubtful values against the record it describes, as warnings (at the
+    caller of the estimate)."""
+    if (isinstance(profile, CrowdProfile)            # the objective checks the types
+            and getattr(measured, "window_length", None) and getattr(measured, "n_windows", None)):
+        warn_notes(profile.implausibilities(record_duration(
+            measured.window_length, measured.n_windows)), stacklevel=3)
 
 
 class _Stacked:

@@ -165,7 +165,8 @@ class Case:
         if not self.records:
             return [self]
         return [replace(self, name=block.name, measurement=block.measurement,
-                        crowd=block.crowd, records=()) for block in self.records]
+                        crowd=block.crowd, crowd_profile=block.crowd_profile, records=())
+                for block in self.records]
 
     def to_dict(self, sections: Sequence[str] | None = None) -> dict[str, Any]:
         """The inputs as a JSON-ready dict (models summarised, paths as strings).
@@ -390,23 +391,45 @@ def _measurement(table, path):
 
 
 # -------------------------------------------------------- several measurements (joint fit)
-def _measurement_block(table, path, crowd, number):
-    """One ``[[measurement]]`` block: its name, its own crowd (default the case's) and the keys
-    of ``[measurement]``."""
+def _measurement_block(table, path, crowd, number, structure):
+    """One ``[[measurement]]`` block: its name, its own crowd (default the case's, stationary),
+    with its counts or density profile if it has them, and the keys of ``[measurement]``."""
     name = table.string("name", f"record {number}")
+    profile = None
     if table.has("crowd"):
-        crowd = _crowd(table.table("crowd"), path)
-    return MeasurementBlock(name=name, measurement=_measurement(table, path), crowd=crowd)
+        crowd_table = table.table("crowd")
+        profile = _crowd_profile(crowd_table, path, structure)
+        crowd = _crowd(crowd_table, path, profile)
+    measurement = _measurement(table, path)
+    _check_profile_frame(profile, measurement, path, f"measurement[{number}].crowd",
+                         "its [[measurement]] block")
+    return MeasurementBlock(name=name, measurement=measurement, crowd=crowd,
+                            crowd_profile=profile)
 
 
-def _measurements(root, path, crowd):
+def _check_profile_frame(profile, measurement, path, where, measured_by):
+    """A crowd profile is on its record's time, and the estimator places Welch windows at
+    overlap 0.5 over it: refuse a stationary time frame or another overlap."""
+    if profile is not None and (measurement.time_frame == "stationary"
+                                or measurement.overlap != 0.5):
+        raise ParameterError(
+            f"{path.name}: {where}.counts or {where}.density_profile must come with "
+            f"{measured_by} whose time_frame is the whole record or [start, end] (the profile "
+            "is on the record's time) and Welch windows at overlap 0.5 (as the estimator "
+            "places them), got " + ('time_frame = "stationary"'
+                                    if measurement.time_frame == "stationary"
+                                    else f"overlap = {measurement.overlap:g}"))
+
+
+def _measurements(root, path, crowd, structure):
     """``[measurement]`` → (spec, ()); ``[[measurement]]`` blocks → (first spec, blocks)."""
     blocks = root.raw("measurement", {})
     if not isinstance(blocks, list):
         return _measurement(root.table("measurement"), path), ()
     if not blocks:
         raise root.error("measurement", "must hold at least one [[measurement]] block", blocks)
-    records = tuple(_measurement_block(Table(block, f"measurement[{i}]", path), path, crowd, i)
+    records = tuple(_measurement_block(Table(block, f"measurement[{i}]", path), path, crowd, i,
+                                       structure)
                     for i, block in enumerate(blocks, start=1))
     names = [block.name for block in records]
     if len(set(names)) != len(names):
@@ -585,7 +608,7 @@ def _case(path, data):
     crowd_profile = _crowd_profile(crowd_table, path, structure)
     crowd = _crowd(crowd_table, path, crowd_profile)
     msd = _msd(root.table("hsi"), path)
-    measurement, records = _measurements(root, path, crowd)
+    measurement, records = _measurements(root, path, crowd, structure)
     estimation = (_estimation(root.table("estimation"), path) if root.has("estimation")
                   else EstimationSpec())
     if not root.has("estimation"):
@@ -607,16 +630,12 @@ def _case(path, data):
                              "frequencies in a joint fit of several [[measurement]] blocks (each "
                              "record has its own crowd: fit its step frequencies first, "
                              "[estimation.step_frequencies])")
-    if crowd_profile is not None and (records or measurement.time_frame == "stationary"
-                                      or measurement.overlap != 0.5):
+    if crowd_profile is not None and records:
         raise ParameterError(
             f"{path.name}: crowd.counts or crowd.density_profile must come with one "
-            "[measurement] whose time_frame is the whole record or [start, end] (the profile "
-            "is on the record's time) and Welch windows at overlap 0.5 (as the estimator "
-            "places them), got " + ("several [[measurement]] blocks" if records
-                                    else 'time_frame = "stationary"'
-                                    if measurement.time_frame == "stationary"
-                                    else f"overlap = {measurement.overlap:g}"))
+            "[measurement] (the profile is on its record's time), got several [[measurement]] "
+            "blocks: give each block's [measurement.crowd] its own counts")
+    _check_profile_frame(crowd_profile, measurement, path, "crowd", "one [measurement]")
     for spec in [block.measurement for block in records] or [measurement]:
         if spec.channels is not None:
             try:

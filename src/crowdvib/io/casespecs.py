@@ -10,6 +10,7 @@ from .._estimators import DEFAULT_JOINT_METHOD, DEFAULT_METHOD, estimator_defaul
 
 if TYPE_CHECKING:
     from ..models.crowd import Crowd
+    from ..models.profile import CrowdProfile
     from ..models.pedestrian import MSDModel
 
 __all__ = ["MeasurementSpec", "MeasurementBlock", "StepFrequencySpec", "EstimationSpec",
@@ -68,6 +69,9 @@ class MeasurementBlock:
     name: str
     measurement: MeasurementSpec
     crowd: Crowd
+    #: The crowd's density against the record's time (its ``crowd.counts`` or
+    #: ``crowd.density_profile``), None for a stationary crowd.
+    crowd_profile: CrowdProfile | None = None
 
 
 @dataclass(frozen=True)
