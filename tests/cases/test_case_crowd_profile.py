@@ -81,9 +81,9 @@ def test_simulate_case_follows_the_counts(tmp_path):
         assert abs(on_deck[block].mean() - people) < 4 * np.sqrt(people * tau / 300)
 
 
-def test_estimate_case_uses_the_counts(tmp_path):
-    # An hour whose crowd ramps 0.2 → 1.0 P/m², counted per minute: the case's estimate (least
-    # squares, as tests/identification/test_varying_crowd_estimate.py) holds the truth.
+def _ramp_case(tmp_path):
+    """An hour whose crowd ramps 0.2 → 1.0 P/m², counted per minute, fitted by least squares
+    on 0.5–10 Hz (as tests/identification/test_varying_crowd_estimate.py) → the case's path."""
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
     profile = CrowdProfile([0.0, 3600.0], [0.2, 1.0])
     record = simulate(bridge, Crowd.from_density(0.6), 3600.0, msd=MSDModel(), rng=1,
@@ -96,10 +96,52 @@ def test_estimate_case_uses_the_counts(tmp_path):
                  '[measurement]\nfiles = ["ramp.npz"]\n[measurement.filter]\ncutoff = false\n'
                  '[estimation]\nmethod = "least_squares"\nband = [0.5, 10.0]\n',
                  ("counts.csv", table))
+    return path
+
+
+def test_estimate_case_uses_the_counts(tmp_path):
+    # The case's estimate with the counts holds the truth (docs: theory, A crowd that changes).
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        fit = estimate_case(load_case(path))
+        fit = estimate_case(load_case(_ramp_case(tmp_path)))
     low, high = fit.estimate.intervals["frequency"]
     assert low < 3.0 < high
     low, high = fit.estimate.intervals["damping_ratio"]
     assert low < 0.30 < high
+
+
+def test_map_and_sensitivity_fit_the_crowd_that_was_counted(tmp_path):
+    # Every command that estimates fits the counted crowd: `crowdvib map`'s estimate and its
+    # landscape, and `crowdvib sensitivity`'s nominal estimate and its studies, are those of
+    # `crowdvib estimate` (before, they silently fitted the stationary crowd at the mean).
+    from crowdvib.cases import map_case, study_case
+    from crowdvib.identification import PSDObjective
+
+    case = load_case(_ramp_case(tmp_path))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = estimate_case(case)
+        mapped = map_case(case, frequencies=[2.5, 3.0, 3.5], damping_ratios=[0.2, 0.3])
+        study = study_case(case, levels={"frequencies": (0.01,)}, joint=False,
+                           record_length=False)
+    truth_fit = (fit.estimate.msd.frequency, fit.estimate.msd.damping_ratio)
+    assert (mapped.estimate.msd.frequency, mapped.estimate.msd.damping_ratio) == truth_fit
+    assert (study.study.nominal["frequency"], study.study.nominal["damping_ratio"]) == truth_fit
+    # The map's costs are the counted crowd's objective (the reference: PSDObjective with the
+    # case's profile, as the estimator builds it).
+    objective = PSDObjective(fit.records[0].measurement.psd, case.structure, fit.crowd,
+                             band=(0.5, 10.0), method="least_squares",
+                             crowd_profile=case.record_crowd_profile())
+    assert mapped.landscape.cost[1, 1] == pytest.approx(objective.cost(MSDModel(3.0, 0.3, 0.95)),
+                                                        rel=1e-12)
+
+
+def test_a_season_refuses_a_counted_case(tmp_path):
+    from crowdvib.cases import season_case
+
+    path = _case(tmp_path, 'counts = "counts.csv"\n')
+    (tmp_path / "crowd.csv").write_text("record,density\nr.npz,0.5\n", encoding="utf-8")
+    with pytest.raises(ParameterError, match=r"case.toml: crowd.counts or crowd.density_profile "
+                                             r"must not be given for a season: the crowd table "
+                                             r"gives each record's crowd"):
+        season_case(load_case(path), tmp_path / "crowd.csv")

@@ -287,6 +287,8 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
                    crowd_model=est.crowd_model)
     if not case.records:        # a joint fit holds each record's crowd
         options["free_step_frequencies"] = "step_frequency_mean" in est.free_parameters
+        if case.crowd_profile is not None:     # every command fits the crowd that was counted
+            options["crowd_profile"] = case.record_crowd_profile()
     if not point_only:
         options.update(interval=None if est.interval == "none" else est.interval,
                        level=est.level, n_boot=est.n_boot, rng=case.seed)
@@ -341,8 +343,7 @@ def estimate_case(case: Case) -> CaseEstimate:
                                   lowpass=part.measurement.lowpass)
     options["outputs"] = record.channel_names
     estimate = estimate_hsi(part.measurement.psd, case.structure, part.crowd,
-                            free_mass_ratio=free_mass,
-                            crowd_profile=case.record_crowd_profile(), **options)
+                            free_mass_ratio=free_mass, **options)
     return CaseEstimate(case, (part,), estimate, convergence)
 
 

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
-from ..errors import DataError
+from ..errors import DataError, ParameterError
 from .results import AsResults, ESTIMATION_TABLES, software_versions
 from .schema import schema_header
 
@@ -114,7 +114,7 @@ def _crowd(case, table, row):
     walking speed and a mean step frequency the case derives from its density are derived
     from the row's (Weidmann; Bruno & Venuti), as the case file would."""
     from .._plausibility import derived, implausibility
-    from ..errors import ParameterError, PlausibilityWarning
+    from ..errors import PlausibilityWarning
     from ..models.crowd import bruno_venuti_step_frequency, weidmann_speed
 
     where = f"{table.path.name}: row {row.row}"
@@ -246,6 +246,10 @@ def season_case(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
     from ..studies.season import season_study
     from .estimate import estimate_options
 
+    if case.crowd_profile is not None:
+        raise ParameterError(f"{case.path.name}: crowd.counts or crowd.density_profile must not "
+                             "be given for a season: the crowd table gives each record's crowd "
+                             "(its count or density per record or per window)")
     table = crowd_table if isinstance(crowd_table, CrowdTable) else read_crowd_table(crowd_table)
     found = season_records(case, records, table.path)
     windows = season_windows(case, table, found)

@@ -104,7 +104,7 @@ class ObjectiveMap:
 def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, band,
                   outputs=None, output_weights=None, frequency_weights=None, mass_ratio=0.95,
                   force=None, match_welch=True, estimate=None, method="least_squares",
-                  crowd_model=None, progress=None, max_seconds=None):
+                  crowd_model=None, progress=None, max_seconds=None, crowd_profile=None):
     """The objective on a (f_h1, ξ_h1) grid → :class:`ObjectiveMap` (paper Figures 4 and 10).
 
     The misfit of ``method``: the paper's J of Eq. (6) (default) or the Whittle deviance.
@@ -115,7 +115,7 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     Parameters
     ----------
     measured, structure, crowd, band, outputs, output_weights, frequency_weights, force, match_welch
-    crowd_model
+    crowd_model, crowd_profile
         As in :func:`crowdvib.estimate_hsi`.
     method
         As in :func:`crowdvib.estimate_hsi`, but the paper's least squares by default.
@@ -159,7 +159,8 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     objective = PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                              output_weights=output_weights, frequency_weights=frequency_weights,
                              match_welch=match_welch, method=method,
-                             crowd_model=estimator_defaults(method, crowd_model)[0])
+                             crowd_model=estimator_defaults(method, crowd_model)[0],
+                             crowd_profile=crowd_profile)
     cost = np.empty(shape)
     started = time.perf_counter()
     cost[0, 0] = objective.cost(MSDModel(frequencies[0], damping_ratios[0], mass_ratio))

@@ -290,7 +290,7 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
                           executor=None, store=None, progress=None, outputs=None,
                           output_weights=None, frequency_weights=None, starts=None, bounds=None,
                           mass_ratio=0.95, force=None, match_welch=True, method=DEFAULT_METHOD,
-                          crowd_model=None, free_step_frequencies=None):
+                          crowd_model=None, free_step_frequencies=None, crowd_profile=None):
     """Estimation error caused by plausible modelling errors (paper Figures 11 and 19).
 
     The estimate is repeated with the assumed-known inputs perturbed by ±ε, one parameter at a
@@ -313,7 +313,7 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
     progress : callable, optional
         ``progress(done, total)``.
     outputs, output_weights, frequency_weights, starts, bounds, mass_ratio, force, match_welch
-    method, crowd_model, free_step_frequencies
+    method, crowd_model, free_step_frequencies, crowd_profile
         Passed to :func:`crowdvib.estimate_hsi` (its defaults: the likelihood with the
         fluctuating crowd and the step frequencies fitted, whose ε_μfs and ε_σfs cases then
         only move the fit's start).
@@ -341,6 +341,8 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
                ("mass_ratio", mass_ratio), ("force", force), ("match_welch", match_welch),
                ("method", method), ("crowd_model", crowd_model),
                ("free_step_frequencies", free_step_frequencies))
+    if crowd_profile is not None:       # only then: a stationary study keeps its task keys
+        options += (("crowd_profile", crowd_profile),)
     cases = error_cases(levels, joint=joint)
     tasks = [(case.name, _EstimationTask(measured, structure, crowd, case, options))
              for case in cases]
