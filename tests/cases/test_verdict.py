@@ -48,7 +48,7 @@ def test_a_design_check_failing_with_the_primary_model_fails():
             {"code": "setra", "traffic_class": "II", "model": "HSI", "output": "mid",
              "passes": True, "governing": 0.5, "limit": 1.0, "utilisation": 0.5}]
     found = findings({"design": {"verdict": rows}})
-    assert found == (Finding("fail", "hivoss TC3 fails at mid with HSI: 1.38 m/s² above the "
+    assert found == (Finding("fail", "HiVoSS TC3 fails at mid with HSI: 1.38 m/s² above the "
                              "limit 1 m/s² (utilisation 1.38).", "design.verdict"),)
 
 
@@ -63,10 +63,10 @@ def test_a_code_passing_at_the_estimate_and_failing_at_the_conservative_end_fail
               "setra": {**box, "utilisation": 1.2, "low": 1.1, "high": 1.3}}
     found = findings({"hsi_range": ranges})
     assert found == (
-        Finding("fail", "ukna passes at the estimate (utilisation 0.91) but fails at the "
+        Finding("fail", "UK NA passes at the estimate (utilisation 0.91) but fails at the "
                 "conservative end of the estimate 95 % interval of f_h1 and ξ_h1 (f_h1 = 3.2 Hz, "
                 "ξ_h1 = 0.2): utilisation 1.01 there (range 0.83–1.01).", "hsi_range.ukna"),
-        Finding("ok", "hivoss passes over the estimate 95 % interval of f_h1 and ξ_h1 "
+        Finding("ok", "HiVoSS passes over the estimate 95 % interval of f_h1 and ξ_h1 "
                 "(utilisation 0.45–0.6).", "hsi_range.hivoss"))
     # Sétra fails at the estimate: the design rule's failure, an answer, not this rule's.
     # The interval's failure is undecided by the data: in doubt (exit status 3); a failure at

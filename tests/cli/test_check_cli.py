@@ -46,7 +46,7 @@ def test_check_writes_results_verdict_figures_and_report(tmp_path, capsys):
     report = (out / "report.html").read_text()
     assert "Design checks" in report and "utilisation" in report
     # A failing check is a printed warning (HiVoSS TC3 with HSI: 1.38 m/s² > 1.0 m/s²).
-    assert "hivoss TC3 fails at midspan with HSI" in printed
+    assert "HiVoSS TC3 fails at midspan with HSI" in printed
 
 
 def test_check_takes_the_msd_of_another_run(tmp_path):

@@ -123,7 +123,7 @@ def test_check_cli_prints_the_range_and_writes_hsi_range(estimate_dir, tmp_path,
         0.91, 0.83, 1.01)
     assert ukna["conservative_end"] == {"frequency": ukna["frequency"][1],
                                         "damping_ratio": ukna["damping_ratio"][0]}
-    text = (f"ukna passes at the estimate (utilisation {ukna['utilisation']:.3g}) but fails at "
+    text = (f"UK NA passes at the estimate (utilisation {ukna['utilisation']:.3g}) but fails at "
             "the conservative end of the estimate 95 % interval of f_h1 and ξ_h1 (f_h1 = "
             f"{ukna['frequency'][1]:.3g} Hz, ξ_h1 = {ukna['damping_ratio'][0]:.3g}): utilisation "
             f"{ukna['high']:.3g} there (range {ukna['low']:.3g}–{ukna['high']:.3g}).")

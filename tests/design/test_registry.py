@@ -89,3 +89,15 @@ def test_registry_refuses_bad_codes(one_walker):
     with pytest.raises(ParameterError, match=r"code must be one of \['setra', 'hivoss', "
                                              r"'en1990', 'ukna', 'one_walker'\], got 'greedy'"):
         design_check(ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3), "greedy")
+
+
+def test_codes_are_named_in_words(one_walker):
+    # Reports and verdicts write a code's label (the built-ins as their documents name
+    # themselves), a plug-in's name when it has no label, and the name of a code no longer
+    # registered (a results file read back).
+    from crowdvib.design import code_label
+
+    assert [code_label(name) for name in ("setra", "hivoss", "en1990", "ukna")] == [
+        "Sétra", "HiVoSS", "EN 1990", "UK NA"]
+    assert code_label("one_walker") == "one_walker"
+    assert code_label("retired") == "retired"

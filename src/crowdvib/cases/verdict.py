@@ -194,12 +194,14 @@ def _run_warnings(results):
 
 def _design(results):
     """A check that fails with the primary model (HSI when checked, else no HSI) fails."""
+    from ..design.registry import code_label    # here: the verdict's import stays light
+
     rows = get(results, ("design", "verdict"))
     if not isinstance(rows, list):
         return []
     rows = [r for r in rows if isinstance(r, dict)]
     primary = "HSI" if any(r.get("model") == "HSI" for r in rows) else "no HSI"
-    return [Finding("fail", f"{r.get('code')} {r.get('traffic_class') or ''} fails at "
+    return [Finding("fail", f"{code_label(r.get('code'))} {r.get('traffic_class') or ''} fails at "
                     f"{r.get('output')} with {primary}: {_g(r.get('governing'), 3)} m/s² above "
                     f"the limit {_g(r.get('limit'), 3)} m/s² (utilisation "
                     f"{_g(r.get('utilisation'), 3)}).", "design.verdict")
@@ -215,6 +217,8 @@ def _interval(results):
     ranges = results.get("hsi_range")
     if not isinstance(ranges, dict):
         return []
+    from ..design.registry import code_label
+
     found = []
     for code, row in ranges.items():
         row = row if isinstance(row, dict) else {}
@@ -224,14 +228,16 @@ def _interval(results):
         over = f"the {row.get('interval') or 'estimate'} interval of f_h1 and ξ_h1"
         span = f"{_g(low, 3)}–{_g(high, 3)}"
         if high <= 1.0:
-            found.append(Finding("ok", f"{code} passes over {over} (utilisation {span}).",
+            found.append(Finding("ok", f"{code_label(code)} passes over {over} (utilisation "
+                                       f"{span}).",
                                  f"hsi_range.{code}"))
             continue
         end = row.get("conservative_end") if isinstance(row.get("conservative_end"), dict) else {}
         at = (f" (f_h1 = {_g(end.get('frequency'), 3)} Hz, ξ_h1 = "
               f"{_g(end.get('damping_ratio'), 3)})" if end else "")
         found.append(Finding(
-            "fail", f"{code} passes at the estimate (utilisation {_g(point, 3)}) but fails at the "
+            "fail", f"{code_label(code)} passes at the estimate (utilisation {_g(point, 3)}) but "
+            "fails at the "
             f"conservative end of {over}{at}: utilisation {_g(high, 3)} there (range {span}).",
             f"hsi_range.{code}"))
     return found

@@ -14,11 +14,11 @@ The damper itself is a model (``crowdvib.models.damper``) that the response func
 
 from ..models.damper import TunedMassDamper
 from .check import DesignCheck, design_check
-from .registry import DesignCode, code_names, register_code, unregister_code
+from .registry import DesignCode, code_label, code_names, register_code, unregister_code
 from .stochastic import ResponsePrediction, predict_response
 from .tuning import optimal_tuning, tune_damper
 from .ukna import UKNACode                    # registers the UK NA beside check's guides
 
 __all__ = ["TunedMassDamper", "tune_damper", "optimal_tuning", "design_check", "DesignCheck",
            "predict_response", "ResponsePrediction", "DesignCode", "register_code",
-           "unregister_code", "code_names", "UKNACode"]
+           "unregister_code", "code_names", "code_label", "UKNACode"]

@@ -449,8 +449,8 @@ class GuideCode(DesignCode):
 
     options = frozenset({"comfort_class", "neq_damping"})
 
-    def __init__(self, name: str):
-        self.name = name
+    def __init__(self, name: str, label: str):
+        self.name, self.label = name, label
 
     # Each code names its own options (design_check passes only those in ``options``), a
     # narrower signature than the registry's **options: by design, hence the override note.
@@ -511,5 +511,5 @@ class GuideCode(DesignCode):
                            peak_accelerations=arrays["peak_accelerations"], details=details)
 
 
-for _name in ("setra", "hivoss", "en1990"):
-    register_code(GuideCode(_name))
+for _name, _label in (("setra", "Sétra"), ("hivoss", "HiVoSS"), ("en1990", "EN 1990")):
+    register_code(GuideCode(_name, _label))

@@ -20,7 +20,8 @@ from ..errors import ParameterError
 if TYPE_CHECKING:
     from .check import DesignCheck
 
-__all__ = ["DesignCode", "register_code", "unregister_code", "design_code", "code_names"]
+__all__ = ["DesignCode", "register_code", "unregister_code", "design_code", "code_names",
+           "code_label"]
 
 #: The keyword options of design_check a code may take, beyond the shared inputs.
 OPTIONS = ("comfort_class", "site_factors", "weighting", "neq_damping")
@@ -33,11 +34,14 @@ class DesignCode(ABC):
     ----------
     name : str
         The name ``design_check`` is called with.
+    label : str
+        The code's name in words, as reports and verdicts write it (default: ``name``).
     options : frozenset of str
         The options of :data:`OPTIONS` the code understands.
     """
 
     name: ClassVar[str] = ""
+    label: ClassVar[str] = ""
     options: ClassVar[frozenset] = frozenset()
 
     @abstractmethod
@@ -128,6 +132,19 @@ def design_code(name: str) -> DesignCode:
     if name not in _CODES:
         raise ParameterError(f"code must be one of {list(_CODES)}, got {name!r}")
     return _CODES[name]
+
+
+def code_label(name: str) -> str:
+    """A code's name in words (``"UK NA"`` for ``"ukna"``): its ``label``, else ``name``, also
+    for a code no longer registered (a results file read back keeps its names).
+
+    Parameters
+    ----------
+    name : str
+        The code's name.
+    """
+    code = _CODES.get(name)
+    return (code.label or code.name) if code is not None else str(name)
 
 
 def code_names() -> tuple:

@@ -291,6 +291,7 @@ class UKNACode(DesignCode):
     """The UK National Annex to BS EN 1991-2 (NA.2.44) as a design code: :func:`ukna_check`."""
 
     name = "ukna"
+    label = "UK NA"
     options = frozenset({"site_factors", "weighting"})
 
     def check(self, structure, *, traffic_class, density, crowd, msd, dampers,  # type: ignore[override]

@@ -4,14 +4,12 @@ acceleration of every mode, and the FRF of the governing mode without and with t
 import numpy as np
 
 from .._figures import DARK, LIGHT, FigureAxes, panels
+from ..design.registry import code_label
 
-__all__ = ["plot_utilisation", "plot_mode_accelerations", "plot_damper_frf", "MODEL_LABELS",
-           "CODE_LABELS"]
+__all__ = ["plot_utilisation", "plot_mode_accelerations", "plot_damper_frf", "MODEL_LABELS"]
 
 #: The structural models of a design check as the report and its figures name them.
 MODEL_LABELS = {"empty": "no HSI", "added_mass": "added mass", "hsi": "HSI"}
-#: The built-in codes as the report and its figures name them (others by their own name).
-CODE_LABELS = {"hivoss": "HiVoSS", "setra": "Sétra", "en1990": "EN 1990", "ukna": "UK NA"}
 _SHADES = {"empty": "0.75", "added_mass": "0.45", "hsi": "black"}
 
 
@@ -89,12 +87,12 @@ def plot_damper_frf(frf: dict, *, axes: object = None, title: str | None = None)
     ax.set_ylabel("|H| [(m/s²) per unit modal force]")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize="small")
-    code = CODE_LABELS.get(frf["code"], frf["code"])
+    code = code_label(frf["code"])
     ax.set_title(title or f"Mode {frf['mode']} at {frf['output']}, {frf['model']} "
                  f"({code}, {frf['density']:.3g} persons/m²)")
     return handles
 
 
 def _code_label(check):
-    code = CODE_LABELS.get(check.code, check.code)
+    code = code_label(check.code)
     return code + (f" {check.traffic_class}" if check.traffic_class else "")

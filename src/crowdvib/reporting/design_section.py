@@ -8,7 +8,8 @@ Each function returns empty Markup (or None) for the results of other commands.
 from markupsafe import Markup
 
 from ..cases.schema import get, real
-from .design_plots import CODE_LABELS, MODEL_LABELS
+from ..design.registry import code_label
+from .design_plots import MODEL_LABELS
 from .html import html, number, table
 
 __all__ = ["design_decisions", "damper_items", "msd_section", "design_section"]
@@ -23,7 +24,7 @@ def _rows(results):
 
 
 def _code(row):
-    code = CODE_LABELS.get(row.get("code"), str(row.get("code")))
+    code = code_label(row.get("code"))
     return f"{code} {row['traffic_class']}" if row.get("traffic_class") else code
 
 
@@ -120,7 +121,7 @@ def _over_interval(results):
     rows = []
     for code, row in ranges.items():
         end = row.get("conservative_end") or {}
-        rows.append([CODE_LABELS.get(code, code), number(row.get("utilisation"), 3),
+        rows.append([code_label(code), number(row.get("utilisation"), 3),
                      html("{}–{}", number(row.get("low"), 3), number(row.get("high"), 3)),
                      html("{} Hz, {}", number(end.get("frequency"), 4),
                           number(end.get("damping_ratio"), 3)),
