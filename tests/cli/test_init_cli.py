@@ -190,3 +190,20 @@ def test_named_time_column_must_exist(logger_csv, tmp_path, capsys):
     assert second.endswith("bridge.csv: has no time column 'Zeit'; its columns are "
                           "['Time [s]', 'midspan']")
     assert not (tmp_path / "c.toml").exists()
+
+
+def test_the_drafts_report_table_uncommented_is_the_reports_header(drafted):
+    # The draft names the [report] keys (issue 27 §4), commented out: uncommented and filled,
+    # they are the case's report header, the date a TOML date kept as ISO text.
+    path, _ = drafted
+    text = _fill(path.read_text(encoding="utf-8"), PAPER)
+    assert "# [report]\n" in text
+    filled = {"client": "City of Ghent", "project": "Footbridge monitoring",
+              "bridge": "Eeklo", "location": "Eeklo, Belgium", "engineer": "A. Engineer"}
+    text = text.replace("# [report]\n", "[report]\n")
+    for key, value in filled.items():
+        text = text.replace(f'# {key} = "..."', f'{key} = "{value}"')
+    text = text.replace("# measurement_date = 2024-05-01", "measurement_date = 2024-05-01")
+    case_path = path.parent / "reported.toml"
+    case_path.write_text(text, encoding="utf-8")
+    assert load_case(case_path).report == {**filled, "measurement_date": "2024-05-01"}

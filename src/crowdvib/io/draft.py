@@ -290,6 +290,15 @@ def draft_case(summary: RecordSummary, case_path: str | os.PathLike) -> str:
             f"[lower, upper] frequency band [Hz] of the fit around the mode, e.g. [0.0, "
             f"{min(10.0, 0.8 * nyquist):.1f}]; upper below the Nyquist frequency "
             f"{nyquist:g} Hz"),
+        "",
+        "# [report]",
+        "# Who and what the reports are for, shown in their header (each optional; uncomment):",
+        '# client = "..."',
+        '# project = "..."',
+        '# bridge = "..."',
+        '# location = "..."',
+        '# engineer = "..."',
+        "# measurement_date = 2024-05-01",
     ]
     return "\n".join(lines) + "\n"
 
