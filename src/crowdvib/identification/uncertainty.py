@@ -83,6 +83,11 @@ def sandwich_covariance(variance, hessian):
     return inverse @ variance @ inverse
 
 
+#: The residual that stands in for a non-finite one in a profile's inner fit: far above any
+#: residual of a model that fits (normalised residuals are of order 1).
+_OFF_MODEL = 1e3
+
+
 def profile_interval(residuals, estimate, index, lower, upper, covariance, hessian, level):
     """Profile interval of parameter ``index``, calibrated by the sandwich (module docstring).
 
@@ -142,21 +147,39 @@ def profile_interval(residuals, estimate, index, lower, upper, covariance, hessi
             theta[index] = t
             if others:
                 def inner(x):
+                    # Where the model is not finite (far along a profile of a record that
+                    # hardly bounds the parameter, the fitted step frequencies can leave the
+                    # band without load), a large finite misfit keeps the fit away; scipy
+                    # refuses non-finite residuals.
                     theta[others] = x
-                    return residuals(theta)
+                    found_r = residuals(theta)
+                    return np.where(np.isfinite(found_r), found_r, _OFF_MODEL)
 
                 start = np.clip(predicted(t), lower[others], upper[others])
+                if np.any(inner(start) == _OFF_MODEL):
+                    # The extrapolated start is off the model: start from the nearest point
+                    # of the profile found so far instead.
+                    start = found[min(found, key=lambda s: abs(s - t))]
                 # A parameter that has left the data's reach (a level far off drags ξ to its
                 # bound) has a zero Jacobian column; trf's bound scaling then overflows, and its
                 # trust-region step divides by zero, in quantities it only compares (numpy 2.5
                 # with scipy 1.18 warn; the profile is still the minimum found). Silenced here,
-                # where it is understood, and nowhere else.
+                # where it is understood, and nowhere else. When the overflow reaches trf's SVD
+                # (a NaN there: scipy raises), the fit is made again without the scaling.
                 with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-                    theta[others] = found[t] = optimize.least_squares(
-                        inner, start, method="trf", bounds=(lower[others], upper[others]),
-                        x_scale="jac", ftol=1e-6, xtol=1e-6).x
+                    for scale in ("jac", 1.0):
+                        try:
+                            theta[others] = found[t] = optimize.least_squares(
+                                inner, start, method="trf", bounds=(lower[others], upper[others]),
+                                x_scale=scale, ftol=1e-6, xtol=1e-6).x
+                            break
+                        except ValueError:
+                            if scale != "jac":
+                                raise
             r = residuals(theta)
-            known[t] = factor * (float(r @ r) - best)
+            # No finite model at t: beyond every value the data allow (a rise past any level).
+            known[t] = (factor * (float(r @ r) - best) if np.all(np.isfinite(r))
+                        else _OFF_MODEL ** 2)
         return known[t]
 
     def excess(t):
