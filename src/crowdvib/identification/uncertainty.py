@@ -146,14 +146,21 @@ def profile_interval(residuals, estimate, index, lower, upper, covariance, hessi
             theta = estimate.copy()
             theta[index] = t
             if others:
+                last = {}
+
                 def inner(x):
                     # Where the model is not finite (far along a profile of a record that
                     # hardly bounds the parameter, the fitted step frequencies can leave the
                     # band without load), a large finite misfit keeps the fit away; scipy
-                    # refuses non-finite residuals.
-                    theta[others] = x
-                    found_r = residuals(theta)
-                    return np.where(np.isfinite(found_r), found_r, _OFF_MODEL)
+                    # refuses non-finite residuals. The last point is kept: the fit's first
+                    # evaluation is the start, already checked below.
+                    key = np.asarray(x, dtype=float).tobytes()
+                    if key not in last:
+                        theta[others] = x
+                        found_r = residuals(theta)
+                        last.clear()
+                        last[key] = np.where(np.isfinite(found_r), found_r, _OFF_MODEL)
+                    return last[key]
 
                 start = np.clip(predicted(t), lower[others], upper[others])
                 if np.any(inner(start) == _OFF_MODEL):
@@ -169,14 +176,17 @@ def profile_interval(residuals, estimate, index, lower, upper, covariance, hessi
                 with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
                     for scale in ("jac", 1.0):
                         try:
-                            theta[others] = found[t] = optimize.least_squares(
+                            fit = optimize.least_squares(
                                 inner, start, method="trf", bounds=(lower[others], upper[others]),
-                                x_scale=scale, ftol=1e-6, xtol=1e-6).x
+                                x_scale=scale, ftol=1e-6, xtol=1e-6)
                             break
                         except ValueError:
                             if scale != "jac":
                                 raise
-            r = residuals(theta)
+                theta[others] = found[t] = fit.x
+                r = np.where(fit.fun == _OFF_MODEL, np.nan, fit.fun)     # the fit's own r(θ)
+            else:
+                r = residuals(theta)
             # No finite model at t: beyond every value the data allow (a rise past any level).
             known[t] = (factor * (float(r @ r) - best) if np.all(np.isfinite(r))
                         else _OFF_MODEL ** 2)
