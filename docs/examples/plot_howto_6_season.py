@@ -99,9 +99,11 @@ def run(command_line):
 # Dask cluster (in batches of records, so that dask's own cost per task stays small), and every
 # finished record is kept in ``season/tasks``, so that ``--resume`` goes on after an
 # interruption without estimating a record twice. Then all rows are estimated together: one MSD,
-# each row with its crowd. The paper's least squares weigh every record alike, and a record of a
-# thin crowd holds little of the MSD: over a long season, ``--joint-min-density 0.3`` keeps the
-# many quiet hours out of the joint estimate (``benchmarks/bench_season.py`` measures why).
+# each row with its crowd, by the rows' own estimator (theory: :ref:`theory-season-joint`).
+# crowdvib's default likelihood weighs each record by what it holds of the MSD. The paper's least
+# squares, as on this page, weigh every record alike, and a record of a thin crowd holds little
+# of the MSD: with it, over a long season, ``--joint-min-density 0.3`` keeps the many quiet hours
+# out of the joint estimate (``benchmarks/bench_season.py`` measures why).
 status = run("crowdvib season bridge.toml crowd.csv --records records --out season --workers 1")
 print("exit status", status)
 
