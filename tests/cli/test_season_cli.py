@@ -35,7 +35,9 @@ def test_season_writes_its_table_figure_and_results_and_resumes(season, capsys):
                  str(out), "--records", str(season / "records"), "--workers", "1"]
     assert main(arguments) == 0
     printed = capsys.readouterr().out
-    assert "4 row(s): 4 ok" in printed and "joint estimate, every record with its crowd" in printed
+    # The joint estimate names its estimator: the case's (here the paper's least squares).
+    assert "4 row(s): 4 ok" in printed
+    assert "joint estimate (least squares), every record with its crowd" in printed
     with open(out / "season.csv", encoding="utf-8", newline="") as handle:
         rows = list(csv.DictReader(handle))
     assert list(rows[0]) == list(TABLE_COLUMNS) and len(rows) == 4

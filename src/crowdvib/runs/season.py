@@ -133,7 +133,9 @@ def _say_season(found, say):
                 f"{row['warnings']}")
     joint = found.season.joint
     if joint is not None:
-        say("  joint estimate, every record with its crowd: " + "; ".join(
+        method = {"likelihood": "likelihood", "least_squares": "least squares"}.get(
+            joint.method, joint.method)
+        say(f"  joint estimate ({method}), every record with its crowd: " + "; ".join(
             f"{label} = {joint.value(name):.3f} ({_end(low)}–{_end(high)})"
             for name, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1"))
             for low, high in [joint.interval(name, 0.95) if joint.covariance is not None
