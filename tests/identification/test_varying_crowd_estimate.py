@@ -73,3 +73,26 @@ def test_profile_needs_a_welch_estimate(ramp_record):
         PSDObjective(welch_psd(np.ones((1, 6000)) + np.sin(np.arange(6000)), 50.0,
                                window_length=20.0), bridge, walkers, band=(1.0, 4.0),
                      crowd_profile={"time": [0], "density": [0.5]})
+
+
+def test_the_bootstraps_exact_model_weighs_the_record_as_its_welch_windows(ramp_record):
+    # A parametric bootstrap draws a record from the exact PSD and Welch-averages it (docs:
+    # theory, Parametric bootstrap): with a profile that exact PSD must average the densities as
+    # the Welch windows weigh the record's times (less at its ends), the law of the Welch model
+    # itself, not uniformly over the record.
+    from crowdvib.response.varying import VaryingCrowdModel
+
+    bridge, walkers, profile, measured = ramp_record
+    objective = PSDObjective(measured, bridge, walkers, band=(1.0, 4.0), crowd_profile=profile)
+    exact = objective.exact_model(np.linspace(0.0, 5.0, 51))
+    assert exact.welch_window_length is None
+
+    def moments(model):        # Σ p d^k, k = 1, 2, 3: a Gauss rule of 2+ nodes holds them exactly
+        return [model.probabilities @ model.levels ** k for k in (1, 2, 3)]
+
+    # The same law (each chooses its own number of nodes: the exact PSD is smoother).
+    np.testing.assert_allclose(moments(exact), moments(objective.model), rtol=1e-9)
+    # Uniform weights would give another law on this ramp: the record's ends count fully.
+    uniform = VaryingCrowdModel(bridge, walkers, profile, np.linspace(0.0, 5.0, 51),
+                                duration=exact.duration, levels=exact.levels.size)
+    assert abs(moments(uniform)[1] / moments(exact)[1] - 1) > 1e-4

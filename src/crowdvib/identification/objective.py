@@ -341,6 +341,8 @@ class PSDObjective:
         """
         inputs = dict(self._model_inputs, welch_window_length=None)
         if self._profile is not None:
+            # The record's times weighed as its Welch windows weigh them (not uniformly).
+            inputs["weights_window_length"] = self._profile[2][0]
             return self._varying_model(self.model.crowd, frequency, inputs)
         return spectral_model(inputs.pop("structure"), self.model.crowd, frequency, **inputs)
 

@@ -124,6 +124,10 @@ class VaryingCrowdModel:
     welch_window_length : float, optional
         Welch segment length T [s]: the model is what the Welch average sees (its kernel and its
         windows' weights over time). None: the exact PSD averaged uniformly over the record.
+    weights_window_length : float, optional
+        With ``welch_window_length`` None: the exact PSD averaged over the record as Welch
+        windows of this length weigh its times (a parametric bootstrap's record, drawn from the
+        exact PSD and then Welch-averaged; docs: theory, Parametric bootstrap).
     overlap : float
         Overlap of the Welch segments (default 0.5, as :func:`crowdvib.welch_psd`).
     crowd_model : {"smeared", "fluctuating"}
@@ -147,7 +151,8 @@ class VaryingCrowdModel:
 
     def __init__(self, structure: ModalModel, crowd: Crowd, profile: CrowdProfile,
                  frequency: ArrayLike, *, duration: float,
-                 welch_window_length: float | None = None, overlap: float = 0.5,
+                 welch_window_length: float | None = None,
+                 weights_window_length: float | None = None, overlap: float = 0.5,
                  crowd_model: str = "smeared", levels: int | None = None,
                  **options: Any) -> None:
         check_type("structure", structure, ModalModel)
@@ -157,7 +162,8 @@ class VaryingCrowdModel:
                                    or not 1 <= levels <= 40):
             raise ParameterError(f"levels must be an integer from 1 to 40, got {levels!r}")
         density, weight = density_law(structure, crowd, profile, duration,
-                                      welch_window_length=welch_window_length, overlap=overlap)
+                                      welch_window_length=welch_window_length
+                                      or weights_window_length, overlap=overlap)
         self.duration, self.overlap, self.crowd_model = float(duration), overlap, crowd_model
         smeared = {}
 
