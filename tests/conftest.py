@@ -121,6 +121,16 @@ def pytest_sessionfinish(session):
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
+def default_sigint():
+    """``preexec_fn`` of a process a test interrupts with SIGINT: Ctrl-C's default disposition in
+    it, also where the tests themselves run with SIGINT ignored (a shell's background job, such as
+    ``.ci/run &``), which Python, and so crowdvib, keeps ignoring, as ``nohup crowdvib ... &``
+    asks of it."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def copy_paper_case(folder, name="paper_example.toml"):
     """examples/paper_example.toml and its record copied into ``folder``, the paper's estimator
     stated (``method = "least_squares"``) → the case path.

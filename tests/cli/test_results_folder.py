@@ -23,7 +23,7 @@ import pytest
 
 from crowdvib._files import lock_path
 from crowdvib.cli import main
-from tests.conftest import paper_case_least_squares
+from tests.conftest import default_sigint, paper_case_least_squares
 from crowdvib.errors import StudyWarning
 from crowdvib.runner import TaskStore, run_tasks
 from crowdvib.runner.tasks import record_digest
@@ -336,7 +336,7 @@ def test_map_ctrl_c_is_one_line_exit_130_and_leaves_nothing(tmp_path):
     process = subprocess.Popen([sys.executable, "-m", "crowdvib", "map", str(CASE), "--out",
                                 str(out), "--frequencies", "1:6:2000"], cwd=tmp_path,
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               start_new_session=True)
+                               start_new_session=True, preexec_fn=default_sigint)
     deadline = time.monotonic() + 120
     while not any(tmp_path.glob(".map.*.part")):             # the run has begun writing
         assert process.poll() is None and time.monotonic() < deadline

@@ -25,7 +25,7 @@ from crowdvib.cli import main
 from crowdvib.cli.common import IN_DOUBT
 from crowdvib.errors import StudyWarning
 from crowdvib.runner import TaskStore, run_tasks
-from tests.conftest import copy_paper_case, paper_case_least_squares
+from tests.conftest import copy_paper_case, default_sigint, paper_case_least_squares
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 #: The paper example with the paper's estimator (the study's machinery is the subject).
@@ -156,7 +156,7 @@ def _start(out, *options):
     command = [sys.executable, "-m", "crowdvib", "sensitivity", str(CASE), "--out", str(out),
                "--workers", "2", *options]
     return subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True, cwd=out.parent)
+                            start_new_session=True, cwd=out.parent, preexec_fn=default_sigint)
 
 
 def _wait_for_tasks(process, out, count, timeout=120):
