@@ -214,7 +214,8 @@ class CaseSeason(AsResults):
 
 def season_case(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
                 records: str | os.PathLike | Sequence | None = None, joint: bool = True,
-                joint_min_density: float = 0.0, executor=None, store=None, progress: Callable[[int, int], None] | None = None,
+                joint_min_density: float = 0.0, executor=None, store=None,
+                progress: Callable[[int, int], None] | None = None,
                 batch_size: int | None = None) -> CaseSeason:
     """Run ``crowdvib season``: every row of a crowd table estimated, then all together.
 

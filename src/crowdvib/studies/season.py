@@ -6,8 +6,9 @@ one) on its own, as independent tasks of :func:`crowdvib.runner.run_tasks` (in t
 local workers or on a dask cluster, each finished one kept in a
 :class:`~crowdvib.runner.TaskStore`, so a season resumes where it stopped), and then all of
 them together with :func:`crowdvib.estimate_hsi_joint` (one MSD, each record with its own
-crowd, by the records' estimator: docs: theory, A season of records). :class:`SeasonResult` holds the table (one row per record: its crowd, f_h1 and ξ_h1
-with their intervals, its status and warnings), the joint estimate and the trend figures.
+crowd, by the records' estimator: docs: theory, A season of records). :class:`SeasonResult`
+holds the table (one row per record: its crowd, f_h1 and ξ_h1 with their intervals, its status
+and warnings), the joint estimate and the trend figures.
 
 A task's function (:func:`crowdvib.cases.season_case` gives the one of a case file) returns
 :func:`season_row` of its estimate: its numbers and its measured PSD over the band, which the
@@ -286,16 +287,15 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
     tasks = [(name, payload) for name, payload, _ in windows if payload is not None]
     results = run_tasks(function, tasks, executor=executor, store=store, progress=progress,
                         fields=_ROW_FIELDS, batch_size=batch_size)
-    rows = []
+    rows, done = [], []          # every row; the estimated ones the joint fit holds
     for name, payload, info in windows:
         found = results.get(name, {}) if payload is not None else {}
-        rows.append({"name": name, **info, **{k: v for k, v in found.items() if k != "psd"}})
-    done = [results[name] for name, payload, _ in windows
-            if payload is not None and "error" not in results[name]
-            and results[name]["crowd"]["density"] >= joint_min_density]
-    for row in rows:
-        row["in_joint"] = bool(joint) and "frequency" in row and row["crowd"]["density"] >= \
-            joint_min_density
+        used = bool(joint) and "frequency" in found and \
+            found["crowd"]["density"] >= joint_min_density
+        rows.append({"name": name, **info, **{k: v for k, v in found.items() if k != "psd"},
+                     "in_joint": used})
+        if used:
+            done.append(found)
     estimate, failed = None, None
     if joint and done:
         with derived():               # each record's crowd was judged when its row was read
