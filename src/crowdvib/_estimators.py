@@ -17,7 +17,7 @@ error in the mean step frequency: it keeps the paper's least squares by default.
 from .errors import ParameterError
 
 __all__ = ["DEFAULT_METHOD", "DEFAULT_JOINT_METHOD", "METHOD_DEFAULTS", "check_method",
-           "estimator_defaults"]
+           "estimator_defaults", "DEFAULT_DENSITY_UNCERTAINTY", "check_density_uncertainty"]
 
 #: The misfit of a single-record estimate when none is stated.
 DEFAULT_METHOD = "likelihood"
@@ -25,6 +25,12 @@ DEFAULT_METHOD = "likelihood"
 DEFAULT_JOINT_METHOD = "least_squares"
 #: method → (crowd model, step frequencies fitted with the MSD) when not stated.
 METHOD_DEFAULTS = {"likelihood": ("fluctuating", True), "least_squares": ("smeared", False)}
+#: The relative standard uncertainty of a stated crowd density when none is stated: densities
+#: counted in the field are rarely known better than ±10 %, and the estimate of ξ_h1 moves by a
+#: third to a half for a density 10 % off (docs: theory, The crowd density's uncertainty).
+DEFAULT_DENSITY_UNCERTAINTY = 0.1
+#: Above this the interval's linearisation in ln ρ no longer holds (±2σ would reach ±100 %).
+MAX_DENSITY_UNCERTAINTY = 0.5
 
 
 def check_method(method):
@@ -39,3 +45,17 @@ def estimator_defaults(method, crowd_model=None, free_step_frequencies=None):
     model, free = METHOD_DEFAULTS[check_method(method)]
     return (model if crowd_model is None else crowd_model,
             free if free_step_frequencies is None else free_step_frequencies)
+
+
+def check_density_uncertainty(value):
+    """``value`` as a float in [0, MAX_DENSITY_UNCERTAINTY], else a ParameterError."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = None
+    if (isinstance(value, bool) or number is None
+            or not 0.0 <= number <= MAX_DENSITY_UNCERTAINTY):
+        raise ParameterError(
+            f"density_uncertainty must be the relative standard uncertainty of the stated crowd "
+            f"density, a number in [0, {MAX_DENSITY_UNCERTAINTY}] (0.1 for ±10 %), got {value!r}")
+    return number

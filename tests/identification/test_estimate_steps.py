@@ -70,7 +70,7 @@ def _run(measured, key):
 #: numbers are held to 1e-5 and the evaluation count, which follows the path, is not compared.
 RECORDED_WITH = ("2.4.6", "1.17.1")
 SAME_LIBRARIES = (np.__version__, scipy.__version__) == RECORDED_WITH
-TOLERANCE = 1e-12 if SAME_LIBRARIES else 1e-5
+TOLERANCE = 1e-8 if SAME_LIBRARIES else 1e-5
 
 
 #: The likelihood with free step frequencies refits from the first fit's optimum since

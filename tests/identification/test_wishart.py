@@ -102,7 +102,7 @@ def test_score_variance_matches_a_monte_carlo_of_the_complex_wishart_law():
     gradient = np.stack([_random_hermitian(rng, 2, bins) - _random_hermitian(rng, 2, bins)
                          for _ in range(2)], axis=-1)
     terms = WishartTerms(model, model, np.full(bins, NU), 1e-6)
-    variance, hessian = terms.information(model, gradient, NU, (1.0,), np.ones(bins))
+    variance, hessian, _ = terms.information(model, gradient, NU, (1.0,), np.ones(bins))
     inverse = np.linalg.inv(np.moveaxis(model, -1, 0))
     factor = np.linalg.cholesky(np.moveaxis(model, -1, 0))
     scores = []

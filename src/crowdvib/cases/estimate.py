@@ -273,8 +273,8 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
         :meth:`~crowdvib.io.casespecs.EstimationSpec.resolved`), its MSD's mass ratio, its
         walking-force model and its seed.
     point_only : bool
-        Leave out the interval options (``interval``, ``level``, ``n_boot``, ``rng``): for the
-        studies, which compare point estimates.
+        Leave out the interval options (``interval``, ``level``, ``n_boot``, ``rng``,
+        ``density_uncertainty``): for the studies, which compare point estimates.
 
     Returns
     -------
@@ -291,7 +291,8 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
             options["crowd_profile"] = case.record_crowd_profile()
     if not point_only:
         options.update(interval=None if est.interval == "none" else est.interval,
-                       level=est.level, n_boot=est.n_boot, rng=case.seed)
+                       level=est.level, n_boot=est.n_boot, rng=case.seed,
+                       density_uncertainty=est.density_uncertainty)
     return options
 
 

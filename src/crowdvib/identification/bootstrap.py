@@ -64,7 +64,9 @@ class _Replicates:
                               else objective.dispersion)
         self.occupancy = occupancy
 
-    def draw(self, rng):
+    def draw(self, rng, density_error=0.0):
+        """One replicate; ``density_error``: the relative error of the stated density common to
+        every record of this replicate (it moves the ordinates as a larger crowd would)."""
         if self.cross:
             record = gaussian_cross_record(self.exact, self.sample_rate, rng=rng)
             gaussian = welch_psd(record, self.sample_rate, window_length=self.window,
@@ -76,8 +78,8 @@ class _Replicates:
         replicate = self.expected + self.spread * (gaussian - self.expected)
         if self.occupancy is not None:
             gradient, variance = self.occupancy
-            replicate = replicate + (rng.standard_normal() * np.sqrt(variance) * gradient
-                                     * self.level)
+            replicate = replicate + ((rng.standard_normal() * np.sqrt(variance) + density_error)
+                                     * gradient * self.level)
         if self.cross:
             return _floor_matrices(replicate, self.expected)
         return np.maximum(replicate, _FLOOR * self.expected)
@@ -103,7 +105,8 @@ def _floor_matrices(replicate, expected):
 
 def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, state: Callable,
                         lower: np.ndarray, upper: np.ndarray, occupancies: Sequence,
-                        n_boot: int, rng: np.random.Generator) -> np.ndarray:
+                        n_boot: int, rng: np.random.Generator, *,
+                        density_uncertainty: float = 0.0) -> np.ndarray:
     """θ* of ``n_boot`` parametric-bootstrap replicates → array (n_boot, n_parameters).
 
     Parameters
@@ -123,6 +126,9 @@ def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, state: Callab
     n_boot : int
         Number of replicates.
     rng : numpy.random.Generator
+    density_uncertainty : float
+        Relative standard uncertainty of the stated density: each replicate draws one error of
+        it for all its records (docs: theory, The crowd density's uncertainty).
     """
     msd, _ = state(theta)       # each objective's model is already the fitted crowd's
     draws = [_Replicates(objective, measured, msd, occupancy)
@@ -130,7 +136,8 @@ def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, state: Callab
     start = np.clip(theta, lower + 1e-3 * (upper - lower), upper - 1e-3 * (upper - lower))
     estimates = np.empty((n_boot, theta.size))
     for b in range(n_boot):
-        objectives = [d.objective.with_target(d.draw(rng)) for d in draws]
+        error = density_uncertainty * rng.standard_normal() if density_uncertainty else 0.0
+        objectives = [d.objective.with_target(d.draw(rng, error)) for d in draws]
 
         def residuals(values, objectives=objectives):
             candidate, steps = state(values)

@@ -19,7 +19,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import least_squares
 
-from .._estimators import DEFAULT_JOINT_METHOD, DEFAULT_METHOD, estimator_defaults
+from .._estimators import (DEFAULT_DENSITY_UNCERTAINTY, DEFAULT_JOINT_METHOD, DEFAULT_METHOD,
+                           check_density_uncertainty, estimator_defaults)
 from .._plausibility import warn_notes
 from .._validation import as_float_array, check_flag
 from ..errors import BoundWarning, EstimationError, ParameterError
@@ -72,7 +73,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
                  force: ForceModel | None = None, match_welch: bool = True,
                  method: str = DEFAULT_METHOD, interval: str = "profile", level: float = 0.95,
                  crowd_model: str | None = None, n_boot: int = 200,
-                 rng: Seed = None, crowd_profile: CrowdProfile | None = None) -> HSIEstimate:
+                 rng: Seed = None, crowd_profile: CrowdProfile | None = None,
+                 density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY) -> HSIEstimate:
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Equations 5 and 6).
 
     Parameters
@@ -146,6 +148,13 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         theory, A crowd that changes); ``crowd`` gives the walkers, its density is not used.
         The interval takes the record's Welch statistics as measured: the scatter of its
         segments, which with a changing crowd includes the spread of their expectations.
+    density_uncertainty : float
+        The relative standard uncertainty of the stated crowd density (or of the whole
+        ``crowd_profile``), in [0, 0.5]: 0.1 for a density known to ±10 % (one standard
+        deviation). The intervals carry it as a nuisance of the sandwich covariance: a density
+        stated too high moves every ordinate as a larger crowd would, and the estimate with it
+        (docs: theory, The crowd density's uncertainty). Default 0.1: field densities are
+        rarely known better; 0 for a density known exactly (a simulated record).
 
     Returns
     -------
@@ -215,7 +224,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
 
     options = dict(starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                    free_mass_ratio=free_mass_ratio, method=method, level=level, n_boot=n_boot,
-                   rng=rng, free_step_frequencies=free_step_frequencies)
+                   rng=rng, free_step_frequencies=free_step_frequencies,
+                   density_uncertainty=density_uncertainty)
     if free_step_frequencies and method == "likelihood":
         # The likelihood's bins are chosen from the crowd's model (within its dynamic range), so
         # a first fit from the given crowd is followed by the fit on the bins of the fitted
@@ -249,7 +259,8 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
                        method: str = DEFAULT_JOINT_METHOD, interval: str = "profile",
                        level: float = 0.95, crowd_model: str | None = None, n_boot: int = 200,
                        rng: Seed = None,
-                       crowd_profiles: Sequence[CrowdProfile | None] | None = None
+                       crowd_profiles: Sequence[CrowdProfile | None] | None = None,
+                       density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY
                        ) -> HSIEstimate:
     """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
 
@@ -276,6 +287,10 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
         Per record, the crowd's density against its time (``crowd_profile`` of
         :func:`estimate_hsi`), or None for a record whose crowd stays as its ``crowds`` entry
         says; default: every crowd stationary.
+    density_uncertainty : float
+        As in :func:`estimate_hsi`: the relative standard uncertainty of the stated densities,
+        taken as one error common to every record (the same way of counting), so it does not
+        average out over records.
 
     Returns
     -------
@@ -317,7 +332,7 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
              for measured, crowd, profile in zip(measurements, crowds, profiles)]
     return _estimate(parts, structure, starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                      free_mass_ratio=free_mass_ratio, method=method, interval=interval,
-                     level=level, n_boot=n_boot, rng=rng)
+                     level=level, n_boot=n_boot, rng=rng, density_uncertainty=density_uncertainty)
 
 
 def _warn_implausible_profile(profile, measured):
@@ -380,7 +395,8 @@ class _Parameters:
 
 
 def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, method,
-              interval, level, n_boot=200, rng=None, free_step_frequencies=False, given=None):
+              interval, level, n_boot=200, rng=None, free_step_frequencies=False, given=None,
+              density_uncertainty=DEFAULT_DENSITY_UNCERTAINTY):
     """The estimate from one or several (objective, measured PSD) records (estimate_hsi).
 
     ``given``: the records' objectives at the crowd the user gave, where a wrong level is
@@ -392,6 +408,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     """
     free_mass_ratio, free_step_frequencies = _check_options(
         mass_ratio, free_mass_ratio, free_step_frequencies, interval, n_boot, level)
+    density_uncertainty = check_density_uncertainty(density_uncertainty)
     warn_notes([f"structure: {note}" for note in structure.implausibilities()], stacklevel=2)
     parameters = _parametrisation(bounds, mass_ratio, free_mass_ratio, free_step_frequencies)
     crowd = parts[0][0].model.crowd
@@ -413,15 +430,16 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     for ratio, as_given in zip(ratios, given):
         # The diagnostics warn from here: their stack depth is fixed.
         _check_level(as_given, ratio, lambda target: _fit(target, held, held_points), held.msd)
-    covariance, hessian, occupancies = None, None, None
+    covariance, hessian, occupancies, density = None, None, None, _DensityTerm(0.0, None, None)
     # Intervals need the scatter of the ordinates: known for a Welch estimate (its n_windows),
     # not for a PSD of unknown origin (a model curve, a PSD read from a table).
     if interval is not None and all(measured.n_windows for _, measured in parts):
-        covariance, hessian, occupancies = _covariance(parts, parameters, best.x)
+        covariance, hessian, occupancies, density = _covariance(parts, parameters, best.x,
+                                                                density_uncertainty)
         _check_identifiability(parameters.names, covariance)
     intervals, on_bound, samples = _intervals(
         interval, parts, stacked, parameters, best.x, covariance, hessian, occupancies, level,
-        n_boot, rng)
+        n_boot, rng, density)
     single = len(parts) == 1
     output_names = tuple(name if single else f"record {r + 1}: {name}"
                          for r, (objective, _) in enumerate(parts)
@@ -440,7 +458,10 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         crowd_model_details=tuple(objective.model.details() for objective, _ in parts
                                   if objective.crowd_model == "fluctuating"),
         interval_method=interval if intervals else None, bootstrap_samples=samples,
-        crowd=parts[0][0].model.crowd if free_step_frequencies else None)
+        crowd=parts[0][0].model.crowd if free_step_frequencies else None,
+        density_uncertainty=density.uncertainty if covariance is not None else 0.0,
+        density_sensitivity=density.sensitivities(parameters.names),
+        density_share=density.shares(parameters.names, covariance))
 
 
 def _check_options(mass_ratio, free_mass_ratio, free_step_frequencies, interval, n_boot, level):
@@ -503,23 +524,65 @@ def _adopt_fitted_crowd(parts, parameters, theta):
     return [(objective.with_step_frequencies(steps), measured) for objective, measured in parts]
 
 
-def _covariance(parts, parameters, theta):
+@dataclasses.dataclass(frozen=True)
+class _DensityTerm:
+    """The stated density's share of the sandwich (docs: theory, The crowd density's
+    uncertainty): its relative standard uncertainty u, the score's move per unit of ln n summed
+    over the records (one error common to all), and H⁻¹ (None without a covariance)."""
+
+    uncertainty: float
+    shift: np.ndarray | None
+    inverse: np.ndarray | None
+
+    @property
+    def variance(self):
+        """u² s sᵀ: the score variance a density error of relative s.d. u adds."""
+        return self.uncertainty**2 * np.outer(self.shift, self.shift)
+
+    def sensitivities(self, names):
+        """Parameter → ∂θ̂/∂ln ρ_stated = H⁻¹ s: the estimate's move per unit of the stated
+        density's log (×0.1: the move for a density stated 10 % high)."""
+        if self.shift is None:
+            return {}
+        return dict(zip(names, (float(v) for v in self.inverse @ self.shift)))
+
+    def shares(self, names, covariance):
+        """Parameter → the fraction of its sandwich variance that the density's uncertainty makes."""
+        if self.shift is None or not self.uncertainty > 0:
+            return {}
+        part = np.diag(self.inverse @ self.variance @ self.inverse)
+        return {name: float(p / c) if c > 0 else 0.0
+                for name, p, c in zip(names, part, np.diag(covariance))}
+
+
+def _covariance(parts, parameters, theta, density_uncertainty):
     """Sandwich covariance of θ̂ (independent records: information adds) → (covariance,
-    expected Hessian, per-record crowd-size terms) (docs: theory, Sandwich covariance)."""
+    expected Hessian, per-record crowd-size terms, the stated density's term) (docs: theory,
+    Sandwich covariance; The crowd density's uncertainty).
+
+    A record's crowd size varies on its own (Poisson: relative variance 1/N); the stated density
+    is wrong by one relative error ε ~ N(0, u²) for every record, so its score moves, Σ_r s_r,
+    add before they are squared."""
     msd = parameters.msd(theta)
-    variance, hessian, occupancies = 0.0, 0.0, []
+    variance, hessian, occupancies, shift = 0.0, 0.0, [], 0.0
     for objective, measured in parts:
         gradient = _model_gradient(objective, theta, parameters.state, parameters.lower,
                                    parameters.upper)
         occupancies.append(_occupancy(objective, msd, measured))
-        part, curvature = objective.information(objective.modelled(msd), gradient,
-                                                occupancies[-1])
+        part, curvature, move = objective.information(objective.modelled(msd), gradient,
+                                                      occupancies[-1])
         variance, hessian = variance + part, hessian + curvature
-    return sandwich_covariance(variance, hessian), hessian, occupancies
+        if move is not None:
+            shift = shift + move
+    inverse = np.linalg.pinv(hessian)
+    density = _DensityTerm(density_uncertainty, None if np.isscalar(shift) else shift, inverse)
+    if density.shift is not None:
+        variance = variance + density.variance
+    return sandwich_covariance(variance, hessian), hessian, occupancies, density
 
 
 def _intervals(interval, parts, stacked, parameters, theta, covariance, hessian, occupancies,
-               level, n_boot, rng):
+               level, n_boot, rng, density):
     """The intervals the covariance allows → (name → (low, high), ends on a bound, bootstrap
     samples or None); none without a covariance or for ``interval`` "wald" or None."""
     intervals, on_bound, samples = {}, (), None
@@ -528,7 +591,8 @@ def _intervals(interval, parts, stacked, parameters, theta, covariance, hessian,
     names, lower, upper = parameters.names, parameters.lower, parameters.upper
     if interval == "bootstrap":
         samples = bootstrap_estimates(parts, theta, parameters.state, lower, upper, occupancies,
-                                      n_boot, np.random.default_rng(rng))
+                                      n_boot, np.random.default_rng(rng),
+                                      density_uncertainty=density.uncertainty)
         intervals = {name: percentile_interval(samples[:, i], level)
                      for i, name in enumerate(names)}
     if interval == "profile":

@@ -29,7 +29,7 @@ from ..response.fluctuation import spectral_model
 from ..response.varying import record_model
 from ..signals.spectrum import ResponsePSD
 from ..signals.welch import welch_bin_correlation, welch_degrees_of_freedom
-from .uncertainty import score_variance
+from .uncertainty import occupancy_shift, score_variance
 from .wishart import WishartTerms
 
 __all__ = ["PSDObjective", "METHODS"]
@@ -450,6 +450,10 @@ class PSDObjective:
         Returns
         -------
         variance, hessian : ndarray, shape (n_parameters, n_parameters)
+        shift : ndarray, shape (n_parameters,), or None
+            The score's move per unit of ln n (None without ``occupancy``): a density stated
+            wrongly moves the score along it too (docs: theory, The crowd density's
+            uncertainty).
         """
         correlation = welch_bin_correlation(self.n_windows)
         if self.wishart is not None:
@@ -459,7 +463,8 @@ class PSDObjective:
         q, hessian = self.score_terms(modelled, gradient)
         variance = score_variance(q, modelled * np.sqrt(self.dispersion),
                                   self.degrees_of_freedom, correlation, occupancy=occupancy)
-        return variance, hessian
+        shift = None if occupancy is None else occupancy_shift(q, occupancy[0])
+        return variance, hessian, shift
 
     def score_terms(self, modelled, gradient):
         """Linearised score and curvature of S = Σ r² about a model PSD.

@@ -82,6 +82,15 @@ class HSIEstimate:
     crowd : Crowd or None
         With ``free_step_frequencies``, the crowd with the fitted step-frequency distribution
         (``step_frequency_mean`` μ_fs, ``step_frequency_std`` σ_fs [Hz]); else None.
+    density_uncertainty : float
+        The relative standard uncertainty of the stated crowd density that the covariance and
+        intervals carry (0: the density taken as exact, or no covariance).
+    density_sensitivity : dict
+        Parameter → ∂θ̂/∂ln ρ: how the estimate moves with the stated density (× 0.1: for a
+        density stated 10 % high) [the parameter's unit]; empty without a covariance.
+    density_share : dict
+        Parameter → the fraction of its variance that the density's uncertainty makes [-]
+        (docs: theory, The crowd density's uncertainty); empty when none was stated.
 
     See Also
     --------
@@ -112,6 +121,9 @@ class HSIEstimate:
     interval_method: str = None
     bootstrap_samples: np.ndarray = None
     crowd: Crowd | None = None
+    density_uncertainty: float = 0.0
+    density_sensitivity: dict = field(default_factory=dict)
+    density_share: dict = field(default_factory=dict)
 
     def value(self, parameter: str) -> float:
         """The estimated value of a free parameter (an MSD's or the fitted crowd's) [its unit].
@@ -239,6 +251,7 @@ class HSIEstimate:
             scale = np.array([errors[name] for name in free])
             covariance = np.asarray(data["correlation"], dtype=float) * np.outer(scale, scale)
         ratio = data.get("level_ratio")
+        density = data.get("density") or {}
         return cls(
             msd=msd, cost=data["cost"], cost_no_hsi=data["cost_no_hsi"],
             n_evaluations=data["n_evaluations"], success=data["success"],
@@ -255,7 +268,10 @@ class HSIEstimate:
             interval_on_bound=tuple(data.get("interval_on_bound", ())),
             crowd_model=data.get("crowd_model", "smeared"),
             crowd_model_details=tuple(dict(d) for d in data.get("crowd_model_details", ())),
-            interval_method=interval.get("method") if interval else None, crowd=crowd)
+            interval_method=interval.get("method") if interval else None, crowd=crowd,
+            density_uncertainty=float(density.get("uncertainty", 0.0)),
+            density_sensitivity=dict(density.get("sensitivity", {})),
+            density_share=dict(density.get("variance_share", {})))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict; the estimate sits under ``"estimate"`` with its interval."""
@@ -284,4 +300,7 @@ class HSIEstimate:
             "starts": [dict(s) for s in self.starts], "message": self.message,
             "level_ratio": None if self.level_ratio is None else
             np.asarray(self.level_ratio).tolist(),
+            "density": {"uncertainty": self.density_uncertainty,
+                        "sensitivity": dict(self.density_sensitivity),
+                        "variance_share": dict(self.density_share)},
         }

@@ -72,9 +72,15 @@ def score_variance(q, spread, degrees_of_freedom, correlation, *, occupancy=None
     variance = 2.0 / degrees_of_freedom * variance
     if occupancy is not None:
         gradient, relative_variance = occupancy
-        shift = np.einsum("lkp,lk->p", q, gradient)
+        shift = occupancy_shift(q, gradient)
         variance = variance + relative_variance * np.outer(shift, shift)
     return variance
+
+
+def occupancy_shift(q, gradient):
+    """The score's move Σ_{l,k} q_{l,k} ∂G_{l,k}/∂ln n when every ordinate moves with the crowd
+    size n (a crowd larger than its mean, or a density stated wrongly)."""
+    return np.einsum("lkp,lk->p", q, gradient)
 
 
 def sandwich_covariance(variance, hessian):

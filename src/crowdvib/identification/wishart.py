@@ -153,6 +153,8 @@ class WishartTerms:
         Returns
         -------
         variance, hessian : ndarray, shape (n_parameters, n_parameters)
+        shift : ndarray, shape (n_parameters,), or None
+            The score's move per unit of ln n (None without ``occupancy``).
         """
         factor, _ = self._whitened(model)
         inverse = np.linalg.inv(factor @ np.conj(np.swapaxes(factor, 1, 2)))   # S_r⁻¹
@@ -179,6 +181,7 @@ class WishartTerms:
                                   @ smooth) for a in scores], axis=-1)           # (p², K, P)
         spread = np.broadcast_to(np.sqrt(dispersion), q.shape[:2])
         variance = score_variance(q, spread, degrees_of_freedom, correlation, coherent=False)
+        shift = None
         if occupancy is not None:
             # A crowd larger than its mean moves every matrix along ∂S/∂ln n: the score moves
             # by Σ_k tr(A_k ∂S_k/∂ln n) (docs: theory, Sandwich covariance).
@@ -186,4 +189,4 @@ class WishartTerms:
             along = reduced(derivative)
             shift = np.array([np.einsum("kij,kji->", a, along).real for a in scores])
             variance = variance + relative_variance * np.outer(shift, shift)
-        return variance, hessian
+        return variance, hessian, shift

@@ -14,7 +14,8 @@ A case file describes one bridge and one crowd, and how its records are read and
     # output_points = "points.csv"            #   name, one column per mode (the shape rows)
     # type = "simply_supported_beam"          # … or a beam: span, width, frequency, …
 
-    [crowd]        density, walking_speed, step_frequency_mean, step_frequency_std, body_mass;
+    [crowd]        density, walking_speed, step_frequency_mean, step_frequency_std, body_mass,
+                   density_uncertainty;
                    counts or density_profile (a CSV: the density against the record's time)
     [hsi]          frequency, damping_ratio, mass_ratio (MSD of `simulate`; μ_h1 of `estimate`)
     [measurement]  files, format, channels, units, sample_rate, time_frame, filter, resample,
@@ -50,7 +51,8 @@ from typing import Any
 
 import numpy as np
 
-from .._estimators import METHOD_DEFAULTS
+from .._estimators import (DEFAULT_DENSITY_UNCERTAINTY, METHOD_DEFAULTS,
+                           check_density_uncertainty)
 from ..errors import ParameterError
 from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from ..models.loading import ForceModel, YoungForce, ZivanovicForce
@@ -337,6 +339,17 @@ def _crowd(table, path, profile=None):
         raise wrap(path, "crowd", exc) from None
 
 
+def _density_uncertainty(table, path):
+    """``[crowd] density_uncertainty``: the relative standard uncertainty of the stated density
+    (or of the counts), which the estimate's intervals carry (docs: theory, The crowd density's
+    uncertainty)."""
+    value = table.number("density_uncertainty", DEFAULT_DENSITY_UNCERTAINTY)
+    try:
+        return check_density_uncertainty(value)
+    except ParameterError as exc:
+        raise ParameterError(f"{path.name}: crowd.{exc}") from None
+
+
 def _msd(table, path):
     frequency = table.number("frequency", 3.0, rule="positive")
     damping = table.number("damping_ratio", 0.30, rule="positive")
@@ -606,6 +619,7 @@ def _case(path, data):
     structure = _structure(root.table("structure", required=True), path)
     crowd_table = root.table("crowd", required=True)
     crowd_profile = _crowd_profile(crowd_table, path, structure)
+    uncertainty = _density_uncertainty(crowd_table, path)
     crowd = _crowd(crowd_table, path, crowd_profile)
     msd = _msd(root.table("hsi"), path)
     measurement, records = _measurements(root, path, crowd, structure)
@@ -613,7 +627,8 @@ def _case(path, data):
                   else EstimationSpec())
     if not root.has("estimation"):
         root.used.add("estimation")
-    estimation = estimation.resolved(joint=len(records) > 1)
+    estimation = replace(estimation.resolved(joint=len(records) > 1),
+                         density_uncertainty=uncertainty)
     simulation = _simulation(root.table("simulation"), path)
     expected = _expected(root.table("expected"))
     design = _design(root.table("design"), path, _msd) if root.has("design") else None
@@ -652,7 +667,8 @@ def _case(path, data):
 #: Case-file keys whose :meth:`Case.to_dict` name differs.
 _RENAMED = {"measurement.filter.cutoff": "measurement.lowpass_cutoff",
             "measurement.filter.order": "measurement.lowpass_order",
-            "estimation.weights": "estimation.output_weights"}
+            "estimation.weights": "estimation.output_weights",
+            "crowd.density_uncertainty": "estimation.density_uncertainty"}
 #: Keys that, when left out, are computed from others rather than defaulted.
 _DERIVED = {"crowd.walking_speed": "from the density (Weidmann 1993)",
             "crowd.step_frequency_mean": "from the walking speed (Bruno & Venuti 2009)"}

@@ -6,7 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
-from .._estimators import DEFAULT_JOINT_METHOD, DEFAULT_METHOD, estimator_defaults
+from .._estimators import (DEFAULT_DENSITY_UNCERTAINTY, DEFAULT_JOINT_METHOD, DEFAULT_METHOD,
+                           estimator_defaults)
 
 if TYPE_CHECKING:
     from ..models.crowd import Crowd
@@ -104,6 +105,8 @@ class EstimationSpec:
     level: float = 0.95
     crowd_model: str = None
     n_boot: int = 200
+    #: ``[crowd] density_uncertainty``: read with the crowd, carried by the estimate's intervals.
+    density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY
 
     def resolved(self, joint: bool = False) -> EstimationSpec:
         """The estimator's choices not stated (None) filled in, as :func:`crowdvib.estimate_hsi`

@@ -237,12 +237,7 @@ def estimate_section(results):
     parts = [table(["parameter", "estimate", f"{100 * level:g} % interval", "nominal ± bound",
                     reference_name, "error", "search bounds"], rows, "data")]
     if any(interval_of(found, k) for k, _, _ in _PARAMETERS):
-        parts.append(Markup('<p class="muted">Interval: the statistical uncertainty of this one '
-                            "record (profile interval calibrated for the Welch scatter and the "
-                            "correlation of neighbouring bins; docs: theory, Statistical "
-                            "uncertainty of an estimate). It "
-                            "does not hold the modelling errors, which the nominal ± bound "
-                            "column shows.</p>"))
+        parts.append(_interval_note(results))
     if bounds_summary:
         parts.append(Markup('<p class="muted">Bounds: the largest estimation error of the joint '
                             "modelling-error cases at the highest error level (the paper's "
@@ -259,6 +254,39 @@ def estimate_section(results):
         parts.append(html("<h3>Occupied structure with the estimated MSD</h3>{}",
                           table(["", "frequency", "damping ratio"], rows, "data")))
     return html('<section id="estimate"><h2>Estimate</h2>{}</section>', join(parts))
+
+
+def _interval_note(results):
+    """What the interval holds: the record's Welch scatter and, when one was stated, the crowd
+    density's uncertainty, with the share of each parameter's variance it makes and how far a
+    density stated 10 % high moves the estimate (docs: theory, The crowd density's
+    uncertainty)."""
+    density = hsi(results, "density")
+    density = density if isinstance(density, dict) else {}
+    stated = _real(density.get("uncertainty"))
+    moves = density.get("sensitivity") if isinstance(density.get("sensitivity"), dict) else {}
+    shares = (density.get("variance_share") if isinstance(density.get("variance_share"), dict)
+              else {})
+    held = (html("the uncertainty of the stated crowd density (±{} %, one standard deviation)",
+                 number(100 * stated, 3)) if stated else
+            Markup("not the crowd density's uncertainty (the density was taken as exact)"))
+    parts = [html('<p class="muted">Interval: the statistical uncertainty of this record '
+                  "(profile interval calibrated for the Welch scatter and the correlation of "
+                  "neighbouring bins; docs: theory, Statistical uncertainty of an estimate) "
+                  "and {}. It does not hold the modelling errors, which the nominal ± bound "
+                  "column shows.</p>", held)]
+    rows = [[html("{} [{}]", symbol, unit),
+             html("{} %", number(100 * shares[key], 2)) if _real(shares.get(key)) is not None
+             else "—",
+             number(0.1 * moves[key], 3) if _real(moves.get(key)) is not None else "—"]
+            for key, symbol, unit in _PARAMETERS if key in moves]
+    if rows:
+        parts.append(html("<p>How much the crowd density weighs (docs: theory, The crowd "
+                          "density's uncertainty):</p>{}", table(
+                              ["parameter", "share of the interval's variance from the density",
+                               "move of the estimate for a density stated 10 % high"],
+                              rows, "data narrow")))
+    return join(parts)
 
 
 def diagnostics_section(results):

@@ -179,6 +179,10 @@ def _say_fit(fit, say):
                 f"error {(value - case.expected[key]) / case.expected[key]:+.1%}")
 
 
+#: The MSD's parameters as the console writes them.
+_SYMBOLS = {"frequency": "f_h1", "damping_ratio": "ξ_h1", "mass_ratio": "μ_h1"}
+
+
 def _say_estimate(estimate, say):
     """One line: the estimate with its intervals and the relative misfit."""
     found, summary = estimate.msd, estimate.to_dict()["estimate"]
@@ -186,6 +190,11 @@ def _say_estimate(estimate, say):
         f", ξ_h1 = {with_interval(found.damping_ratio, interval_of(summary, 'damping_ratio'))}, "
         f"μ_h1 = {with_interval(found.mass_ratio, interval_of(summary, 'mass_ratio'))}; "
         f"J/J_noHSI = {estimate.relative_cost:.3g}")
+    if estimate.density_share:
+        say(f"  crowd density ±{estimate.density_uncertainty:.0%} (one s.d.): "
+            + ", ".join(f"{_SYMBOLS[name]} {estimate.density_share[name]:.0%} of the interval's "
+                        f"variance, {0.1 * estimate.density_sensitivity[name]:+.3g} for a density "
+                        "stated 10 % high" for name in _SYMBOLS if name in estimate.density_share))
     for details in estimate.crowd_model_details:
         applied = "on" if details["drift_correction"] else "off"
         say(f"  crowd model: fluctuating, {details['occupancy_nodes']} occupancy nodes, drift "
