@@ -15,6 +15,7 @@ Usage: ``python accuracy/density_uncertainty.py [N] [--workers W] [--uncertainty
 """
 
 import os
+import pickle
 import sys
 import time
 import warnings
@@ -34,6 +35,11 @@ ERRORS = (-0.1, 0.0, 0.1)
 def record_rows(seed, density, uncertainty):
     """One record: (error, stated uncertainty) → ([(value, low, high, share) per parameter],
     CPU seconds)."""
+    cache = os.environ.get("CROWDVIB_RECORD_CACHE")
+    path = cache and os.path.join(cache, f"density_rows_d{density:g}_u{uncertainty:g}_s{seed}.pkl")
+    if path and os.path.exists(path):
+        with open(path, "rb") as handle:
+            return pickle.load(handle)
     crowd = paper_crowd(density)
     measured = simulated_record(crowd, seed)
     rows = {}
@@ -47,6 +53,10 @@ def record_rows(seed, density, uncertainty):
             rows[error, stated] = ([(getattr(estimate.msd, name), *estimate.interval(name),
                                      estimate.density_share.get(name, 0.0)) for name in TRUTH],
                                    time.process_time() - started)
+    if path:
+        with open(path + ".tmp", "wb") as handle:
+            pickle.dump(rows, handle)
+        os.replace(path + ".tmp", path)
     return rows
 
 
@@ -54,8 +64,10 @@ def main(n=60, workers=1, uncertainty=0.1, density=0.5):
     started = time.perf_counter()
     with study_executor(workers) as executor:
         mapper = map if executor is None else executor.map
-        per_record = list(mapper(record_rows, range(1, n + 1), [density] * n,
-                                 [uncertainty] * n))
+        per_record = []
+        for rows in mapper(record_rows, range(1, n + 1), [density] * n, [uncertainty] * n):
+            per_record.append(rows)
+            print(f"record {len(per_record)} of {n}", file=sys.stderr, flush=True)
     wall = time.perf_counter() - started
     print(f"simulated one-hour records of the paper example at {density:g} P/m², n = {n}, "
           f"default estimator, 95 % profile intervals; {wall:.0f} s wall on {workers} worker(s)")

@@ -14,7 +14,7 @@ from pathlib import Path
 
 #: Parser function → the case-file section its ``table`` argument is.
 SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd",
-            "_crowd_profile": "crowd", "_msd": "hsi",
+            "_crowd_profile": "crowd", "_density_uncertainty": "crowd", "_msd": "hsi",
             "_measurement": "measurement", "_estimation": "estimation",
             "_simulation": "simulation", "_outputs": "structure", "_output_nodes": "structure", "_design": "design",
             "_design_damper": "design.damper",
@@ -37,6 +37,8 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "measurement.overlap": "in [0, 1)", "measurement.filter.order": "an integer >= 1",
          "measurement.filter.cutoff": "> 0, or false for no filter",
          "estimation.level": "in (0, 1): a fraction, not percent",
+         "crowd.density_uncertainty": "in [0, 0.5]: the relative standard uncertainty of the "
+                                      "density, a fraction (0.1 for ±10 %)",
          "estimation.band": "lower < upper, lower >= 0",
          "estimation.outputs": "names of structure outputs (default all record channels)",
          "estimation.free_parameters": "[\"frequency\", \"damping_ratio\"], optionally "

@@ -18,6 +18,7 @@ QUANTITIES = MappingProxyType({
     "modal_mass": ("modal mass", "kg"), "modal_mass_ratios": ("crowd-to-mode mass ratios", "-"),
     "length": ("walkway length", "m"), "span": ("span", "m"), "width": ("walkway width", "m"),
     "n_lanes": ("lanes", "-"), "density": ("crowd density", "persons/m²"),
+    "density_uncertainty": ("relative standard uncertainty of the crowd density", "-"),
     "walking_speed": ("walking speed", "m/s"),
     "step_frequency_mean": ("mean step frequency", "Hz"),
     "step_frequency_std": ("step-frequency spread", "Hz"), "body_mass": ("body mass", "kg"),

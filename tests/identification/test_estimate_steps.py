@@ -59,9 +59,12 @@ def _run(measured, key):
     options = dict(n_boot=20, rng=3) if interval == "bootstrap" else {}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")     # bound and identifiability notes: not the subject
+        # The recorded covariances are the record's own scatter: the density taken as exact
+        # (its stated uncertainty, a later addition, is tested in test_density_uncertainty).
         return estimate_hsi(measured, BRIDGE, CROWD, band=(0.0, 10.0), method=method,
                             crowd_model=crowd_model, free_step_frequencies=free == "True",
-                            interval=interval, starts=[(2.5, 0.4)], **options)
+                            interval=interval, starts=[(2.5, 0.4)], density_uncertainty=0.0,
+                            **options)
 
 
 #: numpy and scipy of the recording. With other releases (Python 3.13 gets numpy 2.5 and scipy

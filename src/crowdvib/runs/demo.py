@@ -102,6 +102,11 @@ def _say_estimate(estimate, truth, say):
                   "   truth inside" if ends[0] <= t <= ends[1] else "   truth outside")
         say(f"  {label:14s}{t:10.3f}{e:11.3f}{(e - t) / t:+9.1%}   "
             + ("—" if ends is None else f"{ends[0]:.3f}–{ends[1]:.3f}") + inside)
+    if estimate.density_share:
+        say(f"  the interval carries a crowd density known to ±{estimate.density_uncertainty:.0%} "
+            f"(the default density_uncertainty): {estimate.density_share['damping_ratio']:.0%} "
+            "of ξ_h1's variance; this simulated density is exact, density_uncertainty=0 "
+            "would give the record's scatter alone")
     misfit = "deviance D" if estimate.method == "likelihood" else "J (paper Eq. 6)"
     say(f"  misfit {misfit} = {estimate.cost:.3g}, relative to no HSI "
         f"{estimate.relative_cost:.3g}")
