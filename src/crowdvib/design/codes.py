@@ -12,7 +12,10 @@ source (SOURCED, with where) or is RECALLED from the guides, which were not reac
 RECALLED constant is a default to verify against the guide before a design relies on it.
 """
 
+import io
 from collections.abc import Sequence
+from functools import cache
+from importlib import resources
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -25,10 +28,11 @@ from ..errors import ParameterError
 if TYPE_CHECKING:
     from ..models.structure import ModalModel
 
-__all__ = ["CODES", "TRAFFIC_CLASSES", "COMFORT_CLASSES", "EN1990_VERTICAL_LIMIT",
+__all__ = ["CODES", "UNVERIFIED_DEFAULTS", "TRAFFIC_CLASSES", "COMFORT_CLASSES", "EN1990_VERTICAL_LIMIT",
            "HARMONIC_FORCES", "reduction_factor", "equivalent_pedestrians", "class_density",
            "comfort_class", "comfort_limit", "UKNA_CLASSES", "UKNA_GROUPS", "ukna_k_factor",
-           "ukna_gamma", "ukna_crowd_gamma", "ukna_limit", "effective_span", "UKNA_GAMMA_FIGURE"]
+           "ukna_gamma", "ukna_gamma_figure", "ukna_gamma_outside", "ukna_crowd_gamma",
+           "ukna_limit", "effective_span", "UKNA_GAMMA_FIGURES", "UKNA_DEFAULT_GAMMA_FIGURE"]
 
 #: Codes understood by :func:`crowdvib.design.design_check`.
 CODES = ("setra", "hivoss", "en1990", "ukna")
@@ -197,35 +201,110 @@ UKNA_K_CURVES = {
                 (6.5, 0.04), (7.0, 0.03), (8.0, 0.02), (9.0, 0.0)),
 }
 
-#: Figure NA.9 (groups): reduction factor γ [-] for the unsynchronised walkers or joggers of a
-#: group, on a grid of logarithmic decrement δ = 2πξ [-] (rows) and effective span S_eff [m]
-#: (columns); bilinear interpolation, δ and S_eff clamped to the grid (S_eff below 10 m takes
-#: the 10 m curve, the larger γ: conservative; above 300 m the 300 m curve; δ above 0.2 the
-#: 0.2 row, with a warning as γ grows with δ). SOURCED (DynSys UKNA_BSEN1991_2_Figure_NA_9
-#: digitisation, whose docstring cites "Figure NA.9, UK NA to BS EN 1991-2:2003": the NA's own,
-#: UNCORRECTED figure). PD 6688-2:2011 (Background to the NA) corrects Figure NA.9 (its Figure
-#: 2); the corrected values could not be found in any source reachable here, so they are not
-#: implemented (issue 25 §2: the uncorrected γ is lower, 0.19 against 0.27 for a 2 Hz, 0.5 %
-#: beam, and the walker peaks 3.5–14 % low for classes A–D: NON-CONSERVATIVE). Every "ukna"
-#: check names the figure in ``details["gamma_figure"]``.
-UKNA_GAMMA_FIGURE = ("Figure NA.9 of the UK NA as published (uncorrected; DynSys digitisation); "
-                     "PD 6688-2:2011 Figure 2 corrects it with larger γ, not available here: "
-                     "the walkers' and joggers' peaks may be non-conservative")
-UKNA_GAMMA_DECREMENTS = tuple(round(0.02 * i, 2) for i in range(11))
-UKNA_GAMMA_SPANS = (10.0, 12.0, 15.0, 20.0, 30.0, 40.0, 60.0, 100.0, 200.0, 300.0)
-UKNA_GAMMA_TABLE = (
-    (0.680, 0.435, 0.315, 0.245, 0.200, 0.135, 0.100, 0.062, 0.048, 0.030),
-    (0.692, 0.462, 0.345, 0.283, 0.240, 0.180, 0.150, 0.117, 0.103, 0.093),
-    (0.705, 0.488, 0.380, 0.320, 0.280, 0.225, 0.200, 0.175, 0.163, 0.155),
-    (0.716, 0.512, 0.410, 0.350, 0.315, 0.267, 0.248, 0.230, 0.218, 0.215),
-    (0.728, 0.535, 0.437, 0.382, 0.352, 0.310, 0.292, 0.277, 0.270, 0.268),
-    (0.738, 0.556, 0.465, 0.415, 0.385, 0.350, 0.335, 0.322, 0.320, 0.320),
-    (0.746, 0.577, 0.492, 0.445, 0.420, 0.390, 0.375, 0.367, 0.366, 0.366),
-    (0.755, 0.597, 0.518, 0.473, 0.451, 0.426, 0.415, 0.408, 0.408, 0.408),
-    (0.763, 0.614, 0.540, 0.503, 0.482, 0.460, 0.450, 0.445, 0.445, 0.445),
-    (0.774, 0.632, 0.565, 0.530, 0.513, 0.496, 0.485, 0.480, 0.480, 0.480),
-    (0.783, 0.645, 0.585, 0.555, 0.540, 0.530, 0.520, 0.513, 0.513, 0.513),
-)
+#: The two readings of the groups' reduction factor γ [-] (NA.2.44.4), name → (label, packaged
+#: file). Each file (crowdvib/data, its first line the provenance) holds γ on a grid of the
+#: logarithmic decrement δ = 2πξ = 0, 0.02, …, 0.20 and the effective span S_eff = 10, 12, 15,
+#: 20, 30, 40, 60, 100, 200, 300 m, as digitised in MEMAndersen/DynSys (Richard Hollamby, MIT
+#: licence; UKNA_BSEN1991_2_Figure_NA_9 @5226de3). SOURCED. "pd6688-2" (the default, as in
+#: DynSys): PD 6688-2:2011 Figure 2, which replaces Figure NA.9 (PD 6688-2 cl. 3.20: the NA's
+#: figure contains errors); "na9": Figure NA.9 as published, lower γ (0.1918 against 0.2678 for
+#: a 2 Hz, 0.5 % beam of 50 m), kept to reproduce checks made with it.
+UKNA_GAMMA_FIGURES = {
+    "pd6688-2": ("PD 6688-2:2011 Figure 2 (the corrected Figure NA.9)",
+                 "ukna_gamma_pd6688_2_fig2.csv"),
+    "na9": ("Figure NA.9 of the UK NA as published (uncorrected; PD 6688-2:2011 cl. 3.20 "
+            "replaces it)", "ukna_gamma_na9_uncorrected.csv"),
+}
+#: The γ figure of the UK NA checks unless ``gamma_figure`` says otherwise.
+UKNA_DEFAULT_GAMMA_FIGURE = "pd6688-2"
+
+
+@cache
+def ukna_gamma_figure(figure: str = UKNA_DEFAULT_GAMMA_FIGURE) -> dict:
+    """A γ figure read from its packaged file: "name", "label", "source" (the file's provenance
+    line), "decrements" δ (n_δ,), "spans" S_eff [m] (n_S,) and "table" γ (n_δ, n_S).
+
+    Parameters
+    ----------
+    figure : {"pd6688-2", "na9"}
+        :data:`UKNA_GAMMA_FIGURES`.
+    """
+    if figure not in UKNA_GAMMA_FIGURES:
+        raise ParameterError(f"gamma_figure must be one of {list(UKNA_GAMMA_FIGURES)}, got "
+                             f"gamma_figure={figure!r}")
+    label, name = UKNA_GAMMA_FIGURES[figure]
+    text = resources.files("crowdvib").joinpath("data", name).read_text(encoding="utf-8")
+    source = text.splitlines()[0].lstrip("# ").strip()
+    rows = np.loadtxt(io.StringIO(text), delimiter=",", comments="#", skiprows=2, ndmin=2)
+    decrements, spans = np.unique(rows[:, 0]), np.unique(rows[:, 1])
+    table = np.full((decrements.size, spans.size), np.nan)
+    table[np.searchsorted(decrements, rows[:, 0]), np.searchsorted(spans, rows[:, 1])] = rows[:, 2]
+    if np.isnan(table).any() or rows.shape[0] != table.size:
+        raise ParameterError(f"{name}: the γ figure must hold one value per (δ, S_eff) of a "
+                             f"full grid, got {rows.shape[0]} rows for {table.size} points")
+    for array in (decrements, spans, table):
+        array.setflags(write=False)                 # cached: shared by every call
+    return {"name": figure, "label": label, "source": source, "decrements": decrements,
+            "spans": spans, "table": table}
+
+
+def ukna_gamma_outside(log_decrement: ArrayLike, effective_span: ArrayLike,
+                       figure: str = UKNA_DEFAULT_GAMMA_FIGURE) -> list[str]:
+    """What lies outside the grid of a γ figure, one sentence per parameter and value (empty
+    inside): the ParameterError of :func:`ukna_gamma`, or what a clamped reading states."""
+    grid = ukna_gamma_figure(figure)
+    notes = []
+    for name, values, axis, unit in (("log_decrement", log_decrement, grid["decrements"], ""),
+                                     ("effective_span", effective_span, grid["spans"], " m")):
+        low, high = axis[0], axis[-1]
+        for value in np.unique(np.atleast_1d(np.asarray(values, dtype=float))):
+            if not low <= value <= high:
+                edge = low if value < low else high
+                notes.append(f"{name} must be within {low:g}–{high:g}{unit} (the grid of "
+                             f"{grid['label']}), got {value:.4g}{unit}: read at {edge:g}{unit}")
+    return notes
+
+
+def ukna_gamma(log_decrement: ArrayLike, effective_span: ArrayLike,
+               figure: str = UKNA_DEFAULT_GAMMA_FIGURE, *,
+               clamp: bool = False) -> np.ndarray | float:
+    """γ(δ, S_eff) [-] for groups (NA.2.44.4), read bilinearly on a figure's grid.
+
+    Parameters
+    ----------
+    log_decrement : array_like
+        δ = 2πξ [-].
+    effective_span : array_like
+        S_eff [m] (Figure NA.7, :func:`effective_span`).
+    figure : {"pd6688-2", "na9"}
+        PD 6688-2:2011 Figure 2 (default) or Figure NA.9 as published
+        (:data:`UKNA_GAMMA_FIGURES`).
+    clamp : bool
+        Outside the grid (δ 0–0.20, S_eff 10–300 m) read γ at its nearest edge instead of
+        refusing; :func:`ukna_gamma_outside` says what was clamped. The design check clamps and
+        states it (S_eff below 10 m takes the larger γ of 10 m, conservative; δ above 0.2
+        reads a smaller γ than the figure's trend, with a warning).
+
+    Raises
+    ------
+    ParameterError
+        A value outside the grid without ``clamp``, naming the parameter, the grid and the value.
+    """
+    grid = ukna_gamma_figure(figure)
+    if not clamp:
+        outside = ukna_gamma_outside(log_decrement, effective_span, figure)
+        if outside:
+            raise ParameterError(outside[0].split(": read at")[0] + " (clamp=True reads it at "
+                                 "the grid's edge)")
+    delta = np.clip(np.asarray(log_decrement, dtype=float), grid["decrements"][0],
+                    grid["decrements"][-1])
+    span = np.clip(np.asarray(effective_span, dtype=float), grid["spans"][0],
+                   grid["spans"][-1])
+    delta, span = np.broadcast_arrays(delta, span)
+    interpolate = RegularGridInterpolator((grid["decrements"], grid["spans"]), grid["table"])
+    values = interpolate(np.stack([delta.ravel(), span.ravel()], axis=-1)).reshape(delta.shape)
+    return values if values.ndim else float(values)
+
 
 #: Figure NA.9 (crowds): γ = 0.23 δ / 0.2 [-], a straight line through 0.23 at δ = 0.2.
 #: SOURCED (DynSys UKNA_BSEN1991_2_Figure_NA_9, groupType "crowd").
@@ -234,6 +313,11 @@ UKNA_CROWD_GAMMA_SLOPE = 0.23 / 0.20
 #: NA.2.44.5: crowd load w = CROWD_FACTOR (F0/A) k(f_v) sqrt(γ N / λ), F0 = 280 N (walkers),
 #: N = ρ A, λ = 0.634 S_eff / S. SOURCED (DynSys UKNA_BSEN1991_2_crowd.calc_load_intensity).
 UKNA_CROWD_FACTOR = 1.8
+#: NA.2.44.5(1): ρ of the crowd load "is the required crowd density obtained from NA.2.44.2 but
+#: with a maximum value of 1.0 persons/m²" (denser crowds slow down and respond less), so class
+#: D's 1.5 persons/m² loads as 1.0 [persons/m²]. SOURCED (the NA's text, read in DynSys's
+#: screenshot dynsys/img/UKNA_BSEN1991_2_Cl_2_44_5.PNG; DynSys's own code omits the cap).
+UKNA_CROWD_MAX_DENSITY = 1.0
 #: Figure NA.7: S_eff = ∫|φ| dx / (0.634 max|φ|), λ = 0.634 S_eff / S. SOURCED (DynSys Calc_Seff).
 UKNA_SPAN_FACTOR = 0.634
 
@@ -257,18 +341,6 @@ def ukna_k_factor(frequency: ArrayLike, group: str = "walkers") -> np.ndarray:
         raise ParameterError(f"group must be one of {list(UKNA_K_CURVES)}, got {group!r}")
     f, k = np.array(UKNA_K_CURVES[group]).T
     return np.interp(np.asarray(frequency, dtype=float), f, k, left=0.0, right=0.0)
-
-
-def ukna_gamma(log_decrement: ArrayLike, effective_span: ArrayLike) -> np.ndarray | float:
-    """γ(δ, S_eff) [-] of Figure NA.9 for groups (bilinear on the digitised grid, clamped)."""
-    delta = np.clip(np.asarray(log_decrement, dtype=float), 0.0, UKNA_GAMMA_DECREMENTS[-1])
-    span = np.clip(np.asarray(effective_span, dtype=float), UKNA_GAMMA_SPANS[0],
-                   UKNA_GAMMA_SPANS[-1])
-    delta, span = np.broadcast_arrays(delta, span)
-    grid = RegularGridInterpolator((UKNA_GAMMA_DECREMENTS, UKNA_GAMMA_SPANS),
-                                   np.array(UKNA_GAMMA_TABLE))
-    values = grid(np.stack([delta.ravel(), span.ravel()], axis=-1)).reshape(delta.shape)
-    return values if values.ndim else float(values)
 
 
 def ukna_crowd_gamma(log_decrement: ArrayLike) -> np.ndarray:
@@ -326,3 +398,23 @@ def effective_span(structure: "ModalModel") -> tuple[np.ndarray, np.ndarray]:
     span = structure.shape_integrals(absolute=True) / (structure.width * UKNA_SPAN_FACTOR
                                                        * peak)
     return span, UKNA_SPAN_FACTOR * span / structure.length
+
+
+#: The defaults of each code that no public text could confirm (docs: theory, Design checks,
+#: Defaults not verified against the guide, which lists these same entries): code → what, in
+#: words, the constant's name in brackets. Each is marked RECALLED above; every check of the
+#: code carries them in ``details["unverified_defaults"]`` and the report lists them with the
+#: inputs. HiVoSS and EN 1990 use none (their constants are SOURCED).
+UNVERIFIED_DEFAULTS = {
+    "setra": ("Sétra traffic classes I/II/III = 1.0/0.8/0.5 persons/m² (TRAFFIC_CLASSES)",
+              "Sétra's own ψ figure: HiVoSS's corners are used (REDUCTION_FACTOR_CORNERS)",
+              "Sétra's own comfort ranges: CSA S7's CL1–CL4 are used (COMFORT_CLASSES)"),
+    "hivoss": (),
+    "en1990": (),
+    "ukna": ("UK NA limit 1.0 k1 k2 k3 k4 bounded to 0.5–2.0 m/s², NA.2.44.6 "
+             "(UKNA_BASE_LIMIT, UKNA_LIMIT_BOUNDS)",
+             "UK NA site factor k1 (site usage, Table NA.9) (UKNA_SITE_FACTORS)",
+             "UK NA site factor k2 (route redundancy, Table NA.10) (UKNA_SITE_FACTORS)",
+             "UK NA site factor k3 (height of the structure, Table NA.11) (UKNA_SITE_FACTORS)",
+             "UK NA exposure factor k4 = 1.0, NA.2.44.6 (UKNA_SITE_FACTORS)"),
+}
