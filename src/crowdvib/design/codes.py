@@ -7,9 +7,11 @@ frequency, F = 280 N for the first and 70 N for the second walking harmonic per 
 pedestrian, n_eq = 10.8·sqrt(ξ_j n) below 1 person/m² and 1.85·sqrt(n) at or above it. EN 1990
 Annex A2 gives the limit 0.7 m/s² but no load model; crowdvib checks it with the same load.
 
-Provenance (docs: theory, Design-guide load models, §1.5, §10): each constant says whether it was read in a public
-source (SOURCED, with where) or is RECALLED from the guides, which were not reachable here; a
-RECALLED constant is a default to verify against the guide before a design relies on it.
+Provenance (docs: theory, Design checks, Defaults not verified against the guide): each constant
+says whether it was read in a public source (SOURCED, with where: the guide and clause, and the
+public text it was read in) or is RECALLED from the guides, whose text was not reachable here; a
+RECALLED constant is a default to verify against the guide before a design relies on it, and
+:data:`UNVERIFIED_DEFAULTS` lists them per code for the results and the report.
 """
 
 import io
@@ -38,17 +40,20 @@ __all__ = ["CODES", "UNVERIFIED_DEFAULTS", "TRAFFIC_CLASSES", "COMFORT_CLASSES",
 CODES = ("setra", "hivoss", "en1990", "ukna")
 
 #: Vertical force amplitude per equivalent pedestrian [N] of walking harmonic 1 and 2.
-#: 280 N: SOURCED (public Sétra/HiVoSS implementations, docs: theory, Design-guide load models: the CSA S7 code
-#: "equivalent_number_of_pedestrians", NEY-DPI/Footbridge-Vibrations func.py). 70 N for the
-#: second harmonic: RECALLED (Sétra 2006 load case 3). HiVoSS folds the second harmonic into ψ
-#: with a plateau of 0.25 on 280 N (RECALLED), the same 70 N.
+#: 280 N: SOURCED (HiVoSS 2008 Table 4-7, read in MEMAndersen/DynSys ped_dyn.py
+#: HIVOSS.calc_load_intensity @5226de3; Sétra 2006 §3.2.1: 0.4 × 700 N, read in xcfem/xc
+#: EC1_pedestrian_load_models.py). 70 N for the second harmonic: SOURCED (Sétra 2006 §3.2.1,
+#: the single pedestrian's second coefficient 0.1 × 700 N, xcfem/xc; its use as load case 3
+#: was not seen). HiVoSS folds the second harmonic into ψ with a plateau of 0.25 on 280 N, the
+#: same 70 N: SOURCED (HiVoSS Table 4-6, DynSys calc_psi_HIVOSS).
 HARMONIC_FORCES = {1: 280.0, 2: 70.0}
 
 #: Frequency reduction factor ψ(f) [-] for the vertical direction: (frequency [Hz], ψ) corners
-#: of the piecewise-linear curve, 0 outside. RECALLED (the ψ figures of Sétra 2006 and HiVoSS
-#: 2008 for vertical vibrations; docs: theory, Design-guide load models): first harmonic 0 → 1 on 1.25–1.7 Hz, 1 to
-#: 2.1 Hz, → 0 at 2.3 Hz; second harmonic 0 → 1 on 2.5–3.4 Hz, 1 to 4.2 Hz, → 0 at 4.6 Hz
-#: (HiVoSS: × 0.25 with 280 N).
+#: of the piecewise-linear curve, 0 outside: first harmonic 0 → 1 on 1.25–1.7 Hz, 1 to 2.1 Hz,
+#: → 0 at 2.3 Hz; second harmonic 0 → 1 on 2.5–3.4 Hz, 1 to 4.2 Hz, → 0 at 4.6 Hz (HiVoSS:
+#: × 0.25 with 280 N). SOURCED for HiVoSS (HiVoSS 2008 Table 4-6, f = [1.25, 1.7, 2.1, 2.3] and
+#: [2.5, 3.4, 4.2, 4.6], read in DynSys calc_psi_HIVOSS @5226de3). RECALLED for Sétra, whose own
+#: ψ figure was not seen (the same corners expected).
 REDUCTION_FACTOR_CORNERS = {
     1: ((1.25, 0.0), (1.7, 1.0), (2.1, 1.0), (2.3, 0.0)),
     2: ((2.5, 0.0), (3.4, 1.0), (4.2, 1.0), (4.6, 0.0)),
@@ -61,9 +66,10 @@ SPARSE_FACTOR, DENSE_FACTOR, DENSE_FROM = 10.8, 1.85, 1.0
 
 #: Traffic classes: density [persons/m²], or ("persons", n) for a fixed number on the deck.
 #: HiVoSS TC1 = 15 persons, TC2 0.2, TC3 0.5, TC4 1.0: SOURCED (NEY-DPI/Footbridge-Vibrations
-#: func.py get_d); TC5 = 1.5: RECALLED for HiVoSS (the CSA S7 implementation has 1.5).
-#: Sétra classes I = 1.0, II = 0.8, III = 0.5 P/m²: RECALLED (docs: theory, Design-guide load models); class IV needs
-#: no check. EN 1990 has no classes of its own: it takes HiVoSS's.
+#: func.py get_d); TC5 = 1.5: SOURCED, indirectly (the HiVoSS/SYNPEX classes as quoted in
+#: DETAIL Praxis "Fußgängerbrücken", p. 11; CSA S7 Table 7.1). Sétra classes I = 1.0, II = 0.8,
+#: III = 0.5 P/m²: RECALLED (not found in a public text); class IV needs no check. EN 1990 has
+#: no classes of its own: it takes HiVoSS's.
 _HIVOSS_CLASSES = {"TC1": ("persons", 15.0), "TC2": 0.2, "TC3": 0.5, "TC4": 1.0, "TC5": 1.5}
 TRAFFIC_CLASSES = {
     "setra": {"I": 1.0, "II": 0.8, "III": 0.5},
@@ -72,13 +78,15 @@ TRAFFIC_CLASSES = {
 }
 
 #: Vertical comfort classes: (name, upper bound of the peak acceleration [m/s²]). HiVoSS CL1
-#: maximum < 0.5, CL2 mean 0.5–1.0, CL3 minimum 1.0–2.5, CL4 unacceptable > 2.5; Sétra's
-#: maximum/mean/minimum comfort have the same ranges. SOURCED (CSA S7 implementation
-#: COMFORT_LEVELS_VERTICAL, the same ranges; docs: theory, Design-guide load models recalls the Sétra ones).
+#: maximum < 0.5, CL2 mean 0.5–1.0, CL3 minimum 1.0–2.5, CL4 unacceptable > 2.5. SOURCED (CSA S7
+#: Table 7.2, as its public implementation's COMFORT_LEVELS_VERTICAL). Sétra's maximum/mean/
+#: minimum comfort are taken to have the same ranges: RECALLED (Sétra's table was not seen).
 COMFORT_CLASSES = (("CL1", 0.5), ("CL2", 1.0), ("CL3", 2.5), ("CL4", np.inf))
 
-#: EN 1990 Annex A2 (A2.4.3.2) recommended maximum vertical deck acceleration [m/s²] for
-#: pedestrian comfort. RECALLED (the Eurocode text was not reachable here).
+#: EN 1990 Annex A2 (A2.4.3.2(1)) recommended maximum vertical deck acceleration [m/s²] for
+#: pedestrian comfort. SOURCED, indirectly (EN 1990:2002/A1:2005 A2.4.3.2(1): 0.7 m/s²
+#: vertical, as quoted by public summaries of Annex A2 and by Shock and Vibration 2014,
+#: 925437, Table 8; the Eurocode's own text was not reachable here).
 EN1990_VERTICAL_LIMIT = 0.7
 
 
@@ -169,14 +177,18 @@ def comfort_limit(code, target_class):
 
 # --- UK National Annex to BS EN 1991-2 (NA.2.44): walkers, joggers and crowds -----------------
 #
-# Provenance: the NA text itself was not reachable here. Values marked SOURCED were read in the
-# public DynSys package (R. Hewitt, Python, modules ``ped_dyn``/``dyn_analysis``: Table NA.7 and
-# NA.8 values, digitised Figures NA.8 and NA.9, Figure NA.7's S_eff and λ), which implements the
-# NA; values marked RECALLED are from memory of the NA and must be checked against it.
+# Provenance: the NA text itself was not reachable here, apart from three screenshots of it in
+# DynSys. Values marked SOURCED were read in the public DynSys package (Richard Hollamby, COWI UK
+# Bridge, MIT licence, MEMAndersen/DynSys @5226de3, modules ``ped_dyn``/``dyn_analysis``: Table
+# NA.7 and NA.8 values, digitised Figures NA.8 and NA.9 and PD 6688-2 Figure 2, Figure NA.7's
+# S_eff and λ, the screenshots of Figure NA.7, NA.2.44.4 and NA.2.44.5), which implements the
+# NA; values marked RECALLED are from memory of the NA and must be checked against it
+# (UNVERIFIED_DEFAULTS["ukna"]).
 
 #: Table NA.7 (bridge usage class → walkers per group, joggers per group, crowd density
 #: [persons/m²]). SOURCED (DynSys calc_N and get_crowd_density). Class A needs no crowd check
-#: and no joggers (N = 0).
+#: and no joggers (N = 0). Class D's 1.5 persons/m² loads the crowd case as 1.0
+#: (UKNA_CROWD_MAX_DENSITY, NA.2.44.5(1)).
 UKNA_CLASSES = {"A": (2, 0, 0.0), "B": (4, 1, 0.4), "C": (8, 2, 0.8), "D": (16, 4, 1.5)}
 
 #: Table NA.8: reference force amplitude F0 [N] and speed [m/s] of a walker and of a jogger.
@@ -321,7 +333,8 @@ UKNA_CROWD_MAX_DENSITY = 1.0
 #: Figure NA.7: S_eff = ∫|φ| dx / (0.634 max|φ|), λ = 0.634 S_eff / S. SOURCED (DynSys Calc_Seff).
 UKNA_SPAN_FACTOR = 0.634
 
-#: NA.2.44.6: a_limit = 1.0 k1 k2 k3 k4 [m/s²], bounded to [0.5, 2.0]. RECALLED.
+#: NA.2.44.6: a_limit = 1.0 k1 k2 k3 k4 [m/s²], bounded to [0.5, 2.0]. RECALLED (not in DynSys,
+#: and the NA's text was not reachable).
 UKNA_BASE_LIMIT, UKNA_LIMIT_BOUNDS = 1.0, (0.5, 2.0)
 #: Site factors (NA.2.44.6, Tables NA.9–NA.11), named choices → value. RECALLED (the tables were
 #: not reachable here): k1 site usage, k2 route redundancy, k3 height of the structure; k4 the
@@ -406,15 +419,15 @@ def effective_span(structure: "ModalModel") -> tuple[np.ndarray, np.ndarray]:
 #: code carries them in ``details["unverified_defaults"]`` and the report lists them with the
 #: inputs. HiVoSS and EN 1990 use none (their constants are SOURCED).
 UNVERIFIED_DEFAULTS = {
-    "setra": ("Sétra traffic classes I/II/III = 1.0/0.8/0.5 persons/m² (TRAFFIC_CLASSES)",
-              "Sétra's own ψ figure: HiVoSS's corners are used (REDUCTION_FACTOR_CORNERS)",
-              "Sétra's own comfort ranges: CSA S7's CL1–CL4 are used (COMFORT_CLASSES)"),
+    "setra": ("traffic classes I/II/III = 1.0/0.8/0.5 persons/m² (TRAFFIC_CLASSES)",
+              "the guide's own ψ figure: HiVoSS's corners are used (REDUCTION_FACTOR_CORNERS)",
+              "the guide's own comfort ranges: CSA S7's CL1–CL4 are used (COMFORT_CLASSES)"),
     "hivoss": (),
     "en1990": (),
-    "ukna": ("UK NA limit 1.0 k1 k2 k3 k4 bounded to 0.5–2.0 m/s², NA.2.44.6 "
-             "(UKNA_BASE_LIMIT, UKNA_LIMIT_BOUNDS)",
-             "UK NA site factor k1 (site usage, Table NA.9) (UKNA_SITE_FACTORS)",
-             "UK NA site factor k2 (route redundancy, Table NA.10) (UKNA_SITE_FACTORS)",
-             "UK NA site factor k3 (height of the structure, Table NA.11) (UKNA_SITE_FACTORS)",
-             "UK NA exposure factor k4 = 1.0, NA.2.44.6 (UKNA_SITE_FACTORS)"),
+    "ukna": ("limit 1.0 k1 k2 k3 k4 within 0.5–2.0 m/s², NA.2.44.6 (UKNA_BASE_LIMIT, "
+             "UKNA_LIMIT_BOUNDS)",
+             "site factor k1, site usage, Table NA.9 (UKNA_SITE_FACTORS)",
+             "site factor k2, route redundancy, Table NA.10 (UKNA_SITE_FACTORS)",
+             "site factor k3, height of the structure, Table NA.11 (UKNA_SITE_FACTORS)",
+             "exposure factor k4 = 1.0, NA.2.44.6 (UKNA_SITE_FACTORS)"),
 }
