@@ -232,19 +232,19 @@ UKNA_DEFAULT_GAMMA_FIGURE = "pd6688-2"
 
 
 @cache
-def ukna_gamma_figure(figure: str = UKNA_DEFAULT_GAMMA_FIGURE) -> dict:
+def ukna_gamma_figure(gamma_figure: str = UKNA_DEFAULT_GAMMA_FIGURE) -> dict:
     """A γ figure read from its packaged file: "name", "label", "source" (the file's provenance
     line), "decrements" δ (n_δ,), "spans" S_eff [m] (n_S,) and "table" γ (n_δ, n_S).
 
     Parameters
     ----------
-    figure : {"pd6688-2", "na9"}
+    gamma_figure : {"pd6688-2", "na9"}
         :data:`UKNA_GAMMA_FIGURES`.
     """
-    if figure not in UKNA_GAMMA_FIGURES:
+    if gamma_figure not in UKNA_GAMMA_FIGURES:
         raise ParameterError(f"gamma_figure must be one of {list(UKNA_GAMMA_FIGURES)}, got "
-                             f"gamma_figure={figure!r}")
-    label, name = UKNA_GAMMA_FIGURES[figure]
+                             f"gamma_figure={gamma_figure!r}")
+    label, name = UKNA_GAMMA_FIGURES[gamma_figure]
     text = resources.files("crowdvib").joinpath("data", name).read_text(encoding="utf-8")
     source = text.splitlines()[0].lstrip("# ").strip()
     rows = np.loadtxt(io.StringIO(text), delimiter=",", comments="#", skiprows=2, ndmin=2)
@@ -256,15 +256,15 @@ def ukna_gamma_figure(figure: str = UKNA_DEFAULT_GAMMA_FIGURE) -> dict:
                              f"full grid, got {rows.shape[0]} rows for {table.size} points")
     for array in (decrements, spans, table):
         array.setflags(write=False)                 # cached: shared by every call
-    return {"name": figure, "label": label, "source": source, "decrements": decrements,
+    return {"name": gamma_figure, "label": label, "source": source, "decrements": decrements,
             "spans": spans, "table": table}
 
 
 def ukna_gamma_outside(log_decrement: ArrayLike, effective_span: ArrayLike,
-                       figure: str = UKNA_DEFAULT_GAMMA_FIGURE) -> list[str]:
+                       gamma_figure: str = UKNA_DEFAULT_GAMMA_FIGURE) -> list[str]:
     """What lies outside the grid of a γ figure, one sentence per parameter and value (empty
     inside): the ParameterError of :func:`ukna_gamma`, or what a clamped reading states."""
-    grid = ukna_gamma_figure(figure)
+    grid = ukna_gamma_figure(gamma_figure)
     notes = []
     for name, values, axis, unit in (("log_decrement", log_decrement, grid["decrements"], ""),
                                      ("effective_span", effective_span, grid["spans"], " m")):
@@ -278,7 +278,7 @@ def ukna_gamma_outside(log_decrement: ArrayLike, effective_span: ArrayLike,
 
 
 def ukna_gamma(log_decrement: ArrayLike, effective_span: ArrayLike,
-               figure: str = UKNA_DEFAULT_GAMMA_FIGURE, *,
+               gamma_figure: str = UKNA_DEFAULT_GAMMA_FIGURE, *,
                clamp: bool = False) -> np.ndarray | float:
     """γ(δ, S_eff) [-] for groups (NA.2.44.4), read bilinearly on a figure's grid.
 
@@ -288,7 +288,7 @@ def ukna_gamma(log_decrement: ArrayLike, effective_span: ArrayLike,
         δ = 2πξ [-].
     effective_span : array_like
         S_eff [m] (Figure NA.7, :func:`effective_span`).
-    figure : {"pd6688-2", "na9"}
+    gamma_figure : {"pd6688-2", "na9"}
         PD 6688-2:2011 Figure 2 (default) or Figure NA.9 as published
         (:data:`UKNA_GAMMA_FIGURES`).
     clamp : bool
@@ -302,9 +302,9 @@ def ukna_gamma(log_decrement: ArrayLike, effective_span: ArrayLike,
     ParameterError
         A value outside the grid without ``clamp``, naming the parameter, the grid and the value.
     """
-    grid = ukna_gamma_figure(figure)
+    grid = ukna_gamma_figure(gamma_figure)
     if not clamp:
-        outside = ukna_gamma_outside(log_decrement, effective_span, figure)
+        outside = ukna_gamma_outside(log_decrement, effective_span, gamma_figure)
         if outside:
             raise ParameterError(outside[0].split(": read at")[0] + " (clamp=True reads it at "
                                  "the grid's edge)")

@@ -6,9 +6,12 @@ Two load cases per bridge class (docs: theory, Design checks to the UK National 
   F(t) = F0 k(f_v) sqrt(1 + γ (N − 1)) sin(2π f_v t) crossing the walkway at 1.7 (3.0) m/s, with
   the sign of the mode it is tuned to (the force is flipped where φ_v < 0, so it always drives
   that mode), integrated in the time domain mode by mode from rest; the peak of the modal
-  acceleration over the crossing, both directions, times |φ_o| at each output;
+  acceleration over the crossing, both directions, times |φ_o| at each output; γ is read from
+  PD 6688-2:2011 Figure 2 (the corrected Figure NA.9), or from Figure NA.9 as published with
+  ``gamma_figure="na9"``;
 * the steady-state crowd, a pressure w = 1.8 (F0/A) k(f_v) sqrt(γ N / λ) applied with the sign
-  of the mode, resonant response Q / (2 ξ m).
+  of the mode, resonant response Q / (2 ξ m), N = ρA with ρ at most 1.0 persons/m²
+  (NA.2.44.5(1)).
 
 Each load case is applied to the models of :mod:`.check`: the empty structure, the structure with
 the group's (crowd's) mass added, and with HSI the occupied effective mode of
