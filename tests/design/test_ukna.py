@@ -130,6 +130,20 @@ def test_joggers_against_solve_ivp(reference):
               source="scipy.integrate.solve_ivp (DOP853), NA.2.44.4")
 
 
+def test_a_decrement_above_the_grid_reads_gamma_at_0_2_with_a_warning():
+    # ξ = 4 %: δ = 2π·0.04 = 0.2513 > 0.20. γ is read on the 0.20 row of PD 6688-2 Figure 2
+    # (0.560 at 40 m, 0.545 at 60 m), bilinear at S_eff = 50.207 m: 0.560 − 0.015 · 0.5103 =
+    # 0.55235; the warning and the result both say so.
+    from crowdvib import ResolutionWarning
+
+    damped = ModalModel.simply_supported_beam(SPAN, WIDTH, 2.0, 0.04, MASS, n_points=2001)
+    with pytest.warns(ResolutionWarning, match=r"logarithmic decrements up to 0.251 exceed"):
+        check = design_check(damped, "ukna", traffic_class="B")
+    assert check.details["cases"]["walkers"]["gamma"][0][0] == pytest.approx(0.55235, abs=1e-5)
+    assert any("log_decrement must be within 0–0.2" in note and "got 0.2513: read at 0.2" in note
+               for note in check.details["gamma_outside_grid"])
+
+
 @pytest.mark.parametrize("traffic_class, density", [("B", 0.4), ("C", 0.8), ("D", 1.5)])
 def test_crowd_steady_state_closed_form(traffic_class, density, reference):
     # NA.2.44.5: w = 1.8 (F0/A) k(f) sqrt(γ N / λ), N = ρA, γ = 0.23 δ/0.2, λ = 0.634 S_eff/S
@@ -155,6 +169,10 @@ def test_class_d_crowd_is_capped_at_one_person_per_square_metre():
     ratio = (d.case_accelerations[d.cases.index("crowd"), 0, 0, 0]
              / c.case_accelerations[c.cases.index("crowd"), 0, 0, 0])
     assert ratio == pytest.approx(np.sqrt(1.0 / 0.8), rel=1e-9)
+    # A density given above 1.0 is capped alike: 2.0 persons/m² loads as class D's 1.0.
+    given = design_check(beam(2.0), "ukna", density=2.0)
+    assert given.case_accelerations[0, 0, 0, 0] == pytest.approx(
+        d.case_accelerations[d.cases.index("crowd"), 0, 0, 0], rel=1e-12)
 
 
 def test_effective_span_of_a_sine():
