@@ -1,6 +1,8 @@
 """The design checks of ``crowdvib check`` in report.html: one decision per code, the tuned mass
 damper crowdvib designed (or was given), the MSD model the checks used, and the verdict table
-(issue 27 §4: the numbers a client pays for are in the report, not only in results.json).
+(issue 27 §4: the numbers a client pays for are in the report, not only in results.json), with
+the UK NA's γ figure and crowd cap, both readings of n_eq's damping and the codes' defaults not
+verified against their guide (issue 33).
 
 Each function returns empty Markup (or None) for the results of other commands.
 """
@@ -22,13 +24,19 @@ _COMFORT_CODES = ("setra", "hivoss")
 UNVERIFIED_LABEL = "defaults not verified against the guide"
 
 
+def _checks(results):
+    """Code → its check in results.json (``design.checks``), dicts only."""
+    checks = get(results, ("design", "checks"))
+    return {k: c for k, c in checks.items() if isinstance(c, dict)} \
+        if isinstance(checks, dict) else {}
+
+
 def design_inputs(results, block):
     """The ``[design]`` input card's rows: the case file's, and the checked codes' defaults not
     verified against their guide, code by code ("UK NA: …; Sétra: …") from each check's
     ``details["unverified_defaults"]`` (:data:`crowdvib.design.codes.UNVERIFIED_DEFAULTS`)."""
-    checks = get(results, ("design", "checks"))
     parts = []
-    for code, check in (checks.items() if isinstance(checks, dict) else ()):
+    for code, check in _checks(results).items():
         listed = get(check, ("details", "unverified_defaults"))
         if isinstance(listed, list) and listed:
             parts.append(f"{code_label(code)}: {'; '.join(map(str, listed))}")
@@ -151,12 +159,6 @@ def _over_interval(results):
                        "conservative end (f_h1, ξ_h1)", "verdict"], rows, "data"))
 
 
-def _checks(results):
-    checks = get(results, ("design", "checks"))
-    return {k: c for k, c in checks.items() if isinstance(c, dict)} \
-        if isinstance(checks, dict) else {}
-
-
 def _ukna_notes(results):
     """What the UK NA check read its γ from, the crowd's load density where the NA capped it
     (NA.2.44.5(1)) and what γ read at the edge of its figure's grid."""
@@ -172,8 +174,8 @@ def _ukna_notes(results):
         if real(crowd.get("load_density")) is not None and real(crowd.get("density")) is not None \
                 and crowd["load_density"] < crowd["density"]:
             notes.append(html("UK NA crowd: the load takes ρ = {} persons/m², the class's {} "
-                              "capped as NA.2.44.5(1) requires (the deck carries the mass of "
-                              "{}).", number(crowd["load_density"], 3),
+                              "capped as NA.2.44.5(1) requires; the added-mass and HSI models "
+                              "carry the {} persons/m².", number(crowd["load_density"], 3),
                               number(crowd["density"], 3), number(crowd["density"], 3)))
         for note in details.get("gamma_outside_grid") or []:
             notes.append(html("UK NA γ outside its figure: {}.", note))
