@@ -65,6 +65,10 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
                        "PhysioNet walks replayed; simulate only: no load PSD)",
          "design.codes": "registered codes (built in: setra, hivoss, en1990, ukna)",
          "design.comfort_class": "CL1, CL2 or CL3",
+         "design.gamma_figure": "\"pd6688-2\" (PD 6688-2:2011 Figure 2, the default) or "
+                                "\"na9\" (Figure NA.9 as published); UK NA only",
+         "design.neq_damping": "\"occupied\" (the default) or \"empty\": the damping ratio "
+                               "of n_eq; Sétra, HiVoSS, EN 1990",
          "design.site_factors.k1": "a number > 0 or a named choice (UK NA, NA.2.44.6)",
          "design.site_factors.k2": "a number > 0 or a named choice (UK NA, NA.2.44.6)",
          "design.site_factors.k3": "a number > 0 or a named choice (UK NA, NA.2.44.6)",

@@ -84,8 +84,9 @@ print("exit status", status)
 
 # %%
 # The UK NA rows now warn (``ResolutionWarning``): the damped mode's logarithmic decrement
-# exceeds the 0.2 up to which the code's Figure NA.9 gives its factor γ, which grows with the
-# damping, so γ read at 0.2 makes those UK NA accelerations somewhat low. Their utilisation of
+# exceeds the 0.2 up to which the code's γ figure (PD 6688-2 Figure 2, which corrects the NA's
+# Figure NA.9) gives its factor γ, which grows with the damping, so γ read at 0.2 makes those
+# UK NA accelerations somewhat low; the report states the clamp. Their utilisation of
 # about 0.3 leaves room for that. Such a warning is the tool's doubt about a number, not a
 # failure of the bridge.
 #

@@ -256,3 +256,31 @@ def test_a_nearly_undamped_mode_with_dampers_warns_about_resolution():
     with pytest.warns(ResolutionWarning, match=r"need \d{7} frequencies to resolve"):
         design_check(bridge, "hivoss", traffic_class="TC3",
                      dampers=[tune_damper(bridge, 0, 0.02)])
+
+
+def test_unverified_defaults_are_listed_once_in_the_docs_and_in_every_result(paper_bridge):
+    # Issue 33 §2: the defaults no public text confirmed (sources.md: NOT FOUND) are one registry
+    # (codes.UNVERIFIED_DEFAULTS) that docs/theory/design.rst lists verbatim, and every check
+    # carries its code's entries; each names a constant that codes.py marks RECALLED.
+    import re
+    from pathlib import Path
+
+    from crowdvib.design import code_names
+    from crowdvib.design.codes import UNVERIFIED_DEFAULTS
+
+    root = Path(__file__).resolve().parents[2]
+    docs = (root / "docs" / "theory" / "design.rst").read_text(encoding="utf-8")
+    source = (root / "src" / "crowdvib" / "design" / "codes.py").read_text(encoding="utf-8")
+    section = docs.split("Defaults not verified against the guide\n")[1].split("\n.. _")[0]
+    listed = [line[2:] for line in section.splitlines() if line.startswith("* ")]
+    entries = [entry for code in code_names() for entry in UNVERIFIED_DEFAULTS[code]]
+    assert listed[:len(entries)] == entries
+    assert UNVERIFIED_DEFAULTS["ukna"] and UNVERIFIED_DEFAULTS["setra"]
+    for entry in entries:
+        for name in entry.rsplit("(", 1)[1].rstrip(")").split(", "):
+            assignment = re.search(rf"^[A-Z_, ]*\b{name}\b[A-Z_, ]* = ", source, re.MULTILINE)
+            assert assignment, name
+            assert "RECALLED" in source[:assignment.start()].rsplit("\n\n", 1)[-1], name
+    for code, traffic_class in (("setra", "II"), ("hivoss", "TC2"), ("ukna", "B")):
+        check = design_check(paper_bridge, code, traffic_class=traffic_class)
+        assert check.to_dict()["details"]["unverified_defaults"] == list(UNVERIFIED_DEFAULTS[code])

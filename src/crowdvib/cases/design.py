@@ -77,7 +77,8 @@ class CaseCheck(AsResults):
 def check_design_table(case) -> None:
     """Refuse a case without ``[design]``, and the ``[design]`` values only the design layer can
     judge: the registered codes (and a class given per code), the comfort class, the UK NA site
-    factors (io reads the table without importing ``design``, issue 26 §4).
+    factors and γ figure, the n_eq damping reading (io reads the table without importing
+    ``design``, issue 26 §4).
 
     Parameters
     ----------
@@ -90,7 +91,8 @@ def check_design_table(case) -> None:
         Naming the case file, the key, the rule and the value.
     """
     from ..design import code_names
-    from ..design.codes import COMFORT_CLASSES, ukna_limit
+    from ..design.check import NEQ_DAMPINGS
+    from ..design.codes import COMFORT_CLASSES, UKNA_GAMMA_FIGURES, ukna_limit
 
     spec = case.design
     if spec is None:
@@ -113,6 +115,11 @@ def check_design_table(case) -> None:
         ukna_limit(spec.site_factors)
     except ParameterError as exc:
         raise refused(str(exc)) from None
+    # Like comfort_class and the site factors, an option no listed code takes is left unused.
+    for key, choices in (("gamma_figure", UKNA_GAMMA_FIGURES), ("neq_damping", NEQ_DAMPINGS)):
+        given = getattr(spec, key)
+        if given is not None and given not in choices:
+            raise refused(f"{key} must be one of {list(choices)}, got {given!r}")
 
 
 def design_msd(case):
@@ -207,16 +214,18 @@ def _dampers(case, spec, msd):
 
 def _check(case, spec, code, msd, dampers):
     from ..design import design_check
+    from ..design.registry import design_code
 
     traffic_class = spec.classes.get(code)
     density = spec.density
     if traffic_class is None and density is None:
         density = case.crowd.density            # no class: the case's own crowd
-    options = {}
-    if code == "ukna":
-        options = {"site_factors": spec.site_factors, "weighting": spec.weighting}
-    elif code in ("setra", "hivoss"):
-        options = {"comfort_class": spec.comfort_class}
+    # Each code gets the [design] options it takes (EN 1990 has one limit, no comfort class).
+    given = {"site_factors": spec.site_factors, "weighting": spec.weighting,
+             "gamma_figure": spec.gamma_figure, "neq_damping": spec.neq_damping,
+             "comfort_class": spec.comfort_class if code != "en1990" else None}
+    takes = design_code(code).options
+    options = {name: value for name, value in given.items() if name in takes}
     return design_check(case.structure, code, traffic_class=traffic_class, density=density,
                         crowd=case.crowd, msd=msd, dampers=dampers, **options)
 

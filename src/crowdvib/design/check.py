@@ -32,8 +32,8 @@ from ..models.damper import as_dampers
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ..response.spectral import effective_modal_properties, modal_accelerance
-from .codes import (HARMONIC_FORCES, REDUCTION_FACTOR_CORNERS, class_density, comfort_class,
-                    comfort_limit, equivalent_pedestrians, reduction_factor)
+from .codes import (HARMONIC_FORCES, REDUCTION_FACTOR_CORNERS, UNVERIFIED_DEFAULTS, class_density,
+                    comfort_class, comfort_limit, equivalent_pedestrians, reduction_factor)
 from .registry import DesignCode, design_code, register_code
 
 __all__ = ["DesignCheck", "design_check", "resonant_response", "damped_response"]
@@ -85,10 +85,13 @@ class DesignCheck:
         "ukna" only: the peak accelerations of each load case [m/s²].
     details : dict
         Code-specific, JSON-ready intermediate values ("ukna": S_eff, λ, k, γ and the figure
-        it is read from, group sizes, site factors, per-case modal properties, and with
-        ``weighting`` the largest running RMS values; Sétra/HiVoSS/EN 1990:
-        "equivalent_pedestrians", the damping reading used and, for both readings, n_eq per
-        model and mode and the governing acceleration per model and output).
+        it is read from ("gamma_figure", "gamma_figure_label", "gamma_figure_source", and
+        "gamma_outside_grid": what was read at the grid's edge), group sizes, the crowd's
+        load density (capped at 1.0 persons/m², NA.2.44.5(1)), site factors, per-case modal
+        properties, and with ``weighting`` the largest running RMS values; Sétra/HiVoSS/EN
+        1990: "equivalent_pedestrians", the damping reading used and, for both readings, n_eq
+        per model and mode and the governing acceleration per model and output). Every code:
+        "unverified_defaults", its defaults not verified against the guide.
     """
 
     code: str
@@ -351,7 +354,8 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
                  density: float | None = None, crowd: Crowd | None = None,
                  msd: MSDModel | None = None, dampers: Sequence | None = None,
                  comfort_class: str | None = None, site_factors: dict | Sequence | None = None,
-                 weighting: str | None = None, neq_damping: str | None = None) -> DesignCheck:
+                 weighting: str | None = None, neq_damping: str | None = None,
+                 gamma_figure: str | None = None) -> DesignCheck:
     """Comfort check of a footbridge to a design guide, without and with HSI.
 
     Parameters
@@ -397,6 +401,11 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
         the guides' tabulated damping. The two differ by sqrt(ξ_occupied / ξ_empty) on the HSI
         model only (1.55 on the paper example); ``details["equivalent_pedestrians"]`` holds
         both (docs: theory, Design checks, The equivalent crowd with HSI).
+    gamma_figure : {"pd6688-2", "na9"}, optional
+        UK NA only: the reduction factor γ of the walkers and joggers read from PD 6688-2:2011
+        Figure 2 ("pd6688-2", default), which corrects the NA's Figure NA.9, or from Figure NA.9
+        as published ("na9", a lower γ: to reproduce checks made with it). The result names it
+        (``details["gamma_figure"]``, ``"gamma_figure_label"``).
 
     Returns
     -------
@@ -434,13 +443,16 @@ def design_check(structure: ModalModel, code: str, *, traffic_class: str | None 
     implementation = design_code(code)
     options = {name: value for name, value in (
         ("comfort_class", comfort_class), ("site_factors", site_factors),
-        ("weighting", weighting), ("neq_damping", neq_damping)) if value is not None}
+        ("weighting", weighting), ("neq_damping", neq_damping),
+        ("gamma_figure", gamma_figure)) if value is not None}
     for name, value in options.items():
         if name not in implementation.options:
             raise ParameterError(f"{name} does not apply to code {code!r} (it takes "
                                  f"{sorted(implementation.options)}), got {name}={value!r}")
-    return implementation.check(structure, traffic_class=traffic_class, density=density,
-                                crowd=crowd, msd=msd, dampers=as_dampers(dampers), **options)
+    result = implementation.check(structure, traffic_class=traffic_class, density=density,
+                                  crowd=crowd, msd=msd, dampers=as_dampers(dampers), **options)
+    result.details.setdefault("unverified_defaults", list(implementation.unverified_defaults))
+    return result
 
 
 class GuideCode(DesignCode):
@@ -451,6 +463,7 @@ class GuideCode(DesignCode):
 
     def __init__(self, name: str, label: str):
         self.name, self.label = name, label
+        self.unverified_defaults = UNVERIFIED_DEFAULTS[name]
 
     # Each code names its own options (design_check passes only those in ``options``), a
     # narrower signature than the registry's **options: by design, hence the override note.

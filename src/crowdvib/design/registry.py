@@ -24,7 +24,7 @@ __all__ = ["DesignCode", "register_code", "unregister_code", "design_code", "cod
            "code_label"]
 
 #: The keyword options of design_check a code may take, beyond the shared inputs.
-OPTIONS = ("comfort_class", "site_factors", "weighting", "neq_damping")
+OPTIONS = ("comfort_class", "site_factors", "weighting", "neq_damping", "gamma_figure")
 
 
 class DesignCode(ABC):
@@ -38,11 +38,17 @@ class DesignCode(ABC):
         The code's name in words, as reports and verdicts write it (default: ``name``).
     options : frozenset of str
         The options of :data:`OPTIONS` the code understands.
+    unverified_defaults : tuple of str
+        The code's defaults that were not verified against its guide, in words
+        (:data:`crowdvib.design.codes.UNVERIFIED_DEFAULTS` for the built-in codes);
+        :func:`~crowdvib.design.design_check` writes them into every result's
+        ``details["unverified_defaults"]``, and the report lists them with the inputs.
     """
 
     name: ClassVar[str] = ""
     label: ClassVar[str] = ""
     options: ClassVar[frozenset] = frozenset()
+    unverified_defaults: tuple = ()
 
     @abstractmethod
     def check(self, structure, *, traffic_class, density, crowd, msd, dampers,

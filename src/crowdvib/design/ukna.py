@@ -6,9 +6,12 @@ Two load cases per bridge class (docs: theory, Design checks to the UK National 
   F(t) = F0 k(f_v) sqrt(1 + γ (N − 1)) sin(2π f_v t) crossing the walkway at 1.7 (3.0) m/s, with
   the sign of the mode it is tuned to (the force is flipped where φ_v < 0, so it always drives
   that mode), integrated in the time domain mode by mode from rest; the peak of the modal
-  acceleration over the crossing, both directions, times |φ_o| at each output;
+  acceleration over the crossing, both directions, times |φ_o| at each output; γ is read from
+  PD 6688-2:2011 Figure 2 (the corrected Figure NA.9), or from Figure NA.9 as published with
+  ``gamma_figure="na9"``;
 * the steady-state crowd, a pressure w = 1.8 (F0/A) k(f_v) sqrt(γ N / λ) applied with the sign
-  of the mode, resonant response Q / (2 ξ m).
+  of the mode, resonant response Q / (2 ξ m), N = ρA with ρ at most 1.0 persons/m²
+  (NA.2.44.5(1)).
 
 Each load case is applied to the models of :mod:`.check`: the empty structure, the structure with
 the group's (crowd's) mass added, and with HSI the occupied effective mode of
@@ -20,6 +23,7 @@ logarithmic decrement δ = 2πξ of γ are those of each model's mode.
 import warnings
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -34,9 +38,10 @@ from ..models.structure import ModalModel
 from ..response.spectral import effective_modal_properties
 from ..signals.weighting import running_rms, weight_wb
 from .check import DesignCheck, structure_models
-from .codes import (UKNA_CLASSES, UKNA_CROWD_FACTOR, UKNA_GAMMA_DECREMENTS, UKNA_GAMMA_FIGURE,
-                    UKNA_GROUPS, effective_span, ukna_crowd_gamma, ukna_gamma, ukna_k_factor,
-                    ukna_limit)
+from .codes import (UKNA_CLASSES, UKNA_CROWD_FACTOR, UKNA_CROWD_MAX_DENSITY,
+                    UKNA_DEFAULT_GAMMA_FIGURE, UKNA_GROUPS, UNVERIFIED_DEFAULTS, effective_span,
+                    ukna_crowd_gamma, ukna_gamma, ukna_gamma_figure, ukna_gamma_outside,
+                    ukna_k_factor, ukna_limit)
 from .registry import DesignCode, register_code
 
 __all__ = ["sdof_acceleration", "group_response", "crowd_response", "ukna_cases", "ukna_check",
@@ -89,7 +94,8 @@ def _path_shapes(structure, speed, top_frequency):
 
 def group_response(structure: ModalModel, group: str, size: int, frequencies: ArrayLike,
                    damping_ratios: ArrayLike, modal_masses: ArrayLike, *,
-                   effective_spans: ArrayLike | None = None) -> dict:
+                   effective_spans: ArrayLike | None = None,
+                   gamma_figure: str = UKNA_DEFAULT_GAMMA_FIGURE) -> dict:
     """Peak accelerations of every mode under a crossing group of walkers or joggers (NA.2.44.4).
 
     Parameters
@@ -103,14 +109,19 @@ def group_response(structure: ModalModel, group: str, size: int, frequencies: Ar
         The model's modes [Hz], [-], [kg].
     effective_spans : array_like, optional
         S_eff per mode [m] (default from the mode shapes, Figure NA.7).
+    gamma_figure : {"pd6688-2", "na9"}
+        The γ figure (:data:`~crowdvib.design.codes.UKNA_GAMMA_FIGURES`): PD 6688-2:2011
+        Figure 2 (default) or Figure NA.9 as published. Outside its grid γ is read at the
+        grid's edge, and "gamma_outside" says so.
 
     Returns
     -------
     dict
-        "force" (amplitude F per mode [N]), "k", "gamma" (per mode), "modal" (peak modal
-        acceleration per mode), "peak" (n_outputs, n_modes) [m/s²], and the time histories'
-        step "dt" with the modal accelerations "history" (n_modes, n_t) of the governing
-        direction (for running RMS).
+        "force" (amplitude F per mode [N]), "k", "gamma" (per mode), "gamma_outside" (what of
+        the loaded modes' δ and S_eff lay outside the figure's grid, in words), "modal" (peak
+        modal acceleration per mode), "peak" (n_outputs, n_modes) [m/s²], and the time
+        histories' step "dt" with the modal accelerations "history" (n_modes, n_t) of the
+        governing direction (for running RMS).
     """
     f0, speed = UKNA_GROUPS[group]
     frequencies = np.asarray(frequencies, dtype=float)
@@ -118,19 +129,26 @@ def group_response(structure: ModalModel, group: str, size: int, frequencies: Ar
     masses = np.asarray(modal_masses, dtype=float)
     spans = effective_span(structure)[0] if effective_spans is None else effective_spans
     decrement = 2 * np.pi * damping_ratios
-    if np.any(decrement > UKNA_GAMMA_DECREMENTS[-1]):
-        warnings.warn(ResolutionWarning(
-            f"logarithmic decrements up to {decrement.max():.3g} exceed the 0.2 of Figure NA.9: "
-            "γ is read at 0.2, which underestimates it for the more damped modes"), stacklevel=3)
     k = ukna_k_factor(frequencies, group)
-    gamma = np.atleast_1d(ukna_gamma(decrement, spans))
+    gamma = np.atleast_1d(ukna_gamma(decrement, spans, gamma_figure, clamp=True))
     amplitude = f0 * k * np.sqrt(1.0 + gamma * (size - 1))
+    # Only the loaded modes' γ matters; a clamp of S_eff (below 10 m: the 10 m curve's larger
+    # γ, conservative) is stated in the result, one of δ (above 0.2: a smaller γ than the
+    # figure's trend) also warned of.
+    outside = ukna_gamma_outside(decrement[k > 0], np.broadcast_to(spans, k.shape)[k > 0],
+                                 gamma_figure)
+    if any(note.startswith("log_decrement") for note in outside):
+        warnings.warn(ResolutionWarning(
+            f"logarithmic decrements up to {decrement[k > 0].max():.3g} exceed the 0.2 of "
+            f"{ukna_gamma_figure(gamma_figure)['label']}: γ is read at 0.2, which underestimates "
+            "it for the more damped modes"), stacklevel=3)
     loaded = np.flatnonzero(amplitude > 0)
     n_modes = frequencies.size
     modal = np.zeros(n_modes)
     if loaded.size == 0:
-        return {"force": amplitude, "k": k, "gamma": gamma, "modal": modal,
-                "peak": np.zeros((structure.n_outputs, n_modes)), "dt": None, "history": None}
+        return {"force": amplitude, "k": k, "gamma": gamma, "gamma_outside": outside,
+                "modal": modal, "peak": np.zeros((structure.n_outputs, n_modes)), "dt": None,
+                "history": None}
     dt, shapes = _path_shapes(structure, speed, frequencies[loaded].max())
     time = np.arange(shapes.shape[1]) * dt
     history = np.zeros((n_modes, time.size))
@@ -143,8 +161,9 @@ def group_response(structure: ModalModel, group: str, size: int, frequencies: Ar
             peak = np.abs(response).max()
             if peak > modal[j]:
                 modal[j], history[j] = peak, response
-    return {"force": amplitude, "k": k, "gamma": gamma, "modal": modal,
-            "peak": np.abs(structure.output_shapes) * modal, "dt": dt, "history": history}
+    return {"force": amplitude, "k": k, "gamma": gamma, "gamma_outside": outside,
+            "modal": modal, "peak": np.abs(structure.output_shapes) * modal, "dt": dt,
+            "history": history}
 
 
 def crowd_response(structure: ModalModel, density: float, frequencies: ArrayLike,
@@ -153,12 +172,14 @@ def crowd_response(structure: ModalModel, density: float, frequencies: ArrayLike
 
     w = 1.8 (F0/A) k(f_v) sqrt(γ N / λ) [N/m²], N = ρ A, γ = 0.23 δ/0.2, λ = 0.634 S_eff/S,
     applied with the sign of mode j: Q_j = w ∫_A |φ_j| dA, modal acceleration Q_j / (2 ξ_j m_j).
+    ρ is ``density`` capped at 1.0 persons/m² (NA.2.44.5(1): "the required crowd density
+    obtained from NA.2.44.2 but with a maximum value of 1.0 persons/m²").
 
     Returns
     -------
     dict
-        "pressure" w per mode [N/m²], "force" Q_j [N], "k", "gamma", "lambda", "peak"
-        (n_outputs, n_modes) [m/s²].
+        "load_density" ρ [persons/m²], "pressure" w per mode [N/m²], "force" Q_j [N], "k",
+        "gamma", "lambda", "peak" (n_outputs, n_modes) [m/s²].
     """
     f0 = UKNA_GROUPS["walkers"][0]
     area = structure.area
@@ -167,11 +188,12 @@ def crowd_response(structure: ModalModel, density: float, frequencies: ArrayLike
     k = ukna_k_factor(frequencies, "walkers")
     gamma = ukna_crowd_gamma(2 * np.pi * damping_ratios)
     lam = effective_span(structure)[1]
-    pressure = UKNA_CROWD_FACTOR * f0 / area * k * np.sqrt(gamma * density * area / lam)
+    load_density = min(float(density), UKNA_CROWD_MAX_DENSITY)          # NA.2.44.5(1)
+    pressure = UKNA_CROWD_FACTOR * f0 / area * k * np.sqrt(gamma * load_density * area / lam)
     force = pressure * structure.shape_integrals(absolute=True)
     modal = force / (2 * damping_ratios * np.asarray(modal_masses, dtype=float))
-    return {"pressure": pressure, "force": force, "k": k, "gamma": gamma, "lambda": lam,
-            "peak": np.abs(structure.output_shapes) * modal}
+    return {"load_density": load_density, "pressure": pressure, "force": force, "k": k,
+            "gamma": gamma, "lambda": lam, "peak": np.abs(structure.output_shapes) * modal}
 
 
 def ukna_cases(traffic_class: str | None, density: float | None) -> list[tuple]:
@@ -204,8 +226,11 @@ def _occupancy(kind, size_or_density, area):
 
 def ukna_check(structure: ModalModel, *, traffic_class: str | None, density: float | None,
                crowd: Crowd | None, msd: MSDModel | None, dampers: Sequence,
-               site_factors: dict | Sequence | None, weighting: str | None) -> DesignCheck:
+               site_factors: dict | Sequence | None, weighting: str | None,
+               gamma_figure: str | None = None) -> DesignCheck:
     """UK NA check of :func:`crowdvib.design.design_check` (inputs already validated there)."""
+    figure = ukna_gamma_figure(UKNA_DEFAULT_GAMMA_FIGURE if gamma_figure is None
+                               else gamma_figure)
     if density is not None:
         density = float(check_non_negative("density", density, unit="persons/m²"))
         warn_if_implausible("density", density, stacklevel=3)
@@ -220,19 +245,23 @@ def ukna_check(structure: ModalModel, *, traffic_class: str | None, density: flo
     peak_rows, prop_rows, force_rows = [], [], []
     per_case: dict[str, dict] = {}
     running: dict[str, list] = {}
+    outside: list[str] = []
     for name, kind, value in cases:
         occupancy = _occupancy(kind, value, structure.area)
         models = structure_models(structure, base_crowd, occupancy, msd)
         model_names = tuple(models)
         peaks, props, forces = [], [], []
-        info: dict[str, list] = {"k": [], "gamma": []}
-        for model, model_crowd, model_msd in models.values():
+        info: dict[str, Any] = {"k": [], "gamma": []}
+        for model_name, (model, model_crowd, model_msd) in models.items():
             modal = effective_modal_properties(model, model_crowd, model_msd, dampers=dampers)
             args = (modal.frequencies, modal.damping_ratios, modal.modal_masses)
             if kind == "crowd":
                 result = crowd_response(structure, value, *args)
+                info["load_density"] = result["load_density"]
             else:
-                result = group_response(structure, kind, value, *args, effective_spans=spans)
+                result = group_response(structure, kind, value, *args, effective_spans=spans,
+                                        gamma_figure=figure["name"])
+                outside += [f"{name}, {model_name}: {note}" for note in result["gamma_outside"]]
                 if weighting is not None and result["history"] is not None:
                     running.setdefault(name, []).append(
                         _largest_running_rms(structure, result))
@@ -257,7 +286,9 @@ def ukna_check(structure: ModalModel, *, traffic_class: str | None, density: flo
     models_idx, modes_idx = np.indices(governing.shape)
     chosen = case_props[governing, models_idx, :, modes_idx]         # (n_models, n_modes, 3)
     details = {"effective_span": spans.tolist(), "lambda": lam.tolist(),
-               "site_factors": factors, "cases": per_case, "gamma_figure": UKNA_GAMMA_FIGURE,
+               "site_factors": factors, "cases": per_case, "gamma_figure": figure["name"],
+               "gamma_figure_label": figure["label"], "gamma_figure_source": figure["source"],
+               "gamma_outside_grid": outside,
                "governing_case": [[cases[i][0] for i in row] for row in governing]}
     if running:
         details["running_rms"] = {"weighting": weighting, "window": RUNNING_RMS_WINDOW,
@@ -292,10 +323,11 @@ class UKNACode(DesignCode):
 
     name = "ukna"
     label = "UK NA"
-    options = frozenset({"site_factors", "weighting"})
+    options = frozenset({"site_factors", "weighting", "gamma_figure"})
+    unverified_defaults = UNVERIFIED_DEFAULTS["ukna"]
 
     def check(self, structure, *, traffic_class, density, crowd, msd, dampers,  # type: ignore[override]
-              site_factors=None, weighting=None) -> DesignCheck:
+              site_factors=None, weighting=None, gamma_figure=None) -> DesignCheck:
         """The comfort check of :func:`crowdvib.design.design_check` to the UK NA.
 
         Parameters
@@ -306,6 +338,8 @@ class UKNACode(DesignCode):
             The UK NA's site factors (:func:`~crowdvib.design.design_check`).
         weighting : str, optional
             As for :func:`~crowdvib.design.design_check`.
+        gamma_figure : {"pd6688-2", "na9"}, optional
+            γ of the groups from PD 6688-2:2011 Figure 2 (default) or Figure NA.9 as published.
 
         Returns
         -------
@@ -313,7 +347,7 @@ class UKNACode(DesignCode):
         """
         return ukna_check(structure, traffic_class=traffic_class, density=density, crowd=crowd,
                           msd=msd, dampers=dampers, site_factors=site_factors,
-                          weighting=weighting)
+                          weighting=weighting, gamma_figure=gamma_figure)
 
 
 register_code(UKNACode())

@@ -8,8 +8,8 @@ __all__ = ["_design"]
 
 def _design(table, path, read_msd):
     """``[design]`` → :class:`DesignSpec`; ``read_msd`` reads its ``[design.msd]`` table with the
-    keys (and checks) of ``[hsi]``. The codes (and the classes given per code), the comfort class
-    and the site factors are judged where the design layer uses them (``crowdvib check``; a code
+    keys (and checks) of ``[hsi]``. The codes (and the classes given per code), the comfort class,
+    the site factors, the UK NA's γ figure and the n_eq damping reading are judged where the design layer uses them (``crowdvib check``; a code
     may be registered there), not here: io imports no analysis layer (issue 26 §4)."""
     codes = table.strings("codes")
     classes_table = table.table("classes")
@@ -37,7 +37,9 @@ def _design(table, path, read_msd):
         density=table.number("density", None, rule="positive"),
         comfort_class=table.string("comfort_class", None),
         hsi=table.boolean("hsi", True), msd=msd, site_factors=factors,
-        weighting=table.string("weighting", None, choices=("Wb",)), damper=damper,
+        weighting=table.string("weighting", None, choices=("Wb",)),
+        gamma_figure=table.string("gamma_figure", None),
+        neq_damping=table.string("neq_damping", None), damper=damper,
         prediction=table.boolean("prediction", True),
         duration=table.number("duration", 600.0, rule="positive"))
     table.finish()

@@ -160,6 +160,12 @@ class DesignSpec:
         k1…k4 of the UK NA limit (numbers or named choices).
     weighting : str or None
         "Wb": running RMS of W_b-weighted accelerations where computed.
+    gamma_figure : str or None
+        UK NA: the γ figure of the walkers and joggers, "pd6688-2" (None: the default,
+        PD 6688-2:2011 Figure 2) or "na9" (Figure NA.9 as published).
+    neq_damping : str or None
+        Sétra/HiVoSS/EN 1990: the damping ratio of n_eq, "occupied" (None: the default) or
+        "empty"; the report shows both readings either way.
     damper : dict or None
         ``[design.damper]``: mass, frequency, damping_ratio, position[, lane], or mode and
         mass_ratio (tuned with :func:`crowdvib.design.tune_damper`).
@@ -177,6 +183,8 @@ class DesignSpec:
     msd: MSDModel | None = None
     site_factors: dict = field(default_factory=dict)
     weighting: str | None = None
+    gamma_figure: str | None = None
+    neq_damping: str | None = None
     damper: dict | None = None
     prediction: bool = True
     duration: float = 600.0

@@ -71,7 +71,9 @@ def weidmann_speed(density: ArrayLike) -> np.ndarray:
 def bruno_venuti_step_frequency(speed: ArrayLike) -> np.ndarray:
     """Mean step frequency f_s(v) = 0.35 v³ − 1.59 v² + 2.93 v [Hz] (Bruno & Venuti 2009).
 
-    RECALLED in docs: theory, The crowd and validated there: f_s(1.30) = 1.891 Hz, the paper's 1.89 Hz.
+    SOURCED indirectly (docs: theory, The crowd: an independent public implementation has the
+    same coefficients; the paper was not seen) and validated there: f_s(1.30) = 1.891 Hz, the
+    paper's 1.89 Hz.
 
     Parameters
     ----------

@@ -1,6 +1,8 @@
 """The design checks of ``crowdvib check`` in report.html: one decision per code, the tuned mass
 damper crowdvib designed (or was given), the MSD model the checks used, and the verdict table
-(issue 27 §4: the numbers a client pays for are in the report, not only in results.json).
+(issue 27 §4: the numbers a client pays for are in the report, not only in results.json), with
+the UK NA's γ figure and crowd cap, both readings of n_eq's damping and the codes' defaults not
+verified against their guide (issue 33).
 
 Each function returns empty Markup (or None) for the results of other commands.
 """
@@ -10,12 +12,35 @@ from markupsafe import Markup
 from ..cases.schema import get, real
 from ..design.registry import code_label
 from .design_plots import MODEL_LABELS
-from .html import html, number, table
+from .html import html, join, number, table
 
-__all__ = ["design_decisions", "damper_items", "msd_section", "design_section"]
+__all__ = ["design_decisions", "damper_items", "msd_section", "design_section", "design_inputs"]
 
 #: Codes that define comfort classes CL1–CL4 (:func:`crowdvib.design.codes.comfort_limit`).
 _COMFORT_CODES = ("setra", "hivoss")
+
+
+#: The design card's line of the defaults no public text confirmed (issue 33 §2).
+UNVERIFIED_LABEL = "defaults not verified against the guide"
+
+
+def _checks(results):
+    """Code → its check in results.json (``design.checks``), dicts only."""
+    checks = get(results, ("design", "checks"))
+    return {k: c for k, c in checks.items() if isinstance(c, dict)} \
+        if isinstance(checks, dict) else {}
+
+
+def design_inputs(results, block):
+    """The ``[design]`` input card's rows: the case file's, and the checked codes' defaults not
+    verified against their guide, code by code ("UK NA: …; Sétra: …") from each check's
+    ``details["unverified_defaults"]`` (:data:`crowdvib.design.codes.UNVERIFIED_DEFAULTS`)."""
+    parts = []
+    for code, check in _checks(results).items():
+        listed = get(check, ("details", "unverified_defaults"))
+        if isinstance(listed, list) and listed:
+            parts.append(f"{code_label(code)}: {'; '.join(map(str, listed))}")
+    return {**block, UNVERIFIED_LABEL: ". ".join(parts)} if parts else block
 
 
 def _rows(results):
@@ -134,6 +159,60 @@ def _over_interval(results):
                        "conservative end (f_h1, ξ_h1)", "verdict"], rows, "data"))
 
 
+def _ukna_notes(results):
+    """What the UK NA check read its γ from, the crowd's load density where the NA capped it
+    (NA.2.44.5(1)) and what γ read at the edge of its figure's grid."""
+    notes = []
+    for check in _checks(results).values():
+        details = check.get("details") if isinstance(check.get("details"), dict) else {}
+        if "gamma_figure" not in details:
+            continue
+        notes.append(html("UK NA: γ of the walkers and joggers from {} (gamma_figure = "
+                          '"{}").', details.get("gamma_figure_label") or "—",
+                          details.get("gamma_figure")))
+        crowd = get(details, ("cases", "crowd")) or {}
+        if real(crowd.get("load_density")) is not None and real(crowd.get("density")) is not None \
+                and crowd["load_density"] < crowd["density"]:
+            notes.append(html("UK NA crowd: the load takes ρ = {} persons/m², the class's {} "
+                              "capped as NA.2.44.5(1) requires; the added-mass and HSI models "
+                              "carry the {} persons/m².", number(crowd["load_density"], 3),
+                              number(crowd["density"], 3), number(crowd["density"], 3)))
+        for note in details.get("gamma_outside_grid") or []:
+            notes.append(html("UK NA γ outside its figure: {}.", note))
+    return join(html("<p>{}</p>", note) for note in notes)
+
+
+def _neq_readings(results):
+    """The Sétra/HiVoSS/EN 1990 checks with HSI under both readings of n_eq's damping, side by
+    side (docs: theory, The equivalent crowd with HSI): the governing acceleration and the
+    utilisation with the occupied and with the empty structure's ξ."""
+    rows = []
+    for code, check in _checks(results).items():
+        readings = get(check, ("details", "equivalent_pedestrians"))
+        models, names = check.get("models") or [], check.get("output_names") or []
+        if not isinstance(readings, dict) or "hsi" not in models or not real(check.get("limit")):
+            continue
+        model = models.index("hsi")
+        used = readings.get("damping")
+        label = _code({"code": code, "traffic_class": check.get("traffic_class")})
+        for output, name in enumerate(names):
+            peaks = [get(readings, ("governing", reading)) for reading in ("occupied", "empty")]
+            peaks = [p[model][output] if isinstance(p, list) else None for p in peaks]
+            rows.append([label, name, *(cell for peak in peaks for cell in (
+                number(peak, 3), number(peak / check["limit"], 3) if real(peak) is not None
+                else "—")), used or "—"])
+    if not rows:
+        return Markup("")
+    return html("<h3>Equivalent crowd with HSI: the damping of n<sub>eq</sub></h3><p>n<sub>eq</sub>"
+                " = 10.8 √(ξ n) read with the occupied mode's ξ and with the empty structure's "
+                "ξ (neq_damping; docs: theory, The equivalent crowd with HSI). The HSI rows "
+                "above use the reading in the last column; the no-HSI and added-mass rows are "
+                "the same under both.</p>{}",
+                table(["code and class", "output", "a, occupied ξ [m/s²]",
+                       "utilisation, occupied ξ", "a, empty ξ [m/s²]", "utilisation, empty ξ",
+                       "verdict uses"], rows, "data"))
+
+
 def design_section(results: dict) -> Markup:
     """The damper, the verdict table and the crowd stream's prediction of ``crowdvib check``;
     empty for other commands.
@@ -164,7 +243,8 @@ def design_section(results: dict) -> Markup:
                            "data"))
     note = Markup('<p class="muted">Comfort classes CL1–CL4 are defined by Sétra and HiVoSS '
                   "only; EN 1990 and the UK NA set a limit alone.</p>")
-    return html('<section id="design"><h2>Design checks</h2>{}{}{}{}</section>',
+    return html('<section id="design"><h2>Design checks</h2>{}{}{}{}{}{}</section>',
                 _damper_table(results),
                 table(["code and class", "model", "output", "a [m/s²]", "limit [m/s²]",
-                       "utilisation", "comfort class", "passes"], cells, "data"), note, extra)
+                       "utilisation", "comfort class", "passes"], cells, "data"), note,
+                _ukna_notes(results), _neq_readings(results), extra)

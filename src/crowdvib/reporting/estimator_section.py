@@ -4,12 +4,14 @@ internals, not inputs of the bridge).
 
 :func:`client_inputs` leaves out of the Inputs section what is no input there: the estimator's
 internal switches (shown here instead, in a details section), the ``[hsi]`` defaults of
-parameters the run estimated, and a default time column no record was read by.
+parameters the run estimated, and a default time column no record was read by; it adds to the
+``[design]`` card the checked codes' defaults not verified against their guide.
 """
 
 from markupsafe import Markup
 
 from ..cases.schema import estimate, hsi
+from .design_section import design_inputs
 from .html import html, join, number, table, value
 
 __all__ = ["client_inputs", "estimator_details", "convergence_norm_words", "STATUS"]
@@ -49,6 +51,8 @@ def client_inputs(results, name, block, not_set):
     """The rows of input card ``name`` a client reads (see the module docstring)."""
     if name == "estimation":
         return {k: v for k, v in block.items() if k not in _SWITCHES}
+    if name == "design":
+        return design_inputs(results, block)
     if name == "hsi":
         found = estimate(results) or {}
         return {k: v for k, v in block.items()
