@@ -16,8 +16,8 @@ error in the mean step frequency: it keeps the paper's least squares by default.
 
 from .errors import ParameterError
 
-__all__ = ["DEFAULT_METHOD", "DEFAULT_JOINT_METHOD", "METHOD_DEFAULTS", "check_method",
-           "estimator_defaults"]
+__all__ = ["DEFAULT_METHOD", "DEFAULT_JOINT_METHOD", "METHOD_DEFAULTS", "DEFAULT_CROWD_MODEL",
+           "check_method", "estimator_defaults"]
 
 #: The misfit of a single-record estimate when none is stated.
 DEFAULT_METHOD = "likelihood"
@@ -25,6 +25,11 @@ DEFAULT_METHOD = "likelihood"
 DEFAULT_JOINT_METHOD = "least_squares"
 #: method → (crowd model, step frequencies fitted with the MSD) when not stated.
 METHOD_DEFAULTS = {"likelihood": ("fluctuating", True), "least_squares": ("smeared", False)}
+#: The crowd model of the default estimator's expected PSD: also the default of the expected
+#: PSDs made for users (:func:`crowdvib.response_psd`,
+#: :class:`crowdvib.response.VaryingCrowdModel`), so that a noise-free synthetic PSD made
+#: without options is what the default estimate fits.
+DEFAULT_CROWD_MODEL = METHOD_DEFAULTS[DEFAULT_METHOD][0]
 
 
 def check_method(method):

@@ -65,7 +65,8 @@ def test_a_constant_profile_is_the_stationary_estimate(ramp_record):
 def test_profile_needs_a_welch_estimate(ramp_record):
     bridge, walkers, profile, _ = ramp_record
     frequency = np.arange(1, 301) / 60.0
-    model = response_psd(bridge, walkers, frequency, msd=TRUTH)     # no n_windows
+    model = response_psd(bridge, walkers, frequency, msd=TRUTH,
+                         crowd_model="smeared")     # no n_windows
     with pytest.raises(ParameterError, match=r"crowd_profile needs a Welch estimate"):
         estimate_hsi(model, bridge, walkers, band=(1.0, 4.0), method="least_squares",
                      crowd_profile=profile)
@@ -94,5 +95,6 @@ def test_the_bootstraps_exact_model_weighs_the_record_as_its_welch_windows(ramp_
     np.testing.assert_allclose(moments(exact), moments(objective.model), rtol=1e-9)
     # Uniform weights would give another law on this ramp: the record's ends count fully.
     uniform = VaryingCrowdModel(bridge, walkers, profile, np.linspace(0.0, 5.0, 51),
-                                duration=exact.duration, levels=exact.levels.size)
+                                duration=exact.duration, levels=exact.levels.size,
+                                crowd_model="smeared")
     assert abs(moments(uniform)[1] / moments(exact)[1] - 1) > 1e-4

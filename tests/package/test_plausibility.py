@@ -24,7 +24,7 @@ from crowdvib.signals import synthetic_welch_psd
 def measured(paper_bridge, paper_crowd, paper_msd, welch_grid):
     """One simulated hour of the paper example as a Welch estimate (T = 60 s, 119 windows)."""
     expected = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
-                            welch_window_length=60.0)
+                            welch_window_length=60.0, crowd_model="smeared")
     return synthetic_welch_psd(expected, 119, rng=1)
 
 
