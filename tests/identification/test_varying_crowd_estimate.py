@@ -56,8 +56,9 @@ def test_a_constant_profile_is_the_stationary_estimate(ramp_record):
     # crowd's own density is not used with a profile).
     bridge, walkers, _, measured = ramp_record
     band = (1.0, 4.0)
-    stationary = PSDObjective(measured, bridge, walkers, band=band)
+    stationary = PSDObjective(measured, bridge, walkers, band=band, method="least_squares")
     profiled = PSDObjective(measured, bridge, walkers.with_density(0.9), band=band,
+                            method="least_squares",
                             crowd_profile=CrowdProfile.constant(walkers.density))
     assert profiled.cost(TRUTH) == pytest.approx(stationary.cost(TRUTH), rel=1e-10)
 
@@ -84,7 +85,8 @@ def test_the_bootstraps_exact_model_weighs_the_record_as_its_welch_windows(ramp_
     from crowdvib.response.varying import VaryingCrowdModel
 
     bridge, walkers, profile, measured = ramp_record
-    objective = PSDObjective(measured, bridge, walkers, band=(1.0, 4.0), crowd_profile=profile)
+    objective = PSDObjective(measured, bridge, walkers, band=(1.0, 4.0), crowd_profile=profile,
+                             method="least_squares")
     exact = objective.exact_model(np.linspace(0.0, 5.0, 51))
     assert exact.welch_window_length is None
 
