@@ -65,7 +65,7 @@ MSD = MSDModel(TRUTH["frequency"], TRUTH["damping_ratio"], 0.95)
 def gaussian_record_psd(crowd, seed):
     """Welch PSD of one Gaussian hour with the spectral model's PSD (seeded)."""
     frequency = record_frequencies(3600.0, 20.0)
-    psd = response_psd(BRIDGE, crowd, frequency, msd=MSD).psd
+    psd = response_psd(BRIDGE, crowd, frequency, msd=MSD, crowd_model="smeared").psd
     record = gaussian_record(psd, 20.0, rng=seed)
     return welch_psd(record, 20.0, window_length=60.0, output_names=["midspan"]).band(0, 10)
 

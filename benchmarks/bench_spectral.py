@@ -44,24 +44,28 @@ def main():
     grid = np.arange(0, 601) / 60.0
     rows = []
     rows.append(("response_psd, paper example, 601 f (0-10 Hz at 1/60 Hz)", "<= 1 ms",
-                 best_of(lambda: response_psd(case.structure, case.crowd, grid, msd=msd))))
+                 best_of(lambda: response_psd(case.structure, case.crowd, grid, msd=msd,
+                                              crowd_model="smeared"))))
     rows.append(("  same, Welch-smoothed model (T = 60 s)", "<= 2 ms",
                  best_of(lambda: response_psd(case.structure, case.crowd, grid, msd=msd,
-                                              welch_window_length=60.0))))
+                                              welch_window_length=60.0, crowd_model="smeared"))))
     big = fourteen_mode_bridge()
     crowd = Crowd.from_density(0.5)
     grid_6000 = np.linspace(0.0, 20.0, 6000)
     rows.append(("response_psd, 14 modes x 2 outputs x 6000 f", "<= 30 ms",
-                 best_of(lambda: response_psd(big, crowd, grid_6000, msd=msd))))
+                 best_of(lambda: response_psd(big, crowd, grid_6000, msd=msd,
+                                              crowd_model="smeared"))))
     with threadpool_limits(1):
         rows.append(("  same, Welch-smoothed (T = 60 s), one BLAS thread", "<= 20 ms",
                      best_of(lambda: response_psd(big, crowd, grid_6000, msd=msd,
-                                                  welch_window_length=60.0), repeat=3)))
-    measured = response_psd(case.structure, case.crowd, grid, msd=msd, welch_window_length=60.0)
+                                                  welch_window_length=60.0,
+                                                  crowd_model="smeared"), repeat=3)))
+    measured = response_psd(case.structure, case.crowd, grid, msd=msd, welch_window_length=60.0,
+                            crowd_model="smeared")
     rows.append(("estimate_hsi, paper example, 4 starts (Welch model)", "<= 0.5 s",
                  best_of(lambda: estimate_hsi(measured, case.structure, case.crowd,
                                               band=(0.0, 10.0)), repeat=3, number=1)))
-    exact = response_psd(case.structure, case.crowd, grid, msd=msd)
+    exact = response_psd(case.structure, case.crowd, grid, msd=msd, crowd_model="smeared")
     rows.append(("estimate_hsi, paper example, 4 starts (exact model)", "-",
                  best_of(lambda: estimate_hsi(exact, case.structure, case.crowd,
                                               band=(0.0, 10.0)), repeat=3, number=1)))

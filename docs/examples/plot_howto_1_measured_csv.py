@@ -51,7 +51,8 @@ folder = Path(workdir.name)
 rate, duration = 25.0, 900.0                     # [Hz], [s]
 paper = paper_example()
 bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3, outputs={"midspan": 25.0})
-psd = response_psd(bridge, paper.crowd, record_frequencies(duration, rate), msd=paper.msd).psd
+psd = response_psd(bridge, paper.crowd, record_frequencies(duration, rate), msd=paper.msd,
+                   crowd_model="smeared").psd
 in_g = gaussian_record(psd, rate, rng=7)[0] / STANDARD_GRAVITY + 1.0
 np.savetxt(folder / "bridge.csv", np.c_[np.arange(in_g.size) / rate, in_g], delimiter=",",
            fmt="%.6f", header="Time [s],midspan", comments="")

@@ -46,9 +46,11 @@ print(f"empty: 2.000 Hz, 0.50 %;  occupied: {occupied.frequencies[0]:.3f} Hz, "
 # scattered around it as a one-hour record would be: 119 half-overlapping windows.
 T = 60.0
 frequency = np.arange(0, 601) / T
-expected = response_psd(bridge, crowd, frequency, msd=truth, welch_window_length=T)
+expected = response_psd(bridge, crowd, frequency, msd=truth, welch_window_length=T,
+                        crowd_model="smeared")
 measured = synthetic_welch_psd(expected, n_windows=119, rng=2023)
-no_hsi = response_psd(bridge, crowd, frequency, msd=None, welch_window_length=T)
+no_hsi = response_psd(bridge, crowd, frequency, msd=None, welch_window_length=T,
+                      crowd_model="smeared")
 
 # %%
 # Estimating the MSD parameters back
@@ -65,7 +67,8 @@ print(f"J / J(no HSI) = {estimate.relative_cost:.3f}")
 # -------
 # Measured (scattered) PSD, the model with the estimated MSD and the model without HSI: the
 # walkers as moving forces only would overpredict the peak several times over.
-fitted = response_psd(bridge, crowd, frequency, msd=estimate.msd, welch_window_length=T)
+fitted = response_psd(bridge, crowd, frequency, msd=estimate.msd, welch_window_length=T,
+                      crowd_model="smeared")
 ax = plot_psd_comparison({"measured (synthetic)": measured, "fitted HSI": fitted,
                           "no HSI": no_hsi}, band=(0.0, 10.0),
                          title="Midspan acceleration PSD, 0.5 persons/m²")

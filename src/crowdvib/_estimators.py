@@ -16,8 +16,9 @@ error in the mean step frequency: it keeps the paper's least squares by default.
 
 from .errors import ParameterError
 
-__all__ = ["DEFAULT_METHOD", "DEFAULT_JOINT_METHOD", "METHOD_DEFAULTS", "check_method",
-           "estimator_defaults", "DEFAULT_DENSITY_UNCERTAINTY", "check_density_uncertainty"]
+__all__ = ["DEFAULT_METHOD", "DEFAULT_JOINT_METHOD", "METHOD_DEFAULTS", "DEFAULT_CROWD_MODEL",
+           "check_method", "estimator_defaults", "DEFAULT_DENSITY_UNCERTAINTY",
+           "check_density_uncertainty"]
 
 #: The misfit of a single-record estimate when none is stated.
 DEFAULT_METHOD = "likelihood"
@@ -31,6 +32,11 @@ METHOD_DEFAULTS = {"likelihood": ("fluctuating", True), "least_squares": ("smear
 DEFAULT_DENSITY_UNCERTAINTY = 0.1
 #: Above this the interval's linearisation in ln ρ no longer holds (±2σ would reach ±100 %).
 MAX_DENSITY_UNCERTAINTY = 0.5
+#: The crowd model of the default estimator's expected PSD: also the default of the expected
+#: PSDs made for users (:func:`crowdvib.response_psd`,
+#: :class:`crowdvib.response.VaryingCrowdModel`), so that a noise-free synthetic PSD made
+#: without options is what the default estimate fits.
+DEFAULT_CROWD_MODEL = METHOD_DEFAULTS[DEFAULT_METHOD][0]
 
 
 def check_method(method):

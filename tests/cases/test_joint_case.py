@@ -51,7 +51,7 @@ def joint_case(tmp_path_factory):
     folder = tmp_path_factory.mktemp("joint")
     frequency = record_frequencies(DURATION, RATE)
     for seed, (name, density) in enumerate(BLOCKS.items()):
-        psd = response_psd(BRIDGE, _crowd(density), frequency, msd=TRUTH).psd
+        psd = response_psd(BRIDGE, _crowd(density), frequency, msd=TRUTH, crowd_model="smeared").psd
         data = gaussian_record(psd, RATE, rng=seed + 1)
         write_record(Record(data=data, sample_rate=RATE, channel_names=("midspan",)),
                      folder / f"{name}.npz")

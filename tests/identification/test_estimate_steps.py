@@ -49,7 +49,7 @@ RECORDED = {
 @pytest.fixture(scope="module")
 def measured():
     frequency = record_frequencies(1200.0, 20.0)
-    psd = response_psd(BRIDGE, CROWD, frequency, msd=TRUTH).psd
+    psd = response_psd(BRIDGE, CROWD, frequency, msd=TRUTH, crowd_model="smeared").psd
     record = gaussian_record(psd, 20.0, rng=7)
     return welch_psd(record, 20.0, window_length=60.0, output_names=["midspan"]).band(0.0, 10.0)
 
@@ -130,7 +130,7 @@ def test_estimate_reproduces_the_recorded_numbers(measured, key):
 
 def test_objective_is_immutable_and_a_refit_gets_a_new_one(measured):
     # Issue 26 §4: the estimate must not replace the objective's model in place.
-    objective = PSDObjective(measured, BRIDGE, CROWD, band=(0.0, 10.0))
+    objective = PSDObjective(measured, BRIDGE, CROWD, band=(0.0, 10.0), method="least_squares")
     with pytest.raises(AttributeError, match="PSDObjective is immutable: model"):
         objective.model = objective.model_for((1.95, 0.2))
     refit = objective.with_step_frequencies((1.95, 0.2))
@@ -145,7 +145,7 @@ def test_objective_is_immutable_and_a_refit_gets_a_new_one(measured):
 
 def test_rescaled_and_redrawn_objectives_leave_the_original_alone(measured):
     # docs: theory, Parametric bootstrap: a replicate's objective is a new one on new data.
-    objective = PSDObjective(measured, BRIDGE, CROWD, band=(0.0, 10.0))
+    objective = PSDObjective(measured, BRIDGE, CROWD, band=(0.0, 10.0), method="least_squares")
     level, cost = objective.level.copy(), objective.cost(TRUTH)
     louder = objective.with_level(100.0)
     np.testing.assert_allclose(louder.level, 100.0 * level, rtol=1e-15)
@@ -195,7 +195,7 @@ def test_results_report_and_reference_share_one_vocabulary(measured):
 
 def test_objective_arrays_are_read_only(measured):
     # Immutable objective (issue 26 §4): its arrays cannot be changed in place either.
-    objective = PSDObjective(measured, BRIDGE, CROWD, band=(0.0, 10.0))
+    objective = PSDObjective(measured, BRIDGE, CROWD, band=(0.0, 10.0), method="least_squares")
     with pytest.raises(ValueError, match="read-only"):
         objective.target[0, 0] = 0.0
     doubled = 2.0 * objective.target

@@ -35,7 +35,8 @@ def record_psd():
     def measured(duration, seed):
         if duration not in cache:
             frequency = record_frequencies(duration, SAMPLE_RATE)
-            cache[duration] = response_psd(bridge, crowd, frequency, msd=msd).psd
+            cache[duration] = response_psd(bridge, crowd, frequency, msd=msd,
+                                           crowd_model="smeared").psd
         record = gaussian_record(cache[duration], SAMPLE_RATE, rng=seed)
         return welch_psd(record, SAMPLE_RATE, window_length=WINDOW,
                          output_names=["midspan"]).band(0.0, 10.0)
@@ -130,7 +131,8 @@ def test_estimate_carries_its_uncertainty(record_psd):
 
 def test_a_model_curve_has_no_interval(paper_bridge, paper_crowd, paper_msd, welch_grid):
     # A PSD without Welch statistics (n_windows unknown) has no scatter to bound.
-    curve = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd)
+    curve = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
+                         crowd_model="smeared")
     estimate = estimate_hsi(curve, paper_bridge, paper_crowd, band=(0.0, 10.0))
     assert estimate.covariance is None and estimate.intervals == {}
     assert "interval" not in estimate.to_dict()["estimate"]
@@ -163,7 +165,8 @@ def test_joint_fit_of_two_densities_is_narrower_and_covers_the_truth():
     records, crowds = [], []
     for seed, density in ((1, 0.25), (2, 0.50)):
         crowd = case.crowd.with_density(density)
-        psd = response_psd(case.structure, crowd, frequency, msd=truth, outputs=["main_span"]).psd
+        psd = response_psd(case.structure, crowd, frequency, msd=truth, outputs=["main_span"],
+                           crowd_model="smeared").psd
         records.append(welch_psd(gaussian_record(psd, 25.0, rng=seed), 25.0, window_length=25.0,
                                  output_names=["main_span"]))
         crowds.append(crowd)

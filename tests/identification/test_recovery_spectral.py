@@ -17,7 +17,8 @@ PAPER = dict(band=(0.0, 10.0), method="least_squares")
 
 def test_noise_free_recovery_from_every_start(paper_bridge, paper_crowd, paper_msd, welch_grid):
     # docs: theory, Inverse problem: the four starts all converge to (3.000, 0.300) on noise-free data.
-    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd)
+    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
+                            crowd_model="smeared")
     estimate = estimate_hsi(measured, paper_bridge, paper_crowd, **PAPER)
     assert len(estimate.starts) == len(DEFAULT_STARTS) == 4
     for run in estimate.starts:
@@ -30,7 +31,7 @@ def test_noise_free_recovery_from_every_start(paper_bridge, paper_crowd, paper_m
 
 def test_noise_free_recovery_with_welch_model(paper_bridge, paper_crowd, paper_msd, welch_grid):
     measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
-                            welch_window_length=60.0)
+                            welch_window_length=60.0, crowd_model="smeared")
     estimate = estimate_hsi(measured, paper_bridge, paper_crowd, **PAPER)
     assert estimate.msd.frequency == pytest.approx(3.0, rel=1e-3)
     assert estimate.msd.damping_ratio == pytest.approx(0.30, rel=1e-3)
@@ -42,7 +43,7 @@ def test_recovery_with_welch_scatter(paper_bridge, paper_crowd, paper_msd, welch
     # f_h1 scatters by about 1.5 %), so the claim is checked over the first 20 seeds: at least
     # 85 % of them meet both tolerances and the average is unbiased to 1 % / 5 %.
     expected = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
-                            welch_window_length=60.0)
+                            welch_window_length=60.0, crowd_model="smeared")
     found = []
     for seed in range(1, 21):
         measured = synthetic_welch_psd(expected, n_windows=119, rng=seed)
@@ -60,7 +61,7 @@ def test_recovery_with_welch_scatter(paper_bridge, paper_crowd, paper_msd, welch
 def test_free_mass_ratio_is_estimated_too(paper_bridge, paper_crowd, welch_grid):
     from crowdvib import MSDModel
     truth = MSDModel(2.8, 0.35, 0.85)
-    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=truth)
+    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=truth, crowd_model="smeared")
     estimate = estimate_hsi(measured, paper_bridge, paper_crowd, **PAPER,
                             free_mass_ratio=True, starts=[(2.5, 0.3, 0.9), (3.5, 0.5, 0.7)])
     assert estimate.free_parameters == ("frequency", "damping_ratio", "mass_ratio")
@@ -70,7 +71,8 @@ def test_free_mass_ratio_is_estimated_too(paper_bridge, paper_crowd, welch_grid)
 
 def test_optimum_on_a_bound_warns(paper_bridge, paper_crowd, paper_msd, welch_grid):
     from crowdvib import BoundWarning
-    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd)
+    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
+                            crowd_model="smeared")
     with pytest.warns(BoundWarning, match="frequency:upper"):
         estimate = estimate_hsi(measured, paper_bridge, paper_crowd, **PAPER,
                                 bounds={"frequency": (1.0, 2.5)}, starts=[(2.0, 0.3)])
@@ -82,7 +84,7 @@ def test_output_weights_are_normalised(paper_crowd, paper_msd, welch_grid):
     from crowdvib import ModalModel
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, [2.0, 4.6], 0.005, [50e3, 50e3],
                                               n_modes=2, outputs={"mid": 25.0, "quarter": 12.5})
-    measured = response_psd(bridge, paper_crowd, welch_grid, msd=paper_msd)
+    measured = response_psd(bridge, paper_crowd, welch_grid, msd=paper_msd, crowd_model="smeared")
     estimate = estimate_hsi(measured, bridge, paper_crowd, band=(1.0, 8.0),
                             output_weights=[3.0, 1.0], method="least_squares")
     np.testing.assert_allclose(estimate.output_weights, [0.75, 0.25])

@@ -56,8 +56,9 @@ def test_a_constant_profile_is_the_stationary_estimate(ramp_record):
     # crowd's own density is not used with a profile).
     bridge, walkers, _, measured = ramp_record
     band = (1.0, 4.0)
-    stationary = PSDObjective(measured, bridge, walkers, band=band)
+    stationary = PSDObjective(measured, bridge, walkers, band=band, method="least_squares")
     profiled = PSDObjective(measured, bridge, walkers.with_density(0.9), band=band,
+                            method="least_squares",
                             crowd_profile=CrowdProfile.constant(walkers.density))
     assert profiled.cost(TRUTH) == pytest.approx(stationary.cost(TRUTH), rel=1e-10)
 
@@ -65,7 +66,8 @@ def test_a_constant_profile_is_the_stationary_estimate(ramp_record):
 def test_profile_needs_a_welch_estimate(ramp_record):
     bridge, walkers, profile, _ = ramp_record
     frequency = np.arange(1, 301) / 60.0
-    model = response_psd(bridge, walkers, frequency, msd=TRUTH)     # no n_windows
+    model = response_psd(bridge, walkers, frequency, msd=TRUTH,
+                         crowd_model="smeared")     # no n_windows
     with pytest.raises(ParameterError, match=r"crowd_profile needs a Welch estimate"):
         estimate_hsi(model, bridge, walkers, band=(1.0, 4.0), method="least_squares",
                      crowd_profile=profile)
@@ -83,7 +85,8 @@ def test_the_bootstraps_exact_model_weighs_the_record_as_its_welch_windows(ramp_
     from crowdvib.response.varying import VaryingCrowdModel
 
     bridge, walkers, profile, measured = ramp_record
-    objective = PSDObjective(measured, bridge, walkers, band=(1.0, 4.0), crowd_profile=profile)
+    objective = PSDObjective(measured, bridge, walkers, band=(1.0, 4.0), crowd_profile=profile,
+                             method="least_squares")
     exact = objective.exact_model(np.linspace(0.0, 5.0, 51))
     assert exact.welch_window_length is None
 
@@ -94,5 +97,6 @@ def test_the_bootstraps_exact_model_weighs_the_record_as_its_welch_windows(ramp_
     np.testing.assert_allclose(moments(exact), moments(objective.model), rtol=1e-9)
     # Uniform weights would give another law on this ramp: the record's ends count fully.
     uniform = VaryingCrowdModel(bridge, walkers, profile, np.linspace(0.0, 5.0, 51),
-                                duration=exact.duration, levels=exact.levels.size)
+                                duration=exact.duration, levels=exact.levels.size,
+                                crowd_model="smeared")
     assert abs(moments(uniform)[1] / moments(exact)[1] - 1) > 1e-4

@@ -147,13 +147,14 @@ def _two_output_record(paper_crowd, paper_msd):
 
 def test_objective_uses_the_wishart_likelihood_only_with_cross_spectra(paper_crowd, paper_msd):
     bridge, measured = _two_output_record(paper_crowd, paper_msd)
-    options = dict(band=(0.0, 10.0), method="likelihood")
+    options = dict(band=(0.0, 10.0), method="likelihood", crowd_model="smeared")
     assert PSDObjective(measured, bridge, paper_crowd, **options).wishart is not None
     plain = dataclasses.replace(measured, cross=None)
     assert PSDObjective(plain, bridge, paper_crowd, **options).wishart is None
     one = measured.select(["midspan"])
     assert PSDObjective(one, bridge, paper_crowd, **options).wishart is None
-    squares = PSDObjective(measured, bridge, paper_crowd, band=(0.0, 10.0))
+    squares = PSDObjective(measured, bridge, paper_crowd, band=(0.0, 10.0),
+                           method="least_squares")
     assert squares.wishart is None
     with pytest.raises(ParameterError, match="output_weights must be None for the Wishart"):
         PSDObjective(measured, bridge, paper_crowd, output_weights=[0.7, 0.3], **options)
@@ -167,7 +168,7 @@ def test_fully_coherent_pair_counts_once(paper_crowd, paper_msd):
     # the one-output likelihood (H_W = H_1). The sandwich of the sum, which takes the outputs as
     # fully coherent, has Var(g) = 4 Var(g_1) and so restores the one-output covariance.
     bridge, measured = _two_output_record(paper_crowd, paper_msd)
-    options = dict(band=(0.0, 10.0), method="likelihood")
+    options = dict(band=(0.0, 10.0), method="likelihood", crowd_model="smeared")
     objectives = {"wishart": PSDObjective(measured, bridge, paper_crowd, **options),
                   "sum": PSDObjective(dataclasses.replace(measured, cross=None), bridge,
                                       paper_crowd, **options),

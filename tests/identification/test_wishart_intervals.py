@@ -143,7 +143,8 @@ def test_wishart_score_variance_matches_its_scatter_over_records():
     step = np.array([1e-4 * 3.0, 1e-4 * 0.3])
     scores, predicted = [], None
     for measured in _records(structure, crowd, outputs, 25.0, range(100, 220)):
-        objective = PSDObjective(measured, structure, crowd, band=(2.5, 8.0), method="likelihood")
+        objective = PSDObjective(measured, structure, crowd, band=(2.5, 8.0), method="likelihood",
+                                 crowd_model="smeared")
         points = [MSDModel(3.0 + s * step[0] * (i == 0), 0.3 + s * step[1] * (i == 1), 0.95)
                   for i in range(2) for s in (1, -1)]
         costs = [objective.cost(m) for m in points]

@@ -53,7 +53,8 @@ def test_user_force_response_psd_closed_form(paper_bridge, paper_crowd):
     # H = 1/(m (ω₁² − ω² + 2i ξ ω₁ ω)), φ_o = 1 at midspan (unity-scaled beam), Ψ₁₁ = n/2 = 37.5.
     force = SingleHarmonic()
     frequency = np.linspace(0.5, 4.0, 351)
-    psd = response_psd(paper_bridge, paper_crowd, frequency, force=force).psd[0]
+    psd = response_psd(paper_bridge, paper_crowd, frequency, force=force,
+                       crowd_model="smeared").psd[0]
     omega, omega1 = 2 * np.pi * frequency, 2 * np.pi * 2.0
     receptance = 1 / (50e3 * (omega1**2 - omega**2 + 2j * 0.005 * omega1 * omega))
     weight = 70.0 * STANDARD_GRAVITY
@@ -80,7 +81,7 @@ def test_user_force_simulation_matches_spectral(paper_bridge, paper_crowd):
     assert measured / model == pytest.approx(1.0, abs=0.15)
     # and the acceleration's Welch PSD peaks in the resonant bin of the spectral one
     spectral = response_psd(paper_bridge, paper_crowd, GRID, force=force,
-                            welch_window_length=WINDOW)
+                            welch_window_length=WINDOW, crowd_model="smeared")
     assert abs(record.psd(WINDOW).peak_frequency()[0] - spectral.peak_frequency()[0]) \
         <= 1 / WINDOW + 1e-9
 
@@ -90,7 +91,7 @@ def test_user_force_estimate_recovers_msd(paper_bridge, paper_crowd, paper_msd):
     # theory, Estimating the MSD from a measured PSD): the estimator calls the same load_spectrum.
     force = SingleHarmonic()
     measured = response_psd(paper_bridge, paper_crowd, GRID, msd=paper_msd, force=force,
-                            welch_window_length=WINDOW)
+                            welch_window_length=WINDOW, crowd_model="smeared")
     # The PSD holds the smeared crowd: the paper's estimator fits that model exactly.
     estimate = estimate_hsi(measured, paper_bridge, paper_crowd, band=(1.0, 3.0), force=force,
                             interval=None, method="least_squares")

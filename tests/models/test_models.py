@@ -128,7 +128,7 @@ def test_short_reprs_name_what_matters(paper_bridge, paper_crowd, paper_msd, wel
     assert repr(paper_bridge) == ("ModalModel('simply supported beam', 2 Hz, walkway 50 m × 3 m, "
                                   "outputs ['midspan'])")
     psd = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
-                       welch_window_length=60.0)
+                       welch_window_length=60.0, crowd_model="smeared")
     assert repr(psd) == ("ResponsePSD(['midspan'], 601 frequencies 0–10 Hz, T = 60 s, "
                          "source='model')")
 

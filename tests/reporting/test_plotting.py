@@ -49,9 +49,10 @@ def test_load_spectrum_without_structure_is_per_unit_influence(paper_crowd, welc
 # ------------------------------------------------------------------------------ Fig. 3
 def test_hsi_effect_shows_both_peaks_in_the_enlargement(paper_bridge, paper_crowd, paper_msd,
                                                         welch_grid):
-    without = response_psd(paper_bridge, paper_crowd, welch_grid, welch_window_length=60.0)
+    without = response_psd(paper_bridge, paper_crowd, welch_grid, welch_window_length=60.0,
+                           crowd_model="smeared")
     with_hsi = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
-                            welch_window_length=60.0)
+                            welch_window_length=60.0, crowd_model="smeared")
     handles = plotting.plot_hsi_effect(without, with_hsi)
     full, detail = handles.axes
     assert len(full.get_lines()) == 2 and len(detail.get_lines()) == 2
@@ -80,8 +81,9 @@ def test_frf_empty_dashed_and_occupied_solid(paper_bridge, paper_crowd, paper_ms
 
 # ------------------------------------------------------------------------------ Figs. 12, 17, 20
 def test_psd_comparison_draws_every_curve(paper_bridge, paper_crowd, paper_msd, welch_grid):
-    fitted = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd)
-    no_hsi = response_psd(paper_bridge, paper_crowd, welch_grid)
+    fitted = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
+                          crowd_model="smeared")
+    no_hsi = response_psd(paper_bridge, paper_crowd, welch_grid, crowd_model="smeared")
     ax = plotting.plot_psd_comparison({"measured": fitted, "fitted": fitted, "no HSI": no_hsi},
                                       band=(1.0, 3.0))
     assert [line.get_label() for line in ax.get_lines()] == ["measured", "fitted", "no HSI"]
@@ -92,7 +94,7 @@ def test_psd_comparison_draws_every_curve(paper_bridge, paper_crowd, paper_msd, 
 def test_psd_comparison_leaves_out_the_0_hz_bin(paper_bridge, paper_crowd, welch_grid):
     # Issue 27 §4: a measured record's 0 Hz bin (its offset, e.g. gravity on an accelerometer)
     # set the axis of the estimate's figures and hid the resonance eight decades below it.
-    model = response_psd(paper_bridge, paper_crowd, welch_grid)
+    model = response_psd(paper_bridge, paper_crowd, welch_grid, crowd_model="smeared")
     spiked = model.psd.copy()
     spiked[:, 0] = 1e6 * spiked.max()
     measured = ResponsePSD(frequency=model.frequency, psd=spiked,

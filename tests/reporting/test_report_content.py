@@ -91,7 +91,8 @@ def test_psd_figures_name_the_analysis_band():
     from crowdvib.reporting.plotting import plot_psd_comparison
 
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
-    psd = response_psd(bridge, Crowd.from_density(0.5), np.linspace(0, 10, 201))
+    psd = response_psd(bridge, Crowd.from_density(0.5), np.linspace(0, 10, 201),
+                       crowd_model="smeared")
     ax = plot_psd_comparison({"model": psd}, analysis_band=(1.5, 8.0))
     assert "analysis band 1.5–8 Hz" in ax.get_legend_handles_labels()[1]
     assert [t.get_text() for t in ax.get_legend().get_texts()][0] == "analysis band 1.5–8 Hz"

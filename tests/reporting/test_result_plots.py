@@ -12,7 +12,7 @@ from crowdvib.studies import objective_map  # noqa: E402
 
 
 def test_result_plot_methods(paper_bridge, paper_crowd, paper_msd, welch_grid):
-    psd = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd)
+    psd = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd, crowd_model="smeared")
     ax = psd.plot(label="model")
     assert ax.get_xlabel() == "Frequency [Hz]" and "(m/s²)²/Hz" in ax.get_ylabel()
     assert [line.get_label() for line in ax.get_lines()] == ["model"]

@@ -34,14 +34,15 @@ def bridges(draw):
 
 @given(bridges(), crowds, msds)
 def test_psd_is_non_negative(bridge, crowd, msd):
-    psd = response_psd(bridge, crowd, F, msd=msd).psd
+    psd = response_psd(bridge, crowd, F, msd=msd, crowd_model="smeared").psd
     assert np.all(psd >= 0) and np.all(np.isfinite(psd))
 
 
 @given(bridges(), crowds, msds, st.floats(0.1, 10.0))
 def test_force_scale_scales_psd_quadratically(bridge, crowd, msd, scale):
-    base = response_psd(bridge, crowd, F, msd=msd).psd
-    scaled = response_psd(bridge, crowd, F, msd=msd, force=ZivanovicForce(scale=scale)).psd
+    base = response_psd(bridge, crowd, F, msd=msd, crowd_model="smeared").psd
+    scaled = response_psd(bridge, crowd, F, msd=msd, force=ZivanovicForce(scale=scale),
+                          crowd_model="smeared").psd
     np.testing.assert_allclose(scaled, scale**2 * base, rtol=1e-9, atol=1e-300)
 
 
@@ -49,8 +50,8 @@ def test_force_scale_scales_psd_quadratically(bridge, crowd, msd, scale):
 def test_flipping_a_mode_sign_changes_no_output_psd(bridge, crowd, msd, data):
     factors = np.array(data.draw(st.lists(st.sampled_from([-1.0, 1.0]), min_size=bridge.n_modes,
                                           max_size=bridge.n_modes)))
-    a = response_psd(bridge, crowd, F, msd=msd).psd
-    b = response_psd(bridge.rescaled(factors), crowd, F, msd=msd).psd
+    a = response_psd(bridge, crowd, F, msd=msd, crowd_model="smeared").psd
+    b = response_psd(bridge.rescaled(factors), crowd, F, msd=msd, crowd_model="smeared").psd
     np.testing.assert_allclose(b, a, rtol=1e-8, atol=1e-12 * a.max())
 
 
@@ -64,8 +65,8 @@ def test_no_msd_or_vanishing_density_gives_the_empty_structure(bridge, crowd, ms
     np.testing.assert_allclose(faint.values, empty.values, rtol=1e-5)
     # and the PSD per unit density tends to the no-HSI PSD per unit density.
     d = 1e-9
-    a = response_psd(bridge, crowd.with_density(d), F, msd=msd).psd
-    b = response_psd(bridge, crowd.with_density(d), F, msd=None).psd
+    a = response_psd(bridge, crowd.with_density(d), F, msd=msd, crowd_model="smeared").psd
+    b = response_psd(bridge, crowd.with_density(d), F, msd=None, crowd_model="smeared").psd
     np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-12 * b.max())
 
 
@@ -80,4 +81,5 @@ def test_occupied_poles_are_stable(bridge, crowd, msd):
 @pytest.mark.parametrize("density", [0.0])
 def test_zero_density_gives_zero_psd(paper_bridge, paper_msd, density):
     crowd = Crowd(density=density, walking_speed=1.3, step_frequency_mean=1.89)
-    assert np.all(response_psd(paper_bridge, crowd, F, msd=paper_msd).psd == 0)
+    assert np.all(response_psd(paper_bridge, crowd, F, msd=paper_msd,
+                               crowd_model="smeared").psd == 0)

@@ -62,7 +62,8 @@ def test_response_psd_reference_values(paper_bridge, paper_crowd, paper_msd, wel
                                         hsi, peak_frequency, peak, rms, welch_peak, reference):
     force = ZivanovicForce(subharmonics_follow_sampled_dlf=False)
     msd = paper_msd if hsi else None
-    exact = response_psd(paper_bridge, paper_crowd, FINE, msd=msd, force=force)
+    exact = response_psd(paper_bridge, paper_crowd, FINE, msd=msd, force=force,
+                         crowd_model="smeared")
     case = "with HSI" if hsi else "without HSI"
     reference(f"paper example {case}: frequency of the PSD peak", exact.peak_frequency()[0],
               peak_frequency, abs=0.002, unit="Hz", source=_NUMBERS)
@@ -71,7 +72,7 @@ def test_response_psd_reference_values(paper_bridge, paper_crowd, paper_msd, wel
     reference(f"paper example {case}: RMS acceleration", exact.rms()[0], rms, rel=0.01,
               unit="m/s²", source=_NUMBERS)
     welch = response_psd(paper_bridge, paper_crowd, welch_grid, msd=msd, force=force,
-                         welch_window_length=60.0)
+                         welch_window_length=60.0, crowd_model="smeared")
     reference(f"paper example {case}: Welch (T = 60 s) PSD peak", welch.psd.max(), welch_peak,
               rel=0.01, unit="(m/s²)²/Hz", source=_NUMBERS)
     # Welch smoothing redistributes power but keeps it (unit-area kernel, docs: theory, What a Welch estimate sees: the expectation kernel).

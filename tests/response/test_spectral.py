@@ -42,7 +42,7 @@ def test_multi_mode_psd_matches_reference(coupled_bridge):
     psi = coupled_bridge.influence_matrix(0.8)
     assert abs(psi[0, 1]) > 0.1 * psi[0, 0]      # really coupled
     for model in (msd, None):
-        ours = response_psd(coupled_bridge, crowd, f, msd=model).psd
+        ours = response_psd(coupled_bridge, crowd, f, msd=model, crowd_model="smeared").psd
         np.testing.assert_allclose(ours, reference_psd(coupled_bridge, crowd, model, f),
                                    rtol=1e-8, atol=1e-12 * ours.max())
 
@@ -66,7 +66,8 @@ def test_frequency_weights_change_the_fit_only_where_they_act(paper_bridge, pape
                                                              paper_msd, welch_grid):
     # On noise-free data every weighting recovers the truth; the cost is the weighted sum of
     # squares (paper Eq. 6 with γ_ω), so doubling all weights leaves the normalised optimum alone.
-    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd)
+    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
+                            crowd_model="smeared")
     weighted = estimate_hsi(measured, paper_bridge, paper_crowd, band=(0.0, 10.0),
                             method="least_squares",
                             frequency_weights=lambda f: np.where(f > 2.5, 5.0, 1.0))

@@ -72,7 +72,7 @@ def test_constant_profile_model_is_the_spectral_model(bridge, walkers):
     # One level at the profile's density: Ḡ is the stationary model itself.
     frequency = np.arange(60, 181) / WINDOW
     model = VaryingCrowdModel(bridge, walkers, CrowdProfile.constant(0.4), frequency,
-                              duration=HOUR, welch_window_length=WINDOW)
+                              duration=HOUR, welch_window_length=WINDOW, crowd_model="smeared")
     assert model.levels == pytest.approx([0.4]) and model.crowd.density == pytest.approx(0.4)
     assert model.psd_array(MSDModel()) == pytest.approx(SpectralModel(
         bridge, walkers.with_density(0.4), frequency,
@@ -86,7 +86,7 @@ def test_levels_are_a_gauss_rule_of_the_density_law(bridge, walkers):
     # 0.8/3600 · τ/2, the ends weighed less by Hann².
     ramp = PROFILES["ramp"]
     model = VaryingCrowdModel(bridge, walkers, ramp, np.arange(60, 181) / WINDOW,
-                              duration=HOUR, welch_window_length=WINDOW)
+                              duration=HOUR, welch_window_length=WINDOW, crowd_model="smeared")
     density, weight = density_law(bridge, walkers, ramp, HOUR, welch_window_length=WINDOW)
     assert model.levels.size >= 3 and model.probabilities.sum() == pytest.approx(1.0)
     for power in (1, 2, 3):

@@ -27,18 +27,19 @@ _CONTEXT = multiprocessing.get_context("forkserver")
 @pytest.fixture
 def measured(paper_bridge, paper_crowd, paper_msd, welch_grid):
     return response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
-                        welch_window_length=60.0)
+                        welch_window_length=60.0, crowd_model="smeared")
 
 
 def test_objective_map_minimum_is_the_estimate_and_steeper_along_frequency(
         measured, paper_bridge, paper_crowd):
-    # The map is the paper's J (objective_map's default): the paper's estimator minimises it.
+    # The map is the paper's J (method="least_squares"): the paper's estimator minimises it.
     estimate = estimate_hsi(measured, paper_bridge, paper_crowd, band=(0.0, 10.0),
                             method="least_squares")
     grid_f = np.linspace(1.0, 6.0, 51)          # paper Fig. 4 ranges: 1–6 Hz, 0.1–0.8
     grid_xi = np.linspace(0.1, 0.8, 36)
     landscape = objective_map(measured, paper_bridge, paper_crowd, frequencies=grid_f,
-                              damping_ratios=grid_xi, band=(0.0, 10.0), estimate=estimate)
+                              damping_ratios=grid_xi, band=(0.0, 10.0), estimate=estimate,
+                              method="least_squares")
     best = landscape.optimum
     assert abs(best.frequency - estimate.msd.frequency) <= grid_f[1] - grid_f[0]
     assert abs(best.damping_ratio - estimate.msd.damping_ratio) <= grid_xi[1] - grid_xi[0]
@@ -47,9 +48,9 @@ def test_objective_map_minimum_is_the_estimate_and_steeper_along_frequency(
     assert landscape.curvature_ratio() > 10
     # docs: theory, Inverse problem samples of g(f_h1, ξ_h1), exact model: at (3.5, 0.3) 0.65, (2.5, 0.3) 0.37.
     exact = response_psd(paper_bridge, paper_crowd, measured.frequency,
-                         msd=estimate.msd.__class__(3.0, 0.3))
+                         msd=estimate.msd.__class__(3.0, 0.3), crowd_model="smeared")
     samples = objective_map(exact, paper_bridge, paper_crowd, frequencies=[2.5, 3.5],
-                            damping_ratios=[0.3], band=(0.0, 10.0))
+                            damping_ratios=[0.3], band=(0.0, 10.0), method="least_squares")
     np.testing.assert_allclose(samples.cost[0], [0.37, 0.65], atol=0.02)
 
 
@@ -252,7 +253,8 @@ def test_objective_map_reports_progress(paper_bridge, paper_crowd, paper_msd, we
     # Issue 10: the map's grid (58 s silent before) reports each row as it is done.
     from crowdvib import response_psd
 
-    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd)
+    measured = response_psd(paper_bridge, paper_crowd, welch_grid, msd=paper_msd,
+                            crowd_model="smeared")
     calls = []
     objective_map(measured, paper_bridge, paper_crowd, frequencies=[2.5, 3.0, 3.5],
                   damping_ratios=[0.2, 0.3], band=(0.0, 10.0),

@@ -50,7 +50,7 @@ _COMMANDS = {
     "simulate": ("simulate a case (default: the paper example) and write its record", simulate),
     "report": ("write report.html, a self-contained HTML report, into a results directory",
                _Report),
-    "map": ("evaluate the objective J(f_h1, ξ_h1) of a case on a grid", landscape),
+    "map": ("evaluate the objective J(f_h1, ξ_h1) of a case's estimator on a grid", landscape),
     "sensitivity": ("estimation error from modelling errors and record length: nominal ± bound",
                     sensitivity),
     "check": ("design checks of a case's [design] table (codes, with and without HSI)", check),

@@ -135,8 +135,10 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     crowd_model : {"fluctuating", "smeared"}, optional
         The expected PSD: the mixture over the occupancy of a Poisson crowd, whose fluctuation
         widens the measured resonance (docs: theory, The fluctuating crowd; default with the
-        likelihood), or the paper's smeared mean crowd (default with least squares; what
-        synthetic PSDs of :func:`crowdvib.response_psd` hold).
+        likelihood), or the paper's smeared mean crowd (default with least squares). The
+        default is also :func:`crowdvib.response_psd`'s: a noise-free PSD it makes with the
+        measured Welch window is what the default estimate recovers exactly;
+        ``response_psd(..., crowd_model="smeared")`` is what ``method="least_squares"`` does.
     n_boot : int
         Replicates of the parametric bootstrap (``interval="bootstrap"``), >= 20.
     rng : None, int or numpy.random.Generator
@@ -192,15 +194,15 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
 
     Examples
     --------
-    The paper's numerical example, noise-free: the MSD that made a modelled Welch PSD is found
-    again by the paper's least squares:
+    The paper's numerical example, noise-free: the MSD that made a modelled Welch PSD of the
+    paper's smeared crowd is found again by the paper's least squares:
 
     >>> import numpy as np
     >>> from crowdvib import Crowd, MSDModel, ModalModel, estimate_hsi, response_psd
     >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
     >>> crowd = Crowd.from_density(0.5)
     >>> measured = response_psd(bridge, crowd, np.arange(601) / 60, msd=MSDModel(3.0, 0.30, 0.95),
-    ...                         welch_window_length=60.0)
+    ...                         welch_window_length=60.0, crowd_model="smeared")
     >>> fit = estimate_hsi(measured, bridge, crowd, band=(0.0, 10.0), method="least_squares",
     ...                    interval=None)
     >>> round(fit.msd.frequency, 3), round(fit.msd.damping_ratio, 3)

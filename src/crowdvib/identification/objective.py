@@ -19,7 +19,7 @@ import dataclasses
 
 import numpy as np
 
-from .._estimators import METHOD_DEFAULTS, check_method
+from .._estimators import DEFAULT_METHOD, METHOD_DEFAULTS, estimator_defaults
 from .._validation import as_float_array, check_flag, check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
@@ -108,15 +108,19 @@ class PSDObjective:
     match_welch : bool
         Model what a Welch estimate with the measured window length (and low-pass filter) sees
         (docs: theory, What a Welch estimate sees: the expectation kernel); only when ``measured.window_length`` is known.
-    method : {"least_squares", "likelihood"}
-        The misfit (module docstring). The likelihood leaves out the 0 Hz bin, whose ordinate
-        is not a χ²_ν variable (and is removed by detrending). With ``measured.cross`` and two
+    method : {"likelihood", "least_squares"}
+        The misfit (module docstring); by default the one :func:`crowdvib.estimate_hsi`
+        minimises by default (``crowdvib._estimators.DEFAULT_METHOD``). The likelihood leaves
+        out the 0 Hz bin, whose ordinate is not a χ²_ν variable (and is removed by
+        detrending). With ``measured.cross`` and two
         or more outputs it is the complex-Wishart likelihood of the cross-spectral matrix
         (which weighs the outputs by their statistics: no ``output_weights`` then); drop the
         cross-spectra (``dataclasses.replace(measured, cross=None)``) for the per-output sum.
-    crowd_model : {"smeared", "fluctuating"}
+    crowd_model : {"smeared", "fluctuating"}, optional
         The expected PSD of the mean crowd, or the mixture over the Poisson crowd's fluctuating
-        occupancy (docs: theory, The fluctuating crowd).
+        occupancy (docs: theory, The fluctuating crowd); by default the method's, as in
+        :func:`crowdvib.estimate_hsi` (fluctuating with the likelihood, smeared with least
+        squares).
     crowd_profile : CrowdProfile, optional
         The record's crowd changes with time (t = 0 its first sample): the model is the
         average over the Welch windows of each window's expectation (docs: theory, A crowd that
@@ -141,8 +145,8 @@ class PSDObjective:
 
     def __init__(self, measured, structure, crowd, *, band, force=None, outputs=None,
                  output_weights=None, frequency_weights=None, match_welch=True,
-                 method="least_squares", crowd_model="smeared", crowd_profile=None):
-        check_method(method)
+                 method=DEFAULT_METHOD, crowd_model=None, crowd_profile=None):
+        crowd_model = estimator_defaults(method, crowd_model)[0]
         self.method = method
         if not isinstance(measured, ResponsePSD):
             raise ParameterError(f"measured must be a ResponsePSD, got {type(measured).__name__}")

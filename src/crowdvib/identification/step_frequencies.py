@@ -142,7 +142,8 @@ def estimate_step_frequencies(measured: ResponsePSD, structure: ModalModel, crow
             f"sample_rate=...))), got {got}")
     band = (0.5, cutoff) if band is None else band
     objective = PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
-                             output_weights=output_weights, match_welch=match_welch)
+                             output_weights=output_weights, match_welch=match_welch,
+                             method="least_squares")     # paper Eq. (6), the smeared crowd
     limits = _merge_bounds(bounds, DEFAULT_STEP_FREQUENCY_BOUNDS)
     lower = np.array([limits[n][0] for n in STEP_PARAMETERS])
     upper = np.array([limits[n][1] for n in STEP_PARAMETERS])

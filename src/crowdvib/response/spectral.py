@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
+from .._estimators import DEFAULT_CROWD_MODEL
 from .._validation import check_frequency_grid, check_non_negative, check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
@@ -326,11 +327,14 @@ def response_psd(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
                  msd: MSDModel | None = None, force: ForceModel | None = None,
                  outputs: str | Sequence[str] | None = None,
                  welch_window_length: float | None = None, lowpass: LowPassFilter | None = None,
-                 dampers: Sequence[TunedMassDamper] | None = None) -> ResponsePSD:
+                 dampers: Sequence[TunedMassDamper] | None = None,
+                 crowd_model: str = DEFAULT_CROWD_MODEL) -> ResponsePSD:
     """One-sided acceleration PSD at the outputs of a crowd-loaded footbridge (docs: theory, Response PSD with HSI).
 
     G_ü(f) = ω⁴ Φ_o H(ω) G_QQ(f) H(ω)ᴴ Φ_oᵀ with the occupied receptance H (HSI, when ``msd`` is
-    given) or the empty one (crowd as moving forces only, ``msd=None``).
+    given) or the empty one (crowd as moving forces only, ``msd=None``): the smeared crowd's
+    PSD, or by default its expectation over a Poisson crowd's fluctuating occupancy, the model
+    the default estimator fits (``crowd_model``).
 
     Parameters
     ----------
@@ -353,11 +357,15 @@ def response_psd(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
         Zero-phase low-pass filter applied to the signal (PSD × |H_LP|⁴).
     dampers : sequence of TunedMassDamper, optional
         Tuned mass dampers fixed to the deck.
-
-    Returns
-    -------
-    ResponsePSD
-        ``psd`` in (m/s²)²/Hz, shape (n_outputs, n_frequencies).
+    crowd_model : {"fluctuating", "smeared"}
+        The expected PSD of a Poisson crowd, the mixture over its fluctuating occupancy with
+        the crossing-smoothed load (:class:`~crowdvib.response.FluctuatingSpectralModel`; docs:
+        theory, The fluctuating crowd), or the paper's smeared mean crowd
+        (:class:`SpectralModel`). The default is the one of :func:`crowdvib.estimate_hsi`
+        (``crowdvib._estimators.DEFAULT_CROWD_MODEL``, the fluctuating crowd): a noise-free PSD
+        made here with ``welch_window_length`` is what the default estimate recovers exactly.
+        ``"smeared"`` is the paper's forward model, which the paper's estimator
+        (``method="least_squares"``) fits.
 
     See Also
     --------
@@ -394,10 +402,12 @@ def response_psd(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
     >>> round(float(psd.peak_frequency()[0]), 2)
     1.93
     """
+    from .fluctuation import spectral_model     # it builds on this module
+
     _check_models(structure, crowd, msd, crowd_required=True)
-    model = SpectralModel(structure, crowd, frequency, force=force, outputs=outputs,
-                          welch_window_length=welch_window_length, lowpass=lowpass,
-                          dampers=dampers)
+    model = spectral_model(structure, crowd, frequency, crowd_model=crowd_model, force=force,
+                           outputs=outputs, welch_window_length=welch_window_length,
+                           lowpass=lowpass, dampers=dampers)
     return model.psd(msd)
 
 

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._estimators import DEFAULT_CROWD_MODEL
 from .._validation import check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
@@ -130,8 +131,10 @@ class VaryingCrowdModel:
         exact PSD and then Welch-averaged; docs: theory, Parametric bootstrap).
     overlap : float
         Overlap of the Welch segments (default 0.5, as :func:`crowdvib.welch_psd`).
-    crowd_model : {"smeared", "fluctuating"}
-        The model of each level (docs: theory, The fluctuating crowd).
+    crowd_model : {"fluctuating", "smeared"}
+        The model of each level (docs: theory, The fluctuating crowd). The default is the
+        estimator's (:func:`crowdvib.estimate_hsi`, the fluctuating crowd), as for
+        :func:`crowdvib.response_psd`; ``"smeared"`` is the paper's mean crowd.
     levels : int, optional
         Density levels, the nodes of the Gauss rule of the record's density law (default: the
         fewest of 1, 2, 3, 4, 5, 6, 8, 10, 12, 16 that the next count changes by less than 0.5 %
@@ -153,7 +156,7 @@ class VaryingCrowdModel:
                  frequency: ArrayLike, *, duration: float,
                  welch_window_length: float | None = None,
                  weights_window_length: float | None = None, overlap: float = 0.5,
-                 crowd_model: str = "smeared", levels: int | None = None,
+                 crowd_model: str = DEFAULT_CROWD_MODEL, levels: int | None = None,
                  **options: Any) -> None:
         check_type("structure", structure, ModalModel)
         check_type("crowd", crowd, Crowd)
@@ -272,7 +275,7 @@ def varying_response_psd(structure: ModalModel, crowd: Crowd, profile: CrowdProf
                          frequency: ArrayLike, *, duration: float,
                          msd: MSDModel | None = None,
                          welch_window_length: float | None = None, overlap: float = 0.5,
-                         crowd_model: str = "smeared",
+                         crowd_model: str = DEFAULT_CROWD_MODEL,
                          outputs: str | Sequence[str] | None = None,
                          **options: Any) -> ResponsePSD:
     """The expected (Welch) PSD of a record of ``duration`` whose crowd follows ``profile``:

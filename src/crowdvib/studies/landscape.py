@@ -1,4 +1,5 @@
-"""The objective landscape J(f_h1, ξ_h1) of paper Eq. (6) on a grid (paper Figs. 4 and 10)."""
+"""The objective landscape J(f_h1, ξ_h1) on a grid (paper Figs. 4 and 10): the misfit the estimator
+minimises, by default its default (the Whittle deviance), the paper's Eq. (6) on request."""
 
 import os
 import time
@@ -6,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._estimators import estimator_defaults
+from .._estimators import DEFAULT_METHOD
 from .._validation import as_float_array, check_positive
 from ..errors import ParameterError
 from ..models.pedestrian import MSDModel
@@ -26,9 +27,9 @@ class ObjectiveMap:
     damping_ratios : ndarray, shape (n_ξ,)
         Grid of ξ_h1 [-].
     cost : ndarray, shape (n_ξ, n_f)
-        Objective J of paper Eq. (6) [-].
+        The objective of the map's method [-]: the Whittle deviance, or J of paper Eq. (6).
     cost_no_hsi : float
-        J without HSI [-].
+        The objective without HSI [-].
     mass_ratio : float
         μ_h1 held fixed [-].
     estimate : MSDModel or None
@@ -103,11 +104,15 @@ class ObjectiveMap:
 
 def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, band,
                   outputs=None, output_weights=None, frequency_weights=None, mass_ratio=0.95,
-                  force=None, match_welch=True, estimate=None, method="least_squares",
+                  force=None, match_welch=True, estimate=None, method=DEFAULT_METHOD,
                   crowd_model=None, progress=None, max_seconds=None, crowd_profile=None):
     """The objective on a (f_h1, ξ_h1) grid → :class:`ObjectiveMap` (paper Figures 4 and 10).
 
-    The misfit of ``method``: the paper's J of Eq. (6) (default) or the Whittle deviance.
+    The misfit of ``method``: by default the one :func:`crowdvib.estimate_hsi` minimises by
+    default (the Whittle deviance with the fluctuating crowd), or the paper's J of Eq. (6)
+    with ``method="least_squares"`` (paper Figures 4 and 10). The crowd is held as given: for
+    the surface on which an estimate with fitted step frequencies is the minimum, pass the
+    crowd it ends with (``HSIEstimate.crowd``), as ``crowdvib map`` does.
 
     The forward model's θ-independent parts are built once (:class:`~crowdvib.response.spectral.SpectralModel`),
     so each grid point costs one PSD evaluation vectorised over frequency.
@@ -118,7 +123,7 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     crowd_model, crowd_profile
         As in :func:`crowdvib.estimate_hsi`.
     method
-        As in :func:`crowdvib.estimate_hsi`, but the paper's least squares by default.
+        As in :func:`crowdvib.estimate_hsi`, with its default (the likelihood).
     frequencies : array_like
         Grid of f_h1 [Hz], > 0 (the paper: 1–6 Hz).
     damping_ratios : array_like
@@ -159,7 +164,7 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     objective = PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                              output_weights=output_weights, frequency_weights=frequency_weights,
                              match_welch=match_welch, method=method,
-                             crowd_model=estimator_defaults(method, crowd_model)[0],
+                             crowd_model=crowd_model,
                              crowd_profile=crowd_profile)
     cost = np.empty(shape)
     started = time.perf_counter()

@@ -45,7 +45,7 @@ def _parametric_task(task):
     structure = _paper_family_structure(task.structure_frequency, task.structure_damping,
                                         task.mass_ratio, task.crowd)
     grid = np.arange(0, 601) / 60.0
-    measured = response_psd(structure, task.crowd, grid, msd=task.truth)
+    measured = response_psd(structure, task.crowd, grid, msd=task.truth, crowd_model="smeared")
     # The paper's study, with the paper's estimator (normalised least squares, Eq. 6).
     result = _estimate_task(_EstimationTask(measured, structure, task.crowd, task.case,
                                             (("band", (0.0, 10.0)),

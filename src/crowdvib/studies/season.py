@@ -379,7 +379,7 @@ def write_synthetic_season(folder, structure, crowd, msd, *, densities, duration
             data = found.acceleration
         else:
             frequency = record_frequencies(duration, sample_rate)
-            expected = response_psd(structure, here, frequency, msd=msd)
+            expected = response_psd(structure, here, frequency, msd=msd, crowd_model="smeared")
             data = gaussian_record(expected.psd, sample_rate, stream)
         name = f"record_{number:03d}.npz"
         write_record(Record(data, sample_rate, tuple(structure.output_names)), folder / name)
