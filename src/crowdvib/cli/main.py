@@ -32,12 +32,18 @@ class _Report:
         parser.add_argument("directory", type=Path,
                             help="results directory written by a crowdvib command (holds "
                                  "results.json)")
+        parser.add_argument("--template", type=Path, default=None, metavar="FILE",
+                            help="Jinja2 page (.html or .j2) to lay out the report with; "
+                                 "default: the one results.json records, if it lies inside "
+                                 "DIRECTORY, else the built-in page")
 
     @staticmethod
     def run(args):
         from ..reporting.report import write_report
 
-        say(f"wrote {write_report(args.directory)}")
+        if args.template is not None:
+            require_file(args.template, "report template")
+        say(f"wrote {write_report(args.directory, template=args.template)}")
         return 0
 
 
