@@ -17,6 +17,7 @@ from pathlib import Path
 
 from .._version import __version__
 from .._files import os_error_text, require_file
+from .._terminal import terminal_safe
 from ..errors import CrowdvibError
 from . import check, demo, estimate, init, landscape, modes, season, sensitivity, simulate
 from .common import IN_DOUBT, close_progress, say, set_quiet
@@ -128,7 +129,8 @@ def main(argv=None):
         close_progress()
         if args.verbose:
             raise
-        print(f"crowdvib {args.command}: error: {_one_line(error)}", file=sys.stderr)
+        print(f"crowdvib {args.command}: error: {terminal_safe(_one_line(error))}",
+              file=sys.stderr)
         return 1
     if status == IN_DOUBT and args.strict:
         print(f"crowdvib {args.command}: error: --strict: the verdict doubts the result (see "
