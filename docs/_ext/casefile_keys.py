@@ -58,8 +58,8 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "structure.mode_shapes": "CSV of shapes along the walkway, or a CSV node table; left "
                                   "out when modal_table is a UFF file (it holds the shapes)",
          "report.measurement_date": "a date (2024-05-01, TOML's date) or text",
-         "report.template": "a Jinja2 HTML page around the report (docs: Case files, "
-                            "[report])",
+         "report.template": "a Jinja2 HTML page (.html or .j2) around the report, in the "
+                            "case file's folder or below it (docs: Case files, [report])",
          "case.seed": "a non-negative integer", "case.name": "default: the file name",
          "case.force": "\"zivanovic\" (default), \"young\" or \"measured\" (the packaged "
                        "PhysioNet walks replayed; simulate only: no load PSD)",

@@ -12,7 +12,7 @@ from ._version import __version__
 
 from .errors import (BoundWarning, ConvergenceWarning, CrowdvibError, CrowdvibWarning, DataError,
                      DataWarning, EstimationError, IdentifiabilityWarning, ParameterError,
-                     PlausibilityWarning, ResolutionWarning)
+                     PlausibilityWarning, ResolutionWarning, UnverifiedWarning)
 
 #: Public name → the subpackage that defines it. The subpackages (and scipy and numba behind them)
 #: are imported on first use, so that ``crowdvib --help`` and an error message come at once.
@@ -47,7 +47,7 @@ __all__ = [
     *_LAZY,
     "CrowdvibError", "ParameterError", "DataError", "EstimationError",
     "CrowdvibWarning", "BoundWarning", "ConvergenceWarning", "ResolutionWarning",
-    "DataWarning", "PlausibilityWarning", "IdentifiabilityWarning",
+    "DataWarning", "PlausibilityWarning", "IdentifiabilityWarning", "UnverifiedWarning",
     "__version__",
 ]
 

@@ -341,6 +341,26 @@ def child_path(directory, name):
     return path
 
 
+#: What a report template may be called: an HTML page, or a Jinja2 file.
+TEMPLATE_SUFFIXES = (".html", ".j2")
+
+
+def template_within(folder, name):
+    """``folder / name`` resolved, if it is a template file (:data:`TEMPLATE_SUFFIXES`) inside
+    ``folder`` or below it, links followed; else the rule it breaks (a str).
+
+    A template named by a file from someone else (a case file, a results.json) must not make
+    crowdvib read any file of the machine into a report: ``/etc/passwd``, ``../../any.txt``.
+    """
+    folder = Path(folder).resolve()
+    path = (folder / str(name)).resolve()
+    if path.suffix.lower() not in TEMPLATE_SUFFIXES:
+        return path, f"must be a {' or '.join(TEMPLATE_SUFFIXES)} file"
+    if not path.is_relative_to(folder):
+        return path, f"must lie in {folder.name or folder} or below it (links followed)"
+    return path, None
+
+
 def sha256_file(path):
     """Hex SHA-256 digest of a file's bytes, read in 1 MiB blocks."""
     import hashlib

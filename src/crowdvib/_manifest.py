@@ -25,10 +25,10 @@ from pathlib import Path
 
 from ._version import __version__
 from ._files import MANIFEST_NAME, sha256_file, write_json
-from .errors import ParameterError
+from .errors import DataError, ParameterError, UnverifiedWarning
 
 __all__ = ["MANIFEST_NAME", "read_manifest", "write_manifest", "only_stores", "foreign_files",
-           "record_file", "remove_owned"]
+           "record_file", "remove_owned", "verified_file"]
 
 _FORMAT = 1
 
@@ -172,6 +172,55 @@ def record_file(directory, relative, command):
     files.append(_entry(directory, relative))
     manifest["files"] = sorted(files, key=lambda f: f["path"])
     return write_json(Path(directory) / MANIFEST_NAME, manifest)
+
+
+def verified_file(directory, relative, what):
+    """``directory / relative``, a file of another run, once its SHA-256 matches the one the
+    folder's manifest recorded (issue 35 §1: a results.json edited since is not used unseen).
+
+    Without a manifest beside it the file is used with an :class:`UnverifiedWarning`; a missing
+    file is returned for its reader to name.
+
+    Parameters
+    ----------
+    directory : str or pathlib.Path
+        The other run's results folder.
+    relative : str
+        The file, relative to it (``"results.json"``).
+    what : str
+        What the file is used for, for the messages (``"--msd-from"``).
+
+    Raises
+    ------
+    DataError
+        The manifest does not list the file, or lists another SHA-256: the message names the
+        file, both digests and the manifest.
+    """
+    import warnings
+
+    directory = Path(directory)
+    path = directory / relative
+    if not path.is_file():
+        return path
+    manifest = read_manifest(directory)
+    if manifest is None:
+        state = ("is not a crowdvib manifest" if (directory / MANIFEST_NAME).exists()
+                 else "is missing")
+        warnings.warn(f"{path} ({what}) cannot be verified: {directory / MANIFEST_NAME} "
+                      f"{state}, so the SHA-256 its run recorded is unknown; it is used as it is",
+                      UnverifiedWarning, stacklevel=2)
+        return path
+    entry = next((f for f in manifest["files"] if f["path"] == relative), None)
+    if entry is None or path.is_symlink():
+        raise DataError(f"{path} ({what}) is not a file crowdvib wrote there: "
+                        f"{directory / MANIFEST_NAME} does not list it; refused")
+    digest = sha256_file(path)
+    if digest != entry.get("sha256"):
+        raise DataError(f"{path} ({what}): its SHA-256 {digest} differs from the manifest's "
+                        f"{entry.get('sha256')!s:.64} ({directory / MANIFEST_NAME}): the file "
+                        "was changed since crowdvib wrote it, so it is not used; run the "
+                        "command that wrote it again")
+    return path
 
 
 def remove_owned(directory):

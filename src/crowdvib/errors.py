@@ -19,6 +19,7 @@ __all__ = [
     "PlausibilityWarning",
     "IdentifiabilityWarning",
     "StudyWarning",
+    "UnverifiedWarning",
 ]
 
 
@@ -76,3 +77,8 @@ class IdentifiabilityWarning(CrowdvibWarning):
 
 class StudyWarning(CrowdvibWarning):
     """Stored tasks of a study cannot be reused (damaged file, changed inputs): they are redone."""
+
+
+class UnverifiedWarning(CrowdvibWarning):
+    """A file of another run is used without being verified: no crowdvib manifest beside it
+    holds its SHA-256 (an edited file with a manifest is refused instead)."""

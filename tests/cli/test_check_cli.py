@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from crowdvib import MSDModel, load_case
+from crowdvib._manifest import write_manifest
 from crowdvib.cli import main
 from crowdvib.design import design_check, predict_response
 
@@ -56,6 +57,7 @@ def test_check_takes_the_msd_of_another_run(tmp_path):
     estimate = {"frequency": 2.8, "damping_ratio": 0.35, "mass_ratio": 0.9}
     (source / "results.json").write_text(json.dumps({"command": "estimate",
                                                      "estimate": estimate}))
+    write_manifest(source, "estimate")      # as crowdvib estimate leaves it: verified before use
     out = tmp_path / "check"
     assert main(["check", str(EXAMPLES / "check_paper.toml"), "--out", str(out),
                  "--msd-from", str(source)]) == 0

@@ -6,6 +6,7 @@ import json
 import pytest
 
 from crowdvib import ParameterError
+from crowdvib._manifest import write_manifest
 from crowdvib.cli import main
 from crowdvib.oma.identify import identified_error_levels
 from tests.conftest import paper_case_least_squares
@@ -30,6 +31,7 @@ def test_sensitivity_takes_its_levels_from_a_modes_results_directory(tmp_path, c
     modes = tmp_path / "modes"
     modes.mkdir()
     (modes / "results.json").write_text(json.dumps({"command": "modes", "modes": MODES}))
+    write_manifest(modes, "modes")      # as crowdvib modes leaves it: verified before use
     out = tmp_path / "study"
     assert main(["sensitivity", str(CASE), "--out", str(out), "--no-joint", "--no-record-length",
                  "--workers", "1", "--modes-from", str(modes)]) == 0

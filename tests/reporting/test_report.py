@@ -39,7 +39,7 @@ PAPER_CASE = EXAMPLES / "paper_example.toml"
 # Sets data attributes on <body> once every image has loaded (or failed to): how many images the
 # page holds and how many did not decode; and the words of table cells the browser broke across
 # lines (a letter or digit run whose line boxes lie on more than one line; code, such as a
-# hash, may break anywhere). Injected into a copy; the report itself has no script.
+# hash, may break anywhere). Injected into a copy (_with_probe); the report itself has no script.
 _PROBE = """<script>
 window.addEventListener("load", function () {
   var images = document.images, broken = 0;
@@ -94,11 +94,24 @@ def _browser(url, tmp_path, *options):
     return done.stdout
 
 
+def _with_probe(text):
+    """The report's page with the probe before </body>, its Content-Security-Policy allowing
+    that one script by its hash (as the policy would allow a script of crowdvib's own)."""
+    import hashlib
+
+    from crowdvib.reporting.safe_html import CSP
+
+    code = _PROBE[len("<script>"):-len("</script>")]
+    digest = base64.b64encode(hashlib.sha256(code.encode("utf-8")).digest()).decode("ascii")
+    assert text.count(CSP) == 1
+    return (text.replace(CSP, CSP.replace("script-src 'none'", f"script-src 'sha256-{digest}'"))
+            .replace("</body>", _PROBE + "</body>"))
+
+
 def _open_in_browser(report, tmp_path):
     """Rendered DOM (with the image probe), a screenshot and a printed PDF of ``report``."""
     probe = tmp_path / "probe.html"
-    probe.write_text(report.read_text(encoding="utf-8").replace("</body>", _PROBE + "</body>"),
-                     encoding="utf-8")
+    probe.write_text(_with_probe(report.read_text(encoding="utf-8")), encoding="utf-8")
     # The virtual-time budget lets the load event (after every image) fire before the dump; a
     # window 800 px wide squeezes the tables as a narrow screen or a printed page does.
     dom = _browser(probe.as_uri(), tmp_path, "--virtual-time-budget=10000", "--dump-dom",
@@ -113,6 +126,10 @@ def _open_in_browser(report, tmp_path):
 def _check_in_browser(report, tmp_path):
     from PIL import Image
 
+    from tests.reporting.test_template_security import _policy_first
+
+    # Issue 35 §1: each command's report carries the Content-Security-Policy first in <head>.
+    assert _policy_first(report.read_text(encoding="utf-8"))
     dom, screenshot, pdf = _open_in_browser(report, tmp_path)
     images = int(re.search(r'data-images="(\d+)"', dom).group(1))
     broken = int(re.search(r'data-broken-images="(\d+)"', dom).group(1))

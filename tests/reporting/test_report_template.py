@@ -61,7 +61,7 @@ def test_a_template_not_found_where_the_report_is_written_gives_the_built_in_pag
     ('<img src="https://example.com/logo.png">', "holds a src other than data:"),
     ("<script>alert(1)</script>", "holds a script"),
     ("<style>body { background: url(https://example.com/a.png) }</style>",
-     r"holds a url\(…\) other than data:"),
+     r"holds url\(…\) in a <style>: CSS may fetch nothing"),
     ("{{ summry }}", "'summry' is undefined"),
     ("{{ embed('../case.toml') }}", r"embed\('../case.toml'\) must name a png/jpg/jpeg/gif/svg "
                                     "file beside the template"),
@@ -83,10 +83,10 @@ def test_a_missing_template_file_is_refused_when_the_case_is_read(folder):
 def test_templated_report_opens_in_the_browser_with_its_logo(folder, tmp_path):
     # The letterhead's logo decodes in a real browser (tests/reporting/test_report.py's probe),
     # and no cell is broken inside a word under the template's style either.
-    from tests.reporting.test_report import _PROBE, _browser
+    from tests.reporting.test_report import _browser, _with_probe
 
     probe = tmp_path / "probe.html"
-    probe.write_text(_page(folder).replace("</body>", _PROBE + "</body>"), encoding="utf-8")
+    probe.write_text(_with_probe(_page(folder)), encoding="utf-8")
     dom = _browser(probe.as_uri(), tmp_path, "--virtual-time-budget=10000", "--dump-dom",
                    "--window-size=800,2000")
     assert 'data-images="1"' in dom and 'data-broken-images="0"' in dom

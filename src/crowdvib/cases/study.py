@@ -170,15 +170,19 @@ def identified_levels(directory: str | Path) -> dict:
     ------
     DataError
         The folder holds no results.json of ``crowdvib modes`` with the modes' frequencies,
-        damping ratios and their standard deviations.
+        damping ratios and their standard deviations, or one changed since crowdvib wrote it
+        (its folder's manifest records another SHA-256; without a manifest: an
+        :class:`~crowdvib.errors.UnverifiedWarning`).
     """
     import json
 
     from .._files import require_file
+    from .._manifest import verified_file
     from ..errors import DataError
     from ..oma.identify import identified_error_levels
 
-    path = require_file(Path(directory) / "results.json", "crowdvib modes results")
+    require_file(Path(directory) / "results.json", "crowdvib modes results")
+    path = verified_file(directory, "results.json", "--modes-from")
     try:
         results = json.loads(path.read_text(encoding="utf-8"))
         modes = results["modes"] if results.get("command") == "modes" else None

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from .._terminal import terminal_safe
 from ..cases.results import ESTIMATION_TABLES, SIMULATION_TABLES
 from ..runs.folders import staged_output, write_results
 from ..runs.lines import warning_texts
@@ -35,8 +36,10 @@ def set_quiet(quiet):
 
 
 def say(message="", *, always=False):
+    """Print a line of the command's output; text from files in it reaches the terminal escaped
+    (:func:`crowdvib._terminal.terminal_safe`: a case's name may hold ESC or U+202E)."""
     if always or not _QUIET[0]:
-        print(message, flush=True)
+        print(terminal_safe(message), flush=True)
 
 
 @contextlib.contextmanager
@@ -51,7 +54,8 @@ def warnings_as_lines(command):
         def show(message, category, *rest):
             if not issubclass(category, CrowdvibWarning):
                 return others(message, category, *rest)
-            print(f"crowdvib {command}: warning: {message}", file=sys.stderr, flush=True)
+            print(f"crowdvib {command}: warning: {terminal_safe(message)}", file=sys.stderr,
+                  flush=True)
 
         warnings.simplefilter("always", CrowdvibWarning)
         warnings.showwarning = show
@@ -61,7 +65,7 @@ def warnings_as_lines(command):
 def say_warnings(command, results):
     """The warnings a run recorded in its results, one line each on stderr."""
     for text in results.warnings:
-        print(f"crowdvib {command}: warning: {text}", file=sys.stderr)
+        print(f"crowdvib {command}: warning: {terminal_safe(text)}", file=sys.stderr)
 
 
 #: Progress bars drawn and not yet closed: a command that ends early closes them

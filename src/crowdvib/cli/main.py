@@ -17,6 +17,7 @@ from pathlib import Path
 
 from .._version import __version__
 from .._files import os_error_text, require_file
+from .._terminal import terminal_safe
 from ..errors import CrowdvibError
 from . import check, demo, estimate, init, landscape, modes, season, sensitivity, simulate
 from .common import IN_DOUBT, close_progress, say, set_quiet
@@ -32,12 +33,18 @@ class _Report:
         parser.add_argument("directory", type=Path,
                             help="results directory written by a crowdvib command (holds "
                                  "results.json)")
+        parser.add_argument("--template", type=Path, default=None, metavar="FILE",
+                            help="Jinja2 page (.html or .j2) to lay out the report with; "
+                                 "default: the one results.json records, if it lies inside "
+                                 "DIRECTORY, else the built-in page")
 
     @staticmethod
     def run(args):
         from ..reporting.report import write_report
 
-        say(f"wrote {write_report(args.directory)}")
+        if args.template is not None:
+            require_file(args.template, "report template")
+        say(f"wrote {write_report(args.directory, template=args.template)}")
         return 0
 
 
@@ -122,7 +129,8 @@ def main(argv=None):
         close_progress()
         if args.verbose:
             raise
-        print(f"crowdvib {args.command}: error: {_one_line(error)}", file=sys.stderr)
+        print(f"crowdvib {args.command}: error: {terminal_safe(_one_line(error))}",
+              file=sys.stderr)
         return 1
     if status == IN_DOUBT and args.strict:
         print(f"crowdvib {args.command}: error: --strict: the verdict doubts the result (see "

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._terminal import terminal_safe
 from ..errors import CrowdvibError, DataError, ParameterError
 
 # Time stamps whose step differs from the median step by more than this fraction are non-uniform;
@@ -37,7 +38,7 @@ def quote_names(names, limit=8):
 
 def where(source, channel=None):
     """Message prefix ``"file.csv: channel 'a': "`` (``"record: "`` without a file)."""
-    name = Path(source).name if source else "record"
+    name = terminal_safe(Path(source).name) if source else "record"
     return f"{name}: " + ("" if channel is None else f"channel {quote(channel)}: ")
 
 
@@ -48,7 +49,7 @@ def named_file(path, where, shown=None):
     ``shown`` is the value as the case file wrote it (quoted, with the resolved path beside it).
     """
     path = Path(path)
-    text = path if shown is None else f"{quote(shown)} (looked at {path})"
+    text = terminal_safe(path if shown is None else f"{quote(shown)} (looked at {path})")
     if path.is_dir():
         raise DataError(f"{where} names a directory, expected a file: {text}")
     if not path.is_file():

@@ -18,6 +18,7 @@ import struct
 import zlib
 from pathlib import Path
 
+from .._memory import memory_limit
 from ..errors import DataError
 from ._common import quote, where
 
@@ -117,6 +118,19 @@ def _check_matrix(payload, order, prefix, depth):
     return label
 
 
+def _inflated(payload, prefix):
+    """A compressed element's bytes, refused once they pass half the memory available (a small
+    element may inflate a thousandfold)."""
+    limit = memory_limit()
+    inflater = zlib.decompressobj()
+    data = inflater.decompress(payload, limit)
+    if inflater.unconsumed_tail:
+        raise DataError(f"{prefix}a compressed element of {len(payload)} bytes expands past "
+                        f"{limit} bytes, more than half the memory available (damaged or "
+                        "hostile file?)")
+    return data
+
+
 def check_mat_v5(path):
     """Names of the variables of ``path`` that scipy may read.
 
@@ -133,7 +147,7 @@ def check_mat_v5(path):
     names = []
     for kind, payload in _elements(content[128:], order, prefix):
         if kind == _COMPRESSED:
-            inner = list(_elements(zlib.decompress(payload), order, prefix))
+            inner = list(_elements(_inflated(payload, prefix), order, prefix))
             if len(inner) != 1 or inner[0][0] != _MATRIX:
                 raise DataError(f"{prefix}a compressed element does not hold one array "
                                 "(damaged file?)")

@@ -53,6 +53,7 @@ import numpy as np
 
 from .._estimators import (DEFAULT_DENSITY_UNCERTAINTY, METHOD_DEFAULTS,
                            check_density_uncertainty)
+from .._files import template_within
 from ..errors import ParameterError
 from ..models.crowd import Crowd, bruno_venuti_step_frequency, weidmann_speed
 from ..models.loading import ForceModel, YoungForce, ZivanovicForce
@@ -576,7 +577,15 @@ def _report(table):
         raise table.error("measurement_date", "must be a date (2024-05-01) or text", date)
     found["measurement_date"] = date
     template = table.file("template", None)        # a Jinja2 page (crowdvib.reporting.template)
-    found["template"] = None if template is None else str(template)
+    if template is not None:
+        # A case file from someone else names no file of this machine for the report to show:
+        # the template lies beside the case file (or below), recorded relative to its folder.
+        folder = table.path.parent.resolve()
+        template, rule = template_within(folder, table.raw("template"))
+        if rule is not None:
+            raise table.error("template", rule, table.raw("template"))
+        template = template.relative_to(folder).as_posix()
+    found["template"] = template
     table.finish()
     return {key: value for key, value in found.items() if value is not None}
 

@@ -12,7 +12,8 @@ from pathlib import Path
 
 from .._files import require_file
 from ..errors import DataError
-from ._common import quote, reading
+from .._terminal import excerpt
+from ._common import quote, quote_names, reading, where
 from .formats import FileFormat, register_format
 
 __all__ = ["CrowdRow", "CrowdTable", "read_crowd_table", "CROWD_COLUMNS"]
@@ -145,12 +146,18 @@ def read_crowd_table(path) -> CrowdTable:
             raise DataError(f"{path.name}: must hold a header line and at least one row")
         header = [name.lower() for name in cells[0]]
         unknown = [name for name in header if name not in CROWD_COLUMNS]
+        # The header line is someone else's text (`crowdvib season CASE /etc/passwd`): only
+        # short escaped excerpts of it reach a message, never the line.
+        if len(unknown) == len(header):
+            raise DataError(f"{where(path)}is not a crowd table: its first line names none of "
+                            f"the columns {list(CROWD_COLUMNS)} (it starts "
+                            f"{excerpt(lines[0].strip())})")
         if unknown:
-            raise DataError(f"{path.name}: unknown column(s) {unknown}; a crowd table has "
-                            f"{list(CROWD_COLUMNS)}")
+            raise DataError(f"{where(path)}unknown column(s) {quote_names(unknown)}; a crowd "
+                            f"table has {list(CROWD_COLUMNS)}")
         if "record" not in header or not {"count", "density"} & set(header):
-            raise DataError(f"{path.name}: needs a 'record' column and a 'count' or 'density' "
-                            f"column, got {header}")
+            raise DataError(f"{where(path)}needs a 'record' column and a 'count' or 'density' "
+                            f"column, got {quote_names(header)}")
         rows = tuple(_row(path, header, values, number)
                      for number, values in enumerate(cells[1:], start=1))
     seen: dict[tuple, int] = {}

@@ -12,6 +12,7 @@ import numpy as np
 from markupsafe import Markup, escape
 
 from ..quantities import describe
+from .safe_html import CSP_META
 
 __all__ = ["html", "join", "escape", "number", "value", "label", "span", "table", "page", "CSS"]
 
@@ -90,8 +91,9 @@ def table(header, rows, css=""):
 
 
 def page(title, generator, body):
-    """The whole document around the sections."""
-    return html('<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+    """The whole document around the sections, its Content-Security-Policy first in <head>."""
+    return html('<!DOCTYPE html>\n<html lang="en">\n<head>\n' + CSP_META
+                + '\n<meta charset="utf-8">\n'
                 '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
                 '<meta name="generator" content="{}">\n<title>{}</title>\n<style>{}</style>\n'
                 "</head>\n<body>\n<main>\n{}\n</main>\n</body>\n</html>\n",

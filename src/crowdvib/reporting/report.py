@@ -26,7 +26,8 @@ does not know. Keys it understands (top level, or under ``diagnostics`` for the 
 from pathlib import Path
 
 from .._version import __version__
-from .._files import atomic_path
+from .._files import TEMPLATE_SUFFIXES, atomic_path, template_within
+from .._terminal import terminal_safe
 from .._manifest import foreign_files, read_manifest, record_file
 from ..cases.results import provenance   # re-exported: results.json's stamp
 from ..cases.schema import case_name
@@ -41,8 +42,8 @@ from .paths import case_folder, without_machine_paths
 from .reading import read_results
 from .sections import SECTIONS
 
-__all__ = ["write_report", "render_report", "provenance", "REPORT_NAME", "SECTIONS",
-           "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL"]
+__all__ = ["write_report", "render_report", "case_template", "provenance", "REPORT_NAME",
+           "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL"]
 
 #: File name of the report inside a results directory.
 REPORT_NAME = "report.html"
@@ -58,8 +59,10 @@ def write_report(directory, *, results=None, template=None):
     results : Results or dict, optional
         The results to report (default: read ``directory/results.json``).
     template : str or pathlib.Path, optional
-        A Jinja2 template of the page (:mod:`crowdvib.reporting.template`; default the case's
-        ``[report] template``, else the built-in page).
+        A Jinja2 template of the page (:mod:`crowdvib.reporting.template`), ``.html`` or
+        ``.j2``. Default: the template ``results.json`` records, only if it lies inside
+        ``directory`` (a received folder's results.json may name any file); else the built-in
+        page, saying why. A run passes its case's own (:func:`case_template`).
 
     Returns
     -------
@@ -104,9 +107,9 @@ def render_report(results, directory=None, *, template=None):
     directory : str or pathlib.Path, optional
         Where to find the figures ``results["figures"]`` names (none embedded without it).
     template : str or pathlib.Path, optional
-        As for :func:`write_report`. The case's template, recorded in the results, is used only
-        while it exists (else the built-in page, saying so): a report can be rewritten on
-        another machine.
+        As for :func:`write_report`; a recorded template is looked up in ``directory`` (without
+        one, in the case file's folder the results name), and the built-in page is used, saying
+        why, where it is not found or not allowed: a report can be rewritten on another machine.
 
     Returns
     -------
@@ -123,11 +126,12 @@ def render_report(results, directory=None, *, template=None):
     notes, figures, diagnostics = _assess(results, shown, directory)
     recorded = _report_table(results).get("template")
     if template is None and isinstance(recorded, str):
-        template = Path(recorded)
-        if not template.is_file():
-            notes.warn(html("the report template {} of the case is not found here: the "
-                            "built-in layout is used.", template.name))
-            template = None
+        template = _recorded_template(recorded, directory, results, notes)
+    elif template is not None:
+        template = Path(template)
+        if template.suffix.lower() not in TEMPLATE_SUFFIXES:
+            raise ParameterError(f"report template {terminal_safe(template.name)}: must be a "
+                                 f"{' or '.join(TEMPLATE_SUFFIXES)} file")
     body = [
         sections.header(shown),
         sections.nav(shown),
@@ -147,6 +151,41 @@ def render_report(results, directory=None, *, template=None):
 
     return render_template(template, dict(zip(BLOCKS, body)), title=title, generator=generator,
                            css=CSS, report=_report_table(shown))
+
+
+def case_template(results):
+    """The template the case of a run's own ``results`` names (recorded relative to the case
+    file's folder), as a path, or None: what the run that just read the case file reports with.
+    """
+    recorded = _report_table(results).get("template")
+    folder = case_folder(results)
+    return None if not isinstance(recorded, str) or folder is None else Path(folder) / recorded
+
+
+def _recorded_template(recorded, directory, results, notes):
+    """The template a results.json records, if it may be used; else None, with a note why.
+
+    A results folder may come from someone else: its results.json may name any file
+    (``/etc/passwd``). Only a template inside the folder the results are in (the case's
+    folder for results held in memory), of a template's suffix, is used; another one only when
+    named by the caller (``crowdvib report --template``).
+    """
+    folder = directory if directory is not None else case_folder(results)
+    if folder is None:
+        notes.warn(html("the report template {} of the case is not found here: the built-in "
+                        "layout is used.", Path(recorded).name))
+        return None
+    path, rule = template_within(folder, recorded)
+    if rule is not None:
+        notes.warn(html("the report template {} recorded in the results is not used: a recorded "
+                        "template {} (name it with crowdvib report --template to use it); the "
+                        "built-in layout is used.", Path(recorded).name, rule))
+        return None
+    if not path.is_file():
+        notes.warn(html("the report template {} of the case is not found here: the "
+                        "built-in layout is used.", path.name))
+        return None
+    return path
 
 
 def _report_table(results):

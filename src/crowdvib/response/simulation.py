@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -21,6 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import _kernels, _slots
+from .._memory import MEMORY_SHARE as _MEMORY_SHARE, available_memory
 from .._plausibility import warn_notes
 from .._validation import check_positive, check_type
 from ..errors import ParameterError
@@ -63,25 +63,6 @@ _BYTES_PER_WALKER = 3 * 8 * 20
 #: Bytes every walker of the record costs for the whole run: its arrival time (twice), time
 #: off the deck and rank in the stream (``traffic._Stream``).
 _STREAM_BYTES_PER_WALKER = 4 * 8
-#: Share of the available memory a run may plan to take (the rest: the caller, the OS, copies).
-_MEMORY_SHARE = 0.5
-#: Memory assumed available where neither psutil nor the OS can tell [bytes].
-_FALLBACK_MEMORY = 4e9
-
-
-def available_memory() -> float:
-    """Memory this process can still take [bytes]: psutil's ``available``, else the free
-    physical pages the OS reports, else ``_FALLBACK_MEMORY``."""
-    try:
-        import psutil
-    except ImportError:
-        try:
-            return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-        except (AttributeError, ValueError, OSError):
-            return _FALLBACK_MEMORY
-    return float(psutil.virtual_memory().available)
-
-
 def _check_memory(structure, crowd, force, duration, warm_up, sample_rate, n_samples,
                   record_modal_load, records=1, keep_record=True):
     """Refuse a run whose records and walkers will not fit, before anything is allocated.

@@ -33,7 +33,9 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
     msd_from : str or pathlib.Path, optional
         A results folder of ``crowdvib estimate`` (or demo, sensitivity): its estimated MSD
         replaces the case's for the HSI model, and the checks span its interval (issue 27 §3,
-        :func:`~crowdvib.cases.check_over_interval`).
+        :func:`~crowdvib.cases.check_over_interval`). Its results.json is verified against the
+        folder's manifest first (:func:`crowdvib._manifest.verified_file`): one edited since is
+        refused, one without a manifest used with an ``UnverifiedWarning``.
     force : bool
         Replace crowdvib's earlier results in ``out``.
     say : callable, optional
@@ -44,6 +46,7 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
     Results
         As written, the run's warnings in it (each once).
     """
+    from .._manifest import verified_file
     from ..cases import check_case, check_design_table, design_msd, estimated_msd
     from ..io.casefile import load_case
     from ..reporting.reading import read_results
@@ -52,7 +55,8 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
         case = case if hasattr(case, "design") else load_case(case)
         check_design_table(case)
         msd_from = None if msd_from is None else Path(msd_from)
-        estimated = None if msd_from is None else read_results(msd_from / "results.json")
+        estimated = None if msd_from is None else read_results(
+            verified_file(msd_from, "results.json", "--msd-from"))
         msd, msd_source = (design_msd(case) if estimated is None
                            else (estimated_msd(case, estimated, source=f"--msd-from {msd_from}"),
                                  f"the estimate in {msd_from}"))

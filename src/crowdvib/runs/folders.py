@@ -287,9 +287,9 @@ def write_results(directory, results):
     """
     from .._files import write_json
     from ..cases.results import Results
-    from ..reporting.report import write_report
+    from ..reporting.report import case_template, write_report
 
     found = Results.from_dict(results)
     write_json(directory / "results.json", found.to_dict())
-    write_report(directory, results=found)
+    write_report(directory, results=found, template=case_template(results))
     return found

@@ -73,7 +73,7 @@ def _season(case, table, out, inputs, *, records, workers, scheduler, hung_after
     from .._manifest import record_file
     from ..cases import season_case
     from ..reporting.plotting import save_figure
-    from ..reporting.report import write_report
+    from ..reporting.report import case_template, write_report
     from ..runner import TaskStore, study_executor
 
     stamp = provenance(case.path)
@@ -107,7 +107,7 @@ def _season(case, table, out, inputs, *, records, workers, scheduler, hung_after
                "warnings": warning_texts(caught), **stamp}
     write_json(out / "results.json", results)
     record_file(out, "results.json", "season")
-    report = write_report(out)
+    report = write_report(out, template=case_template(results))
     finish_output(out, command="season", stores=SEASON_STORES)
     say(f"  wrote {out / 'results.json'}, {', '.join(written)}, {figure} and {report.name}")
     return Results.from_dict(results)

@@ -91,7 +91,7 @@ def _study(case, out, levels, modes_from, *, resume, force, workers, scheduler, 
     from ..cases import CaseRecordFit, case_crowd, measure_case, study_case
     from ..cases.study import STUDY_STORES
     from ..reporting.plotting import plot_estimation_errors, save_figure
-    from ..reporting.report import write_report
+    from ..reporting.report import case_template, write_report
     from ..runner import TaskStore, study_executor
     from .estimate import crowd_line, measurement_line
 
@@ -127,7 +127,7 @@ def _study(case, out, levels, modes_from, *, resume, force, workers, scheduler, 
                "warnings": list(caught)}
     write_json(out / "results.json", results)
     record_file(out, "results.json", "sensitivity")
-    report = write_report(out)
+    report = write_report(out, template=case_template(results))
     finish_output(out, command="sensitivity", stores=STUDY_STORES)
     say(f"  wrote {out / 'results.json'}, {figure} and {report.name}")
     return Results.from_dict(results)
