@@ -413,7 +413,7 @@ def map_case(case: Case, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
     options = estimate_options(case)
     estimate = estimate_hsi(measurement.psd, case.structure, crowd, **options)
     for key in ("starts", "bounds", "interval", "level", "n_boot", "rng",
-                "free_step_frequencies"):
+                "free_step_frequencies", "density_uncertainty"):
         options.pop(key, None)
     started = time.perf_counter()
     # The landscape of the misfit at the crowd the estimate ends with (its fitted step
