@@ -261,7 +261,9 @@ def ukna_check(structure: ModalModel, *, traffic_class: str | None, density: flo
             else:
                 result = group_response(structure, kind, value, *args, effective_spans=spans,
                                         gamma_figure=figure["name"])
-                outside += [f"{name}, {model_name}: {note}" for note in result["gamma_outside"]]
+                # a note for readers: the model in words ("added mass"), not its key
+                outside += [f"{name}, {model_name.replace('_', ' ')}: {note}"
+                            for note in result["gamma_outside"]]
                 if weighting is not None and result["history"] is not None:
                     running.setdefault(name, []).append(
                         _largest_running_rms(structure, result))
