@@ -20,13 +20,13 @@ from numpy.typing import ArrayLike
 from scipy.optimize import least_squares
 
 from .._estimators import DEFAULT_JOINT_METHOD, DEFAULT_METHOD, estimator_defaults
-from .._plausibility import warn_notes
-from .._validation import as_float_array, check_flag
+from .._plausibility import far_outside, warn_notes
+from .._validation import as_float_array, check_flag, check_mapping
 from ..errors import BoundWarning, EstimationError, ParameterError
-from ..models.pedestrian import MSDModel
+from ..models.pedestrian import MSD_DAMPING_LIMIT, MSDModel
 from ..models.profile import CrowdProfile
 from .bootstrap import bootstrap_estimates, percentile_interval
-from .diagnostics import _check_identifiability, _check_level, _diagnose
+from .diagnostics import _check_identifiability, _check_level, _diagnose, _refuse_gross_level
 from ..response.varying import record_duration
 from .objective import PSDObjective
 from .result import HSIEstimate
@@ -72,7 +72,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
                  force: ForceModel | None = None, match_welch: bool = True,
                  method: str = DEFAULT_METHOD, interval: str = "profile", level: float = 0.95,
                  crowd_model: str | None = None, n_boot: int = 200,
-                 rng: Seed = None, crowd_profile: CrowdProfile | None = None) -> HSIEstimate:
+                 rng: Seed = None, crowd_profile: CrowdProfile | None = None,
+                 check_level: bool = True) -> HSIEstimate:
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Equations 5 and 6).
 
     Parameters
@@ -146,6 +147,11 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         theory, A crowd that changes); ``crowd`` gives the walkers, its density is not used.
         The interval takes the record's Welch statistics as measured: the scatter of its
         segments, which with a changing crowd includes the spread of their expectations.
+    check_level : bool
+        Before any fit, refuse (:class:`~crowdvib.errors.DataError`) a measured level that no
+        MSD within the bounds brings within a factor 10 of the model's, naming the likely unit
+        mix-up, and a structure far outside plausible values (a damping ratio above 0.2): a
+        fit to either runs for minutes to a warning (default True; False fits anyway).
 
     Returns
     -------
@@ -212,6 +218,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     # the question is one of level, which the two crowd models share to a few per cent, and
     # its five fits on data that fit nothing would cost minutes with the fluctuating one.
     given = [objective(crowd, "smeared")]
+    _check_before_fit(given, structure, bounds, mass_ratio, free_mass_ratio,
+                      free_step_frequencies, check_level)
 
     options = dict(starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                    free_mass_ratio=free_mass_ratio, method=method, level=level, n_boot=n_boot,
@@ -249,8 +257,8 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
                        method: str = DEFAULT_JOINT_METHOD, interval: str = "profile",
                        level: float = 0.95, crowd_model: str | None = None, n_boot: int = 200,
                        rng: Seed = None,
-                       crowd_profiles: Sequence[CrowdProfile | None] | None = None
-                       ) -> HSIEstimate:
+                       crowd_profiles: Sequence[CrowdProfile | None] | None = None,
+                       check_level: bool = True) -> HSIEstimate:
     """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
 
     The records are independent, so their misfits add (for the likelihood: their likelihoods
@@ -276,6 +284,8 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
         Per record, the crowd's density against its time (``crowd_profile`` of
         :func:`estimate_hsi`), or None for a record whose crowd stays as its ``crowds`` entry
         says; default: every crowd stationary.
+    check_level : bool
+        As in :func:`estimate_hsi`, for every record.
 
     Returns
     -------
@@ -315,9 +325,35 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
                            crowd_profile=profile),
               measured)
              for measured, crowd, profile in zip(measurements, crowds, profiles)]
+    _check_before_fit([objective for objective, _ in parts], structure, bounds, mass_ratio,
+                      free_mass_ratio, False, check_level)
     return _estimate(parts, structure, starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                      free_mass_ratio=free_mass_ratio, method=method, interval=interval,
                      level=level, n_boot=n_boot, rng=rng)
+
+
+def _check_before_fit(objectives, structure, bounds, mass_ratio, free_mass_ratio,
+                      free_step_frequencies, check_level):
+    """The checks before any fit (``check_level``): a structure beyond the hard tier of the
+    plausible ranges, then a measured level no θ within the bounds explains (issue 35 §2)."""
+    if not check_flag("check_level", check_level):
+        return
+    # μ_h1 and the two switches by their rules (interval, n_boot and level: checked by the fit)
+    free_mass_ratio, free_step_frequencies = _check_options(
+        mass_ratio, free_mass_ratio, free_step_frequencies, None, 200, 0.5)
+    far = [note for j, ratio in enumerate(structure.damping_ratios) if (note := far_outside(
+        "damping_ratio", ratio, f"structure: damping_ratios[{j}]")) is not None]
+    if far:
+        raise ParameterError(f"{'; '.join(far)}. Correct it, or pass check_level=False (case "
+                             "file: estimation.check_level = false) to estimate with it")
+    # The crowd as given (as the diagnosis after the fit): free step frequencies narrowed to a
+    # spike at the resonance would explain any level.
+    parameters = _parametrisation(bounds, mass_ratio, free_mass_ratio,
+                                  free_step_frequencies).held()
+    for objective in objectives:
+        _check_measured_level(objective)
+    _refuse_gross_level(objectives, parameters.names, parameters.lower, parameters.upper,
+                        mass_ratio, [f"structure: {note}" for note in structure.implausibilities()])
 
 
 def _warn_implausible_profile(profile, measured):
@@ -421,7 +457,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         _check_identifiability(parameters.names, covariance)
     intervals, on_bound, samples = _intervals(
         interval, parts, stacked, parameters, best.x, covariance, hessian, occupancies, level,
-        n_boot, rng)
+        n_boot, rng, active)
     single = len(parts) == 1
     output_names = tuple(name if single else f"record {r + 1}: {name}"
                          for r, (objective, _) in enumerate(parts)
@@ -519,9 +555,13 @@ def _covariance(parts, parameters, theta):
 
 
 def _intervals(interval, parts, stacked, parameters, theta, covariance, hessian, occupancies,
-               level, n_boot, rng):
+               level, n_boot, rng, active=()):
     """The intervals the covariance allows → (name → (low, high), ends on a bound, bootstrap
-    samples or None); none without a covariance or for ``interval`` "wald" or None."""
+    samples or None); none without a covariance or for ``interval`` "wald" or None.
+
+    A parameter whose estimate sits on a search bound (``active``: "name:side") gets no profile
+    interval but NaN ends and a BoundWarning: its profile runs along the bound for minutes and
+    says only that the data do not bound it there (issue 35 §2)."""
     intervals, on_bound, samples = {}, (), None
     if covariance is None:
         return intervals, on_bound, samples
@@ -534,18 +574,25 @@ def _intervals(interval, parts, stacked, parameters, theta, covariance, hessian,
     if interval == "profile":
         # The MSD's parameters are profiled; the step frequencies (fitted with the MSD, not the
         # answer sought) keep their Wald interval, half the profile's cost when they are free.
-        ends = []
+        ends, stuck = [], [side for side in active if side.split(":")[0] not in STEP_PARAMETERS]
         for i, name in enumerate(names):
             if name in STEP_PARAMETERS:
+                continue
+            if any(side.startswith(f"{name}:") for side in stuck):
+                intervals[name] = (np.nan, np.nan)
                 continue
             intervals[name], hit = profile_interval(
                 lambda values: parameters.misfit(stacked, values), theta, i, lower, upper,
                 covariance, hessian, level)
             ends += [f"{name}:{side}" for side, h in zip(("lower", "upper"), hit) if h]
-        on_bound = tuple(ends)
-        if on_bound:
+        on_bound = tuple(ends + stuck)
+        if stuck:
+            warnings.warn(f"no {level:.0%} interval for {', '.join(stuck)} (NaN ends): the "
+                          "estimate sits on that search bound, where the data do not bound it; "
+                          "check the inputs or widen the bounds", BoundWarning, stacklevel=4)
+        if ends:
             warnings.warn(f"the {level:.0%} interval reaches a search bound "
-                          f"({', '.join(on_bound)}): the data do not bound the parameter "
+                          f"({', '.join(ends)}): the data do not bound the parameter "
                           "there; widen the bounds or add data", BoundWarning, stacklevel=4)
     return intervals, on_bound, samples
 
@@ -589,6 +636,7 @@ def _model_gradient(objective, theta, state, lower, upper):
 def _merge_bounds(bounds, defaults):
     """The default bounds updated by the user's, each checked: 0 < lower < upper."""
     limits = dict(defaults)
+    check_mapping("bounds", bounds, "a dict of parameter → (lower, upper)")
     for key, value in (bounds or {}).items():
         if key not in defaults:
             raise ParameterError(f"bounds keys must be among {list(defaults)}, got {key!r}")
@@ -598,6 +646,10 @@ def _merge_bounds(bounds, defaults):
             raise ParameterError(f"bounds[{key!r}] must be a pair (lower, upper), got {value!r}")
         if not 0 < low < high:
             raise ParameterError(f"bounds[{key!r}] must satisfy 0 < lower < upper, got {value!r}")
+        if key == "damping_ratio" and high >= MSD_DAMPING_LIMIT:
+            raise ParameterError(
+                f"bounds['damping_ratio'] must stay below {MSD_DAMPING_LIMIT:g}, the MSD's own "
+                f"limit (fractions, not percent), got {value!r}")
         limits[key] = (low, high)
     return limits
 

@@ -68,7 +68,8 @@ class HSIEstimate:
     interval_level : float
         Confidence level of ``intervals``.
     interval_on_bound : tuple of str
-        Interval ends that stopped at a search bound, e.g. ``("damping_ratio:upper",)``.
+        Interval ends that stopped at a search bound, e.g. ``("damping_ratio:upper",)``; for
+        an estimate on a bound its side, and its profile interval has NaN ends (not computed).
     crowd_model : str
         The expected-PSD model of the crowd: ``"smeared"`` or ``"fluctuating"``.
     crowd_model_details : tuple of dict
@@ -250,7 +251,8 @@ class HSIEstimate:
             message=data.get("message", ""),
             level_ratio=None if ratio is None else np.asarray(ratio, dtype=float),
             method=data.get("method", "least_squares"), covariance=covariance,
-            intervals={} if not interval else {name: tuple(interval[name]) for name in free},
+            intervals={} if not interval else {  # null: no interval (estimate on a bound)
+                name: tuple(np.nan if v is None else v for v in interval[name]) for name in free},
             interval_level=interval["level"] if interval else 0.95,
             interval_on_bound=tuple(data.get("interval_on_bound", ())),
             crowd_model=data.get("crowd_model", "smeared"),

@@ -104,6 +104,7 @@ class EstimationSpec:
     level: float = 0.95
     crowd_model: str = None
     n_boot: int = 200
+    check_level: bool = True
 
     def resolved(self, joint: bool = False) -> EstimationSpec:
         """The estimator's choices not stated (None) filled in, as :func:`crowdvib.estimate_hsi`
