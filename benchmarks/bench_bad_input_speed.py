@@ -10,7 +10,8 @@ child (``resource.getrusage(RUSAGE_CHILDREN)``) is the figure to compare on a sh
 the load average is printed beside it. One thread (BLAS and numba).
 
 Usage: ``python benchmarks/bench_bad_input_speed.py [--cpu-limit S] [--src SRC] [case ...]``
-(``--src``: another crowdvib source tree, e.g. a worktree of an older commit).
+(``--src``: the crowdvib source tree to time, default this tree's; e.g. a worktree of an
+older commit).
 """
 
 import argparse
@@ -93,7 +94,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("cases", nargs="*", default=CASES, help=f"among {CASES}")
     parser.add_argument("--cpu-limit", type=int, default=120, help="CPU seconds per case")
-    parser.add_argument("--src", help="another crowdvib source tree")
+    parser.add_argument("--src", default=str(Path(__file__).resolve().parents[1] / "src"),
+                        help="the crowdvib source tree to time (default this tree's)")
     args = parser.parse_args()
     rows = [(label, *run_case(label, args.cpu_limit, args.src)) for label in args.cases]
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores, one thread, "
