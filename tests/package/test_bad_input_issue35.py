@@ -123,6 +123,7 @@ def test_a_fit_ending_on_a_bound_gets_no_profile_interval(measured, paper_bridge
     assert np.isnan(fit.intervals["frequency"]).all()
     assert np.isfinite(fit.intervals["damping_ratio"]).all()
     assert "frequency:upper" in fit.interval_on_bound
+    assert "no interval: the estimate sits on a search bound" in fit.summary().splitlines()[0]
     assert any("no 95% interval for frequency:upper (NaN ends): the estimate sits on that "
                "search bound" in str(w.message) for w in caught)
     back = type(fit).from_dict(json.loads(json.dumps(fit.to_dict()).replace("NaN", "null")))

@@ -181,7 +181,9 @@ class HSIEstimate:
             text = f"{describe(name)}: {self.value(name):.4g}"
             if self.covariance is not None:
                 low, high = self.interval(name, self.interval_level)
-                text += f" ({self.interval_level:.0%} interval {low:.4g} – {high:.4g})"
+                text += (f" ({self.interval_level:.0%} interval {low:.4g} – {high:.4g})"
+                         if np.isfinite([low, high]).all() else
+                         " (no interval: the estimate sits on a search bound)")
             lines.append(text)
         return "\n".join(lines)
 
