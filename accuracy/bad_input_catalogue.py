@@ -13,9 +13,16 @@ message). With ``--against SRC`` it runs the same tests against another crowdvib
 * ``silent``: no error and no warning where one was due (``DID NOT RAISE``/``WARN``, exit 0);
 * ``poor message``: a crowdvib error whose message lacks what the test demands;
 * ``foreign``: an exception that is not crowdvib's (its class is listed);
+* ``no answer``: no answer within ``--cpu-limit`` seconds of CPU (a unit mistake that the
+  estimator fitted for minutes before it said anything: issue 35 §2 asks for an answer in
+  seconds); the test is stopped there;
 * ``not comparable``: the test needs a name the older tree does not have.
 
-Usage: ``python accuracy/bad_input_catalogue.py [--against SRC]``. Prints tables; asserts nothing.
+Issue 35 (tests/package/test_bad_input_issue35.py) added the last silent and foreign cases of
+§3 and the unit mistakes of §2; ``--only issue35`` counts those alone.
+
+Usage: ``python accuracy/bad_input_catalogue.py [--against SRC] [--only TEXT] [--cpu-limit S]``.
+Prints tables; asserts nothing.
 """
 
 import argparse
@@ -33,8 +40,13 @@ ROOT = Path(__file__).resolve().parents[1]
 #: A pytest plugin (written to a temporary module) that records, per test, whether it called
 #: pytest.raises or pytest.warns.
 _PLUGIN = '''
-import json, os, pytest
+import json, os, signal, pytest
 _kinds, _current = {}, [None]
+_LIMIT = float(os.environ.get("CATALOGUE_CPU_LIMIT", "0"))
+class NoAnswerWithinLimit(Exception):
+    pass
+def _stop(signum, frame):
+    raise NoAnswerWithinLimit(f"no answer within {_LIMIT:g} s of CPU")
 _raises, _warns = pytest.raises, pytest.warns
 def _recording(kind, original):
     def wrapper(*args, **kwargs):
@@ -46,23 +58,33 @@ pytest.raises, pytest.warns = _recording("raises", _raises), _recording("warns",
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_call(item):
     _current[0] = item.nodeid
-    yield
-    _current[0] = None
+    if _LIMIT > 0:          # CPU time of this process (ITIMER_PROF), per test
+        signal.signal(signal.SIGPROF, _stop)
+        signal.setitimer(signal.ITIMER_PROF, _LIMIT)
+    try:
+        yield
+    finally:
+        if _LIMIT > 0:
+            signal.setitimer(signal.ITIMER_PROF, 0)
+        _current[0] = None
 def pytest_sessionfinish(session):
     with open(os.environ["CATALOGUE_KINDS"], "w") as f:
         json.dump({k: sorted(v) for k, v in _kinds.items()}, f)
 '''
 
 
-def run(source=None):
-    """{nodeid: (outcome, message)} and {nodeid: kinds} of the tests marked badinput on ``source``."""
+def run(source=None, only=None, cpu_limit=0.0):
+    """{nodeid: (outcome, message)} and {nodeid: kinds} of the tests marked badinput on ``source``
+    (those whose node id holds ``only``, if given), each stopped after ``cpu_limit`` s of CPU."""
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         (tmp / "catalogue_plugin.py").write_text(_PLUGIN)
-        env = dict(os.environ, CATALOGUE_KINDS=str(tmp / "kinds.json"))
+        env = dict(os.environ, CATALOGUE_KINDS=str(tmp / "kinds.json"),
+                   CATALOGUE_CPU_LIMIT=str(cpu_limit))
         path = [str(tmp)] + ([str(Path(source).resolve())] if source else [])
         env["PYTHONPATH"] = os.pathsep.join(path + [env.get("PYTHONPATH", "")])
-        subprocess.run([sys.executable, "-m", "pytest", "tests", "-m", "badinput", "-q",
+        selection = ["-k", only] if only else []
+        subprocess.run([sys.executable, "-m", "pytest", "tests", "-m", "badinput", "-q", *selection,
                         "-p", "catalogue_plugin", "-p", "no:cacheprovider",
                         f"--junitxml={tmp / 'junit.xml'}"],
                        cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
@@ -116,6 +138,8 @@ def classify(outcome, message):
     if re.search(r"ImportError while importing|cannot import name|No module named 'crowdvib\.",
                  message):
         return "not comparable (newer API)"
+    if "NoAnswerWithinLimit" in message:
+        return "no answer in the CPU limit"
     if re.search(r"DID NOT RAISE|DID NOT WARN|did not emit|assert 0 == [12]", message):
         return "silent"
     if "Regex pattern did not match" in message or "does not match" in message:
@@ -133,15 +157,21 @@ def main():
     parser.add_argument("--against", help="another crowdvib source tree (its src folder)")
     parser.add_argument("--list", action="store_true",
                         help="with --against: each case and how that tree answered it")
+    parser.add_argument("--only", help="only the cases whose test id holds this text (pytest -k), "
+                        "e.g. issue35")
+    parser.add_argument("--cpu-limit", type=float, default=120.0,
+                        help="CPU seconds a case may take before it counts as no answer "
+                             "(default 120; 0: no limit)")
     args = parser.parse_args()
-    now, kinds = run(ROOT / "src")         # this tree's catalogue on this tree's source
+    # this tree's catalogue on this tree's source
+    now, kinds = run(ROOT / "src", args.only, args.cpu_limit)
     print(f"tests marked badinput: {len(now)} cases")
     table = collections.Counter((demanded(n, kinds), classify(*now[n])) for n in now)
     print(f"\n{'demanded':46s}{'now':>22s}{'cases':>7s}")
     for (want, got), count in sorted(table.items()):
         print(f"{want:46s}{got:>22s}{count:7d}")
     if args.against:
-        before, _ = run(args.against)
+        before, _ = run(args.against, args.only, args.cpu_limit)
         table = collections.Counter(classify(*before.get(n, ("error", "missing"))) for n in now)
         print(f"\non {args.against}:")
         for got, count in table.most_common():

@@ -22,7 +22,7 @@ import numpy as np
 from .errors import PlausibilityWarning
 
 __all__ = ["PlausibleRange", "RANGES", "implausibility", "warn_if_implausible", "warn_notes",
-           "derived"]
+           "derived", "far_outside"]
 
 #: True while the library derives a model from one already checked (a rescaled bridge, a crowd
 #: at another density): its values were named once, where the user built it. Per thread.
@@ -56,6 +56,9 @@ class PlausibleRange:
         been given in the mix-up's unit. The first whose corrected value is plausible is named.
     source : str
         Where the range comes from (also in the docs' table).
+    hard_high : float or None
+        The hard tier: a value above it is so far outside any plausible range that the
+        estimators refuse it (:func:`far_outside`) unless told to go on; None: no hard tier.
     """
 
     low: float | None
@@ -64,6 +67,7 @@ class PlausibleRange:
     what: str
     mixups: tuple
     source: str
+    hard_high: float | None = None
 
     def contains(self, value: float) -> bool:
         return ((self.low is None or value >= self.low)
@@ -79,7 +83,7 @@ RANGES = {
     "damping_ratio": PlausibleRange(
         None, 0.10, "", "a footbridge mode", ((0.01, "percent instead of fraction", "%"),),
         "Sétra (2006) damping table: 0.1–1.5 % by deck type (recalled); the paper's bridges "
-        "0.25–0.86 % [VNVdB23]"),
+        "0.25–0.86 % [VNVdB23]", hard_high=0.2),
     "lowest_frequency": PlausibleRange(
         None, 10.0, " Hz", "the lowest vertical mode of a footbridge",
         ((1 / (2 * math.pi), "rad/s instead of Hz", "rad/s"),),
@@ -125,6 +129,11 @@ RANGES = {
         ((1 / (2 * math.pi), "rad/s instead of Hz", "rad/s"),),
         "a damper is tuned just below the mode it controls (Den Hartog 1956), and footbridge "
         "modes that need one lie within 1–5 Hz (Sétra 2006, HiVoSS 2008)"),
+    "damper_mass": PlausibleRange(
+        10.0, None, " kg", "a footbridge's tuned mass damper",
+        ((1e3, "tonnes instead of kg", "t"),),
+        "footbridge TMDs move 1–5 % of a modal mass of tens of tonnes: hundreds of kg to a few "
+        "tonnes (HiVoSS 2008; Den Hartog 1956); below 10 kg a damper does nothing on a deck"),
     "mass_ratio": PlausibleRange(
         None, 0.2, "", "a tuned mass damper (typically 0.01–0.05)",
         ((0.01, "percent instead of fraction", "%"),),
@@ -157,6 +166,19 @@ def implausibility(quantity: str, value: float, name: str | None = None) -> str 
                     f"{cause}? ({_format(value)} {mixed} is {_format(value * factor, 4)}{unit})")
     return (f"{name} = {_format(value)}{unit} is {side}, unusual for {plausible.what}: "
             "check the value and its unit")
+
+
+def far_outside(quantity: str, value: float, name: str | None = None) -> str | None:
+    """The note of :func:`implausibility` for a value beyond the hard tier of ``quantity``
+    (``hard_high`` of :data:`RANGES`: a bridge damping ratio of 0.6, 60 %), else None.
+
+    Such a value is legal but no bridge has it: the estimators refuse it before any fit (a fit
+    to it runs for minutes to a warning), with an override.
+    """
+    hard = RANGES[quantity].hard_high
+    if hard is None or not float(value) > hard:
+        return None
+    return f"{implausibility(quantity, value, name)}; far above any plausible value (> {hard:g})"
 
 
 def warn_if_implausible(quantity: str, value, name: str | None = None, *,

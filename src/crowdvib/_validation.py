@@ -3,6 +3,8 @@
 Validation happens once, where data enter the library; the numerics behind it trust their inputs.
 """
 
+from collections.abc import Iterable, Mapping
+
 import numpy as np
 
 from .errors import ParameterError
@@ -142,9 +144,61 @@ def frozen_array(array, dtype=float):
 def name_indices(names, known, what="output name"):
     """Positions of ``names`` (one name or several) in ``known``; an unknown name is an error
     that lists the known ones."""
+    if not isinstance(names, (str, Iterable)):
+        raise ParameterError(f"{what}s must be a name or a sequence of names, got "
+                             f"{type(names).__name__} {names!r}")
     names = [names] if isinstance(names, str) else list(names)
     known = list(known)
     for name in names:
         if name not in known:
             raise ParameterError(f"{what} must be one of {known}, got {name!r}")
     return np.array([known.index(name) for name in names], dtype=int)
+
+
+def check_scalar(name, value):
+    """Require one number (not a sequence or array of them); return it as float. Finite and real
+    as :func:`as_float_array` demands."""
+    array = as_float_array(name, value)
+    if array.ndim != 0:
+        raise ParameterError(f"{name} must be one number, got {type(value).__name__} of shape "
+                             f"{array.shape}")
+    return float(array)
+
+
+def check_fraction(name, value, *, upper_open=True):
+    """Require a number in [0, 1) (``upper_open``) or [0, 1]; a string, None or a list is refused
+    by its type, not compared."""
+    x = check_scalar(name, value)
+    if not (0.0 <= x < 1.0 if upper_open else 0.0 <= x <= 1.0):
+        raise ParameterError(f"{name} must lie in [0, 1{')' if upper_open else ']'}, got {value!r}")
+    return x
+
+
+def check_names(name, value, *, allow_one=True):
+    """Require a sequence of strings (or one string, if ``allow_one``); return it as a tuple."""
+    if isinstance(value, str) and allow_one:
+        return (value,)
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
+        raise ParameterError(f"{name} must be a sequence of str, got {type(value).__name__} "
+                             f"{value!r}"[:200])
+    value = tuple(value)
+    bad = next((v for v in value if not isinstance(v, str)), None)
+    if bad is not None:
+        raise ParameterError(f"{name} must hold names (str), got {type(bad).__name__} {bad!r}")
+    return value
+
+
+def check_optional(name, value, kind, what=None):
+    """Require None or an instance of ``kind`` (one type); return it."""
+    if value is not None and not isinstance(value, kind):
+        raise ParameterError(f"{name} must be {what or 'a ' + kind.__name__} or None, got "
+                             f"{type(value).__name__}")
+    return value
+
+
+def check_mapping(name, value, what="a dict"):
+    """Require None or a mapping (dict); return it."""
+    if value is not None and not isinstance(value, Mapping):
+        raise ParameterError(f"{name} must be {what} or None, got {type(value).__name__} "
+                             f"{value!r}"[:200])
+    return value

@@ -155,8 +155,8 @@ def test_unmapped_channels_are_reported(tmp_path, capsys):
 def test_record_in_g_declared_as_m_s2_is_named_on_the_terminal(tmp_path, capsys):
     # Issue 9, fault 5: the paper example's record with its samples divided by g (as a logger
     # writing g would store them) but declared m/s² gave f_h1 = 1.95 Hz, ξ_h1 = 0.088 with
-    # success=True and not a word. Now the warning names the likely cause, and the verdict the
-    # command prints repeats it.
+    # success=True and not a word. Issue 35 §2: the level is checked before the fit, so the
+    # command stops at once with the likely cause (it fitted for minutes to a warning before).
     from crowdvib.models.loading import STANDARD_GRAVITY
 
     examples = Path(__file__).resolve().parents[2] / "examples"
@@ -166,11 +166,10 @@ def test_record_in_g_declared_as_m_s2_is_named_on_the_terminal(tmp_path, capsys)
              data=source["data"] / STANDARD_GRAVITY)
     shutil.copy(examples / "paper_example.toml", tmp_path / "paper_example.toml")
     assert main(["estimate", str(tmp_path / "paper_example.toml"), "--out",
-                 str(tmp_path / "out")]) == 3      # finished, in doubt
+                 str(tmp_path / "out")]) == 1      # a bad input, refused
     captured = capsys.readouterr()
-    assert "PlausibilityWarning" in captured.err and "record in g read as m/s²" in captured.err
-    verdict = captured.out[captured.out.index("verdict"):]
-    assert "check before use" in verdict and "record in g read as m/s²" in verdict
+    assert "record in g read as m/s²" in captured.err
+    assert "estimation.check_level = false" in captured.err
 
 
 def test_estimate_fits_the_step_frequencies_when_asked(tmp_path, capsys):

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from crowdvib import (Crowd, ModalModel, MSDModel, ParameterError, effective_modal_properties,
-                      frf)
+from crowdvib import (Crowd, ModalModel, MSDModel, ParameterError, PlausibilityWarning,
+                      effective_modal_properties, frf)
 from crowdvib.design import TunedMassDamper, design_check, tune_damper
 from crowdvib.design.codes import (comfort_class, equivalent_pedestrians, reduction_factor)
 
@@ -185,7 +185,8 @@ def test_a_negligible_damper_reproduces_the_modal_check(paper_bridge):
     # single-pole approximation of effective_modal_properties: within 0.3 %).
     msd = MSDModel(3.0, 0.3, 0.95)
     plain = design_check(paper_bridge, "hivoss", traffic_class="TC3", msd=msd)
-    tiny = [TunedMassDamper(1e-3, 9.0, 0.1, 10.0)]
+    with pytest.warns(PlausibilityWarning, match="mass = 0.001 kg is below 10 kg"):  # issue 35
+        tiny = [TunedMassDamper(1e-3, 9.0, 0.1, 10.0)]
     damped = design_check(paper_bridge, "hivoss", traffic_class="TC3", msd=msd, dampers=tiny)
     np.testing.assert_allclose(damped.peak_accelerations[:2], plain.peak_accelerations[:2],
                                rtol=2e-3)

@@ -292,7 +292,8 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
     if not point_only:
         options.update(interval=None if est.interval == "none" else est.interval,
                        level=est.level, n_boot=est.n_boot, rng=case.seed,
-                       density_uncertainty=est.density_uncertainty)
+                       density_uncertainty=est.density_uncertainty,
+                       check_level=est.check_level)
     return options
 
 
@@ -413,7 +414,7 @@ def map_case(case: Case, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
     options = estimate_options(case)
     estimate = estimate_hsi(measurement.psd, case.structure, crowd, **options)
     for key in ("starts", "bounds", "interval", "level", "n_boot", "rng",
-                "free_step_frequencies", "density_uncertainty"):
+                "free_step_frequencies", "density_uncertainty", "check_level"):
         options.pop(key, None)
     started = time.perf_counter()
     # The landscape of the misfit at the crowd the estimate ends with (its fitted step

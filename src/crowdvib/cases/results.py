@@ -17,6 +17,7 @@ Light on purpose: the command line imports it at start-up (``crowdvib --help``).
 from __future__ import annotations
 
 import json
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -483,7 +484,14 @@ def load_results(path: str | Path) -> Results:
         data = json.loads(text)
     except json.JSONDecodeError as error:
         raise DataError(f"{path} is not valid JSON: {error}") from None
-    return Results.from_dict(data, source=str(path))
+    except RecursionError:
+        raise DataError(f"{path} is not a crowdvib results.json: its JSON is nested deeper than "
+                        f"Python's recursion limit ({sys.getrecursionlimit()})") from None
+    try:
+        return Results.from_dict(data, source=str(path))
+    except RecursionError:
+        raise DataError(f"{path} is not a crowdvib results.json: its JSON is nested too deeply "
+                        "to be results") from None
 
 
 class AsResults:

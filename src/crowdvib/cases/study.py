@@ -188,7 +188,8 @@ def identified_levels(directory: str | Path) -> dict:
         modes = results["modes"] if results.get("command") == "modes" else None
         columns = {key: [float(mode[key]) for mode in modes] for key in
                    ("frequency", "frequency_std", "damping_ratio", "damping_std")}
-    except (ValueError, KeyError, TypeError, UnicodeDecodeError) as exc:
+    except (ValueError, KeyError, TypeError, AttributeError, RecursionError,
+            UnicodeDecodeError) as exc:   # AttributeError: a JSON list, not an object
         raise DataError(f"{path}: is not the results.json of `crowdvib modes` (a 'modes' list "
                         f"with frequency, frequency_std, damping_ratio, damping_std): "
                         f"{type(exc).__name__}: {exc}") from None

@@ -9,8 +9,11 @@ import warnings
 
 import numpy as np
 
-from ..errors import BoundWarning, ConvergenceWarning, IdentifiabilityWarning, PlausibilityWarning
+from .._plausibility import derived
+from ..errors import (BoundWarning, ConvergenceWarning, DataError, IdentifiabilityWarning,
+                      PlausibilityWarning)
 from ..models.loading import STANDARD_GRAVITY
+from ..models.pedestrian import MSDModel
 
 # A parameter within this fraction of its bound's range of the bound counts as on it.
 _BOUND_TOLERANCE = 1e-4
@@ -18,6 +21,12 @@ _BOUND_TOLERANCE = 1e-4
 #: at a sound optimum the two agree within the Welch scatter and the modelling errors (a few
 #: tens of per cent); a unit or gain mix-up is a factor of ~100 or more.
 LEVEL_RATIO_LIMIT = 3.0
+#: Measured over modelled band variance that no θ within the bounds brings within this factor
+#: of 1 is refused before any fit (issue 35 §2): the right input comes within 3 (at the truth),
+#: a unit mix-up is a factor of ~100 (g², 1e6) or a resonance the model does not have.
+GROSS_LEVEL_RATIO = 10.0
+#: Grid points per parameter of the level check before the fit (log-spaced for f_h1 and ξ_h1).
+_LEVEL_GRID = {"frequency": 10, "damping_ratio": 6, "mass_ratio": 3}
 #: Unit mix-ups tried when the level is in doubt: factor on the measured PSD → likely cause.
 _UNIT_MIXUPS = ((STANDARD_GRAVITY**2, "a record in g read as m/s²"),
                 (STANDARD_GRAVITY**-2, "a record in m/s² declared as g"),
@@ -105,3 +114,47 @@ def _check_level(objective, ratio, fit, to_msd):
         f"the measured PSD level over the band is not the fitted model's (measured/model "
         f"variance {where}; a consistent level lies within a factor {LEVEL_RATIO_LIMIT:g}), so "
         f"the estimate is not to be trusted: {hint}", PlausibilityWarning, stacklevel=4)
+
+
+def _level_span(objective, names, lower, upper, mass_ratio):
+    """(lowest, highest) measured/model band variance per output over no HSI and a coarse grid
+    of the MSD within the bounds, at the objective's crowd: what a fit can reach."""
+    axes = {name: (np.geomspace if name in ("frequency", "damping_ratio") else np.linspace)(
+        lo, hi, _LEVEL_GRID[name]) for name, lo, hi in zip(names, lower, upper)}
+    with derived():                   # grid points, not the user's values
+        msds = [None] + [MSDModel(f, x, mu) for f in axes["frequency"]
+                         for x in axes["damping_ratio"]
+                         for mu in axes.get("mass_ratio", [mass_ratio])]
+    ratios = np.array([objective.level_ratio(msd) for msd in msds])
+    return ratios.min(axis=0), ratios.max(axis=0)
+
+
+def _refuse_gross_level(objectives, names, lower, upper, mass_ratio, notes=()):
+    """Refuse, before any fit, a measured level that no θ within the bounds explains (DataError).
+
+    The message names the outputs and the measured/model variance the fit could reach, the
+    likely cause (a unit mix-up of ``_UNIT_MIXUPS`` that brings the level within
+    ``LEVEL_RATIO_LIMIT``, with the variance ratio it would then be, or the structure's
+    plausibility ``notes``) and the override. A fit to such data ends on its bounds after
+    minutes (issue 35 §2); this check costs a few hundred model evaluations.
+    """
+    for objective in objectives:
+        low, high = _level_span(objective, names, lower, upper, mass_ratio)
+        gross = (low > GROSS_LEVEL_RATIO) | (high < 1 / GROSS_LEVEL_RATIO)
+        if not gross.any():
+            continue
+        where = ", ".join(f"{name!r}: {lo:.3g} to {hi:.3g}" for name, lo, hi, bad in
+                          zip(objective.output_names, low, high, gross) if bad)
+        causes = [f"{cause}? (read so, measured/model would be {low.min() * factor:.3g} to "
+                  f"{high.max() * factor:.3g})" for factor, cause in _UNIT_MIXUPS
+                  if np.all((low * factor <= LEVEL_RATIO_LIMIT)
+                            & (high * factor >= 1 / LEVEL_RATIO_LIMIT))]
+        causes += list(notes)
+        hint = ("; ".join(causes) if causes else
+                "check the units, the sensor gain, the channel mapping and the structure")
+        raise DataError(
+            f"measured PSD level must be one the model reaches with an MSD within the bounds "
+            f"(measured/model variance over the band within a factor {GROSS_LEVEL_RATIO:g} of "
+            f"1), got measured/model from {where} (over no HSI and a grid of MSDs within the "
+            f"bounds): {hint}. Correct the input, or pass check_level=False (case file: "
+            f"estimation.check_level = false) to fit it anyway")

@@ -21,13 +21,13 @@ from scipy.optimize import least_squares
 
 from .._estimators import (DEFAULT_DENSITY_UNCERTAINTY, DEFAULT_JOINT_METHOD, DEFAULT_METHOD,
                            check_density_uncertainty, estimator_defaults)
-from .._plausibility import warn_notes
-from .._validation import as_float_array, check_flag
+from .._plausibility import far_outside, warn_notes
+from .._validation import as_float_array, check_flag, check_mapping
 from ..errors import BoundWarning, EstimationError, ParameterError
-from ..models.pedestrian import MSDModel
+from ..models.pedestrian import MSD_DAMPING_LIMIT, MSDModel
 from ..models.profile import CrowdProfile
 from .bootstrap import bootstrap_estimates, percentile_interval
-from .diagnostics import _check_identifiability, _check_level, _diagnose
+from .diagnostics import _check_identifiability, _check_level, _diagnose, _refuse_gross_level
 from ..response.varying import record_duration
 from .objective import PSDObjective
 from .result import HSIEstimate
@@ -74,7 +74,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
                  method: str = DEFAULT_METHOD, interval: str = "profile", level: float = 0.95,
                  crowd_model: str | None = None, n_boot: int = 200,
                  rng: Seed = None, crowd_profile: CrowdProfile | None = None,
-                 density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY) -> HSIEstimate:
+                 density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY,
+                 check_level: bool = True) -> HSIEstimate:
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Equations 5 and 6).
 
     Parameters
@@ -157,6 +158,11 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         stated too high moves every ordinate as a larger crowd would, and the estimate with it
         (docs: theory, The crowd density's uncertainty). Default 0.1: field densities are
         rarely known better; 0 for a density known exactly (a simulated record).
+    check_level : bool
+        Before any fit, refuse (:class:`~crowdvib.errors.DataError`) a measured level that no
+        MSD within the bounds brings within a factor 10 of the model's, naming the likely unit
+        mix-up, and a structure far outside plausible values (a damping ratio above 0.2): a
+        fit to either runs for minutes to a warning (default True; False fits anyway).
 
     Returns
     -------
@@ -223,6 +229,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     # the question is one of level, which the two crowd models share to a few per cent, and
     # its five fits on data that fit nothing would cost minutes with the fluctuating one.
     given = [objective(crowd, "smeared")]
+    _check_before_fit(given, structure, bounds, mass_ratio, free_mass_ratio,
+                      free_step_frequencies, check_level)
 
     options = dict(starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                    free_mass_ratio=free_mass_ratio, method=method, level=level, n_boot=n_boot,
@@ -262,8 +270,8 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
                        level: float = 0.95, crowd_model: str | None = None, n_boot: int = 200,
                        rng: Seed = None,
                        crowd_profiles: Sequence[CrowdProfile | None] | None = None,
-                       density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY
-                       ) -> HSIEstimate:
+                       density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY,
+                       check_level: bool = True) -> HSIEstimate:
     """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
 
     The records are independent, so their misfits add (for the likelihood: their likelihoods
@@ -293,6 +301,8 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
         As in :func:`estimate_hsi`: the relative standard uncertainty of the stated densities,
         taken as one error common to every record (the same way of counting), so it does not
         average out over records.
+    check_level : bool
+        As in :func:`estimate_hsi`, for every record.
 
     Returns
     -------
@@ -332,9 +342,35 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
                            crowd_profile=profile),
               measured)
              for measured, crowd, profile in zip(measurements, crowds, profiles)]
+    _check_before_fit([objective for objective, _ in parts], structure, bounds, mass_ratio,
+                      free_mass_ratio, False, check_level)
     return _estimate(parts, structure, starts=starts, bounds=bounds, mass_ratio=mass_ratio,
                      free_mass_ratio=free_mass_ratio, method=method, interval=interval,
                      level=level, n_boot=n_boot, rng=rng, density_uncertainty=density_uncertainty)
+
+
+def _check_before_fit(objectives, structure, bounds, mass_ratio, free_mass_ratio,
+                      free_step_frequencies, check_level):
+    """The checks before any fit (``check_level``): a structure beyond the hard tier of the
+    plausible ranges, then a measured level no θ within the bounds explains (issue 35 §2)."""
+    if not check_flag("check_level", check_level):
+        return
+    # μ_h1 and the two switches by their rules (interval, n_boot and level: checked by the fit)
+    free_mass_ratio, free_step_frequencies = _check_options(
+        mass_ratio, free_mass_ratio, free_step_frequencies, None, 200, 0.5)
+    far = [note for j, ratio in enumerate(structure.damping_ratios) if (note := far_outside(
+        "damping_ratio", ratio, f"structure: damping_ratios[{j}]")) is not None]
+    if far:
+        raise ParameterError(f"{'; '.join(far)}. Correct it, or pass check_level=False (case "
+                             "file: estimation.check_level = false) to estimate with it")
+    # The crowd as given (as the diagnosis after the fit): free step frequencies narrowed to a
+    # spike at the resonance would explain any level.
+    parameters = _parametrisation(bounds, mass_ratio, free_mass_ratio,
+                                  free_step_frequencies).held()
+    for objective in objectives:
+        _check_measured_level(objective)
+    _refuse_gross_level(objectives, parameters.names, parameters.lower, parameters.upper,
+                        mass_ratio, [f"structure: {note}" for note in structure.implausibilities()])
 
 
 def _warn_implausible_profile(profile, measured):
@@ -441,7 +477,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
         _check_identifiability(parameters.names, covariance)
     intervals, on_bound, samples = _intervals(
         interval, parts, stacked, parameters, best.x, covariance, hessian, occupancies, level,
-        n_boot, rng, density)
+        n_boot, rng, density, active)
     single = len(parts) == 1
     output_names = tuple(name if single else f"record {r + 1}: {name}"
                          for r, (objective, _) in enumerate(parts)
@@ -584,9 +620,13 @@ def _covariance(parts, parameters, theta, density_uncertainty):
 
 
 def _intervals(interval, parts, stacked, parameters, theta, covariance, hessian, occupancies,
-               level, n_boot, rng, density):
+               level, n_boot, rng, density, active=()):
     """The intervals the covariance allows → (name → (low, high), ends on a bound, bootstrap
-    samples or None); none without a covariance or for ``interval`` "wald" or None."""
+    samples or None); none without a covariance or for ``interval`` "wald" or None.
+
+    A parameter whose estimate sits on a search bound (``active``: "name:side") gets no profile
+    interval but NaN ends and a BoundWarning: its profile runs along the bound for minutes and
+    says only that the data do not bound it there (issue 35 §2)."""
     intervals, on_bound, samples = {}, (), None
     if covariance is None:
         return intervals, on_bound, samples
@@ -600,18 +640,25 @@ def _intervals(interval, parts, stacked, parameters, theta, covariance, hessian,
     if interval == "profile":
         # The MSD's parameters are profiled; the step frequencies (fitted with the MSD, not the
         # answer sought) keep their Wald interval, half the profile's cost when they are free.
-        ends = []
+        ends, stuck = [], [side for side in active if side.split(":")[0] not in STEP_PARAMETERS]
         for i, name in enumerate(names):
             if name in STEP_PARAMETERS:
+                continue
+            if any(side.startswith(f"{name}:") for side in stuck):
+                intervals[name] = (np.nan, np.nan)
                 continue
             intervals[name], hit = profile_interval(
                 lambda values: parameters.misfit(stacked, values), theta, i, lower, upper,
                 covariance, hessian, level)
             ends += [f"{name}:{side}" for side, h in zip(("lower", "upper"), hit) if h]
-        on_bound = tuple(ends)
-        if on_bound:
+        on_bound = tuple(ends + stuck)
+        if stuck:
+            warnings.warn(f"no {level:.0%} interval for {', '.join(stuck)} (NaN ends): the "
+                          "estimate sits on that search bound, where the data do not bound it; "
+                          "check the inputs or widen the bounds", BoundWarning, stacklevel=4)
+        if ends:
             warnings.warn(f"the {level:.0%} interval reaches a search bound "
-                          f"({', '.join(on_bound)}): the data do not bound the parameter "
+                          f"({', '.join(ends)}): the data do not bound the parameter "
                           "there; widen the bounds or add data", BoundWarning, stacklevel=4)
     return intervals, on_bound, samples
 
@@ -655,6 +702,7 @@ def _model_gradient(objective, theta, state, lower, upper):
 def _merge_bounds(bounds, defaults):
     """The default bounds updated by the user's, each checked: 0 < lower < upper."""
     limits = dict(defaults)
+    check_mapping("bounds", bounds, "a dict of parameter → (lower, upper)")
     for key, value in (bounds or {}).items():
         if key not in defaults:
             raise ParameterError(f"bounds keys must be among {list(defaults)}, got {key!r}")
@@ -664,6 +712,10 @@ def _merge_bounds(bounds, defaults):
             raise ParameterError(f"bounds[{key!r}] must be a pair (lower, upper), got {value!r}")
         if not 0 < low < high:
             raise ParameterError(f"bounds[{key!r}] must satisfy 0 < lower < upper, got {value!r}")
+        if key == "damping_ratio" and high >= MSD_DAMPING_LIMIT:
+            raise ParameterError(
+                f"bounds['damping_ratio'] must stay below {MSD_DAMPING_LIMIT:g}, the MSD's own "
+                f"limit (fractions, not percent), got {value!r}")
         limits[key] = (low, high)
     return limits
 

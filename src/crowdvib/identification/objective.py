@@ -20,7 +20,7 @@ import dataclasses
 import numpy as np
 
 from .._estimators import DEFAULT_METHOD, METHOD_DEFAULTS, estimator_defaults
-from .._validation import as_float_array, check_flag, check_positive, check_type
+from .._validation import as_float_array, check_flag, check_names, check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.profile import CrowdProfile
@@ -163,8 +163,7 @@ class PSDObjective:
             raise ParameterError(
                 f"crowd.density must be > 0 to estimate HSI (no crowd, no interaction), "
                 f"got {crowd.density:g}")
-        outputs = measured.output_names if outputs is None else tuple(
-            [outputs] if isinstance(outputs, str) else outputs)
+        outputs = measured.output_names if outputs is None else check_names("outputs", outputs)
         structure.output_index(outputs)
         self.band, keep = _check_band(band, measured.frequency)
         self.frequency = measured.frequency[keep]

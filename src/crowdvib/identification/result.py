@@ -68,7 +68,8 @@ class HSIEstimate:
     interval_level : float
         Confidence level of ``intervals``.
     interval_on_bound : tuple of str
-        Interval ends that stopped at a search bound, e.g. ``("damping_ratio:upper",)``.
+        Interval ends that stopped at a search bound, e.g. ``("damping_ratio:upper",)``; for
+        an estimate on a bound its side, and its profile interval has NaN ends (not computed).
     crowd_model : str
         The expected-PSD model of the crowd: ``"smeared"`` or ``"fluctuating"``.
     crowd_model_details : tuple of dict
@@ -192,7 +193,9 @@ class HSIEstimate:
             text = f"{describe(name)}: {self.value(name):.4g}"
             if self.covariance is not None:
                 low, high = self.interval(name, self.interval_level)
-                text += f" ({self.interval_level:.0%} interval {low:.4g} – {high:.4g})"
+                text += (f" ({self.interval_level:.0%} interval {low:.4g} – {high:.4g})"
+                         if np.isfinite([low, high]).all() else
+                         " (no interval: the estimate sits on a search bound)")
             lines.append(text)
         return "\n".join(lines)
 
@@ -263,7 +266,8 @@ class HSIEstimate:
             message=data.get("message", ""),
             level_ratio=None if ratio is None else np.asarray(ratio, dtype=float),
             method=data.get("method", "least_squares"), covariance=covariance,
-            intervals={} if not interval else {name: tuple(interval[name]) for name in free},
+            intervals={} if not interval else {  # null: no interval (estimate on a bound)
+                name: tuple(np.nan if v is None else v for v in interval[name]) for name in free},
             interval_level=interval["level"] if interval else 0.95,
             interval_on_bound=tuple(data.get("interval_on_bound", ())),
             crowd_model=data.get("crowd_model", "smeared"),

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._validation import check_count
 from ..errors import DataError, ParameterError
 from .._files import require_file
 from ._common import named_file, quote
@@ -72,6 +73,16 @@ class Table:
             raise ParameterError(f"{self.path.name}: {self.key(name)} must lie in (0, 1) "
                                  f"(fractions, not percent), got {value:g}")
         return value
+
+    def count(self, name, default=REQUIRED, *, minimum=1):
+        """An integer >= ``minimum`` (2.0 too, not 2.5: a count is not rounded silently)."""
+        value = self.number(name, default)
+        if value is None or value is default:
+            return value
+        try:
+            return check_count(self.key(name), value, minimum)
+        except ParameterError as exc:
+            raise ParameterError(f"{self.path.name}: {exc}") from None
 
     def string(self, name, default=REQUIRED, *, choices=None):
         value = self.raw(name, default)

@@ -253,7 +253,7 @@ def _structure(table, path):
             frequency = table.numbers("frequency", rule="positive")
             damping = table.numbers("damping_ratio")
             mass = table.numbers("modal_mass", rule="positive")
-            n_modes = int(table.number("n_modes", 1.0, rule="positive"))
+            n_modes = table.count("n_modes", 1)
             outputs = _outputs(table, path, pairs=False)
             structure = ModalModel.simply_supported_beam(span, width, frequency, damping, mass,
                                                          n_modes, outputs=outputs, name=name)
@@ -525,7 +525,8 @@ def _estimation(table, path):
                           level=table.number("level", 0.95, rule="positive"),
                           crowd_model=table.string("crowd_model", None,
                                                    choices=("fluctuating", "smeared")),
-                          n_boot=int(table.number("n_boot", 200.0, rule="positive")))
+                          n_boot=table.count("n_boot", 200),
+                          check_level=table.boolean("check_level", True))
     if not spec.level < 1:
         raise table.error("level", "must lie in (0, 1) (a fraction, not percent)", spec.level)
     table.finish()

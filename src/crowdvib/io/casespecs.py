@@ -107,6 +107,7 @@ class EstimationSpec:
     n_boot: int = 200
     #: ``[crowd] density_uncertainty``: read with the crowd, carried by the estimate's intervals.
     density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY
+    check_level: bool = True
 
     def resolved(self, joint: bool = False) -> EstimationSpec:
         """The estimator's choices not stated (None) filled in, as :func:`crowdvib.estimate_hsi`

@@ -4,7 +4,6 @@ Its columns and rules: :func:`read_crowd_table`. Registered in the formats table
 (:mod:`crowdvib.io.formats`) as the ``"csv"`` format of ``"crowd"`` data.
 """
 
-import csv
 import datetime
 import math
 from dataclasses import dataclass
@@ -14,7 +13,7 @@ from .._files import require_file
 from ..errors import DataError
 from .._terminal import excerpt
 from ._common import quote, quote_names, reading, where
-from .formats import FileFormat, register_format
+from .formats import FileFormat, read_table_cells, register_format
 
 __all__ = ["CrowdRow", "CrowdTable", "read_crowd_table", "CROWD_COLUMNS"]
 
@@ -141,7 +140,7 @@ def read_crowd_table(path) -> CrowdTable:
     with reading(path, "a crowd table CSV"):
         with open(path, encoding="utf-8-sig", newline="") as handle:
             lines = [line for line in handle if line.strip() and not line.lstrip().startswith("#")]
-        cells = [[cell.strip() for cell in row] for row in csv.reader(lines)]
+        cells = read_table_cells(lines)
         if len(cells) < 2:
             raise DataError(f"{path.name}: must hold a header line and at least one row")
         header = [name.lower() for name in cells[0]]

@@ -2,7 +2,6 @@
 ``femodes``: FE node tables): read, column-checked, converted, and the walkway model built from
 them before its outputs are placed."""
 
-import csv
 import difflib
 import warnings
 from pathlib import Path
@@ -13,6 +12,7 @@ from .._files import require_file
 from ..errors import DataError, ParameterError, PlausibilityWarning
 from ..models.structure import ModalModel
 from ._common import quote, reading
+from .formats import read_table_cells
 
 __all__ = ["read_csv_table", "require_columns", "number_columns", "quietly_built", "output_rows"]
 
@@ -28,10 +28,15 @@ def read_csv_table(path):
         with open(path, encoding="utf-8", newline="") as handle:
             lines = [line for line in handle
                      if line.strip() and not line.lstrip().startswith("#")]
-        rows = [[cell.strip() for cell in row] for row in csv.reader(lines)]
+        rows = read_table_cells(lines)
         if len(rows) < 2:
             raise DataError(f"{path.name}: must hold a header line and at least one row")
         header, body = rows[0], rows[1:]
+        twice = next((name for i, name in enumerate(header) if name in header[:i]), None)
+        if twice is not None:       # which of the two columns is meant? (issue 35 §3)
+            raise DataError(f"{path.name}: column names must be unique, got {quote(twice)} "
+                            f"as columns {header.index(twice) + 1} and "
+                            f"{header.index(twice, header.index(twice) + 1) + 1}")
         for number, row in enumerate(body, start=1):
             if len(row) != len(header):
                 raise DataError(f"{path.name}: row {number} has {len(row)} field(s), the header "

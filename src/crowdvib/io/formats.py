@@ -129,6 +129,22 @@ _SECONDS = {"s", "sec", "secs", "second", "seconds", "sek", "sekunden"}
 _OTHER_TIME_UNITS = {"ms", "us", "µs", "ns", "min", "h", "hr", "hrs"}
 
 
+#: More channels than this, and more channels than samples, is a transposed table (one row per
+#: channel): a footbridge test has tens of sensors, never thousands (issue 35 §2: a CSV of 1e5
+#: columns took 71 s to read, `crowdvib init` drafted 100 000 placeholders).
+MAX_CHANNELS = 1000
+
+
+def refuse_transposed(source, n_channels, n_samples):
+    """DataError for a record of more than MAX_CHANNELS channels, each shorter than that count:
+    asks whether the file is transposed."""
+    if n_channels > MAX_CHANNELS and n_samples < n_channels:
+        raise DataError(f"{where(source)}must hold at most {MAX_CHANNELS} channels (one column "
+                        f"or variable per sensor, one row per sample), got {n_channels} channels "
+                        f"of {n_samples} sample(s) each: is the file transposed (one row per "
+                        "channel)? Transpose it, or write one column per channel")
+
+
 def _time_unit(name):
     """The unit of a usual time header ("s", or e.g. "ms"); None for any other name (a capital
     "T" alone is left alone: a temperature or a period as often as a time)."""
@@ -177,6 +193,30 @@ def _header(lines, start):
         if len(names) > 1 and len(names) == len(row.split(delimiter)):
             return parsed[-1]
     return parsed[0]
+
+
+def read_table_cells(lines):
+    """The cells (stripped) of a CSV table whose header is ``lines[0]``, in the records' dialect:
+    the separator as :func:`_header` finds it (',' or ';' or tab), and below the header a number
+    written with a decimal comma ("1,5" after ';' or tab) as Python reads it; other cells (a
+    record's name, an ISO time) as they are. For crowdvib's other tables (crowd, counts, modal).
+    """
+    if not lines:
+        return []
+    delimiter = _header(lines, 0)[1]
+    cells = [[cell.strip() for cell in row] for row in csv.reader(lines, delimiter=delimiter)]
+    if delimiter == "," or not cells:
+        return cells
+    return cells[:1] + [[_decimal_point(cell) for cell in row] for row in cells[1:]]
+
+
+def _decimal_point(cell):
+    candidate = cell.replace(",", ".", 1)
+    try:
+        float(candidate)
+    except ValueError:
+        return cell
+    return candidate if cell.count(",") == 1 else cell
 
 
 def _column_names(path, names):
@@ -256,6 +296,8 @@ def _read_csv(path, *, sample_rate, time_column):
     if start == len(lines):
         raise DataError(f"{where(path)}has no header line of column names")
     header, delimiter, first = _header(lines, start)
+    # Before the rows are parsed (1e5 columns took 71 s): the line count bounds the samples.
+    refuse_transposed(path, len(header), len(lines) - first)
     header = _column_names(path, header)
     rows = _body(path, lines, first, delimiter)
     try:

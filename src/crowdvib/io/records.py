@@ -27,12 +27,12 @@ from typing import Any
 import numpy as np
 
 from .._validation import check_positive
-from ..errors import DataError, DataWarning, ParameterError
+from ..errors import DataError, DataWarning, ParameterError, PlausibilityWarning
 from ..models.loading import STANDARD_GRAVITY
 from .._files import require_file
 from ._common import (quote, quote_names, reading, same_rate, sample_rate_from_time,
                       where)
-from .formats import check_names, file_formats, suffix_format
+from .formats import check_names, file_formats, refuse_transposed, suffix_format
 
 __all__ = ["Record", "read_record", "write_record", "check_record", "merge_records",
            "RECORD_FORMATS", "convert_units"]
@@ -41,6 +41,40 @@ __all__ = ["Record", "read_record", "write_record", "check_record", "merge_recor
 RECORD_FORMATS = {name: row.suffixes for name, row in file_formats("record").items()}
 _UNIT_ALIASES = {"m/s2": "m/s2", "m/s^2": "m/s2", "m/s²": "m/s2", "m s-2": "m/s2", "mps2": "m/s2",
                  "g": "g", "g0": "g"}
+
+
+#: |sample| beyond which a record is refused: no accelerometer nor unit mix-up gives it, and its
+#: square (a PSD) overflows near 1e154 (a CSV cell of 1e308 was read silently: issue 35 §3).
+MAX_SAMPLE = 1e100
+
+
+def _refuse_absurd_samples(source, names, data, units=""):
+    """DataError naming channel and sample index of the first |sample| > MAX_SAMPLE."""
+    with np.errstate(invalid="ignore"):     # NaN and inf: refused by their own checks
+        absurd = np.isfinite(data) & (np.abs(data) > MAX_SAMPLE)
+    if absurd.any():
+        channel, index = np.argwhere(absurd)[0]
+        raise DataError(f"{where(source, names[channel])}samples must be below {MAX_SAMPLE:g} in "
+                        f"magnitude, got {data[channel, index]:g}{units} at sample index "
+                        f"{index}: a damaged cell or a wrong scale")
+
+
+def _check_declared_g(source, names, data):
+    """A record declared in g whose values are m/s²: a mean at the gravity offset 9.81 (m/s²:
+    DataError, 9.81 g at rest is no accelerometer), or an RMS above 1 g (PlausibilityWarning:
+    footbridge accelerations stay below 0.2 g, their m/s² values are 0.01–2)."""
+    for name, row in zip(names, data):
+        mean = float(np.mean(row))
+        rms = float(np.std(row))
+        if abs(abs(mean) - STANDARD_GRAVITY) <= 0.15 * STANDARD_GRAVITY \
+                and rms < 0.5 * STANDARD_GRAVITY:
+            raise DataError(f"{where(source, name)}units 'g' must not hold a mean of {mean:.3g} "
+                            f"g (an accelerometer at rest shows 1 g): {mean:.3g} is the gravity "
+                            "offset in m/s²; declare units 'm/s2'")
+        if rms > 1.0:
+            warnings.warn(f"{where(source, name)}RMS {rms:.3g} g is above 1 g, unusual for a "
+                          f"footbridge (below 0.2 g): m/s² declared as g? ({rms:.3g} m/s² is "
+                          f"{rms / STANDARD_GRAVITY:.3g} g)", PlausibilityWarning, stacklevel=4)
 
 
 def _unit_key(units, prefix):
@@ -160,7 +194,12 @@ class Record:
                    else {name: name for name in ([channels] if isinstance(channels, str)
                                                  else channels)})
         rows = []
+        sources = {}
         for new, old in mapping.items():
+            if old in sources:       # one sensor read as two outputs: identical "channels"
+                raise DataError(f"{self._where()}channels must each be read once, got channel "
+                                f"{quote(old)} for both {quote(sources[old])} and {quote(new)}")
+            sources[old] = new
             if old not in self.channel_names:
                 raise DataError(f"{self._where()}channel {quote(old)} (for {quote(new)}) is "
                                 f"not in the record; its channels are "
@@ -393,8 +432,13 @@ def _assemble(source, channels, *, sample_rate=None, rate_source=None, time=None
     if time is not None and np.size(time) != np.size(first):
         raise DataError(f"{where(source)}has {np.size(time)} time stamps but {np.size(first)} "
                         "samples per channel")
-    data = convert_units(np.stack([np.asarray(s, dtype=float).ravel() for _, s, _ in channels]),
-                         units)
+    names = [n for n, _, _ in channels]
+    refuse_transposed(source, len(names), np.size(first))
+    raw = np.stack([np.asarray(s, dtype=float).ravel() for _, s, _ in channels])
+    _refuse_absurd_samples(source, names, raw)
+    if _unit_key(units, "") == "g":
+        _check_declared_g(source, names, raw)
+    data = convert_units(raw, units)
     return Record(data=data, sample_rate=rate, channel_names=[n for n, _, _ in channels],
                   start_time=start_time, source=str(source))
 

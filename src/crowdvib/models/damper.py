@@ -62,6 +62,7 @@ class TunedMassDamper:
         if self.lane is not None:
             object.__setattr__(self, "lane", check_non_negative("lane", self.lane, unit="m"))
         warn_if_implausible("damper_frequency", self.frequency, "frequency", stacklevel=3)
+        warn_if_implausible("damper_mass", self.mass, "mass", stacklevel=3)
 
     def stiffness(self) -> float:
         """k_d = m_d ω_d² [N/m]."""

@@ -12,9 +12,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._plausibility import warn_if_implausible
-from .._validation import check_damping_ratio, check_open_unit, check_positive
+from .._validation import check_damping_ratio, check_open_unit, check_positive, check_scalar
 
-__all__ = ["MSDModel", "transmissibility"]
+__all__ = ["MSDModel", "transmissibility", "MSD_DAMPING_LIMIT"]
+
+#: The MSD's damping ratio ξ_h1 must stay below this (fractions; walkers are over-damped at most
+#: a little): the estimator's bounds must too.
+MSD_DAMPING_LIMIT = 2.0
 
 
 def transmissibility(frequency_ratio: ArrayLike, damping_ratio: float) -> np.ndarray:
@@ -69,9 +73,12 @@ class MSDModel:
     mass_ratio: float = 0.95
 
     def __post_init__(self):
-        object.__setattr__(self, "frequency", check_positive("frequency", self.frequency, unit="Hz"))
-        object.__setattr__(self, "damping_ratio",
-                           check_damping_ratio("damping_ratio", self.damping_ratio, upper=2.0))
+        # One MSD: an array (several walkers' values) is refused, not broadcast through later.
+        object.__setattr__(self, "frequency", check_positive(
+            "frequency", check_scalar("frequency", self.frequency), unit="Hz"))
+        object.__setattr__(self, "damping_ratio", check_damping_ratio(
+            "damping_ratio", check_scalar("damping_ratio", self.damping_ratio),
+            upper=MSD_DAMPING_LIMIT))
         object.__setattr__(self, "mass_ratio", check_open_unit("mass_ratio", self.mass_ratio))
         # Above 15 Hz only (docs: theory, Plausible ranges): the estimator searches down to
         # 0.001 Hz and must stay quiet there; rad/s is the mix-up, and it lands high.

@@ -164,6 +164,11 @@ class CrowdProfile:
         list of str
             One sentence per doubt (empty: none).
         """
+        if self.time[0] >= duration:    # issue 35 §3: read as its first value, silently
+            return [f"crowd_profile times start at {self.time[0]:g} s, after the {duration:g} s "
+                    f"record ends: the table describes another stretch (its times on another "
+                    f"axis, or the record's time_frame?); the whole record gets its first "
+                    f"density {self.density[0]:g} persons/m²"]
         span = float(self.time[-1] - self.time[0])
         if self.time.size < 2 or not 0 < self.time[-1] <= duration / 30:
             return []

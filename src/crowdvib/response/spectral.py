@@ -24,7 +24,8 @@ from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
 from .._estimators import DEFAULT_CROWD_MODEL
-from .._validation import check_frequency_grid, check_non_negative, check_positive, check_type
+from .._validation import (check_frequency_grid, check_names, check_non_negative, check_optional,
+                           check_positive, check_type)
 from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.loading import as_force_model
@@ -130,10 +131,12 @@ class SpectralModel:
         self.frequency = check_frequency_grid(frequency)
         self.force = as_force_model(force)
         self.output_names = (structure.output_names if outputs is None
-                             else tuple([outputs] if isinstance(outputs, str) else outputs))
+                             else check_names("outputs", outputs))
         shapes = structure.output_shapes[structure.output_index(self.output_names)]
         self.welch_window_length = welch_window_length
-        self.lowpass = lowpass
+        from ..signals.welch import LowPassFilter
+
+        self.lowpass = check_optional("lowpass", lowpass, LowPassFilter)
         self.crossing_spread = check_non_negative("crossing_spread", crossing_spread, unit="Hz")
         self._psi = structure.influence_matrix(crowd.density)
         self._load_factor = psd_factor(self._psi)

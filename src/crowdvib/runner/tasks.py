@@ -331,6 +331,9 @@ def run_tasks(function, tasks, *, executor=None, store=None, progress=None, fiel
     if len(set(names)) != len(names):
         raise ParameterError("tasks must have unique names")
     if store is not None and not isinstance(store, TaskStore):
+        if not isinstance(store, (str, os.PathLike)):
+            raise ParameterError(f"store must be a folder (str or path), a TaskStore or None, "
+                                 f"got {type(store).__name__} {store!r}"[:200])
         store = TaskStore(store)
     memo = {}
     keyed = []                                   # (name, payload, key, parts)

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import check_positive
+from .._validation import check_fraction, check_optional, check_positive
 from ..errors import DataError, ParameterError
 from .conditioning import _as_signals
 from .welch import LowPassFilter, channel_names, segment_periodograms, welch_segment_count
@@ -127,7 +127,9 @@ def psd_convergence(signals: ArrayLike, sample_rate: float, *, window_length: fl
     if n_total < 1:
         raise DataError(f"record of {data.shape[1] / sample_rate:g} s is shorter than one window "
                         f"of {window_length:g} s")
-    if lowpass is not None:
+    check_fraction("overlap", overlap)
+    names = channel_names(output_names, data.shape[0])
+    if check_optional("lowpass", lowpass, LowPassFilter) is not None:
         data = lowpass.apply(data)
     names = channel_names(output_names, data.shape[0])
     # G_kT averages the first welch_segment_count(k·T) segment periodograms of the same

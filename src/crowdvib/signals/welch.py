@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal as _signal
 
-from .._validation import as_float_array, check_positive
+from .._validation import as_float_array, check_fraction, check_names, check_optional, check_positive
 from ..errors import DataError, ParameterError
 from .spectrum import ResponsePSD
 
@@ -134,7 +134,7 @@ def welch_segment_count(n_samples: int, segment_samples: int, overlap: float = 0
 def channel_names(output_names, n_channels):
     """The channels' names: ``output_names`` checked against the count, or ch0, ch1, …"""
     names = (tuple(f"ch{i}" for i in range(n_channels)) if output_names is None
-             else tuple(output_names))
+             else check_names("output_names", output_names, allow_one=False))
     if len(names) != n_channels:
         raise ParameterError(
             f"output_names must name every channel ({n_channels}), got {len(names)}")
@@ -145,8 +145,7 @@ def segment_periodograms(data, sample_rate, segment, overlap):
     """Frequencies [Hz] and the one-sided periodograms of every Welch segment, shape
     (n_channels, n_frequencies, n_segments): Hann window, constant detrend, density scaling,
     as ``scipy.signal.welch`` averages them."""
-    if not 0.0 <= overlap < 1.0:
-        raise ParameterError(f"overlap must lie in [0, 1), got {overlap!r}")
+    overlap = check_fraction("overlap", overlap)
     frequency, _, periodograms = _signal.spectrogram(
         data, fs=sample_rate, window="hann", nperseg=segment, noverlap=int(segment * overlap),
         detrend="constant", return_onesided=True, scaling="density", mode="psd", axis=-1)
@@ -226,7 +225,7 @@ def welch_psd(signals: ArrayLike, sample_rate: float, *, window_length: float,
             f"record of {data.shape[1] / sample_rate:g} s is shorter than one window of "
             f"{window_length:g} s")
     names = channel_names(output_names, data.shape[0])
-    if lowpass is not None:
+    if check_optional("lowpass", lowpass, LowPassFilter) is not None:
         if abs(lowpass.sample_rate - sample_rate) > 1e-9 * sample_rate:
             raise ParameterError(
                 f"lowpass.sample_rate must equal sample_rate {sample_rate:g} Hz, "

@@ -176,6 +176,9 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
         if progress is not None:
             progress((row + 1) * frequencies.size, cost.size)
     if estimate is not None and not isinstance(estimate, MSDModel):
+        if not isinstance(getattr(estimate, "msd", None), MSDModel):
+            raise ParameterError(f"estimate must be an MSDModel, an HSIEstimate or None, got "
+                                 f"{type(estimate).__name__}")
         estimate = estimate.msd
     return ObjectiveMap(frequencies=frequencies, damping_ratios=damping_ratios, cost=cost,
                         cost_no_hsi=objective.cost(None), mass_ratio=mass_ratio,

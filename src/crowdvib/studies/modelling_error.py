@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .._estimators import DEFAULT_METHOD
-from .._validation import as_float_array, check_positive
+from .._validation import as_float_array, check_mapping, check_positive
 from ..errors import BoundWarning, CrowdvibError, ParameterError
 from ..identification.estimation import estimate_hsi
 from ..runner.tasks import run_tasks
@@ -105,6 +105,7 @@ def error_cases(levels=None, *, joint=True, signs=(+1, -1)):
     Individual: each parameter at each level and sign. Joint: every parameter at the same level
     with every combination of signs (2⁵ per level), whose worst case is the joint bound.
     """
+    check_mapping("levels", levels, "a dict of parameter → error fractions")
     levels = dict(PAPER_ERROR_LEVELS if levels is None else levels)
     for name, values in levels.items():
         if name not in _STRUCTURE_PARAMETERS + _CROWD_PARAMETERS:

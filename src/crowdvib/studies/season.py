@@ -21,7 +21,7 @@ import warnings
 import numpy as np
 
 from .._plausibility import derived
-from ..errors import CrowdvibError, StudyWarning
+from ..errors import CrowdvibError, DataWarning, StudyWarning
 from ..identification.estimation import estimate_hsi_joint
 from ..models.crowd import Crowd
 from ..runner.tasks import run_tasks
@@ -285,6 +285,12 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
     """
     windows = list(windows)
     tasks = [(name, payload) for name, payload, _ in windows if payload is not None]
+    if windows and not tasks:        # issue 35 §3: ended with "no warnings"
+        reasons = sorted({str(info.get("skipped", "skipped")) for _, _, info in windows})
+        warnings.warn(f"no row of the season was estimated: all {len(windows)} row(s) were "
+                      f"skipped ({'; '.join(reasons)}); a crowd table whose counts or densities "
+                      "are all 0 holds no crowd: check its count/density column", DataWarning,
+                      stacklevel=2)
     results = run_tasks(function, tasks, executor=executor, store=store, progress=progress,
                         fields=_ROW_FIELDS, batch_size=batch_size)
     rows, done = [], []          # every row; the estimated ones the joint fit holds
