@@ -11,8 +11,8 @@ with the fluctuating crowd); ``paper``: the paper example's, the individual case
 parametric study (66 structures × 10 error cases, each ±ε, least squares).
 
 Per case and worker count: the estimations, the CPU time of this process and of its workers
-(``getrusage`` of self and psutil's samples of the workers: the load-independent cost on a shared
-machine; the workers' as last sampled every 0.5 s), the wall time, the speed-up over 1 worker, the load average before and after, and the
+(psutil's, the workers' as last sampled every 0.5 s: the load-independent cost on a shared
+machine), the wall time, the speed-up over 1 worker, the load average before and after, and the
 joint bounds (ε at the highest level) — the study's result — with the nominal estimate.
 
 ``--compare SRC`` first runs this script with ``PYTHONPATH=SRC`` (e.g. the source of a second
@@ -26,12 +26,9 @@ loads.
 """
 
 import argparse
-import contextlib
 import os
-import resource
 import subprocess
 import sys
-import threading
 import time
 import warnings
 from pathlib import Path
@@ -40,6 +37,8 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
                   "NUMBA_NUM_THREADS"):
     os.environ.setdefault(_variable, "1")
 
+from bench_season import _peak_rss  # noqa: E402  (this folder: the same CPU accounting)
+
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 FILES = {"eeklo": "eeklo_like.toml", "paper": "paper_example.toml"}
 #: A task is taken as hung after this long [s]: a shared machine's load stretches a task's wall
@@ -47,47 +46,6 @@ FILES = {"eeklo": "eeklo_like.toml", "paper": "paper_example.toml"}
 HUNG_AFTER = 3600.0
 TARGETS = {"eeklo": "<= 120 s CPU in all, 1 → 2 workers >= 1.8×", "paper": "<= 20 s CPU",
            "parametric": "<= 180 s wall on 2 workers"}
-
-
-def _cpu():
-    """CPU seconds of this process so far."""
-    own = resource.getrusage(resource.RUSAGE_SELF)
-    return own.ru_utime + own.ru_stime
-
-
-@contextlib.contextmanager
-def _descendants_cpu(every=0.5):
-    """CPU seconds of this process's descendants during the block, as last sampled every
-    ``every`` s (the local pool's workers are the fork server's children: getrusage of this
-    process's children does not see them). Yields a dict whose ``cpu`` is set on exit."""
-    import psutil
-
-    seen, done, result = {}, threading.Event(), {}
-    me = psutil.Process()
-
-    def sample():
-        while True:
-            for child in me.children(recursive=True):
-                with contextlib.suppress(psutil.Error):
-                    times = child.cpu_times()
-                    seen.setdefault(child.pid, [times.user + times.system, 0.0])[1] = \
-                        times.user + times.system
-            if done.wait(every):
-                return
-
-    before = {}
-    for child in me.children(recursive=True):
-        with contextlib.suppress(psutil.Error):
-            times = child.cpu_times()
-            before[child.pid] = times.user + times.system
-    thread = threading.Thread(target=sample, daemon=True)
-    thread.start()
-    try:
-        yield result
-    finally:
-        done.set()
-        thread.join()
-        result["cpu"] = sum(last - before.get(pid, 0.0) for pid, (_, last) in seen.items())
 
 
 def _load():
@@ -153,10 +111,12 @@ def main():
         joint = args.joint if name == "paper" else not args.no_joint
         first = None
         for workers in args.workers:
-            load, cpu, wall = _load(), _cpu(), time.perf_counter()
-            with _descendants_cpu() as workers_cpu:
+            load, wall = _load(), time.perf_counter()
+            # CPU of this process and of its descendants, the pool's workers as last sampled
+            # (they are the fork server's children: getrusage of this process misses them)
+            with _peak_rss(every=0.5) as used:
                 count, bound, nominal = _study(name, workers, joint, args.cold)
-            cpu, wall = _cpu() - cpu + workers_cpu["cpu"], time.perf_counter() - wall
+            cpu, wall = used["cpu"], time.perf_counter() - wall
             first = first or wall
             bounds = (f"{bound['frequency']:12.4f}{bound['damping_ratio']:12.4f}" if bound
                       else f"{'':24s}")
