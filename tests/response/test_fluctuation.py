@@ -150,3 +150,25 @@ def test_one_mode_crowd_factor_is_the_eigen_decompositions():
         assert psd_factor(psi).shape == expected.shape
         np.testing.assert_allclose(psd_factor(psi), expected, rtol=1e-15)
         np.testing.assert_allclose(psd_factor(psi) @ psd_factor(psi).T, psi, rtol=1e-15)
+
+
+def test_a_kept_occupancy_law_is_the_law_computed_afresh():
+    # occupancy_law keeps its last laws under (density, area weights, mode shape) (issue 39):
+    # a structure that differs in its frequencies, damping and masses only gets the same law,
+    # and it equals the computation without the cache (the reference: _occupancy_law).
+    from crowdvib import ModalModel
+    from crowdvib.response import fluctuation
+
+    bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+    other = bridge.replace(frequencies=bridge.frequencies * 1.05,
+                           modal_masses=bridge.modal_masses * 0.95)
+    kept = fluctuation.occupancy_law(bridge, 0.5, 0)
+    again = fluctuation.occupancy_law(other, 0.5, 0)
+    fresh = fluctuation._occupancy_law(other, 0.5, 0)
+    for a, b, c in zip(kept, again, fresh):
+        np.testing.assert_array_equal(a, c)
+        np.testing.assert_array_equal(b, c)
+    kept[1][:] = 0.0                       # the caller's copy: the kept law is untouched
+    assert fluctuation.occupancy_law(bridge, 0.5, 0)[1].sum() == pytest.approx(1.0)
+    denser = fluctuation.occupancy_law(bridge, 0.8, 0)
+    np.testing.assert_array_equal(denser[1], fluctuation._occupancy_law(bridge, 0.8, 0)[1])

@@ -104,3 +104,31 @@ def test_an_undamped_mode_falls_back_to_the_dense_rule():
         psd = model.psd_array(None)
         np.testing.assert_array_equal(psd, model._dense_welch_psd(()))
 
+
+
+@pytest.mark.parametrize("cross", [False, True])
+def test_kept_pole_terms_give_a_fresh_models_values(paper_bridge, paper_crowd, paper_msd,
+                                                     welch_grid, cross):
+    # A model for other step frequencies (_for_crowd) reuses the poles' terms its parent kept
+    # at the same MSD (issue 39): its PSD must be the one a model built afresh for that crowd
+    # computes (the reference: SpectralModel(structure, other crowd), empty caches).
+    import dataclasses
+
+    lowpass = LowPassFilter(cutoff=10.0, order=4, sample_rate=25.0)
+    options = dict(welch_window_length=60.0, lowpass=lowpass)
+    model = SpectralModel(paper_bridge, paper_crowd, welch_grid, **options)
+    other_crowd = dataclasses.replace(paper_crowd, step_frequency_mean=1.95,
+                                      step_frequency_std=0.2)
+    evaluate = "cross_psd_array" if cross else "psd_array"
+    getattr(model, evaluate)(paper_msd)                          # keeps the poles' terms
+    other = model._for_crowd(other_crowd)
+    assert other._expansions is model._expansions and other._expansions
+    fresh = SpectralModel(paper_bridge, other_crowd, welch_grid, **options)
+    np.testing.assert_allclose(getattr(other, evaluate)(paper_msd),
+                               getattr(fresh, evaluate)(paper_msd), rtol=1e-13, atol=0)
+    # another density is another attachment: not answered from the kept terms
+    denser = model._for_crowd(paper_crowd.with_density(0.8))
+    np.testing.assert_allclose(
+        getattr(denser, evaluate)(paper_msd),
+        getattr(SpectralModel(paper_bridge, paper_crowd.with_density(0.8), welch_grid,
+                              **options), evaluate)(paper_msd), rtol=1e-13, atol=0)

@@ -188,3 +188,15 @@ def test_spectral_dlf_moments_are_those_the_simulator_draws(reference):
     reference("mean-square DLFs of the spectral load (10 components, f_s = 1.89 Hz)", spectral,
               (amplitudes**2).mean(axis=0), rel=6e-3,
               source="Monte Carlo of 400 000 pedestrians drawn by the simulator's sampler")
+
+
+@pytest.mark.parametrize("cutoff, order, fs", [(10.0, 4, 25.0), (5.0, 4, 100.0), (2.3, 2, 50.0),
+                                               (10.0, 8, 50.0), (0.5, 1, 20.0)])
+def test_lowpass_power_gain_closed_form_equals_the_designed_filter(cutoff, order, fs):
+    # The closed-form |H|⁴ of LowPassFilter.power_gain (issue 39) against the reference it
+    # replaced: |sosfreqz(butter(...))|⁴ of the filter apply() runs, from 0 to beyond Nyquist.
+    lowpass = LowPassFilter(cutoff=cutoff, order=order, sample_rate=fs)
+    frequency = np.linspace(0.0, 0.75 * fs, 2001)
+    _, response = signal.sosfreqz(lowpass._sos(), worN=frequency, fs=fs)
+    np.testing.assert_allclose(lowpass.power_gain(frequency), np.abs(response) ** 4,
+                               rtol=1e-9, atol=1e-14)

@@ -143,6 +143,8 @@ class SpectralModel:
         self._shapes = shapes
         self._dampers = damper_attachments(structure, dampers)
         self._dense = None
+        # (MSD, cross, density, body mass) → the poles' terms of the Welch rule (_expected).
+        self._expansions: dict = {}
         if welch_window_length is None:
             self._welch = None
             self._grid = self._model_grid(self.frequency)
@@ -217,15 +219,31 @@ class SpectralModel:
         attached = self._attached(msd)
         if self._welch is None:
             return self._exact_psd(self._grid, attached, cross)
-        grid = self._welch.grid
-        probe = grid[np.unique(np.linspace(0, grid.size - 1, 5).astype(int))]
-        expansion = _pole_residue(self.structure, attached, self._load_factor, self._shapes,
-                                  probe)
-        # A nearly defective state matrix, or an undamped pole (ξ = 0 and no HSI: the closed
-        # form needs Re λ < 0): the dense rule instead.
-        if expansion is None or not np.all(expansion[0].real < 0):
+        # The poles and their unweighted power depend on the MSD and on the crowd's density
+        # and body mass, not on its step frequencies (the weight w only): kept for the models
+        # of other step frequencies (_for_crowd copies share them), whose evaluations at the
+        # same MSD — half the Jacobian of a fit of the step frequencies — then cost the weight
+        # alone. The same arithmetic: the values are those computed afresh.
+        crowd = self.crowd
+        key = (msd, cross, crowd.density, crowd.body_mass, crowd.body_mass_std)
+        terms = self._expansions.get(key)
+        if terms is None:
+            grid = self._welch.grid
+            probe = grid[np.unique(np.linspace(0, grid.size - 1, 5).astype(int))]
+            expansion = _pole_residue(self.structure, attached, self._load_factor,
+                                      self._shapes, probe)
+            # A nearly defective state matrix, or an undamped pole (ξ = 0 and no HSI: the
+            # closed form needs Re λ < 0): the dense rule instead (terms empty).
+            terms = ()
+            if expansion is not None and np.all(expansion[0].real < 0):
+                terms = (expansion[0],) + (self._welch.cross_terms(*expansion) if cross
+                                           else self._welch.power_terms(*expansion))
+            if len(self._expansions) >= _EXPANSION_MEMORY:
+                self._expansions.pop(next(iter(self._expansions)))      # the oldest
+            self._expansions[key] = terms
+        if not terms:
             return self._dense_welch_psd(attached, cross)
-        return self._welch.cross(*expansion) if cross else self._welch.psd(*expansion)
+        return self._welch.cross_from(*terms) if cross else self._welch.psd_from(*terms)
 
     def _exact_psd(self, grid, attached, cross=False):
         """The exact PSD (no Welch smoothing) on a model grid, shape (n_outputs, n_f), or the
@@ -278,6 +296,11 @@ def _state_matrix(mass, damping, stiffness):
     inverse_mass = np.linalg.inv(mass)
     return np.block([[np.zeros((size, size)), np.eye(size)],
                      [-inverse_mass @ stiffness, -inverse_mass @ damping]]), inverse_mass
+
+
+#: Pole expansions a model and its copies for other step frequencies keep (_expected): the
+#: nodes of a fluctuating mixture at the MSDs of one Jacobian with room to spare.
+_EXPANSION_MEMORY = 128
 
 
 # The modal expansion is checked against a direct solve at a few frequencies; beyond this

@@ -72,9 +72,17 @@ class LowPassFilter:
         frequency : array_like
             Frequencies [Hz].
         """
-        _, response = _signal.sosfreqz(self._sos(), worN=np.asarray(frequency, dtype=float),
-                                       fs=self.sample_rate)
-        return np.abs(response) ** 4
+        # The digital Butterworth filter of scipy.signal.butter is the analogue prototype at
+        # the pre-warped cut-off taken through the bilinear transform, so its gain is closed
+        # form (docs: theory, The low-pass filter model): |H|² = 1/(1 + (t/t_c)^2n) with
+        # t = tan(πf/f_s). It equals sosfreqz of _sos() to round-off (tests/signals/
+        # test_conventions.py) at a fraction of the cost of designing the filter again per call
+        # (a third of an estimate's time with a filter, issue 39).
+        frequency = np.asarray(frequency, dtype=float)
+        with np.errstate(over="ignore", divide="ignore"):
+            ratio = (np.tan(np.pi * np.mod(frequency, self.sample_rate) / self.sample_rate)
+                     / np.tan(np.pi * self.cutoff / self.sample_rate))
+            return 1.0 / (1.0 + ratio ** (2 * int(self.order))) ** 2
 
     def to_dict(self) -> dict[str, float]:
         """The filter settings as a JSON-ready dict."""
