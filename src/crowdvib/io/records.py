@@ -194,7 +194,7 @@ class Record:
                    else {name: name for name in ([channels] if isinstance(channels, str)
                                                  else channels)})
         rows = []
-        sources = {}
+        sources: dict[str, str] = {}
         for new, old in mapping.items():
             if old in sources:       # one sensor read as two outputs: identical "channels"
                 raise DataError(f"{self._where()}channels must each be read once, got channel "
