@@ -16,7 +16,7 @@ machine), the wall time, the speed-up over 1 worker, the load average before and
 joint bounds (ε at the highest level) — the study's result — with the nominal estimate.
 
 ``--compare SRC`` first runs this script with ``PYTHONPATH=SRC`` (e.g. the source of a second
-worktree at the commit before, ``git worktree add --detach /work/wt-speed-base main``) and prints
+worktree at the commit before, ``git worktree add --detach ../crowdvib-before main``) and prints
 its table as "before", then this tree's as "after": both on the same machine in one run.
 ``--cold``: every case from the estimator's own multistart (``warm_start=False``, where the
 study has it): the reference the warm-started bounds are compared with. Asserts nothing.

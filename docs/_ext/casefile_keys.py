@@ -27,7 +27,7 @@ AMBIENT_SECTIONS = {"read_ambient": {"root": "case"}, "_records": {"table": "rec
 KINDS = {"number": "number", "numbers": "number or list of numbers", "string": "string",
          "strings": "list of strings", "boolean": "boolean", "pair": "[lower, upper]",
          "file": "file path (relative to the TOML file)", "raw": "value (see rule)",
-         "table": "table"}
+         "table": "table", "count": "integer"}
 #: Rules the parser checks in code rather than in the accessor call (they take precedence).
 RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across lanes)",
          "measurement.channels": "a table output name = \"channel in file\"",

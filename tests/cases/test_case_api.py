@@ -89,10 +89,13 @@ def test_map_case_gives_what_crowdvib_map_writes(tmp_path):
 
 
 def test_study_options_leave_out_the_intervals():
-    # The sensitivity study compares point estimates (cli sensitivity): no interval options.
+    # The sensitivity study compares point estimates (cli sensitivity): no interval options
+    # (the density's uncertainty is one), and no pre-fit check of the level, which the study's
+    # nominal estimate makes once.
     case = load_case(EXAMPLES / "paper_example.toml")
     full, point = estimate_options(case), estimate_options(case, point_only=True)
-    assert set(full) - set(point) == {"interval", "level", "n_boot", "rng"}
+    assert set(full) - set(point) == {"interval", "level", "n_boot", "rng",
+                                      "density_uncertainty", "check_level"}
     assert full["rng"] == case.seed and point["band"] == case.estimation.band
 
 

@@ -60,8 +60,8 @@ def test_walkers_against_solve_ivp(traffic_class, frequency, reference):
 
 
 #: γ of a 2 Hz, ξ = 0.5 % simply supported beam of 50 m (δ = 0.031416, S_eff = 2L/(0.634π) =
-#: 50.207 m), bilinear on the two digitised figures (/work/shared/design/sources.md §4, from the
-#: DynSys tables): PD 6688-2:2011 Figure 2 (corrected) and Figure NA.9 as published.
+#: 50.207 m), bilinear on the two digitised figures (DynSys's tables, MEMAndersen/DynSys
+#: @5226de3): PD 6688-2:2011 Figure 2 (corrected) and Figure NA.9 as published.
 GAMMA_CORRECTED, GAMMA_NA9 = 0.26782, 0.19183
 #: DynSys (MEMAndersen/DynSys @5226de3, PD 6688-2 correction on, its default) walkers' peaks of
 #: that beam, empty bridge, classes A–D [m/s²] (issue 33 §1).

@@ -123,18 +123,19 @@ def test_bad_density_uncertainty_is_refused(measured, value):
 def test_a_case_file_states_the_density_uncertainty(tmp_path):
     from tests.conftest import copy_paper_case
     from crowdvib.io import load_case
+    from crowdvib._estimators import DEFAULT_DENSITY_UNCERTAINTY
 
     path = copy_paper_case(tmp_path)
     text = path.read_text()
-    assert "density = 0.5" in text
-    path.write_text(text.replace("density = 0.5", "density = 0.5\ndensity_uncertainty = 0.05",
-                                 1))
+    stated = "density_uncertainty = 0.0"     # examples/paper_example.toml: a simulated record
+    assert stated in text
+    assert load_case(path).estimation.density_uncertainty == 0.0
+    path.write_text(text.replace(stated, "density_uncertainty = 0.05", 1))
     assert load_case(path).estimation.density_uncertainty == 0.05
-    path.write_text(text)
     # Not stated: the estimator's default (crowdvib._estimators).
-    from crowdvib._estimators import DEFAULT_DENSITY_UNCERTAINTY
+    path.write_text(text.replace(stated, "", 1))
     assert load_case(path).estimation.density_uncertainty == DEFAULT_DENSITY_UNCERTAINTY
-    path.write_text(text.replace("density = 0.5", "density = 0.5\ndensity_uncertainty = 10", 1))
+    path.write_text(text.replace(stated, "density_uncertainty = 10", 1))
     with pytest.raises(ParameterError, match=r"crowd\.density_uncertainty must be .*got 10"):
         load_case(path)
 

@@ -83,6 +83,14 @@ TOLERANCE = 1e-8 if SAME_LIBRARIES else 1e-5
 REFIT_FROM_OPTIMUM = 2e-6
 
 
+#: Issue 39 reordered the fluctuating model's arithmetic (the parent's pole terms kept for other
+#: step frequencies, the occupancy law computed once, the low-pass gain in closed form): the
+#: optimiser then stops elsewhere within its tolerance, 1.6e-6 relative at most on these rows
+#: (measured), and the covariance's finite differences move by 1.1e-7; those rows are held to
+#: 2e-6 and their evaluation count is not compared.
+REORDERED = 2e-6
+
+
 def _close(actual, expected, tolerance=TOLERANCE):
     # Round-off of a changed operation order only: ``tolerance`` of the largest entry.
     expected = np.asarray(expected, dtype=float)
@@ -96,14 +104,17 @@ def test_estimate_reproduces_the_recorded_numbers(measured, key):
     # Reference: the same call on commit 89c377c (RECORDED).
     expected, estimate = RECORDED[key], _run(measured, key)
     refit = key.startswith("likelihood") and "/True/" in key
-    tolerance = max(TOLERANCE, REFIT_FROM_OPTIMUM) if refit else TOLERANCE
+    reordered = "/fluctuating/" in key
+    tolerance = max(TOLERANCE, REFIT_FROM_OPTIMUM if refit else 0.0,
+                    REORDERED if reordered else 0.0)
     theta = [estimate.msd.frequency, estimate.msd.damping_ratio]
     if estimate.crowd is not None:
         theta += [estimate.crowd.step_frequency_mean, estimate.crowd.step_frequency_std]
     _close(theta, expected["theta"], tolerance)
     _close([estimate.cost, estimate.cost_no_hsi], [expected["cost"], expected["cost_no_hsi"]],
            tolerance)
-    assert estimate.n_evaluations == expected["n_evaluations"] or not SAME_LIBRARIES or refit
+    assert (estimate.n_evaluations == expected["n_evaluations"] or not SAME_LIBRARIES or refit
+            or reordered)
     _close(estimate.level_ratio, expected["level_ratio"], tolerance)
     _close(np.asarray(estimate.covariance).ravel(), expected["covariance"], tolerance)
     # Since issue 25 the profile covers the MSD's parameters; fitted step frequencies keep

@@ -35,10 +35,11 @@ def _fit(record, method, crowd_model):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)
         # Wald intervals (sandwich covariance): the profiles are not the point here; the crowd
-        # models are compared at the crowd as given (the step frequencies held).
+        # models are compared at the crowd as given (the step frequencies held), whose density
+        # is exact (simulated): the intervals are the record's scatter alone.
         return estimate_hsi(measured, bridge, crowd, band=(0.0, 6.0), method=method,
                             crowd_model=crowd_model, interval="wald",
-                            free_step_frequencies=False)
+                            free_step_frequencies=False, density_uncertainty=0.0)
 
 
 def test_this_bridge_gets_the_mixture_alone(small_bridge_record):

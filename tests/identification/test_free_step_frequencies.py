@@ -40,7 +40,9 @@ def measured():
 def _estimate(measured, crowd, **options):
     # The record holds the smeared model's PSD: the likelihood fits that model, with the step
     # frequencies held unless the test frees them.
-    options = dict(dict(crowd_model="smeared", free_step_frequencies=False), **options)
+    # The records' density is exact (simulated): their intervals are the Welch scatter's alone.
+    options = dict(dict(crowd_model="smeared", free_step_frequencies=False,
+                        density_uncertainty=0.0), **options)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)
         return estimate_hsi(measured, BRIDGE, crowd, band=(0.0, 10.0), method="likelihood",

@@ -48,7 +48,9 @@ def _estimate(measured, bridge, crowd, **options):
     # The records hold the smeared model's PSD at the true crowd: each estimator fits that model
     # with the crowd held (the default's fluctuating model and fitted step frequencies are
     # calibrated on simulated records: accuracy/intervals.py, docs: theory, Calibration).
-    options = dict(dict(crowd_model="smeared", free_step_frequencies=False), **options)
+    # The records' density is exact (made by the test): the intervals are the Welch scatter's.
+    options = dict(dict(crowd_model="smeared", free_step_frequencies=False,
+                        density_uncertainty=0.0), **options)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)
         return estimate_hsi(measured, bridge, crowd, band=(0.0, 10.0), **options)
@@ -173,7 +175,8 @@ def test_joint_fit_of_two_densities_is_narrower_and_covers_the_truth():
     alone = [_estimate_band(r, case.structure, c) for r, c in zip(records, crowds)]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)
-        joint = estimate_hsi_joint(records, case.structure, crowds, band=(2.5, 8.0))
+        joint = estimate_hsi_joint(records, case.structure, crowds, band=(2.5, 8.0),
+                                   density_uncertainty=0.0)
     assert joint.output_names == ("record 1: main_span", "record 2: main_span")
     for name in TRUTH:
         low, high = joint.interval(name)
@@ -185,4 +188,5 @@ def _estimate_band(measured, structure, crowd):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BoundWarning)
         # The joint fit's own estimator (the paper's least squares), for a like comparison.
-        return estimate_hsi(measured, structure, crowd, band=(2.5, 8.0), method="least_squares")
+        return estimate_hsi(measured, structure, crowd, band=(2.5, 8.0), method="least_squares",
+                            density_uncertainty=0.0)

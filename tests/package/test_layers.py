@@ -24,9 +24,10 @@ The layer order, lowest first; a module may import its own layer and the layers 
 9. ``oma``: the empty bridge's modes from ambient records (its cross-check states its errors at
    the studies' paper levels)
 10. ``design``: the code checks and the damper design
-11. ``cases``: what a case file describes, run from Python (the commands' pipelines: it reads
+11. ``_manifest``: a results directory's manifest (it reads the runner's task files; a case
+    verifies another run's results.json against it before use)
+12. ``cases``: what a case file describes, run from Python (the commands' pipelines: it reads
     with ``io`` and computes with the layers below it, so each command only prints and writes)
-12. ``_manifest``: a results directory's manifest (it reads the runner's task files)
 13. ``reporting``: figures and the HTML report
 14. ``runs``: the commands as calls (a case's work, its figures and report in a results folder
     written safely), so each command is argument parsing, one call and printing
@@ -43,12 +44,12 @@ PACKAGE = "crowdvib"
 
 BASE = ("crowdvib.errors", "crowdvib._validation", "crowdvib._plausibility", "crowdvib._files",
         "crowdvib._threads", "crowdvib._typing", "crowdvib._version", "crowdvib._figures",
-        "crowdvib.quantities", "crowdvib._estimators")
+        "crowdvib.quantities", "crowdvib._estimators", "crowdvib._memory", "crowdvib._terminal")
 #: Lowest first; each entry is the set of units (subpackages or top-level modules) of one layer.
 LAYERS = (BASE, ("crowdvib.models",), ("crowdvib.signals",), ("crowdvib.io",),
           ("crowdvib.response",), ("crowdvib.runner",), ("crowdvib.identification",),
-          ("crowdvib.studies",), ("crowdvib.oma",), ("crowdvib.design",),
-          ("crowdvib.cases",), ("crowdvib._manifest",), ("crowdvib.reporting",), ("crowdvib.runs",),
+          ("crowdvib.studies",), ("crowdvib.oma",), ("crowdvib.design",), ("crowdvib._manifest",),
+          ("crowdvib.cases",), ("crowdvib.reporting",), ("crowdvib.runs",),
           ("crowdvib.cli",),
           ("crowdvib", "crowdvib.__main__"))
 

@@ -66,7 +66,9 @@ def test_resume_after_editing_the_case_answers_for_the_new_inputs(tmp_path, caps
     resumed = _results(out)
     err = capsys.readouterr().err
     assert "inputs changed since the study began (" in err
-    assert "21 of 21 tasks will be recomputed" in err
+    # Every stored task is recomputed; a warm-started study (issue 39) runs its nominal first,
+    # so the first warning counts that phase's tasks ("1 of 1"), not the study's 21.
+    assert re.search(r"\b(\d+) of \1 tasks will be recomputed", err), err
     assert "crowd.density" in err and "options.band" in err       # it names what differs
     # The new inputs' answer, its verdict and exit status (0, or 3 if it doubts) included.
     assert main(["sensitivity", str(case), "--out", str(tmp_path / "fresh"), *CHEAP]) == status

@@ -132,7 +132,8 @@ def demo_case(*, duration: float = 3600.0, seed: int = 20230101, spectral: bool 
     from ..identification.estimation import estimate_hsi
     from ..models.examples import paper_example
     from ..response.simulation import simulate
-    from ..response.spectral import effective_modal_properties, response_psd
+    from ..response.fluctuation import response_psd
+    from ..response.spectral import effective_modal_properties
     from ..signals import LowPassFilter, synthetic_welch_psd, welch_psd, welch_segment_count
 
     case = paper_example()

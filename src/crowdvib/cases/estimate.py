@@ -274,7 +274,8 @@ def estimate_options(case, *, point_only: bool = False) -> dict:
         walking-force model and its seed.
     point_only : bool
         Leave out the interval options (``interval``, ``level``, ``n_boot``, ``rng``,
-        ``density_uncertainty``): for the studies, which compare point estimates.
+        ``density_uncertainty``) and ``check_level``: for the studies, which compare point
+        estimates (their nominal estimate, made with every option, checks the level once).
 
     Returns
     -------

@@ -1,18 +1,18 @@
 """The forward models: what the bridge does under its crowd.
 
 ``spectral`` (frequency domain: FRFs, occupied modal properties, the acceleration PSD with HSI),
-``fluctuation`` (the expected PSD of a Poisson crowd whose occupancy fluctuates),
+``fluctuation`` (the expected PSD of a Poisson crowd whose occupancy fluctuates, and
+``response_psd``, which makes either model's),
 ``varying`` (the expected Welch PSD of a record whose crowd's density changes),
 and ``simulation`` (time-domain Monte Carlo with moving pedestrians; its compiled kernel is
 ``_kernels``); their results are in ``results``.
 """
 
 from .batch import simulate_many
-from .fluctuation import FluctuatingSpectralModel
+from .fluctuation import FluctuatingSpectralModel, response_psd
 from .results import FRF, EffectiveModalProperties, Simulation, SimulationPSD
 from .simulation import simulate, simulate_psd
-from .spectral import (SpectralModel, effective_modal_properties, frf, modal_accelerance,
-                       response_psd)
+from .spectral import SpectralModel, effective_modal_properties, frf, modal_accelerance
 from .traffic import Pedestrian, generate_traffic
 from .varying import VaryingCrowdModel, varying_response_psd
 

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._estimators import DEFAULT_CROWD_MODEL
 from .._validation import check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
@@ -36,10 +37,10 @@ from ..signals import ResponsePSD
 from ._crossing import crossing_spread
 from ._modulation import (OccupancyPath, drift_parameters, modulation_correction,
                           occupancy_rate_variance)
-from .spectral import SpectralModel
+from .spectral import SpectralModel, _check_models
 
 __all__ = ["FluctuatingSpectralModel", "occupancy_quadrature", "occupancy_cumulants",
-           "occupancy_law", "dominant_mode", "spectral_model", "CROWD_MODELS"]
+           "occupancy_law", "dominant_mode", "spectral_model", "CROWD_MODELS", "response_psd"]
 
 #: Expected-PSD models of the crowd: the mean crowd, or the mixture over its occupancy.
 CROWD_MODELS = ("smeared", "fluctuating")
@@ -441,3 +442,89 @@ def spectral_model(structure: ModalModel, crowd: Crowd, frequency, *,
     if crowd_model == "smeared":
         return SpectralModel(structure, crowd, frequency, **options)
     return FluctuatingSpectralModel(structure, crowd, frequency, **options)
+
+
+def response_psd(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
+                 msd: MSDModel | None = None, force: ForceModel | None = None,
+                 outputs: str | Sequence[str] | None = None,
+                 welch_window_length: float | None = None, lowpass: LowPassFilter | None = None,
+                 dampers: Sequence[TunedMassDamper] | None = None,
+                 crowd_model: str = DEFAULT_CROWD_MODEL) -> ResponsePSD:
+    """One-sided acceleration PSD at the outputs of a crowd-loaded footbridge (docs: theory, Response PSD with HSI).
+
+    G_ü(f) = ω⁴ Φ_o H(ω) G_QQ(f) H(ω)ᴴ Φ_oᵀ with the occupied receptance H (HSI, when ``msd`` is
+    given) or the empty one (crowd as moving forces only, ``msd=None``): the smeared crowd's
+    PSD, or by default its expectation over a Poisson crowd's fluctuating occupancy, the model
+    the default estimator fits (``crowd_model``).
+
+    Parameters
+    ----------
+    structure : ModalModel
+        The empty footbridge.
+    crowd : Crowd
+        Density, walking speed, step-frequency distribution and body mass.
+    frequency : array_like
+        Frequencies [Hz], increasing, >= 0.
+    msd : MSDModel, optional
+        The pedestrians' mass-spring-damper model; None = no HSI.
+    force : ZivanovicForce, YoungForce or any models.loading.ForceModel, optional
+        Walking force model (default Živanović 2007; docs: theory, Your own model).
+    outputs : sequence of str, optional
+        Output names (default all).
+    welch_window_length : float, optional
+        Return the expectation of a Hann-window Welch estimate with segments of T [s] instead of
+        the exact PSD (docs: theory, What a Welch estimate sees: the expectation kernel).
+    lowpass : LowPassFilter, optional
+        Zero-phase low-pass filter applied to the signal (PSD × |H_LP|⁴).
+    dampers : sequence of TunedMassDamper, optional
+        Tuned mass dampers fixed to the deck.
+    crowd_model : {"fluctuating", "smeared"}
+        The expected PSD of a Poisson crowd, the mixture over its fluctuating occupancy with
+        the crossing-smoothed load (:class:`~crowdvib.response.FluctuatingSpectralModel`; docs:
+        theory, The fluctuating crowd), or the paper's smeared mean crowd
+        (:class:`SpectralModel`). The default is the one of :func:`crowdvib.estimate_hsi`
+        (``crowdvib._estimators.DEFAULT_CROWD_MODEL``, the fluctuating crowd): a noise-free PSD
+        made here with ``welch_window_length`` is what the default estimate recovers exactly.
+        ``"smeared"`` is the paper's forward model, which the paper's estimator
+        (``method="least_squares"``) fits.
+
+    See Also
+    --------
+    crowdvib.simulate : the same crowd in the time domain.
+    crowdvib.frf : the occupied structure's FRFs.
+    crowdvib.welch_psd : the measured counterpart.
+    crowdvib.estimate_hsi : the inverse problem.
+
+    References
+    ----------
+    K. Van Nimmen and P. Van den Broeck, "Using full-scale observations on footbridges to estimate
+    the parameters governing human–structure interaction", *Journal of Bridge Engineering* 28(1),
+    2023. The spectral model with HSI.
+
+    K. Van Nimmen, P. Van den Broeck, G. Lombaert and F. Tubino, "Pedestrian-induced vibrations of
+    footbridges: an extended spectral approach", *Journal of Bridge Engineering*, 2020. The spectral
+    load model.
+
+    S. Živanović, A. Pavić and P. Reynolds, "Probability-based prediction of multi-mode vibration
+    response to walking excitation", *Engineering Structures* 29(6):942–954, 2007. The walking force
+    (default).
+
+    J. S. Bendat and A. G. Piersol, *Random Data: Analysis and Measurement Procedures*, 4th ed.,
+    Wiley, 2010. The PSD of a linear system's response.
+
+    The theory pages cite them (docs: theory, References).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from crowdvib import Crowd, MSDModel, ModalModel, response_psd
+    >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+    >>> psd = response_psd(bridge, Crowd.from_density(0.5), np.arange(1, 601) / 60, msd=MSDModel())
+    >>> round(float(psd.peak_frequency()[0]), 2)
+    1.93
+    """
+    _check_models(structure, crowd, msd, crowd_required=True)
+    model = spectral_model(structure, crowd, frequency, crowd_model=crowd_model, force=force,
+                           outputs=outputs, welch_window_length=welch_window_length,
+                           lowpass=lowpass, dampers=dampers)
+    return model.psd(msd)

@@ -368,7 +368,7 @@ def write_synthetic_season(folder, structure, crowd, msd, *, densities, duration
 
     from ..io.records import Record, write_record
     from ..response.simulation import simulate as simulate_record
-    from ..response.spectral import response_psd
+    from ..response.fluctuation import response_psd
     from ..signals.synthesis import gaussian_record, record_frequencies
 
     folder = Path(folder)
