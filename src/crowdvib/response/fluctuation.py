@@ -21,7 +21,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -38,6 +38,11 @@ from ._crossing import crossing_spread
 from ._modulation import (OccupancyPath, drift_parameters, modulation_correction,
                           occupancy_rate_variance)
 from .spectral import SpectralModel, _check_models
+
+if TYPE_CHECKING:
+    from .._typing import ForceModel
+    from ..models.damper import TunedMassDamper
+    from ..signals.welch import LowPassFilter
 
 __all__ = ["FluctuatingSpectralModel", "occupancy_quadrature", "occupancy_cumulants",
            "occupancy_law", "dominant_mode", "spectral_model", "CROWD_MODELS", "response_psd"]
