@@ -106,7 +106,8 @@ def _generate(app):
     root = Path(app.srcdir).parent
     with tempfile.TemporaryDirectory() as scratch:
         record = Path(scratch) / "validation.json"
-        command = [sys.executable, "-m", "pytest", "-q", "-m", "reference", "-p",
+        # One process (-n 0): the records are gathered in the process that writes them.
+        command = [sys.executable, "-m", "pytest", "-q", "-n", "0", "-m", "reference", "-p",
                    "no:cacheprovider", f"--validation-json={record}",
                    *(str(root / path) for path in PATHS)]
         done = subprocess.run(command, cwd=root, capture_output=True, text=True, check=False)
