@@ -10,28 +10,26 @@ r_{l,k} = sqrt(γ_l w_k) (G̃_l(f_k) − G_l(f_k; θ)) / ‖G̃_l‖₂ has Σ r
 from __future__ import annotations
 
 import dataclasses
-import logging
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import least_squares
 
 from .._estimators import (DEFAULT_DENSITY_UNCERTAINTY, DEFAULT_JOINT_METHOD, DEFAULT_METHOD,
                            check_density_uncertainty, estimator_defaults)
 from .._plausibility import far_outside, warn_notes
-from .._validation import as_float_array, check_flag, check_mapping
-from ..errors import BoundWarning, EstimationError, ParameterError
-from ..models.pedestrian import MSD_DAMPING_LIMIT, MSDModel
+from .._validation import check_flag
+from ..errors import ParameterError
+from ..models.pedestrian import MSDModel
 from ..models.profile import CrowdProfile
-from .bootstrap import bootstrap_estimates, percentile_interval
 from .diagnostics import _check_identifiability, _check_level, _diagnose, _refuse_gross_level
 from ..response.varying import record_duration
 from .objective import PSDObjective
 from .result import HSIEstimate
-from .uncertainty import profile_interval, sandwich_covariance
+from .multistart import DEFAULT_STARTS, _merge_bounds, _multistart, _starting_points
+from .sandwich import STEP_PARAMETERS, _covariance, _DensityTerm, _intervals
 
 if TYPE_CHECKING:
     from .._typing import ForceModel, Seed
@@ -45,11 +43,7 @@ if TYPE_CHECKING:
 __all__ = ["estimate_hsi", "estimate_hsi_joint", "HSIEstimate", "PSDObjective", "DEFAULT_STARTS",
            "DEFAULT_BOUNDS"]
 
-logger = logging.getLogger(__name__)
 
-#: Starting points (f_h1 [Hz], ξ_h1 [-]) spread over the feasible region
-#: (docs: theory, Inverse problem).
-DEFAULT_STARTS = ((1.5, 0.6), (5.0, 0.15), (2.2, 0.2), (4.0, 0.7))
 #: Search bounds: f_h1 ≤ 10 Hz and ξ_h1 ≤ 100 % as in the paper; small positive lower bounds
 #: stand for the strict inequalities f_h1 > 0, ξ_h1 > 0, 0 < μ_h1 < 1 (paper Eq. 5).
 DEFAULT_BOUNDS = {"frequency": (1e-3, 10.0), "damping_ratio": (1e-3, 1.0),
@@ -59,7 +53,6 @@ _PARAMETERS = ("frequency", "damping_ratio", "mass_ratio")
 #: 0.01 Hz or above 0.6 Hz is not a crowd (the paper's values are 0.13–0.19 Hz).
 DEFAULT_STEP_FREQUENCY_BOUNDS = {"step_frequency_mean": (1.0, 3.0),
                                  "step_frequency_std": (0.01, 0.6)}
-STEP_PARAMETERS = ("step_frequency_mean", "step_frequency_std")
 
 
 def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
@@ -560,212 +553,3 @@ def _adopt_fitted_crowd(parts, parameters, theta):
     if steps is None:
         return parts
     return [(objective.with_step_frequencies(steps), measured) for objective, measured in parts]
-
-
-@dataclasses.dataclass(frozen=True)
-class _DensityTerm:
-    """The stated density's share of the sandwich (docs: theory, The crowd density's
-    uncertainty): its relative standard uncertainty u, the score's move per unit of ln n summed
-    over the records (one error common to all), and H⁻¹ (None without a covariance)."""
-
-    uncertainty: float
-    shift: np.ndarray | None
-    inverse: np.ndarray | None
-
-    @property
-    def variance(self):
-        """u² s sᵀ: the score variance a density error of relative s.d. u adds."""
-        return self.uncertainty**2 * np.outer(self.shift, self.shift)
-
-    def sensitivities(self, names):
-        """Parameter → ∂θ̂/∂ln ρ_stated = H⁻¹ s: the estimate's move per unit of the stated
-        density's log (×0.1: the move for a density stated 10 % high)."""
-        if self.shift is None:
-            return {}
-        return dict(zip(names, (float(v) for v in self.inverse @ self.shift)))
-
-    def shares(self, names, covariance):
-        """Parameter → the fraction of its sandwich variance that the density's uncertainty makes."""
-        if self.shift is None or not self.uncertainty > 0:
-            return {}
-        part = np.diag(self.inverse @ self.variance @ self.inverse)
-        return {name: float(p / c) if c > 0 else 0.0
-                for name, p, c in zip(names, part, np.diag(covariance))}
-
-
-def _covariance(parts, parameters, theta, density_uncertainty):
-    """Sandwich covariance of θ̂ (independent records: information adds) → (covariance,
-    expected Hessian, per-record crowd-size terms, the stated density's term) (docs: theory,
-    Sandwich covariance; The crowd density's uncertainty).
-
-    A record's crowd size varies on its own (Poisson: relative variance 1/N); the stated density
-    is wrong by one relative error ε ~ N(0, u²) for every record, so its score moves, Σ_r s_r,
-    add before they are squared."""
-    msd = parameters.msd(theta)
-    variance, hessian, occupancies, shift = 0.0, 0.0, [], 0.0
-    for objective, measured in parts:
-        gradient = _model_gradient(objective, theta, parameters.state, parameters.lower,
-                                   parameters.upper)
-        occupancies.append(_occupancy(objective, msd, measured))
-        part, curvature, move = objective.information(objective.modelled(msd), gradient,
-                                                      occupancies[-1])
-        variance, hessian = variance + part, hessian + curvature
-        if move is not None:
-            shift = shift + move
-    inverse = np.linalg.pinv(hessian)
-    density = _DensityTerm(density_uncertainty, None if np.isscalar(shift) else shift, inverse)
-    if density.shift is not None:
-        variance = variance + density.variance
-    return sandwich_covariance(variance, hessian), hessian, occupancies, density
-
-
-def _intervals(interval, parts, stacked, parameters, theta, covariance, hessian, occupancies,
-               level, n_boot, rng, density, active=()):
-    """The intervals the covariance allows → (name → (low, high), ends on a bound, bootstrap
-    samples or None); none without a covariance or for ``interval`` "wald" or None.
-
-    A parameter whose estimate sits on a search bound (``active``: "name:side") gets no profile
-    interval but NaN ends and a BoundWarning: its profile runs along the bound for minutes and
-    says only that the data do not bound it there (issue 35 §2)."""
-    intervals, on_bound, samples = {}, (), None
-    if covariance is None:
-        return intervals, on_bound, samples
-    names, lower, upper = parameters.names, parameters.lower, parameters.upper
-    if interval == "bootstrap":
-        samples = bootstrap_estimates(parts, theta, parameters.state, lower, upper, occupancies,
-                                      n_boot, np.random.default_rng(rng),
-                                      density_uncertainty=density.uncertainty)
-        intervals = {name: percentile_interval(samples[:, i], level)
-                     for i, name in enumerate(names)}
-    if interval == "profile":
-        # The MSD's parameters are profiled; the step frequencies (fitted with the MSD, not the
-        # answer sought) keep their Wald interval, half the profile's cost when they are free.
-        ends, stuck = [], [side for side in active if side.split(":")[0] not in STEP_PARAMETERS]
-        for i, name in enumerate(names):
-            if name in STEP_PARAMETERS:
-                continue
-            if any(side.startswith(f"{name}:") for side in stuck):
-                intervals[name] = (np.nan, np.nan)
-                continue
-            intervals[name], hit = profile_interval(
-                lambda values: parameters.misfit(stacked, values), theta, i, lower, upper,
-                covariance, hessian, level)
-            ends += [f"{name}:{side}" for side, h in zip(("lower", "upper"), hit) if h]
-        on_bound = tuple(ends + stuck)
-        if stuck:
-            warnings.warn(f"no {level:.0%} interval for {', '.join(stuck)} (NaN ends): the "
-                          "estimate sits on that search bound, where the data do not bound it; "
-                          "check the inputs or widen the bounds", BoundWarning, stacklevel=4)
-        if ends:
-            warnings.warn(f"the {level:.0%} interval reaches a search bound "
-                          f"({', '.join(ends)}): the data do not bound the parameter "
-                          "there; widen the bounds or add data", BoundWarning, stacklevel=4)
-    return intervals, on_bound, samples
-
-
-def _occupancy(objective, msd, measured):
-    """∂G/∂ln n and the relative variance 1/N of the crowd size a record averages over.
-
-    Poisson arrivals: the record's time-average of the crowd influence Σ φ²(x_k(t)) counts the N
-    pedestrians who crossed during it, so its relative variance is 1/N (Campbell's theorem for
-    a record much longer than a crossing), N = d·v·B·T for a flow of density d at speed v over a
-    walkway of width B (docs: theory, uncertainty). The record length T follows from the Welch
-    segments at 50 % overlap.
-    """
-    crowd = objective.model.crowd
-    duration = measured.window_length * (1 + 0.5 * (objective.n_windows - 1))
-    crossings = crowd.arrival_rate(objective.model.structure.width) * duration
-    if not crossings > 0:
-        return None
-    step = 1e-3
-    up = objective.spectral_model(crowd.with_density(crowd.density * (1 + step)))
-    down = objective.spectral_model(crowd.with_density(crowd.density * (1 - step)))
-    gradient = (objective.modelled(msd, model=up)
-                - objective.modelled(msd, model=down)) / (2 * step)
-    return gradient, 1.0 / crossings
-
-
-def _model_gradient(objective, theta, state, lower, upper):
-    """∂G/∂θ at θ by central differences (one-sided at a bound), shape (L, K, n_parameters)."""
-    columns = []
-    for i in range(theta.size):
-        step = 1e-5 * max(abs(theta[i]), 1e-2)
-        up, down = theta.copy(), theta.copy()
-        up[i] = min(theta[i] + step, upper[i])
-        down[i] = max(theta[i] - step, lower[i])
-        (msd_up, steps_up), (msd_down, steps_down) = state(up), state(down)
-        columns.append((objective.modelled(msd_up, steps=steps_up)
-                        - objective.modelled(msd_down, steps=steps_down)) / (up[i] - down[i]))
-    return np.stack(columns, axis=-1)
-
-
-def _merge_bounds(bounds, defaults):
-    """The default bounds updated by the user's, each checked: 0 < lower < upper."""
-    limits = dict(defaults)
-    check_mapping("bounds", bounds, "a dict of parameter → (lower, upper)")
-    for key, value in (bounds or {}).items():
-        if key not in defaults:
-            raise ParameterError(f"bounds keys must be among {list(defaults)}, got {key!r}")
-        try:
-            low, high = (float(v) for v in value)
-        except (TypeError, ValueError):
-            raise ParameterError(f"bounds[{key!r}] must be a pair (lower, upper), got {value!r}")
-        if not 0 < low < high:
-            raise ParameterError(f"bounds[{key!r}] must satisfy 0 < lower < upper, got {value!r}")
-        if key == "damping_ratio" and high >= MSD_DAMPING_LIMIT:
-            raise ParameterError(
-                f"bounds['damping_ratio'] must stay below {MSD_DAMPING_LIMIT:g}, the MSD's own "
-                f"limit (fractions, not percent), got {value!r}")
-        limits[key] = (low, high)
-    return limits
-
-
-def _multistart(residuals, points, lower, upper, *, records=1):
-    """Bounded trust-region least squares from every start → (best result, runs).
-
-    ``runs`` holds (result, start, forward-model evaluations) per start: the calls of
-    ``residuals`` times the ``records`` each call evaluates.
-    """
-    runs = []
-    for start in points:
-        calls = [0]
-
-        def counted(theta):
-            calls[0] += 1
-            return residuals(theta)
-
-        try:
-            result = least_squares(counted, start, method="trf", bounds=(lower, upper),
-                                   x_scale="jac")
-        except ValueError as exc:  # non-finite residuals
-            raise EstimationError(f"objective could not be evaluated from start {start}: {exc}")
-        runs.append((result, start, calls[0] * records))
-        logger.info("start %s -> %s, J = %.4g", start, result.x, 2 * result.cost)
-    best, _, _ = min(runs, key=lambda run: run[0].cost)
-    return best, runs
-
-
-def _starting_points(starts, names, tail, lower, upper):
-    """Starting points as arrays strictly inside the bounds (trf needs interior points).
-
-    A start shorter than ``names`` is completed from ``tail`` (name → value: the held μ_h1,
-    the crowd's step frequencies), so that (f_h1, ξ_h1) starts serve every parametrisation.
-    """
-    if starts is None:
-        starts = DEFAULT_STARTS
-    points = []
-    for start in starts:
-        start = as_float_array("starts", start, ndim=1)
-        if start.size == 3 and tail is not None and "mass_ratio" not in names:
-            raise ParameterError(f"starts must hold (f_h1, ξ_h1) with μ_h1 held fixed, got "
-                                 f"{start.tolist()}")
-        if 2 <= start.size < len(names) and tail is not None:
-            start = np.append(start, [tail[name] for name in names[start.size:]])
-        if start.size != len(names):
-            raise ParameterError(
-                f"starts must hold {len(names)} values {names}, got {start.tolist()}")
-        margin = 1e-3 * (upper - lower)
-        points.append(np.clip(start, lower + margin, upper - margin))
-    if not points:
-        raise ParameterError("starts must hold at least one starting point")
-    return points

@@ -15,8 +15,9 @@ from .._validation import check_positive
 from ..errors import ParameterError
 from ..signals.spectrum import ResponsePSD
 from .diagnostics import _diagnose
-from .estimation import (DEFAULT_STEP_FREQUENCY_BOUNDS, STEP_PARAMETERS, PSDObjective,
-                         _merge_bounds, _multistart, _starting_points)
+from .estimation import DEFAULT_STEP_FREQUENCY_BOUNDS, PSDObjective
+from .multistart import _merge_bounds, _multistart, _starting_points
+from .sandwich import STEP_PARAMETERS
 
 if TYPE_CHECKING:
     from .._typing import ForceModel
