@@ -60,8 +60,19 @@ def test_an_npz_whose_zip_directory_lies_too_is_refused(tmp_path):
     path.write_bytes(data.replace(true + true, false + false))
     with zipfile.ZipFile(path) as archive:
         assert archive.getinfo("data.npy").file_size > 2e9   # the lie is read back
-    _refused_at_once(path, "array 'data' declares shape \\(2, 130000000\\) × 8 B = 2080000000 "
-                           "bytes, but the file holds \\d+ bytes for it")
+        try:
+            archive.open("data.npy").close()
+            zip_sees_it = False
+        except zipfile.BadZipFile:
+            # Newer zipfile modules (CPython's fix for overlapping members, in 3.13 here) refuse
+            # a member whose stored size reaches past the next record themselves: still refused
+            # at once, by a DataError naming the file, before crowdvib reads the array's header.
+            zip_sees_it = True
+    if zip_sees_it:
+        _refused_at_once(path, "cannot be read as an NPZ file \\(BadZipFile: \"Overlapped entries")
+    else:
+        _refused_at_once(path, "array 'data' declares shape \\(2, 130000000\\) × 8 B = "
+                               "2080000000 bytes, but the file holds \\d+ bytes for it")
 
 
 def test_an_npz_bomb_is_refused_by_the_memory_available(tmp_path, monkeypatch):
