@@ -12,13 +12,16 @@ given, so ``method="least_squares"`` alone is the paper's estimator.
 A joint fit of several records holds each record's crowd as given (one step-frequency
 distribution cannot serve records of different crowds), where the likelihood is fragile to an
 error in the mean step frequency: it keeps the paper's least squares by default.
+
+The modelling-error study's default levels are the paper's, here too: the study perturbs the
+inputs of this estimator, and the OMA cross-check (below the studies) states its errors at them.
 """
 
 from .errors import ParameterError
 
 __all__ = ["DEFAULT_METHOD", "DEFAULT_JOINT_METHOD", "METHOD_DEFAULTS", "DEFAULT_CROWD_MODEL",
            "check_method", "estimator_defaults", "DEFAULT_DENSITY_UNCERTAINTY",
-           "check_density_uncertainty"]
+           "check_density_uncertainty", "PAPER_ERROR_LEVELS"]
 
 #: The misfit of a single-record estimate when none is stated.
 DEFAULT_METHOD = "likelihood"
@@ -65,3 +68,10 @@ def check_density_uncertainty(value):
             f"density_uncertainty must be the relative standard uncertainty of the stated crowd "
             f"density, a number in [0, {MAX_DENSITY_UNCERTAINTY}] (0.1 for ±10 %), got {value!r}")
     return number
+
+
+#: Modelling-error levels of the Eeklo and Waalse Krook studies (paper; docs: theory, The paper's
+#: case studies): parameter → (lower level, higher level), as fractions.
+PAPER_ERROR_LEVELS = {"frequencies": (0.01, 0.05), "damping_ratios": (0.10, 0.30),
+                      "modal_masses": (0.02, 0.05), "step_frequency_mean": (0.02, 0.05),
+                      "step_frequency_std": (0.02, 0.05)}

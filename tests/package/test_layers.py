@@ -17,12 +17,12 @@ The layer order, lowest first; a module may import its own layer and the layers 
 3. ``signals``: records, spectra, weighting, synthesis
 4. ``io``: files into the types of ``models`` and ``signals``, and nothing of the analysis (so
    ``[design]`` is checked by the design layer that uses it, not by ``io`` importing ``design``)
-5. ``response``: simulation and spectral response
-6. ``runner``: the studies' task runner (task files, the executor, crowdvib's worker pool)
-7. ``identification``: the inverse problem, the MSD from a measured PSD
-8. ``studies``: the objective landscape, the modelling-error, parametric and Monte Carlo studies
-9. ``oma``: the empty bridge's modes from ambient records (its cross-check states its errors at
-   the studies' paper levels)
+5. ``oma``: the empty bridge's modes from ambient records, the workflow's first step (its
+   cross-check states its errors at the studies' paper levels, which live in ``_estimators``)
+6. ``response``: simulation and spectral response
+7. ``runner``: the studies' task runner (task files, the executor, crowdvib's worker pool)
+8. ``identification``: the inverse problem, the MSD from a measured PSD
+9. ``studies``: the objective landscape, the modelling-error, parametric and Monte Carlo studies
 10. ``design``: the code checks and the damper design
 11. ``_manifest``: a results directory's manifest (it reads the runner's task files; a case
     verifies another run's results.json against it before use)
@@ -47,8 +47,8 @@ BASE = ("crowdvib.errors", "crowdvib._validation", "crowdvib._plausibility", "cr
         "crowdvib.quantities", "crowdvib._estimators", "crowdvib._memory", "crowdvib._terminal")
 #: Lowest first; each entry is the set of units (subpackages or top-level modules) of one layer.
 LAYERS = (BASE, ("crowdvib.models",), ("crowdvib.signals",), ("crowdvib.io",),
-          ("crowdvib.response",), ("crowdvib.runner",), ("crowdvib.identification",),
-          ("crowdvib.studies",), ("crowdvib.oma",), ("crowdvib.design",), ("crowdvib._manifest",),
+          ("crowdvib.oma",), ("crowdvib.response",), ("crowdvib.runner",),
+          ("crowdvib.identification",), ("crowdvib.studies",), ("crowdvib.design",), ("crowdvib._manifest",),
           ("crowdvib.cases",), ("crowdvib.reporting",), ("crowdvib.runs",),
           ("crowdvib.cli",),
           ("crowdvib", "crowdvib.__main__"))

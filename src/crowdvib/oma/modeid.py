@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._estimators import PAPER_ERROR_LEVELS
 from .._validation import as_float_array, check_positive
 from ..errors import EstimationError, ParameterError
 from ..models.structure import ModalModel
@@ -418,8 +419,6 @@ def identified_error_levels(frequencies: ArrayLike, frequency_std: ArrayLike,
     (docs: theory, Operational modal analysis); the other parameters keep ``levels`` (default the
     paper's ``PAPER_ERROR_LEVELS``).
     """
-    from ..studies.modelling_error import PAPER_ERROR_LEVELS
-
     result = dict(PAPER_ERROR_LEVELS if levels is None else levels)
     for name, value, std in (("frequencies", frequencies, frequency_std),
                              ("damping_ratios", damping_ratios, damping_std)):

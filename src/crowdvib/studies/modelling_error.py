@@ -18,7 +18,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .._estimators import DEFAULT_METHOD
+from .._estimators import DEFAULT_METHOD, PAPER_ERROR_LEVELS
 from .._validation import as_float_array, check_mapping, check_positive
 from ..errors import BoundWarning, CrowdvibError, ParameterError
 from ..identification.estimation import estimate_hsi
@@ -28,11 +28,6 @@ __all__ = ["ErrorCase", "SensitivityResult", "modelling_error_study", "record_le
            "error_cases", "PAPER_ERROR_LEVELS"]
 
 
-#: Modelling-error levels of the Eeklo and Waalse Krook studies (paper; docs: theory, The paper's case studies):
-#: parameter → (lower level, higher level), as fractions.
-PAPER_ERROR_LEVELS = {"frequencies": (0.01, 0.05), "damping_ratios": (0.10, 0.30),
-                      "modal_masses": (0.02, 0.05), "step_frequency_mean": (0.02, 0.05),
-                      "step_frequency_std": (0.02, 0.05)}
 _STRUCTURE_PARAMETERS = ("frequencies", "damping_ratios", "modal_masses")
 _CROWD_PARAMETERS = ("step_frequency_mean", "step_frequency_std")
 
