@@ -196,7 +196,7 @@ def _records_origin(case, records, table_path, found):
     none of them is most often a season run without its records (``--records`` forgotten), whose
     record is then the case file's own."""
     names = sorted({path.name for path in found.values()})
-    shown = ", ".join(names[:3]) + (", …" if len(names) > 3 else "")
+    shown = (", ".join(names[:3]) + (", …" if len(names) > 3 else "")) or "no record file"
     if records is not None:
         return f"the records given ({shown})"
     if case.measurement.files:
