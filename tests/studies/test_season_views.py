@@ -33,7 +33,8 @@ def _row(number, frequency, damping, *, low=None, high=None, status="ok", densit
          warnings=""):
     row = dict.fromkeys(TABLE_COLUMNS)
     row.update(row=number, name=f"record_{number:03d}.npz", record=f"record_{number:03d}.npz",
-               time=(START + datetime.timedelta(hours=2 * (number - 1))).isoformat(timespec="minutes"),
+               time=(START + datetime.timedelta(hours=2 * (number - 1))).isoformat(
+                   timespec="minutes"),
                duration=600.0, density=density,
                count=150 * density, frequency=frequency,
                frequency_low=frequency - 0.2 if low is None else low,
@@ -111,7 +112,7 @@ def test_the_season_table_has_missing_values_not_none_objects():
     # A season without windows: no start and end, NaN in float columns (issue 36 §1).
     for column in ("start", "end"):
         assert frame[column].dtype == float and frame[column].isna().all()
-    assert frame["row"].tolist() == list(range(1, 11))
+    assert frame["row"].tolist() == list(range(1, 11)) and frame["row"].dtype == np.int64
     assert frame["time"].iloc[0] == pandas.Timestamp("2026-05-04T08:00")
     assert frame["in_joint"].dtype == bool
 

@@ -217,17 +217,18 @@ class SeasonResult:
                 "joint_error": self.joint_error}
 
 
-#: Columns of :data:`TABLE_COLUMNS` that hold numbers (a missing one is NaN in a DataFrame).
-NUMBER_COLUMNS = ("row", "start", "end", "duration", "count", "density", "step_frequency_mean",
+#: Columns of :data:`TABLE_COLUMNS` that hold quantities (floats, a missing one NaN in a DataFrame).
+NUMBER_COLUMNS = ("start", "end", "duration", "count", "density", "step_frequency_mean",
                   "step_frequency_std", "frequency", "frequency_low", "frequency_high",
                   "damping_ratio", "damping_ratio_low", "damping_ratio_high", "mass_ratio",
                   "level", "relative_cost")
 
 
 def season_dataframe(rows):
-    """A season's table as a pandas DataFrame: :data:`TABLE_COLUMNS`, numbers as floats with
-    NaN where a row has none (a season without windows has no ``start``: NaN, not None), the
-    ``time`` as datetimes (NaT where the crowd table gives none).
+    """A season's table as a pandas DataFrame: :data:`TABLE_COLUMNS`, the quantities
+    (:data:`NUMBER_COLUMNS`) as floats with NaN where a row has none (a season without windows
+    has no ``start``: NaN, not None), ``row`` as integers, the ``time`` as datetimes (NaT where
+    the crowd table gives none).
 
     Parameters
     ----------
@@ -247,6 +248,7 @@ def season_dataframe(rows):
     frame = pandas.DataFrame(list(rows), columns=list(TABLE_COLUMNS))
     for column in NUMBER_COLUMNS:
         frame[column] = pandas.to_numeric(frame[column], errors="coerce").astype(float)
+    frame["row"] = pandas.to_numeric(frame["row"], errors="coerce")     # integers when known
     # ISO 8601 as the crowd table checked it; times of different offsets are kept as given
     # (an object column) rather than shifted.
     try:
