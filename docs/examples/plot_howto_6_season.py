@@ -136,6 +136,16 @@ ax.set_axis_off()
 plt.show()
 
 # %%
+# The report
+# ----------
+# ``season/report.html`` is the document to send: the season's span under the title (dates,
+# rows, records, hours, densities), the joint estimate with the rows it rests on, a Records
+# section with every row of the crowd table (its row number, time, crowd, f_h1 and ξ_h1 with
+# their intervals, its status, and whether the joint estimate holds it or why not), the
+# records' warnings counted, and this figure. A record in doubt makes the verdict doubt the
+# season (exit status 3), as a warning does for one record.
+
+# %%
 # From Python
 # -----------
 # The same season without a results folder: :func:`crowdvib.cases.season_case` returns the

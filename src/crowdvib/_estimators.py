@@ -21,7 +21,7 @@ from .errors import ParameterError
 
 __all__ = ["DEFAULT_METHOD", "DEFAULT_JOINT_METHOD", "METHOD_DEFAULTS", "DEFAULT_CROWD_MODEL",
            "check_method", "estimator_defaults", "DEFAULT_DENSITY_UNCERTAINTY",
-           "check_density_uncertainty", "PAPER_ERROR_LEVELS"]
+           "check_density_uncertainty", "METHOD_WORDS", "PAPER_ERROR_LEVELS"]
 
 #: The misfit of a single-record estimate when none is stated.
 DEFAULT_METHOD = "likelihood"
@@ -29,6 +29,8 @@ DEFAULT_METHOD = "likelihood"
 DEFAULT_JOINT_METHOD = "least_squares"
 #: method → (crowd model, step frequencies fitted with the MSD) when not stated.
 METHOD_DEFAULTS = {"likelihood": ("fluctuating", True), "least_squares": ("smeared", False)}
+#: Each misfit in words, as the command line and the reports name it.
+METHOD_WORDS = {"likelihood": "likelihood", "least_squares": "least squares"}
 #: The relative standard uncertainty of a stated crowd density when none is stated: densities
 #: counted in the field are rarely known better than ±10 %, and the estimate of ξ_h1 moves by a
 #: third to a half for a density 10 % off (docs: theory, The crowd density's uncertainty).

@@ -19,6 +19,7 @@ from crowdvib import load_results
 from crowdvib.cases import (SCHEMA, CheckResults, DemoResults, EstimateResults, MapResults,
                             ModesResults, Results, SensitivityResults, SimulateResults,
                             check_case, estimate_case, identify_ambient, map_case, simulate_case)
+from crowdvib.cases.notebook import MAX_ROWS
 from crowdvib.cli import main
 from crowdvib.errors import DataError
 from crowdvib.io.casefile import load_case
@@ -111,6 +112,9 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     assert isinstance(found, SimulateResults)
     assert _computed(written) == _computed(simulation.results().to_dict())
     assert [row["output"] for row in found.table()] == list(case.structure.output_names)
+    # Its notebook view holds its table, not an empty one (issue 36 §1): the RMS per output.
+    assert all(f"<td>{row['output']}</td><td>{row['rms']:.4g}</td>" in found._repr_html_()
+               for row in found.table())
 
     # crowdvib check (examples/check_paper.toml: the paper's bridge fails with HSI)
     design = load_case(EXAMPLES / "check_paper.toml")
@@ -120,6 +124,15 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     assert _computed(written) == _computed(checks.results().to_dict())
     assert [f.severity for f in found.verdict()] == [f.severity for f in checks.verdict()]
     assert "fail" in {f.severity for f in found.verdict()} and not found.passes
+    # Its notebook view holds the verdict rows (issue 36 §1), each utilisation as the table's.
+    view, shown = found._repr_html_(), found.table()[:MAX_ROWS]      # 24 rows: the first 20
+    assert view.count("<tr>") == len(shown) + 2 and "… and 4 more row(s)" in view
+    assert all(f"<td>{row['utilisation']:.4g}</td>" in view for row in shown)
+    assert "f_h1 = 3 Hz, ξ_h1 = 0.3, μ_h1 = 0.95 ([hsi])" in view         # the MSD it used
+    # A given MSD ([hsi]) has no interval: asking says so, rather than returning None.
+    with pytest.raises(DataError, match=r"no interval of frequency: the MSD was given "
+                                        r"\(\[hsi\]\), not estimated"):
+        found.interval("frequency")
     _same_verdict(found, printed, tmp_path / "check")
 
     # crowdvib modes on the ambient-test example (2.0 and 7.5 Hz)

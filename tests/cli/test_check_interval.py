@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from crowdvib import MSDModel, ParameterError, load_case
+from crowdvib import DataError, MSDModel, ParameterError, load_case
 from crowdvib.cases import check_case, check_over_interval, load_results, msd_interval
 from crowdvib.cases.verdict import Finding, in_doubt
 from crowdvib.cli import main
@@ -141,6 +141,11 @@ def test_check_cli_prints_the_range_and_writes_hsi_range(estimate_dir, tmp_path,
     # The codes failing at the estimate alone are answers, not doubts (the verdict without the
     # interval's finding exits 0): the status is the interval's.
     assert not in_doubt([f for f in load_results(out).verdict() if f.key != "hsi_range.ukna"])
+    # CheckResults.interval: the box the checks spanned, the estimate's own 95 % interval.
+    source = _results(estimate_dir)["estimate"]["interval"]
+    assert load_results(out).interval("frequency") == (*source["frequency"], 0.95)
+    with pytest.raises(DataError, match="'mass_ratio' is not spanned"):
+        load_results(out).interval("mass_ratio")
 
 
 def test_results_without_an_interval_give_the_point_estimate_with_a_note(tmp_path, capsys):
@@ -157,6 +162,10 @@ def test_results_without_an_interval_give_the_point_estimate_with_a_note(tmp_pat
     notes = [line for line in printed.splitlines() if "point estimate only" in line]
     assert len(notes) == 1 and 'estimation.interval = "none"' in notes[0]
     assert "range" not in printed
+    # Asked for the interval, the results say there is none, and why (issue 36 §1).
+    with pytest.raises(DataError, match=r"no interval of damping_ratio: the MSD is the estimate "
+                                        r"in .*, which holds no interval"):
+        load_results(out).interval("damping_ratio")
 
 
 def test_grid_must_hold_the_corners(estimate_dir):

@@ -78,3 +78,41 @@ def test_season_with_a_bad_batch_size_is_a_usage_error(season, capsys):
     assert main(["season", str(season / "season.toml"), str(season / "crowd.csv"), "--out",
                  str(season / "out"), "--batch-size", "0"]) == 2
     assert "argument --batch-size: must be >= 1, got 0" in capsys.readouterr().err
+
+
+def _refused(season, capsys, table_text, *options):
+    """Run a season on a crowd table of ``table_text``: its error message; nothing written."""
+    (season / "crowd.csv").write_text(table_text, encoding="utf-8")
+    out = season / "out"
+    assert main(["season", str(season / "season.toml"), str(season / "crowd.csv"), "--out",
+                 str(out), "--workers", "1", *options]) == 1
+    assert not out.exists(), sorted(p.name for p in out.iterdir())
+    return capsys.readouterr().err
+
+
+def test_no_input_error_of_a_season_leaves_anything_behind(season, capsys):
+    # Issue 36 §1: a row naming an unknown record or a forgotten --records wrote a manifest and
+    # an empty tasks/ before failing, and the corrected run was refused as "already holds
+    # results". Every input is checked before anything is written.
+    records = ["--records", str(season / "records")]
+    good = (season / "crowd.csv").read_text(encoding="utf-8")
+    err = _refused(season, capsys, good + "record_042.npz,0.5,2026-06-05T18:00\n", *records)
+    assert ("crowd.csv: row 5, column 'record': 'record_042.npz' is not among the season's 4 "
+            "record(s): the records given (record_001.npz, record_002.npz, record_003.npz, "
+            "…)") in err
+    # Without --records the season's one record is the case file's own: the message says so.
+    err = _refused(season, capsys, good)
+    assert ("'record_001.npz' is not among the season's 1 record(s): the case file's own "
+            "record paper_example_record.npz, from its measurement.files, as no records were "
+            "given: give the season's records with crowdvib season --records DIR") in err
+    # A row whose crowd cannot be (45 persons/m², above the jam density 5.4: Weidmann).
+    err = _refused(season, capsys, "record,density\nrecord_001.npz,45\n", *records)
+    assert "crowd.csv: row 1: density must be < the jam density 5.4 persons/m², got 45" in err
+    # ... with the doubt that led to it, one line (cases.season._crowd: a count of persons?).
+    assert ("crowdvib season: warning: crowd.csv: row 1, density = 45 persons/m² is above 2, "
+            "unusual for a crowd on a footbridge: a count of persons?") in err
+    # The corrected run (here one row, the joint estimate left out) is not refused.
+    (season / "crowd.csv").write_text("record,density\nrecord_001.npz,0.25\n", encoding="utf-8")
+    assert main(["season", str(season / "season.toml"), str(season / "crowd.csv"), "--out",
+                 str(season / "out"), "--workers", "1", "--no-joint", *records]) == 0
+    assert load_results(season / "out").table()[0]["status"] == "ok"

@@ -47,3 +47,24 @@ def test_without_xarray_the_error_names_the_extra(monkeypatch):
     with pytest.raises(ModuleNotFoundError, match=r"ResponsePSD.to_xarray needs xarray.*"
                                                   r"crowdvib\[notebook\]"):
         ResponsePSD([1.0, 2.0], [[0.1, 0.3]], ("midspan",)).to_xarray()
+
+
+def test_a_measured_record_exports_as_a_simulated_one_does(tmp_path):
+    # issue 36 §1: the measured Record had no to_xarray. Read back from a file as `estimate`
+    # reads it: dims (output, time) as Simulation.to_xarray; time = start + n / f_samp.
+    from crowdvib.io import Record, read_record, write_record
+
+    rng = np.random.default_rng(36)
+    written = Record(rng.standard_normal((2, 500)), 50.0, ("mid", "quarter"), start_time=4.0)
+    record = read_record(write_record(written, tmp_path / "record.npz"))
+    array = record.to_xarray()
+    assert array.dims == ("output", "time") and array.name == "acceleration"
+    np.testing.assert_array_equal(array.values, written.data)
+    np.testing.assert_allclose(array.time.values, 4.0 + np.arange(500) / 50.0, rtol=0,
+                               atol=1e-12)
+    assert list(array.output.values) == ["mid", "quarter"]
+    assert array.attrs["units"] == "m/s²" and array.time.attrs["units"] == "s"
+    assert array.attrs["sample_rate"] == 50.0 and array.attrs["duration"] == 10.0
+    assert array.attrs["source"].endswith("record.npz")
+    array[0, 0] = 99.0                                   # a copy: the record is frozen
+    assert record.data[0, 0] == written.data[0, 0]

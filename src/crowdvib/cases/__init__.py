@@ -10,7 +10,8 @@ a :class:`~crowdvib.io.casefile.Case` thus gets what the command gets:
 - :func:`check_case` (``crowdvib check``);
 - :func:`simulate_case` (``crowdvib simulate``);
 - :func:`study_case` (``crowdvib sensitivity``), :func:`demo_case` (``crowdvib demo``);
-- :func:`identify_ambient` (``crowdvib modes``, on an ambient-test file).
+- :func:`identify_ambient` (``crowdvib modes``, on an ambient-test file);
+- :func:`season_case` (``crowdvib season``), from :func:`plan_season`.
 
 Each returns an object whose ``to_dict()`` is the command's results.json and whose
 ``results()`` is that as a :class:`Results`, the object :func:`load_results` reads back from the
@@ -43,7 +44,8 @@ _MODULES = {
     **dict.fromkeys(("AmbientModes", "identify_ambient"), "ambient"),
     **dict.fromkeys(("CaseStudy", "study_case", "identified_levels", "STUDY_STORES"), "study"),
     **dict.fromkeys(("CaseDemo", "demo_case"), "demo"),
-    **dict.fromkeys(("CaseSeason", "season_case", "season_records"), "season"),
+    **dict.fromkeys(("CaseSeason", "SeasonPlan", "plan_season", "season_case",
+                     "season_records"), "season"),
     "Finding": "verdict",
 }
 

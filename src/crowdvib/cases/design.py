@@ -428,7 +428,8 @@ class IntervalCheck:
         """results.json's ``hsi_range``: per code, the HSI model's row and the box."""
         box = {name: list(self.interval[name]) for name in _SPANNED}
         return {row["code"]: {**{k: v for k, v in row.items() if k not in ("code", "model")},
-                              "interval": self.interval["interval"], **box, "grid": self.grid}
+                              "interval": self.interval["interval"], **box,
+                              "level": self.interval["level"], "grid": self.grid}
                 for row in self.rows if row["model"] == "HSI"}
 
 

@@ -252,7 +252,7 @@ class Results:
         from ..quantities import describe
 
         rows = []
-        for row in self.table() if type(self).table is Results.table else ():
+        for row in Results.table(self):
             text = f"{row['value']:.4g}"
             if row["low"] is not None:
                 text += f" ({100 * row['level']:g} %: {row['low']:.4g} – {row['high']:.4g})"
@@ -262,20 +262,17 @@ class Results:
             rows.append(("J/J_noHSI (relative misfit)", f"{relative:.3g}"))
         return rows
 
-    def _repr_html_(self) -> str:
-        """A small table for notebooks: the headline values and the verdict."""
-        import html
+    #: Whether the notebook view shows :meth:`table` (the kinds with a table of their own but
+    #: the map, whose grid is a figure's), and which of its columns (empty: all).
+    _view_table: ClassVar[bool] = False
+    _shown_columns: ClassVar[tuple[str, ...]] = ()
 
-        marks = {"ok": "✓", "doubt": "?", "fail": "✗"}
-        cells = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
-                        f"<td style='text-align:left'>{html.escape(v)}</td></tr>"
-                        for k, v in self._headline())
-        found = "".join(f"<li>{marks[f.severity]} {html.escape(f.text)}</li>"
-                        for f in self.verdict())
-        state = "no warnings" if self.passes else "check before use"
-        return (f"<div><strong>crowdvib {html.escape(self.command)}: "
-                f"{html.escape(self.name)}</strong><table>{cells}</table>"
-                f"<p>Verdict: {state}</p><ul>{found}</ul></div>")
+    def _repr_html_(self) -> str:
+        """A small view for notebooks: the headline values, the kind's own table (its first
+        rows) and the verdict (:func:`crowdvib.cases.notebook.results_html`)."""
+        from .notebook import results_html
+
+        return results_html(self, self.table() if self._view_table else (), self._shown_columns)
 
     def __repr__(self):
         found = self.estimate or {}
@@ -370,6 +367,7 @@ class SensitivityResults(Results):
     """``crowdvib sensitivity``: the nominal estimate and the modelling-error study."""
 
     kind = "sensitivity"
+    _view_table = True
 
     def table(self) -> list[dict]:
         """One row per modelling-error case: name, kind, level and the estimate's change
@@ -384,17 +382,68 @@ class CheckResults(Results):
     """``crowdvib check``: the design codes' verdict rows (:func:`check_case`)."""
 
     kind = "check"
+    _view_table = True
 
     def table(self) -> list[dict]:
         """The verdict rows: code, class, model, output, governing acceleration, limit,
         utilisation, comfort class, passes."""
         return [dict(row) for row in (self.data.get("design") or {}).get("verdict", [])]
 
+    def _headline(self) -> list[tuple[str, str]]:
+        """The MSD of the HSI model, and where it comes from."""
+        msd = self.data.get("msd")
+        if not isinstance(msd, dict):
+            return [("MSD", "none: no HSI model")]
+        return [("MSD of the HSI model", ", ".join(
+            f"{label} = {msd[key]:.4g}{unit}" for key, label, unit in (
+                ("frequency", "f_h1", " Hz"), ("damping_ratio", "ξ_h1", ""),
+                ("mass_ratio", "μ_h1", "")) if isinstance(msd.get(key), (int, float)))
+            + f" ({msd.get('source', '?')})")]
+
+    def interval(self, parameter: str) -> tuple[float, float, float]:
+        """(low, high, level) of the interval of the MSD the checks spanned.
+
+        ``crowdvib check --msd-from`` an estimate with its interval checks every code across
+        it (``hsi_range``); a check of a given MSD has none, and asking for it is an error that
+        says why, not a silent None.
+
+        Parameters
+        ----------
+        parameter : str
+            ``"frequency"`` or ``"damping_ratio"`` (μ_h1 is held at its estimate).
+
+        Raises
+        ------
+        DataError
+            The check spanned no interval (its MSD was given, not estimated; the estimate holds
+            none; the check has no HSI model), or ``parameter`` is not one it spans.
+        """
+        ranges = self.data.get("hsi_range")
+        row = next(iter(ranges.values()), None) if isinstance(ranges, dict) else None
+        msd = self.data.get("msd") if isinstance(self.data.get("msd"), dict) else None
+        if isinstance(row, dict) and isinstance(row.get(parameter), list):
+            low, high = row[parameter]
+            return low, high, row.get("level")
+        if isinstance(row, dict):
+            why = (f"{parameter!r} is not spanned: the checks span the interval of "
+                   "'frequency' and 'damping_ratio', μ_h1 held at its estimate")
+        elif msd is None:
+            why = "the checks have no HSI model (no MSD), so no interval"
+        elif str(msd.get("source", "")).startswith("the estimate"):
+            why = (f"the MSD is {msd['source']}, which holds no interval (its estimation.interval "
+                   "= \"none\"): the checks used its point estimate")
+        else:
+            why = (f"the MSD was given ({msd.get('source', 'the case file')}), not estimated, so "
+                   "it has no interval; crowdvib check --msd-from an estimate's results folder "
+                   "checks the codes across its interval")
+        raise DataError(f"these check results hold no interval of {parameter}: {why}")
+
 
 class ModesResults(Results):
     """``crowdvib modes``: the identified modes of an ambient test (:func:`identify_ambient`)."""
 
     kind = "modes"
+    _view_table = True
 
     @property
     def name(self) -> str:
@@ -411,6 +460,7 @@ class SimulateResults(Results):
     """``crowdvib simulate``: the simulated record's response (:func:`simulate_case`)."""
 
     kind = "simulate"
+    _view_table = True
 
     def table(self) -> list[dict]:
         """One row per output: RMS, peak |a| and the largest running RMS [m/s²]."""
@@ -424,10 +474,33 @@ class SeasonResults(Results):
     """``crowdvib season``: every record's estimate and the joint one (:func:`season_case`)."""
 
     kind = "season"
+    _view_table = True
+    _shown_columns = ("row", "name", "time", "density", "frequency", "frequency_low",
+                      "frequency_high", "damping_ratio", "damping_ratio_low",
+                      "damping_ratio_high", "status", "in_joint")
 
     def table(self) -> list[dict]:
         """One row per record or window (:meth:`crowdvib.studies.SeasonResult.table`)."""
         return [dict(row) for row in self.data.get("records") or [] if isinstance(row, dict)]
+
+    def to_dataframe(self) -> Any:
+        """:meth:`table` as a pandas DataFrame (:func:`crowdvib.studies.season.season_dataframe`:
+        numbers as floats, NaN where a row has none, ``time`` as datetimes)."""
+        from ..studies.season import season_dataframe
+
+        return season_dataframe(self.table())
+
+    def _headline(self) -> list[tuple[str, str]]:
+        """The joint estimate with its intervals, and what it rests on."""
+        rows = self.table()
+        states = [row.get("status") for row in rows]
+        joint = sum(bool(row.get("in_joint")) for row in rows)
+        counts = ", ".join(f"{states.count(s)} {s}" for s in ("ok", "doubt", "error", "skipped")
+                           if s in states)
+        found = [("rows of the crowd table", f"{len(rows)} ({counts})")]
+        if self.estimate:
+            found.append(("joint estimate", f"one MSD for the {joint} row(s) it rests on"))
+        return found + super()._headline()
 
 
 _CLASSES = {cls.kind: cls for cls in (EstimateResults, SensitivityResults, CheckResults,

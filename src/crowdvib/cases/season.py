@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from ..io.casefile import Case
     from ..io.crowdtable import CrowdTable
 
-__all__ = ["CaseSeason", "season_case", "season_records"]
+__all__ = ["CaseSeason", "SeasonPlan", "plan_season", "season_case", "season_records"]
 
 
 @dataclass(frozen=True)
@@ -57,7 +57,8 @@ def _estimate_window(window):
                         f"crowd table's duration is {window.duration:g} s: its count belongs to "
                         "another stretch of time")
     return season_row(fit.estimate, fit.records[0].measurement.psd, fit.crowd,
-                      [w for w in caught if issubclass(w.category, CrowdvibWarning)])
+                      [w for w in caught if issubclass(w.category, CrowdvibWarning)],
+                      duration=record.duration)
 
 
 def season_records(case: Case, records: str | os.PathLike | Sequence | None = None,
@@ -146,8 +147,19 @@ def _crowd(case, table, row):
         raise DataError(f"{where}: {error}") from None
 
 
-def season_windows(case: Case, table, records: dict[str, Path]) -> list[tuple]:
+def season_windows(case: Case, table, records: dict[str, Path],
+                   where: str | None = None) -> list[tuple]:
     """The tasks of a season: ``(name, payload or None, info)`` per crowd-table row.
+
+    Parameters
+    ----------
+    case : Case
+    table : CrowdTable
+    records : dict
+        Name → path (:func:`season_records`).
+    where : str, optional
+        Where ``records`` were found, in words, for the message of a row naming none of them
+        (default: only their number).
 
     Raises
     ------
@@ -160,9 +172,11 @@ def season_windows(case: Case, table, records: dict[str, Path]) -> list[tuple]:
         if path is None:
             raise DataError(f"{table.path.name}: row {row.row}, column 'record': "
                             f"{row.record!r} is not among the season's "
-                            f"{len(set(records.values()))} record(s)")
-        info = {"record": row.record, "start": row.start, "end": row.end, "time": row.time,
-                "count": row.count, "density": row.density_on(case.structure.area),
+                            f"{len(set(records.values()))} record(s)"
+                            + (f": {where}" if where else ""))
+        info = {"row": row.row, "record": row.record, "start": row.start, "end": row.end,
+                "time": row.time, "count": row.count,
+                "density": row.density_on(case.structure.area),
                 "step_frequency_mean": row.step_frequency_mean,
                 "step_frequency_std": row.step_frequency_std}
         if info["density"] == 0:
@@ -175,6 +189,124 @@ def season_windows(case: Case, table, records: dict[str, Path]) -> list[tuple]:
                                     crowd=_crowd(case, table, row), records=())
         windows.append((row.name, _Window(block, row.duration), info))
     return windows
+
+
+def _records_origin(case, records, table_path, found):
+    """Where :func:`season_records` took the season's records from, in words: a row naming
+    none of them is most often a season run without its records (``--records`` forgotten), whose
+    record is then the case file's own."""
+    names = sorted({path.name for path in found.values()})
+    shown = (", ".join(names[:3]) + (", …" if len(names) > 3 else "")) or "no record file"
+    if records is not None:
+        return f"the records given ({shown})"
+    if case.measurement.files:
+        own = (f"the case file's own record {shown}" if len(names) == 1
+               else f"the case file's own records ({shown})")
+        return (f"{own}, from its measurement.files, as no records were given: give the "
+                "season's records with crowdvib season --records DIR (records= in Python)")
+    return f"those beside the crowd table {Path(table_path).name} ({shown})"
+
+
+@dataclass(frozen=True)
+class SeasonPlan:
+    """A season checked and ready to run (:func:`plan_season`): every input read, every row of
+    its crowd table matched to a record and given its crowd, before anything is computed or
+    written (``crowdvib season`` plans first, so that an input error leaves no results folder
+    behind).
+
+    Attributes
+    ----------
+    case : Case
+    table : CrowdTable
+    windows : list of tuple
+        The tasks of :func:`crowdvib.studies.season_study`, one per row.
+    unmatched : tuple of str
+        Records found that no row of the crowd table names.
+    records : int
+        How many record files the season found.
+    """
+
+    case: Any
+    table: Any
+    windows: list
+    unmatched: tuple
+    records: int
+
+    def run(self, *, joint: bool = True, joint_min_density: float = 0.0, executor=None,
+            store=None, progress: Callable[[int, int], None] | None = None,
+            batch_size: int | None = None, say: Callable[[str], None] | None = None
+            ) -> CaseSeason:
+        """Estimate every row, then all together.
+
+        Parameters
+        ----------
+        joint, joint_min_density, executor, store, progress, batch_size
+            As :func:`season_case`.
+        say : callable, optional
+            Called with a line before the joint estimate (a long step without progress).
+
+        Returns
+        -------
+        CaseSeason
+        """
+        from ..studies.season import season_study
+        from .estimate import estimate_options
+
+        case = self.case
+        options = estimate_options(case)
+        # The joint fit is the rows' estimator (the case's method and crowd model), each row's
+        # crowd held as its own fit left it: the likelihood's step frequencies fitted per
+        # record. The paper's least squares jointly missed the truth of a synthetic season
+        # (docs: theory, A season of records). Its interval is Wald's: over tens of records the
+        # likelihood is quadratic (the profile's ends moved < 0.1 %) and the profile would
+        # triple its cost.
+        options.pop("free_step_frequencies", None)
+        if options.get("interval") == "profile":
+            options["interval"] = "wald"
+        band = options.pop("band")
+        options["free_mass_ratio"] = "mass_ratio" in case.estimation.free_parameters
+        season = season_study(self.windows, _estimate_window, case.structure, band=band,
+                              joint=joint, joint_options=options,
+                              joint_min_density=joint_min_density, executor=executor,
+                              store=store, progress=progress, batch_size=batch_size, say=say)
+        return CaseSeason(case, self.table, season, self.unmatched, joint_min_density)
+
+
+def plan_season(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
+                records: str | os.PathLike | Sequence | None = None) -> SeasonPlan:
+    """Check a season's inputs and match its crowd table to its records, computing nothing.
+
+    Parameters
+    ----------
+    case, crowd_table, records
+        As :func:`season_case`.
+
+    Returns
+    -------
+    SeasonPlan
+        ``plan.run(...)`` runs it.
+
+    Raises
+    ------
+    ParameterError
+        A case with a crowd profile of its own (the table gives each record's crowd).
+    DataError
+        A crowd table that cannot be read, a row naming a record that is not among the
+        season's (saying where they were looked for), a row whose crowd is impossible.
+    """
+    from ..io.crowdtable import CrowdTable, read_crowd_table
+
+    if case.crowd_profile is not None:
+        raise ParameterError(f"{case.path.name}: crowd.counts or crowd.density_profile must not "
+                             "be given for a season: the crowd table gives each record's crowd "
+                             "(its count or density per record or per window)")
+    table = crowd_table if isinstance(crowd_table, CrowdTable) else read_crowd_table(crowd_table)
+    found = season_records(case, records, table.path)
+    windows = season_windows(case, table, found,
+                             _records_origin(case, records, table.path, found))
+    unmatched = tuple(sorted(path.name for path in set(found.values())
+                             - {found[row.record] for row in table.rows}))
+    return SeasonPlan(case, table, windows, unmatched, len(set(found.values())))
 
 
 @dataclass(frozen=True)
@@ -190,12 +322,15 @@ class CaseSeason(AsResults):
         The table of estimates, the joint estimate, the trend figures.
     unmatched : tuple of str
         Records found that no row of the crowd table names (not estimated).
+    joint_min_density : float
+        Rows of a thinner crowd [persons/m²] were left out of the joint estimate.
     """
 
     case: Any
     table: Any
     season: Any
     unmatched: tuple = ()
+    joint_min_density: float = 0.0
 
     def to_dict(self) -> dict:
         """The results ``crowdvib season`` writes to results.json (kind ``"season"``), without
@@ -207,6 +342,7 @@ class CaseSeason(AsResults):
                 "versions": software_versions(), "seed": case.seed, "case": str(case.path),
                 "crowd_table": str(self.table.path), "inputs": case.to_dict(ESTIMATION_TABLES),
                 "records": season["records"], "unmatched_records": list(self.unmatched),
+                "joint_min_density": self.joint_min_density,
                 "estimate": joint.get("estimate"), "joint_error": season["joint_error"],
                 "diagnostics": {k: v for k, v in joint.items() if k != "estimate"} or None,
                 "expected": dict(case.expected)}
@@ -243,32 +379,6 @@ def season_case(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
     CaseSeason
         ``season.to_dataframe()`` is the table; ``results()`` what results.json holds.
     """
-    from ..io.crowdtable import CrowdTable, read_crowd_table
-    from ..studies.season import season_study
-    from .estimate import estimate_options
-
-    if case.crowd_profile is not None:
-        raise ParameterError(f"{case.path.name}: crowd.counts or crowd.density_profile must not "
-                             "be given for a season: the crowd table gives each record's crowd "
-                             "(its count or density per record or per window)")
-    table = crowd_table if isinstance(crowd_table, CrowdTable) else read_crowd_table(crowd_table)
-    found = season_records(case, records, table.path)
-    windows = season_windows(case, table, found)
-    unmatched = tuple(sorted(path.name for path in set(found.values())
-                             - {found[row.record] for row in table.rows}))
-    options = estimate_options(case)
-    # The joint fit is the rows' estimator (the case's method and crowd model), each row's crowd
-    # held as its own fit left it: the likelihood's step frequencies fitted per record. The
-    # paper's least squares jointly missed the truth of a synthetic season (docs: theory, A
-    # season of records). Its interval is Wald's: over tens of records the likelihood is
-    # quadratic (the profile's ends moved < 0.1 %) and the profile would triple its cost.
-    options.pop("free_step_frequencies", None)
-    if options.get("interval") == "profile":
-        options["interval"] = "wald"
-    band = options.pop("band")
-    options["free_mass_ratio"] = "mass_ratio" in case.estimation.free_parameters
-    season = season_study(windows, _estimate_window, case.structure, band=band, joint=joint,
-                          joint_options=options, joint_min_density=joint_min_density,
-                          executor=executor, store=store,
-                          progress=progress, batch_size=batch_size)
-    return CaseSeason(case, table, season, unmatched)
+    return plan_season(case, crowd_table, records=records).run(
+        joint=joint, joint_min_density=joint_min_density, executor=executor, store=store,
+        progress=progress, batch_size=batch_size)

@@ -149,12 +149,16 @@ def _record_length(results):
 
 
 def _season(results):
-    """A season's rows: failed ones, and a joint estimate that failed, are doubts."""
+    """A season's rows: failed ones, ones in doubt (their estimate raised warnings, as a
+    record's own would: issue 36 §1), and a joint estimate that failed, are doubts."""
     rows = [r for r in results.get("records") or [] if isinstance(r, dict) and "status" in r]
-    failed = [r for r in rows if r["status"] == "error"]
-    found = [Finding("doubt", f"{len(failed)} of {len(rows)} row(s) of the season failed, e.g. "
-                     f"{failed[0].get('name')}: {failed[0].get('warnings')}", "records")
-             ] if failed else []
+    found = []
+    for status, what in (("error", "failed"), ("doubt", "are in doubt")):
+        chosen = [r for r in rows if r["status"] == status]
+        if chosen:
+            found.append(Finding("doubt", f"{len(chosen)} of {len(rows)} row(s) of the season "
+                                 f"{what}, e.g. {chosen[0].get('name')}: "
+                                 f"{chosen[0].get('warnings')}", "records"))
     if results.get("joint_error"):
         found.append(Finding("doubt", f"the joint estimate failed: {results['joint_error']}",
                              "joint_error"))

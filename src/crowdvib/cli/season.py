@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 from .common import (add_workers_argument, close_progress, dask_address, positive_int,
-                     progress_printer, say, say_verdict)
+                     progress_printer, say, say_verdict, warnings_as_lines)
 
 
 def add_arguments(parser):
@@ -68,11 +68,13 @@ def run(args):
 
     case = load_case(args.case)
     try:
-        run_season(case, args.crowd_table, args.out, records=args.records,
-                   workers=args.workers, scheduler=args.scheduler, hung_after=args.hung_after,
-                   joint=not args.no_joint, joint_min_density=args.joint_min_density,
-                   batch_size=args.batch_size, resume=args.resume,
-                   force=args.force, say=say, progress=progress_printer("records", unit=""))
+        with warnings_as_lines("season"):
+            run_season(case, args.crowd_table, args.out, records=args.records,
+                       workers=args.workers, scheduler=args.scheduler,
+                       hung_after=args.hung_after, joint=not args.no_joint,
+                       joint_min_density=args.joint_min_density, batch_size=args.batch_size,
+                       resume=args.resume, force=args.force, say=say,
+                       progress=progress_printer("records", unit=""))
     except KeyboardInterrupt:
         if not (args.out / "tasks").is_dir():
             raise           # before the season began: nothing kept, nothing to resume

@@ -182,6 +182,42 @@ class Record:
         """Time stamps [s] of the samples."""
         return self.start_time + np.arange(self.n_samples) / self.sample_rate
 
+    def to_xarray(self) -> Any:
+        """The record as an ``xarray.DataArray`` of dims (output, time), as
+        :meth:`crowdvib.Simulation.to_xarray` gives a simulated one.
+
+        Needs xarray (``pip install 'crowdvib[notebook]'``).
+
+        Returns
+        -------
+        xarray.DataArray
+            Named ``"acceleration"``, the samples (a copy), coordinates ``output`` (the channel
+            names) and ``time`` [s] (from :attr:`start_time`), attributes ``units`` "m/s²",
+            ``sample_rate`` [Hz], ``duration`` [s] and ``source`` (the file read, or "").
+
+        Raises
+        ------
+        ModuleNotFoundError
+            xarray is not installed; the message names the extra that installs it.
+
+        Examples
+        --------
+        >>> from crowdvib.io import Record
+        >>> array = Record([[0.0, 0.1, -0.1]], 100.0, ("mid",), start_time=2.0).to_xarray()
+        >>> array.dims, array.attrs["units"], float(array.time[-1])
+        (('output', 'time'), 'm/s²', 2.02)
+        """
+        from ..signals.spectrum import xarray_module
+
+        xarray = xarray_module("Record.to_xarray")
+        return xarray.DataArray(
+            np.array(self.data), dims=("output", "time"), name="acceleration",
+            attrs={"units": "m/s²", "long_name": "measured acceleration",
+                   "sample_rate": self.sample_rate, "duration": self.duration,
+                   "source": self.source},
+            coords={"output": list(self.channel_names),
+                    "time": ("time", self.time, {"units": "s"})})
+
     def select(self, channels: str | Sequence[str] | Mapping[str, str]) -> Record:
         """The named channels in that order; a ``dict`` maps new names to names in the record.
 

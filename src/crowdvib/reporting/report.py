@@ -40,6 +40,7 @@ from .html import html, page
 from .oma_section import modes_section
 from .paths import case_folder, without_machine_paths
 from .reading import read_results
+from .season_section import season_body
 from .sections import SECTIONS
 
 __all__ = ["write_report", "render_report", "case_template", "provenance", "REPORT_NAME",
@@ -142,6 +143,8 @@ def render_report(results, directory=None, *, template=None):
         sections.inputs_section(shown),
         sections.provenance_section(results, directory),
     ]
+    if shown.get("command") == "season":        # the season's own blocks (issue 36 §1)
+        body = season_body(shown, notes, body)
     title = html("crowdvib {} — {}", shown.get("command", "results"), case_name(shown))
     generator = f"crowdvib {__version__}"
     if template is None:

@@ -21,7 +21,7 @@ from .oma_section import modes_headline
 from .paths import relative_path
 from .text import interval_of, with_interval
 
-__all__ = ["REPORT_FIELDS", "Notes", "finding_markup", "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "header", "nav", "section_titles", "run_warnings", "summary_section",
+__all__ = ["REPORT_FIELDS", "Notes", "finding_markup", "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL", "header", "nav", "section_titles", "run_warnings", "summary_section", "verdict_box",
            "estimate_section",
            "diagnostics_section", "figures_section", "inputs_section", "provenance_section"]
 
@@ -105,6 +105,11 @@ def section_titles(results):
         titles["estimate"] = "MSD model"
     elif results.get("command") == "modes":
         del titles["estimate"]
+    elif results.get("command") == "season":     # the joint estimate, then every record
+        order = list(SECTIONS)
+        order.insert(order.index("estimate") + 1, "records")
+        own = {"estimate": "Joint estimate", "records": "Records"}
+        titles = {s: own.get(s) or titles[s] for s in order}
     return titles
 
 
@@ -134,17 +139,20 @@ def summary_section(results, notes):
     items += design_decisions(results) + damper_items(results) + modes_headline(results)
     verdict = (join(html("<li>{}</li>", item) for item in items)
                or Markup("<li>no estimate in these results</li>"))
-    if notes.fails or notes.warnings:
-        # What the bridge fails apart from what the tool doubts (issue 27 §4), each counted.
-        box = html('<div class="callout warn"><strong>Check before use</strong>{}{}</div>',
-                   _listed("The bridge fails {} check(s)", notes.fails),
-                   _listed("The tool doubts its result: {} warning(s)", notes.warnings))
-    else:
-        good = (html("<ul>{}</ul>", join(html("<li>{}</li>", g) for g in notes.good))
-                if notes.good else "")
-        box = html('<div class="callout ok"><strong>No warnings</strong>{}</div>', good)
     return html('<section id="summary"><h2>Summary</h2><ul class="headline">{}</ul>{}{}</section>',
-                verdict, response[1] if response is not None else "", box)
+                verdict, response[1] if response is not None else "", verdict_box(notes))
+
+
+def verdict_box(notes, more=Markup("")):
+    """The summary's box: what the bridge fails apart from what the tool doubts (issue 27 §4),
+    each counted, then ``more`` (a season's records in doubt); or "No warnings"."""
+    if notes.fails or notes.warnings:
+        return html('<div class="callout warn"><strong>Check before use</strong>{}{}{}</div>',
+                    _listed("The bridge fails {} check(s)", notes.fails),
+                    _listed("The tool doubts its result: {} warning(s)", notes.warnings), more)
+    good = (html("<ul>{}</ul>", join(html("<li>{}</li>", g) for g in notes.good))
+            if notes.good else "")
+    return html('<div class="callout ok"><strong>No warnings</strong>{}</div>', good)
 
 
 def _listed(heading, items):
@@ -256,6 +264,26 @@ def estimate_section(results):
     return html('<section id="estimate"><h2>Estimate</h2>{}</section>', join(parts))
 
 
+#: What each interval method is, in words (``estimate.interval.method``).
+_INTERVALS = {"profile": "profile interval calibrated for the Welch scatter and the correlation "
+                         "of neighbouring bins",
+              "wald": "Wald interval of the sandwich covariance, which holds the Welch scatter "
+                      "and the correlation of neighbouring bins",
+              "bootstrap": "percentile bootstrap interval of refits to records drawn from the "
+                           "fitted model"}
+
+
+def _records_held(results):
+    """How many records an estimate rests on: a joint fit's (``records``: a season's rows in
+    its joint estimate), else one."""
+    rows = results.get("records")
+    if not isinstance(rows, list):
+        return 1
+    if results.get("command") == "season":
+        return sum(1 for row in rows if isinstance(row, dict) and row.get("in_joint"))
+    return len(rows) or 1
+
+
 def _interval_note(results):
     """What the interval holds: the record's Welch scatter and, when one was stated, the crowd
     density's uncertainty, with the share of each parameter's variance it makes and how far a
@@ -270,11 +298,15 @@ def _interval_note(results):
     held = (html("the uncertainty of the stated crowd density (±{} %, one standard deviation)",
                  number(100 * stated, 3)) if stated else
             Markup("not the crowd density's uncertainty (the density was taken as exact)"))
-    parts = [html('<p class="muted">Interval: the statistical uncertainty of this record '
-                  "(profile interval calibrated for the Welch scatter and the correlation of "
-                  "neighbouring bins; docs: theory, Statistical uncertainty of an estimate) "
-                  "and {}. It does not hold the modelling errors, which the nominal ± bound "
-                  "column shows.</p>", held)]
+    ends = (estimate(results) or {}).get("interval")
+    method = ends.get("method") if isinstance(ends, dict) else None
+    records = _records_held(results)
+    parts = [html('<p class="muted">Interval: the statistical uncertainty of {} ({}; docs: '
+                  "theory, Statistical uncertainty of an estimate) and {}. It does not hold "
+                  "the modelling errors, which the nominal ± bound column shows.</p>",
+                  "this record" if records == 1
+                  else f"the joint fit of {records} records, each with its crowd",
+                  _INTERVALS.get(method, _INTERVALS["profile"]), held)]
     rows = [[html("{} [{}]", symbol, unit),
              html("{} %", number(100 * shares[key], 2)) if _real(shares.get(key)) is not None
              else "—",

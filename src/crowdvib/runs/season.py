@@ -3,10 +3,13 @@ written in place, task by task, so that an interrupted season resumes where it s
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from .._estimators import METHOD_WORDS
 from ..cases.results import Results, provenance
+from ..errors import CrowdvibError
 from .folders import case_inputs, check_clash, finish_output, prepare_output
 from .lines import Say, caught_warnings, silent, warning_texts
 
@@ -55,42 +58,58 @@ def run_season(case: Case, crowd_table: str | Path, out: str | Path, *,
         A :class:`~crowdvib.cases.SeasonResults`; ``to_dataframe()`` is the table.
     """
     from .._files import folder_lock
+    from ..cases import plan_season
     from ..io.crowdtable import read_crowd_table
 
-    table = read_crowd_table(crowd_table)          # a bad table is refused before any output
+    # Every input is read and checked (the table, its rows against the records) before anything
+    # is written: an input error leaves no results folder to refuse a corrected run.
+    table = read_crowd_table(crowd_table)
+    say(f"crowdvib season: {case.name} ({case.path.name}), crowd table {table.path.name}")
+    try:
+        with caught_warnings() as planned:
+            plan = plan_season(case, table, records=records)
+    except CrowdvibError:
+        for found in planned:        # the doubts that led to the error, raised with it
+            warnings.warn_explicit(found.message, found.category, found.filename, found.lineno)
+        raise
     inputs = [*case_inputs(case), ("the crowd table", table.path)]
     check_clash(out, inputs)
     with folder_lock(out, "season"):
-        return _season(case, table, Path(out), inputs, records=records,
-                       workers=workers, scheduler=scheduler, hung_after=hung_after, joint=joint,
-                       joint_min_density=joint_min_density, batch_size=batch_size, resume=resume, force=force, say=say,
-                       progress=progress)
+        return _season(plan, Path(out), inputs, list(planned), workers=workers,
+                       scheduler=scheduler, hung_after=hung_after, joint=joint,
+                       joint_min_density=joint_min_density, batch_size=batch_size,
+                       resume=resume, force=force, say=say, progress=progress)
 
 
-def _season(case, table, out, inputs, *, records, workers, scheduler, hung_after, joint,
+def _season(plan, out, inputs, planned, *, workers, scheduler, hung_after, joint,
             joint_min_density, batch_size, resume, force, say, progress):
     from .._files import write_json
     from .._manifest import record_file
-    from ..cases import season_case
     from ..reporting.plotting import save_figure
     from ..reporting.report import case_template, write_report
     from ..runner import TaskStore, study_executor
 
+    case, table = plan.case, plan.table
     stamp = provenance(case.path)
     prepare_output(out, force=force, resume=resume, inputs=inputs, command="season",
                    stores=SEASON_STORES)
-    say(f"crowdvib season: {case.name} ({case.path.name}), crowd table {table.path.name}")
     store = TaskStore(out / "tasks")
     done = len(store.keys())
     if done:
         say(f"  resuming: {done} finished record(s) found in {store.directory}")
+    where = (f"on the dask cluster {scheduler}" if scheduler is not None
+             else f"on {workers} worker(s)" if workers != 1 else "in this process")
+    tasks = sum(payload is not None for _, payload, _ in plan.windows)
+    say(f"  {len(table)} row(s) of {table.path.name} on {plan.records} record(s): estimating "
+        f"{tasks} row(s) {where}, each with its interval …")
     with caught_warnings() as caught:
         with study_executor(workers, scheduler, timeout_floor=hung_after) as executor:
-            found = season_case(case, table, records=records, joint=joint,
-                                joint_min_density=joint_min_density, executor=executor, store=store, progress=progress,
-                                batch_size=batch_size)
+            found = plan.run(joint=joint, joint_min_density=joint_min_density,
+                             executor=executor, store=store, progress=progress,
+                             batch_size=batch_size, say=say)
     season = found.season
     _say_season(found, say)
+    say("  writing the table, the trend figure and the report …")
     written = []
     for name, write in (("season.csv", season.to_csv), ("season.parquet", season.to_parquet)):
         try:
@@ -104,7 +123,7 @@ def _season(case, table, out, inputs, *, records, workers, scheduler, hung_after
                          out / "season_trends.png").name
     record_file(out, figure, "season")
     results = {**found.to_dict(), "tables": written, "figures": [figure],
-               "warnings": warning_texts(caught), **stamp}
+               "warnings": warning_texts(planned + list(caught)), **stamp}
     write_json(out / "results.json", results)
     record_file(out, "results.json", "season")
     report = write_report(out, template=case_template(results))
@@ -133,8 +152,7 @@ def _say_season(found, say):
                 f"{row['warnings']}")
     joint = found.season.joint
     if joint is not None:
-        method = {"likelihood": "likelihood", "least_squares": "least squares"}.get(
-            joint.method, joint.method)
+        method = METHOD_WORDS.get(joint.method, joint.method)
         say(f"  joint estimate ({method}), every record with its crowd: " + "; ".join(
             f"{label} = {joint.value(name):.3f} ({_end(low)}–{_end(high)})"
             for name, label in (("frequency", "f_h1"), ("damping_ratio", "ξ_h1"))

@@ -11,7 +11,7 @@ import numpy as np
 from .._figures import axes_or_new, panels, positive_or_nan
 
 __all__ = ["plot_objective_map", "plot_estimation_errors", "plot_parametric_ratios",
-           "plot_season_trends"]
+           "plot_season_trends", "season_axis_limits"]
 
 
 def _uncertainty_bounds(uncertainty):
@@ -257,6 +257,10 @@ def plot_season_trends(rows, *, joint=None, axes=None, title=None):
 
     One point per record (or window) with its interval as an error bar; records in doubt are
     drawn open, and the joint estimate of the whole season is a line with its interval as a band.
+    Each value axis is set by the informative records (:func:`season_axis_limits`): a record
+    whose interval spans much of the search range runs off the axis, its estimate drawn at the
+    edge as a triangle if it lies beyond, rather than squashing the others into a band. The time
+    axis reads as dates and hours.
 
     Parameters
     ----------
@@ -286,39 +290,125 @@ def plot_season_trends(rows, *, joint=None, axes=None, title=None):
     handles = panels(axes, 2, 2, (11.0, 7.0))
     quantities = (("frequency", "$f_{h1}$ [Hz]"), ("damping_ratio", "$\\xi_{h1}$ [-]"))
     for column, (key, label) in enumerate(quantities):
+        values = _ends(done, key)
+        limits = season_axis_limits(*values, [row["status"] == "doubt" for row in done],
+                                    joint=joint, key=key)
         for row_index, (xs, xlabel) in enumerate(((
                 [row["density"] for row in done], "density [persons/m²]"),
-                (when, "time" if dated else "record"))):
+                (when, "time" if dated else "record (in the table's order)"))):
             ax = handles.axes[2 * row_index + column]
-            for doubt in (False, True):
-                chosen = [(x, row) for x, row in zip(xs, done)
-                          if (row["status"] == "doubt") == doubt]
-                if not chosen:
-                    continue
-                x = [c[0] for c in chosen]
-                y = np.array([c[1][key] for c in chosen], dtype=float)
-                low = np.array([np.nan if c[1][f"{key}_low"] is None else c[1][f"{key}_low"]
-                                for c in chosen], dtype=float)
-                high = np.array([np.nan if c[1][f"{key}_high"] is None
-                                 else c[1][f"{key}_high"] for c in chosen], dtype=float)
-                error = np.nan_to_num(np.vstack([y - low, high - y]))
-                ax.errorbar(x, y, yerr=error, fmt="o", ms=4, capsize=2, lw=0.8,
-                            color="tab:gray" if doubt else "tab:blue",
-                            mfc="none" if doubt else None, gid="records",
-                            label="record in doubt" if doubt else "record, 95 % interval")
+            _draw_records(ax, xs, done, values, limits)
             if joint is not None and key in joint:
                 ax.axhline(joint[key], color="black", lw=1.2, gid="joint",
-                           label="joint estimate")
+                           label="joint estimate, 95 % interval")
                 ends = (joint.get("interval") or {}).get(key)
                 if ends and None not in ends:
                     ax.axhspan(*ends, color="black", alpha=0.12, lw=0)
+            if limits is not None:
+                ax.set_ylim(*limits)
             ax.set_xlabel(xlabel)
             ax.set_ylabel(label)
             ax.grid(True, alpha=0.3)
             if dated and row_index == 1:
-                ax.tick_params(axis="x", labelrotation=30)
-    handles.axes[0].legend(fontsize="small", loc="best")
+                _date_axis(ax)
+    if handles.axes[0].get_legend_handles_labels()[0]:      # nothing drawn: no legend to show
+        handles.axes[0].legend(fontsize="small", loc="best")
     skipped = len(rows) - len(done)
     note = f" ({skipped} row(s) not estimated are not shown)" if skipped else ""
     handles.figure.suptitle((title or "A season of monitoring: the MSD's trends") + note)
     return handles
+
+
+def _ends(done, key):
+    """(values, lows, highs) of ``key`` over the rows, NaN where a row has none."""
+    def column(name):
+        return np.array([np.nan if row.get(name) is None else row[name] for row in done],
+                        dtype=float)
+
+    return column(key), column(f"{key}_low"), column(f"{key}_high")
+
+
+def season_axis_limits(values, lows, highs, doubt, *, joint=None, key=None,
+                       width_factor=3.0, margin=0.08):
+    """The value axis of a season's trend: what the informative records span.
+
+    The axis holds the estimates of the records not in doubt, the intervals no wider than
+    ``width_factor`` times the median interval of those records, and the joint estimate with
+    its interval; a margin of ``margin`` of that span is added each side. A record whose
+    interval reaches across the search range (a thin crowd, a record that holds little of the
+    MSD) is then cut by the axis instead of setting it (issue 36 §1: one such record squashed
+    nine good ones into a band). With no record not in doubt, all records count.
+
+    Parameters
+    ----------
+    values, lows, highs : array_like
+        Each record's estimate and interval ends (NaN where none).
+    doubt : sequence of bool
+        Whether each record is in doubt.
+    joint : dict, optional
+        The joint estimate (``key`` and its ``interval``).
+    key : str, optional
+        The parameter of ``joint`` to hold.
+    width_factor, margin : float
+        As above.
+
+    Returns
+    -------
+    (float, float) or None
+        The limits, or None when there is nothing to hold (matplotlib's own then).
+    """
+    values, lows, highs = (np.asarray(a, dtype=float) for a in (values, lows, highs))
+    good = ~np.asarray(doubt, dtype=bool) if len(doubt) else np.zeros(0, dtype=bool)
+    if not good.any():
+        good = np.ones_like(values, dtype=bool)
+    widths = highs - lows
+    known = good & np.isfinite(widths)
+    narrow = known.copy()
+    if known.any():
+        narrow &= widths <= width_factor * np.median(widths[known])
+    held = [values[good], lows[narrow], highs[narrow]]
+    if joint is not None and key in joint and joint[key] is not None:
+        held.append(np.array([joint[key], *((joint.get("interval") or {}).get(key) or ())],
+                             dtype=float))
+    held = np.concatenate(held) if held else np.zeros(0)
+    held = held[np.isfinite(held)]
+    if not held.size:
+        return None
+    low, high = float(held.min()), float(held.max())
+    pad = margin * (high - low) if high > low else max(0.05 * abs(high), 1e-3)
+    return low - pad, high + pad
+
+
+def _draw_records(ax, xs, done, values, limits):
+    """Each record with its interval; records in doubt open; an estimate beyond the axis drawn
+    as a triangle on its edge (the record is there, its value off the axis)."""
+    value, low, high = values
+    for doubt in (False, True):
+        chosen = [i for i, row in enumerate(done) if (row["status"] == "doubt") == doubt]
+        if not chosen:
+            continue
+        x = [xs[i] for i in chosen]
+        y = value[chosen]
+        error = np.nan_to_num(np.vstack([y - low[chosen], high[chosen] - y]))
+        colour = "tab:gray" if doubt else "tab:blue"
+        ax.errorbar(x, y, yerr=error, fmt="o", ms=4, capsize=2, lw=0.8, color=colour,
+                    mfc="none" if doubt else None, gid="records",
+                    label="record in doubt" if doubt else "record, 95 % interval")
+        if limits is None:
+            continue
+        for edge, marker, beyond in ((limits[0], "v", y < limits[0]),
+                                     (limits[1], "^", y > limits[1])):
+            if beyond.any():
+                ax.plot([xi for xi, b in zip(x, beyond) if b], [edge] * int(beyond.sum()),
+                        marker=marker, ls="none", ms=7, color=colour, clip_on=False,
+                        gid="off_axis")
+
+
+def _date_axis(ax):
+    """Dates and hours on a time axis (matplotlib's concise labels: the hours, the day where
+    it changes, the year and month once in the corner)."""
+    import matplotlib.dates as mdates
+
+    locator = mdates.AutoDateLocator(minticks=3, maxticks=8)
+    ax.xaxis.set_major_locator(locator)
+    ax.xaxis.set_major_formatter(mdates.ConciseDateFormatter(locator))

@@ -20,6 +20,7 @@ import warnings
 
 import numpy as np
 
+from .._estimators import DEFAULT_JOINT_METHOD, METHOD_WORDS
 from .._plausibility import derived
 from ..errors import CrowdvibError, DataWarning, StudyWarning
 from ..identification.estimation import estimate_hsi_joint
@@ -28,23 +29,23 @@ from ..runner.tasks import run_tasks
 from ..signals.spectrum import ResponsePSD
 from ..signals.welch import LowPassFilter
 
-__all__ = ["SeasonResult", "season_study", "season_row", "write_synthetic_season",
-           "TABLE_COLUMNS"]
+__all__ = ["SeasonResult", "season_study", "season_row", "season_dataframe",
+           "write_synthetic_season", "TABLE_COLUMNS", "NUMBER_COLUMNS"]
 
 #: The estimated parameters a season's table shows, each with its interval.
 _PARAMETERS = ("frequency", "damping_ratio")
 #: Keys of every row :func:`season_row` makes (a stored one lacking any is computed again).
 _ROW_FIELDS = ("frequency", "damping_ratio", "mass_ratio", "interval", "relative_cost",
-               "success", "active_bounds", "warnings", "crowd", "psd")
+               "success", "active_bounds", "warnings", "crowd", "psd", "duration")
 #: The columns of :meth:`SeasonResult.table`, in order.
-TABLE_COLUMNS = ("name", "record", "start", "end", "time", "count", "density",
+TABLE_COLUMNS = ("row", "name", "record", "start", "end", "duration", "time", "count", "density",
                  "step_frequency_mean", "step_frequency_std", "frequency", "frequency_low",
                  "frequency_high", "damping_ratio", "damping_ratio_low", "damping_ratio_high",
                  "mass_ratio", "level", "relative_cost", "status", "warnings", "in_joint")
 
 
 # ------------------------------------------------------------------------------ one record
-def season_row(estimate, measured, crowd, caught=()):
+def season_row(estimate, measured, crowd, caught=(), duration=None):
     """One record's estimate as a season's task returns it (JSON-ready).
 
     Parameters
@@ -59,6 +60,8 @@ def season_row(estimate, measured, crowd, caught=()):
         (its fitted step frequencies, when they were free).
     caught : sequence of warnings.WarningMessage
         The warnings the estimate gave, kept as ``"Category: message"``.
+    duration : float, optional
+        The length of the record or window estimated [s] (the table's ``duration``).
     """
     interval, level = None, estimate.interval_level
     if estimate.covariance is not None:
@@ -70,7 +73,7 @@ def season_row(estimate, measured, crowd, caught=()):
             "warnings": [f"{w.category.__name__}: {w.message}" for w in caught],
             "crowd": {f.name: getattr(crowd, f.name) for f in dataclasses.fields(crowd)
                       if f.init},
-            "psd": _psd_dict(measured, estimate.band)}
+            "psd": _psd_dict(measured, estimate.band), "duration": duration}
 
 
 def _psd_dict(measured, band):
@@ -104,7 +107,7 @@ class SeasonResult:
     ----------
     rows : tuple of dict
         One per record or window, in the order given: its ``name``, what the crowd table said
-        of it (``record``, ``start``, ``end``, ``time``, ``count``, ``density``, step
+        of it (``row``, ``record``, ``start``, ``end``, ``time``, ``count``, ``density``, step
         frequencies), and its estimate (``frequency``, ``damping_ratio``, ``mass_ratio``,
         ``interval``, ``relative_cost``, ``success``, ``active_bounds``, ``warnings``) or its
         ``error``.
@@ -127,13 +130,9 @@ class SeasonResult:
         return [_table_row(row) for row in self.rows]
 
     def to_dataframe(self):
-        """:meth:`table` as a pandas DataFrame (needs pandas: ``pip install pandas``)."""
-        try:
-            import pandas
-        except ModuleNotFoundError as error:
-            raise ModuleNotFoundError("to_dataframe needs pandas, which is not installed: pip "
-                                      "install pandas", name=error.name) from None
-        return pandas.DataFrame(self.table(), columns=list(TABLE_COLUMNS))
+        """:meth:`table` as a pandas DataFrame (needs pandas: ``pip install pandas``):
+        :func:`season_dataframe`."""
+        return season_dataframe(self.table())
 
     def to_csv(self, path):
         """Write :meth:`table` as CSV (:data:`TABLE_COLUMNS`; empty cells for none), atomically;
@@ -218,6 +217,48 @@ class SeasonResult:
                 "joint_error": self.joint_error}
 
 
+#: Columns of :data:`TABLE_COLUMNS` that hold quantities (floats, a missing one NaN in a DataFrame).
+NUMBER_COLUMNS = ("start", "end", "duration", "count", "density", "step_frequency_mean",
+                  "step_frequency_std", "frequency", "frequency_low", "frequency_high",
+                  "damping_ratio", "damping_ratio_low", "damping_ratio_high", "mass_ratio",
+                  "level", "relative_cost")
+
+
+def season_dataframe(rows):
+    """A season's table as a pandas DataFrame: :data:`TABLE_COLUMNS`, the quantities
+    (:data:`NUMBER_COLUMNS`) as floats with NaN where a row has none (a season without windows
+    has no ``start``: NaN, not None), ``row`` as integers, the ``time`` as datetimes (NaT where
+    the crowd table gives none).
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        :meth:`SeasonResult.table`, or the ``records`` of a season's results.json.
+
+    Raises
+    ------
+    ModuleNotFoundError
+        pandas is not installed; the message says how to install it.
+    """
+    try:
+        import pandas
+    except ModuleNotFoundError as error:
+        raise ModuleNotFoundError("to_dataframe needs pandas, which is not installed: pip "
+                                  "install pandas", name=error.name) from None
+    frame = pandas.DataFrame(list(rows), columns=list(TABLE_COLUMNS))
+    for column in NUMBER_COLUMNS:
+        frame[column] = pandas.to_numeric(frame[column], errors="coerce").astype(float)
+    frame["row"] = pandas.to_numeric(frame["row"], errors="coerce")     # integers when known
+    # ISO 8601 as the crowd table checked it; times of different offsets are kept as given
+    # (an object column) rather than shifted.
+    try:
+        frame["time"] = pandas.to_datetime(frame["time"], format="ISO8601")
+    except (ValueError, TypeError):
+        pass
+    frame["in_joint"] = frame["in_joint"].astype(bool)
+    return frame
+
+
 def _table_row(row):
     interval = row.get("interval") or {}
     crowd = row.get("crowd") or {}
@@ -244,7 +285,7 @@ def _table_row(row):
 
 def season_study(windows, function, structure, *, band, joint=True, joint_options=None,
                  joint_min_density=0.0, executor=None, store=None, progress=None,
-                 batch_size=None):
+                 batch_size=None, say=None):
     """Estimate every record of a season with its interval, then one MSD for all of them.
 
     Parameters
@@ -278,6 +319,8 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
         As for :func:`crowdvib.runner.run_tasks`: where the tasks run, where finished ones
         are kept (a season given the same store resumes), ``progress(done, total)``, tasks
         per submission.
+    say : callable, optional
+        Called with a line before the joint estimate (a long step without progress).
 
     Returns
     -------
@@ -309,6 +352,9 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
         options = dict(joint_options or {})
         if options.get("starts") is None:
             options["starts"] = [_median_start(done)]
+        if say is not None:
+            say(f"  joint estimate: one MSD for the {len(done)} row(s) estimated, each with "
+                f"its crowd ({METHOD_WORDS[options.get('method') or DEFAULT_JOINT_METHOD]}) …")
         try:
             estimate = estimate_hsi_joint([_psd(row["psd"]) for row in done], structure, crowds,
                                           band=band, **options)
