@@ -24,7 +24,8 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
                  duration: float | None = None, sample_rate: float | None = None,
                  seed: int | None = None, formats: Sequence[str] | None = None,
                  hsi: bool | None = None, force: bool = False, say: Say = silent,
-                 progress: Progress | None = None) -> Results:
+                 progress: Progress | None = None, animate: str | Path | None = None
+                 ) -> Results:
     """What ``crowdvib simulate`` does: :func:`~crowdvib.cases.simulate_case`, the record in each
     of ``formats`` (default ``simulation.formats``), its PSD and time histories, results.json and
     report.html in ``out``.
@@ -49,6 +50,10 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
     progress : callable, optional
         ``progress(label, unit, offset)`` → the ``progress(done, total)`` callback of the
         simulation [s of simulated time, counted after the warm-up].
+    animate : str or pathlib.Path, optional
+        Also write the crossing replay (the report's) as this ``.gif`` (Pillow) or ``.mp4``
+        (ffmpeg) video (:func:`~crowdvib.reporting.video.write_replay_video`); refused at
+        once if the file exists.
 
     Returns
     -------
@@ -58,14 +63,17 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
     """
     from ..io.casefile import paper_example_case
 
+    from .animate import check_video_path
+
+    animate = None if animate is None else check_video_path(animate)
     with recorded_warnings() as caught:
         case = paper_example_case() if case is None else as_case(case)
         return _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say,
-                         progress, caught)
+                         progress, caught, animate)
 
 
 def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, progress,
-              caught):
+              caught, animate=None):
     from ..cases.simulation import simulate_case, simulation_msd
     from ..io.records import RECORD_FORMATS, write_record
     from ..reporting.plotting import plot_psd_comparison, save_figure
@@ -108,11 +116,32 @@ def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, 
         figures += _time_histories(case, simulation, staging)
         results = found.to_dict()
         results["record"]["files"] = files
+        replay = _replay(found, results)
         results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path),
                         "warnings": list(caught)})
         written = write_results(staging, results)
     say(f"  wrote {', '.join(files)} and results.json to {out} ({elapsed:.1f} s)")
+    if animate is not None:
+        from ..reporting.video import write_replay_video
+
+        started = time.perf_counter()
+        count = write_replay_video(replay, case.structure, animate)
+        say(f"  wrote the crossing replay to {animate} ({count} frames, "
+            f"{time.perf_counter() - started:.1f} s)")
     return written
+
+
+def _replay(found, results):
+    """The modal model's shapes and the crossing replay into ``results`` (issue 38); the
+    replay returned, for a video."""
+    from ..reporting.animation import mode_shape_table
+    from ..reporting.replay_view import replay_table
+    from .animate import simulation_replay
+
+    replay = simulation_replay(found)
+    results["mode_shapes"] = mode_shape_table(found.case.structure)
+    results["replay"] = replay_table(replay, found.case.structure)
+    return replay
 
 
 #: Said when the simulation kernel is about to be compiled: numba caches the compiled kernel
