@@ -81,6 +81,25 @@ def test_mode_shape_table_keeps_exact_values_at_its_stations():
     assert table["frequencies"] == [2.0, 8.0] and table["damping_ratios"] == [0.005, 0.01]
 
 
+def test_each_mode_is_labelled_empty_and_occupied():
+    # The occupied structure's f and ξ (reference: effective_modal_properties, docs: theory,
+    # The smeared crowd and the occupied bridge) beside the empty ones: the paper example's
+    # crowd of MSDs lowers f_1 and adds damping to the empty 0.5 %.
+    from crowdvib.models.examples import paper_example
+    from crowdvib.response.spectral import effective_modal_properties
+
+    case = paper_example()
+    table = mode_shape_table(case.structure, case.crowd, case.msd)
+    found = effective_modal_properties(case.structure, case.crowd, case.msd)
+    assert table["occupied"]["frequencies"] == pytest.approx(found.frequencies, rel=1e-12)
+    assert table["occupied"]["frequencies"][0] < 2.0
+    assert table["occupied"]["damping_ratios"][0] > 0.005
+    page = render_report({"command": "simulate", "mode_shapes": table})
+    assert (f"mode 1: 2 Hz, ξ = 0.5 %; occupied {found.frequencies[0]:.4g} Hz, "
+            f"ξ = {100 * found.damping_ratios[0]:.3g} %") in page
+    assert "occupied" not in mode_shape_table(case.structure, case.crowd, None)
+
+
 def test_the_still_draws_each_mode_at_phase_zero():
     # The still's line of mode j is y0 − φ_j/max|φ_j|·(height/2 − 6) (animation.py's panel):
     # a half sine for mode 1 (reference: sin(πx/L) of the simply supported beam), a full one for

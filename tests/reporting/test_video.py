@@ -63,7 +63,9 @@ def test_animate_on_the_paper_example_writes_a_gif_of_the_busiest_30_s(tmp_path,
     cpu = time.process_time() - started
     printed = capsys.readouterr().out
     with Image.open(gif) as image:
-        assert image.n_frames == 300                 # 30 s at 10 frames a second
+        # 30 s at 10 frames a second, each shown 100 ms (the replay's frame times are samples
+        # of 100 Hz: their rate is 20 Hz to round-off, which must not make frames of 90 ms).
+        assert image.n_frames == 300 and image.info["duration"] == 100
     assert f"wrote the crossing replay to {gif} (300 frames, " in printed
     assert cpu < 60.0, cpu
 

@@ -50,36 +50,57 @@ _INK, _ACCENT, _LINE, _MUTED = "#1b1f24", "#1f4e79", "#d9dee4", "#5b6470"
 _LANE_COLOURS = ("#1f4e79", "#c0392b", "#2e7d32", "#8e44ad", "#d35400")
 
 
-def mode_shape_table(structure):
+def mode_shape_table(structure, crowd=None, msd=None):
     """What a report draws of a modal model: frequencies, damping and the shapes at up to
     :data:`~crowdvib.reporting.frames.MAX_STATIONS` stations of each lane (JSON-ready), for
-    ``results["mode_shapes"]``.
+    ``results["mode_shapes"]``; with a crowd and its MSD, the occupied structure's too.
 
     Parameters
     ----------
     structure : ModalModel
+    crowd : Crowd, optional
+    msd : MSDModel, optional
+        The crowd's MSD (the estimated one, the design's, the simulated one): the occupied
+        structure's frequencies and damping ratios
+        (:func:`~crowdvib.response.spectral.effective_modal_properties`) go with the shapes.
 
     Returns
     -------
     dict
         ``frequencies`` [Hz], ``damping_ratios`` [-], ``positions`` [m], ``lanes`` [m],
-        ``width`` [m] and ``shapes`` (lane × station × mode, the model's scaling).
+        ``width`` [m], ``shapes`` (lane × station × mode, the model's scaling) and, with a
+        crowd and its MSD, ``occupied`` (``frequencies``, ``damping_ratios``).
     """
     positions = np.asarray(structure.positions)
     keep = np.unique(np.r_[np.arange(0, positions.size, -(-positions.size // MAX_STATIONS)),
                            positions.size - 1])
     shapes = np.asarray(structure.mode_shapes)[:, keep, :]
-    return {"frequencies": [float(f) for f in structure.frequencies],
+    occupied = {}
+    if crowd is not None and msd is not None and crowd.density > 0:
+        from ..response.spectral import effective_modal_properties
+
+        found = effective_modal_properties(structure, crowd, msd)
+        occupied = {"occupied": {"frequencies": [float(f) for f in found.frequencies],
+                                 "damping_ratios": [float(x) for x in found.damping_ratios]}}
+    return {**occupied, "frequencies": [float(f) for f in structure.frequencies],
             "damping_ratios": [float(x) for x in structure.damping_ratios],
             "positions": significant(positions[keep], 7),
             "lanes": [float(y) for y in structure.lanes], "width": float(structure.width),
             "shapes": [[significant(row) for row in lane] for lane in shapes.tolist()]}
 
 
+def _numbers(values):
+    """A list of floats from results.json (a received one's may be anything), or []."""
+    try:
+        return [float(v) for v in values]
+    except (TypeError, ValueError):
+        return []
+
+
 def _describe_mode(j, frequencies, damping, occupied):
     text = html("mode {}: {} Hz, ξ = {} %", j + 1, number(frequencies[j], 4),
                 number(100 * damping[j], 3))
-    if occupied is not None and j < len(occupied[0]):
+    if occupied is not None and j < min(len(occupied[0]), len(occupied[1])):
         text += html("; occupied {} Hz, ξ = {} %", number(occupied[0][j], 4),
                      number(100 * occupied[1][j], 3))
     return text
@@ -110,7 +131,7 @@ def mode_shape_animation(table, occupied=None, *, title="Mode shapes", abscissa=
     shapes = np.asarray(table["shapes"], dtype=float)
     frequencies, damping = table["frequencies"], table["damping_ratios"]
     occupied = (None if not isinstance(occupied, dict) else
-                (occupied.get("frequencies") or [], occupied.get("damping_ratios") or []))
+                (_numbers(occupied.get("frequencies")), _numbers(occupied.get("damping_ratios"))))
     n_lanes, _, n_modes = shapes.shape
     width, height, left, right = 720.0, 92.0, 56.0, 16.0
     span = positions[-1] - positions[0] or 1.0
@@ -191,7 +212,7 @@ def report_animations(results):
     pictures = []
     table = results.get("mode_shapes")
     if isinstance(table, dict) and _valid_table(table):
-        occupied = results.get("occupied_structure")
+        occupied = table.get("occupied", results.get("occupied_structure"))
         pictures.append(mode_shape_animation(table, occupied if isinstance(occupied, dict)
                                              else None, title="Mode shapes of the modal model"))
     identified = _identified_table(results)

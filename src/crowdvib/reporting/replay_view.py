@@ -48,7 +48,7 @@ def replay_table(replay, structure):
     shapes = structure.shapes_at(positions)                      # station × mode, mid-width
     deflection = shapes @ replay.modal_displacement              # station × frame [m]
     scale = float(np.max(np.abs(replay.modal_displacement))) or 1.0
-    rate = 1.0 / (replay.time[1] - replay.time[0]) if replay.n_frames > 1 else 1.0
+    rate = round(1.0 / (replay.time[1] - replay.time[0]), 6) if replay.n_frames > 1 else 1.0
     bins = max(1, int(round((replay.trace_time.size / (replay.trace_time[-1] - replay.trace_time[0]
                                                        + 1e-12)) / TRACE_BINS_PER_SECOND)))
     n = replay.acceleration.shape[1] // bins * bins

@@ -67,7 +67,9 @@ def write_replay_video(replay, structure, path, *, fps=VIDEO_FRAME_RATE, dpi=80)
         raise DataError(f"{path.name}: an MP4 needs ffmpeg, which is not installed here "
                         "(apt-get install ffmpeg, or conda install ffmpeg); a .gif needs "
                         "nothing more")
-    rate = 1.0 / (replay.time[1] - replay.time[0]) if replay.n_frames > 1 else fps
+    # The frame rate to a micro-hertz (20.00000000002 would make GIF frames of 99 ms, stored as
+    # 9 centiseconds).
+    rate = round(1.0 / (replay.time[1] - replay.time[0]), 6) if replay.n_frames > 1 else fps
     every = max(1, int(round(rate / fps)))
     frames = np.arange(0, replay.n_frames, every)
     figure, draw, moving = _picture(replay, structure, plt)

@@ -52,7 +52,8 @@ def run_estimate(case: Case | str | Path, out: str | Path, *, force: bool = Fals
             fit = estimate_case(case)
             _say_fit(fit, say)
             results = fit.to_dict()
-            results["mode_shapes"] = mode_shape_table(case.structure)    # issue 38
+            results["mode_shapes"] = mode_shape_table(case.structure, fit.crowd,   # issue 38
+                                                      fit.estimate.msd)
             results["figures"] = (_joint_figures if fit.joint else _figures)(fit, staging)
             results.update(stamp)
             results["warnings"] = warning_texts(caught)

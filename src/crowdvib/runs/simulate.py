@@ -139,7 +139,7 @@ def _replay(found, results):
     from .animate import simulation_replay
 
     replay = simulation_replay(found)
-    results["mode_shapes"] = mode_shape_table(found.case.structure)
+    results["mode_shapes"] = mode_shape_table(found.case.structure, found.case.crowd, found.msd)
     results["replay"] = replay_table(replay, found.case.structure)
     return replay
 
