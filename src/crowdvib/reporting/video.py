@@ -3,8 +3,9 @@ ffmpeg where it is installed, with matplotlib's animation writers.
 
 The frames are the replay's (:class:`~crowdvib.response.replay.Replay`), every n-th one for the
 video's frame rate; the picture is the report's: the deck in plan with its walkers, the deck's
-deflection (exaggerated, the scale in the title) with the walkers on it, and the acceleration
-at the first output with a moving cursor and the comfort classes' bounds.
+deflection (exaggerated, the scale in the title) with the walkers on it (with HSI each one
+lifted by its MSD's displacement relative to the deck, at the same scale), and the
+acceleration at the first output with a moving cursor and the comfort classes' bounds.
 """
 
 from pathlib import Path
@@ -166,6 +167,8 @@ def _picture(replay, structure, plt):
         on, positions = replay.positions(t)
         colours = [_COLOURS[0 if v >= 0 else 1] for v in replay.velocity[on]]
         lift = 0.012 * span
+        if replay.msd_displacement is not None:       # the MSD's body against the deck
+            lift = lift + scale * np.nan_to_num(replay.msd_displacement[on, k])
         people.set_offsets(np.c_[positions, np.interp(positions, x, drawn) + lift])
         people.set_color(colours)
         above.set_offsets(np.c_[positions, replay.lateral[on]])

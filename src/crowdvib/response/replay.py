@@ -58,6 +58,9 @@ class Replay:
         The run's seed.
     hsi : bool
         The walkers were MSDs.
+    msd_displacement : ndarray, shape (n_walkers, n_frames), or None
+        With HSI: each walker's MSD body relative to the deck under it, u_k − φ_kᵀ z [m] (NaN
+        while off the deck); None for moving forces.
     """
 
     time: np.ndarray
@@ -74,6 +77,7 @@ class Replay:
     output_names: tuple
     seed: int
     hsi: bool
+    msd_displacement: np.ndarray | None = None
 
     @property
     def n_frames(self) -> int:
@@ -163,27 +167,41 @@ def crossing_replay(structure, crowd=None, duration=None, *, start=None,
     z = np.empty((structure.n_modes, frames.size))
     trace = np.empty((structure.n_outputs, last - first))
     rows: dict[tuple, tuple] = {}
+    relative: dict[tuple, dict] = {}
     for k, sample in enumerate(frames):
         z[:, k] = integrator.z
-        _seen(integrator, rows)
+        _seen(integrator, rows, relative if msd is not None else None, k)
         stop = min(sample + every, last)
         _, count = integrator.advance((stop - sample) * substeps)
         trace[:, sample - first:stop - first] = integrator.acceleration[:, :count]
     walkers = _walker_table(rows)
+    moving = None
+    if msd is not None:
+        moving = np.full((len(rows), frames.size), np.nan)
+        for i, key in enumerate(sorted(rows)):
+            for k, value in relative[key].items():
+                moving[i, k] = value
     return Replay(time=frames / sample_rate, modal_displacement=z, **walkers,
                   trace_time=np.arange(first, last) / sample_rate, acceleration=trace,
-                  output_names=tuple(structure.output_names), seed=seed, hsi=msd is not None)
+                  output_names=tuple(structure.output_names), seed=seed, hsi=msd is not None,
+                  msd_displacement=moving)
 
 
-def _seen(integrator, rows):
-    """Add the walkers (not the dampers) on the deck now to ``rows`` (t_on → their data)."""
-    w = integrator.walkers
-    for row in integrator.active[:integrator.n_active]:
+def _seen(integrator, rows, relative, frame):
+    """Add the walkers (not the dampers) on the deck now to ``rows`` (their key → their data)
+    and, with ``relative``, their MSD's displacement relative to the deck at ``frame``."""
+    w, n = integrator.walkers, integrator.n_active
+    # Slot s holds walker row active[s]; u is the body's displacement, φ(t)ᵀz the deck's under
+    # it (the kernel's state at the current time).
+    body = integrator.u[:n] - integrator.phi_now[:n] @ integrator.z
+    for slot, row in enumerate(integrator.active[:n]):
         if integrator.damper.size and integrator.damper[row] >= 0:
             continue
         key = (float(w.arrival[row]), float(w.x_start[row]), float(w.lateral[row]))
         rows.setdefault(key, (float(w.velocity[row]), float(w.step_frequency[row]),
                               float(w.t_on[row]), float(w.t_off[row])))
+        if relative is not None:
+            relative.setdefault(key, {})[frame] = float(body[slot])
 
 
 def _walker_table(rows):
