@@ -70,6 +70,23 @@ def test_animate_on_the_paper_example_writes_a_gif_of_the_busiest_30_s(tmp_path,
     assert cpu < 60.0, cpu
 
 
+def test_a_video_in_the_results_folder_is_one_of_its_results(tmp_path):
+    # Written with the results and listed in their manifest (with its SHA-256), so --force
+    # replaces it as it replaces them (README: crowdvib only replaces files a manifest lists).
+    import hashlib
+    import json
+
+    from crowdvib.runs import run_simulate
+
+    out = tmp_path / "out"
+    for force in (False, True):
+        run_simulate(None, out, duration=40.0, animate=out / "crossing.gif", force=force)
+        manifest = json.loads((out / "crowdvib-manifest.json").read_text(encoding="utf-8"))
+        listed = {entry["path"]: entry for entry in manifest["files"]}
+        digest = hashlib.sha256((out / "crossing.gif").read_bytes()).hexdigest()
+        assert listed["crossing.gif"]["sha256"] == digest
+
+
 def test_animate_refuses_before_the_work(tmp_path):
     taken = tmp_path / "taken.gif"
     taken.write_bytes(b"GIF89a")

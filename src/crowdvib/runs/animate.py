@@ -8,7 +8,8 @@ from pathlib import Path
 
 from ..errors import ParameterError
 
-__all__ = ["simulation_replay", "demo_replay", "check_video_path", "VIDEO_SUFFIXES"]
+__all__ = ["simulation_replay", "demo_replay", "check_video_path", "in_results",
+           "VIDEO_SUFFIXES"]
 
 #: What ``--animate`` writes, by the file's suffix.
 VIDEO_SUFFIXES = (".gif", ".mp4")
@@ -47,16 +48,19 @@ def demo_replay(found):
                            n_on_deck=found.record.n_on_deck)
 
 
-def check_video_path(path):
+def check_video_path(path, out):
     """``path`` as the video file to write, refused before any work: a suffix of
     :data:`VIDEO_SUFFIXES`, a folder that exists, and no file there yet (crowdvib does not
-    overwrite a file it did not write)."""
+    overwrite a file it did not write). A video in the results folder ``out`` is one of its
+    results (listed in its manifest, replaced with ``--force`` as they are)."""
     from .._terminal import terminal_safe
 
     path = Path(path)
     if path.suffix.lower() not in VIDEO_SUFFIXES:
         raise ParameterError(f"--animate {terminal_safe(path)}: the video must be a "
                              f"{' or '.join(VIDEO_SUFFIXES)} file")
+    if in_results(path, out):
+        return path
     if path.exists() or path.is_symlink():
         raise ParameterError(f"--animate {terminal_safe(path)}: the file exists; crowdvib does "
                              "not overwrite a file it may not have written: move it away or "
@@ -65,3 +69,8 @@ def check_video_path(path):
         raise ParameterError(f"--animate {terminal_safe(path)}: its folder "
                              f"{terminal_safe(path.parent)} does not exist")
     return path
+
+
+def in_results(path, out):
+    """Whether the video ``path`` lies in the results folder ``out`` itself."""
+    return Path(path).resolve().parent == Path(out).resolve()

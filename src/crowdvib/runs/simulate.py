@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..cases.results import provenance
+from .animate import check_video_path, in_results
 from .folders import case_inputs, staged_output, write_results
 from .lines import Progress, Say, as_case, recorded_warnings, silent
 
@@ -63,9 +64,7 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
     """
     from ..io.casefile import paper_example_case
 
-    from .animate import check_video_path
-
-    animate = None if animate is None else check_video_path(animate)
+    animate = None if animate is None else check_video_path(animate, out)
     with recorded_warnings() as caught:
         case = paper_example_case() if case is None else as_case(case)
         return _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say,
@@ -120,15 +119,22 @@ def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, 
         results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path),
                         "warnings": list(caught)})
         written = write_results(staging, results)
+        if animate is not None and in_results(animate, out):     # one of the results
+            _video(replay, case, staging / animate.name, animate, say)
     say(f"  wrote {', '.join(files)} and results.json to {out} ({elapsed:.1f} s)")
-    if animate is not None:
-        from ..reporting.video import write_replay_video
-
-        started = time.perf_counter()
-        count = write_replay_video(replay, case.structure, animate)
-        say(f"  wrote the crossing replay to {animate} ({count} frames, "
-            f"{time.perf_counter() - started:.1f} s)")
+    if animate is not None and not in_results(animate, out):
+        _video(replay, case, animate, animate, say)
     return written
+
+
+def _video(replay, case, path, shown, say):
+    """The replay as the video ``path`` (``shown`` in the line said)."""
+    from ..reporting.video import write_replay_video
+
+    started = time.perf_counter()
+    count = write_replay_video(replay, case.structure, path)
+    say(f"  wrote the crossing replay to {shown} ({count} frames, "
+        f"{time.perf_counter() - started:.1f} s)")
 
 
 def _replay(found, results):
