@@ -80,11 +80,20 @@ def test_a_video_in_the_results_folder_is_one_of_its_results(tmp_path):
 
     out = tmp_path / "out"
     for force in (False, True):
-        run_simulate(None, out, duration=40.0, animate=out / "crossing.gif", force=force)
+        run_simulate(None, out, duration=40.0, animate=out / "crossing.gif", force=force,
+                     replay_start=5.0, replay_length=2.0)
         manifest = json.loads((out / "crowdvib-manifest.json").read_text(encoding="utf-8"))
         listed = {entry["path"]: entry for entry in manifest["files"]}
         digest = hashlib.sha256((out / "crossing.gif").read_bytes()).hexdigest()
         assert listed["crossing.gif"]["sha256"] == digest
+    # The stretch asked for: 2 s from t = 5 s, 10 frames a second (Pillow reads them back).
+    from PIL import Image
+
+    replay = json.loads((out / "results.json").read_text(encoding="utf-8"))["replay"]
+    assert replay["t0"] == 5.0 and len(replay["q"]) == 40 and replay["busiest"] is False
+    assert "from t = 5 s (the stretch asked for;" in (out / "report.html").read_text("utf-8")
+    with Image.open(out / "crossing.gif") as image:
+        assert image.n_frames == 20
 
 
 def test_animate_refuses_before_the_work(tmp_path):

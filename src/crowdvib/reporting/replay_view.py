@@ -30,7 +30,7 @@ _WALKER_COLOURS = ("#1f4e79", "#c0392b")   # walking forward, walking back
 _MUTED, _INK, _LINE = "#5b6470", "#1b1f24", "#d9dee4"
 
 
-def replay_table(replay, structure):
+def replay_table(replay, structure, *, busiest=True):
     """What results.json keeps of a replay (JSON-ready).
 
     Parameters
@@ -39,6 +39,8 @@ def replay_table(replay, structure):
     structure : ModalModel
         The model it was simulated on (its shapes at mid-width, at up to
         :data:`~crowdvib.reporting.frames.MAX_STATIONS` stations).
+    busiest : bool
+        The stretch is the busiest of the record (else one asked for), as the caption says.
 
     Returns
     -------
@@ -57,6 +59,7 @@ def replay_table(replay, structure):
                for name in ("arrival", "x_start", "velocity", "lateral", "step_frequency",
                             "t_on", "t_off")}
     return {"t0": float(replay.time[0]), "frame_rate": float(rate), "seed": int(replay.seed),
+            "busiest": bool(busiest),
             "hsi": bool(replay.hsi), "width": float(structure.width),
             "positions": significant(positions, 7),
             "shapes": [significant(shapes[:, j] * scale) for j in range(structure.n_modes)],
@@ -136,15 +139,17 @@ def replay_animation(table):
                join(parts))
     exaggeration = pixels / bx
     caption = html(
-        "{} s of the simulated record from t = {} s (the stretch with the most walkers on the "
-        "deck; seed {}), {} frames a second{}. Top: the deck in plan, each walker where its "
+        "{} s of the simulated record from t = {} s ({}; seed {}), {} frames a second{}. Top: "
+        "the deck in plan, each walker where its "
         "arrival time and speed put it (blue walking forward, red back). Middle: the deck's "
         "deflection w = Σ φ<sub>j</sub> z<sub>j</sub> from the modal coordinates, exaggerated "
         "× {} (largest {} mm), the walkers on it bobbing at their step frequency. Bottom: the "
         "acceleration at each output (envelope of the record) with the comfort classes' "
         "bounds (CL1 {} m/s², CL2 {} m/s², HiVoSS). The still shows t = {} s, the largest "
         "deflection; with script, Play runs the replay and the slider sets the time.",
-        number(length, 3), number(found["t0"], 5), number(table.get("seed")),
+        number(length, 3), number(found["t0"], 5),
+        "the stretch with the most walkers on the deck" if table.get("busiest", True)
+        else "the stretch asked for", number(table.get("seed")),
         number(found["frame_rate"], 3),
         Markup(", walkers as MSDs (HSI)") if table.get("hsi") else "",
         number(exaggeration, 3), number(1e3 * largest, 3), number(COMFORT_CLASSES[0][1]),

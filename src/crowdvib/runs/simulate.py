@@ -25,7 +25,8 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
                  duration: float | None = None, sample_rate: float | None = None,
                  seed: int | None = None, formats: Sequence[str] | None = None,
                  hsi: bool | None = None, force: bool = False, say: Say = silent,
-                 progress: Progress | None = None, animate: str | Path | None = None
+                 progress: Progress | None = None, animate: str | Path | None = None,
+                 replay_start: float | None = None, replay_length: float | None = None
                  ) -> Results:
     """What ``crowdvib simulate`` does: :func:`~crowdvib.cases.simulate_case`, the record in each
     of ``formats`` (default ``simulation.formats``), its PSD and time histories, results.json and
@@ -55,6 +56,9 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
         Also write the crossing replay (the report's) as this ``.gif`` (Pillow) or ``.mp4``
         (ffmpeg) video (:func:`~crowdvib.reporting.video.write_replay_video`); refused at
         once if the file exists.
+    replay_start, replay_length : float, optional
+        The stretch of the record the report (and the video) replays [s]: default the 30 s
+        with the most walkers on the deck.
 
     Returns
     -------
@@ -68,11 +72,11 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
     with recorded_warnings() as caught:
         case = paper_example_case() if case is None else as_case(case)
         return _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say,
-                         progress, caught, animate)
+                         progress, caught, animate, (replay_start, replay_length))
 
 
 def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, progress,
-              caught, animate=None):
+              caught, animate=None, stretch=(None, None)):
     from ..cases.simulation import simulate_case, simulation_msd
     from ..io.records import RECORD_FORMATS, write_record
     from ..reporting.plotting import plot_psd_comparison, save_figure
@@ -115,7 +119,7 @@ def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, 
         figures += _time_histories(case, simulation, staging)
         results = found.to_dict()
         results["record"]["files"] = files
-        replay = _replay(found, results)
+        replay = _replay(found, results, *stretch)
         results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path),
                         "warnings": list(caught)})
         written = write_results(staging, results)
@@ -137,16 +141,16 @@ def _video(replay, case, path, shown, say):
         f"{time.perf_counter() - started:.1f} s)")
 
 
-def _replay(found, results):
-    """The modal model's shapes and the crossing replay into ``results`` (issue 38); the
-    replay returned, for a video."""
+def _replay(found, results, start, length):
+    """The modal model's shapes and the crossing replay of ``length`` s from ``start`` (default
+    the busiest 30 s) into ``results`` (issue 38); the replay returned, for a video."""
     from ..reporting.animation import mode_shape_table
     from ..reporting.replay_view import replay_table
     from .animate import simulation_replay
 
-    replay = simulation_replay(found)
+    replay = simulation_replay(found, start=start, length=length)
     results["mode_shapes"] = mode_shape_table(found.case.structure, found.case.crowd, found.msd)
-    results["replay"] = replay_table(replay, found.case.structure)
+    results["replay"] = replay_table(replay, found.case.structure, busiest=start is None)
     return replay
 
 
