@@ -28,7 +28,7 @@ from importlib import resources
 import numpy as np
 from markupsafe import Markup
 
-from .frames import MAX_STATIONS, frame, path_data, significant
+from .frames import INK, MAX_STATIONS, MUTED, frame, path_data, significant
 from .html import html, join, number
 from .safe_html import CSP_META, csp_meta, policy_with_scripts
 
@@ -46,7 +46,6 @@ _PHASE_STEPS, _PHASE_RATE = 48, 32
 _STYLE = (".cv-controls{display:flex;gap:10px;align-items:center;margin:4px 0 0}"
           ".cv-controls input{flex:1}.cv-label{font-variant-numeric:tabular-nums;"
           "min-width:14em;color:#5b6470}@media print{.cv-controls{display:none}}")
-_INK, _ACCENT, _LINE, _MUTED = "#1b1f24", "#1f4e79", "#d9dee4", "#5b6470"
 _LANE_COLOURS = ("#1f4e79", "#c0392b", "#2e7d32", "#8e44ad", "#d35400")
 
 
@@ -146,9 +145,9 @@ def mode_shape_animation(table, occupied=None, *, title="Mode shapes", abscissa=
         panels.append({"x": list(np.round(xs, 1)), "y0": round(y0, 1), "lanes": lanes})
         parts.append(html('<text x="{}" y="{}" font-size="13" fill="{}">{}</text>'
                           '<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="{}" '
-                          'stroke-dasharray="4 3"/>', left, top + 16, _INK,
+                          'stroke-dasharray="4 3"/>', left, top + 16, INK,
                           _describe_mode(j, frequencies, damping, occupied), left, y0,
-                          width - right, y0, _MUTED))
+                          width - right, y0, MUTED))
         for lane, dy in enumerate(lanes):
             parts.append(html('<path data-cv-line="{} {}" d="{}" fill="none" stroke="{}" '
                               'stroke-width="2"/>', j, lane, path_data(xs, y0 + np.asarray(dy)),
@@ -157,8 +156,11 @@ def mode_shape_animation(table, occupied=None, *, title="Mode shapes", abscissa=
     ticks = (list(zip(xs, abscissa)) if abscissa is not None else
              [(left + (x - positions[0]) / span * (width - left - right), f"{x:g} m")
               for x in np.linspace(positions[0], positions[-1], 6)])
-    parts += [html('<text x="{}" y="{}" font-size="11" fill="{}" text-anchor="middle">{}</text>',
-                   round(x, 1), bottom + 6, _MUTED, name) for x, name in ticks]
+    # The outer names inward, so a long sensor name stays on the picture.
+    anchors = ["start"] + ["middle"] * (len(ticks) - 2) + ["end"]
+    parts += [html('<text x="{}" y="{}" font-size="11" fill="{}" text-anchor="{}">{}</text>',
+                   round(x, 1), bottom + 6, MUTED, anchor, name)
+              for (x, name), anchor in zip(ticks, anchors)]
     svg = html('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {} {}" width="100%" '
                'role="img" aria-label="{}">{}</svg>', width, bottom + 12, title, join(parts))
     lanes = table.get("lanes") or []

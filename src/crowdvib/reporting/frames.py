@@ -9,7 +9,11 @@ from markupsafe import Markup
 
 from .html import html
 
-__all__ = ["significant", "path_data", "data_block", "frame", "MAX_STATIONS"]
+__all__ = ["significant", "path_data", "data_block", "frame", "MAX_STATIONS", "INK", "MUTED",
+           "LINE"]
+
+#: The pictures' colours: the report's ink, muted text and rule lines (html.CSS's).
+INK, MUTED, LINE = "#1b1f24", "#5b6470", "#d9dee4"
 
 #: Stations kept of a modal model's shapes (an FE export may have thousands): every
 #: ⌈n/MAX⌉-th, both ends kept, at their exact values; a line of 100 points draws any mode a

@@ -13,7 +13,7 @@ import numpy as np
 from markupsafe import Markup
 
 from ..design.codes import COMFORT_CLASSES
-from .frames import MAX_STATIONS, frame, path_data, significant
+from .frames import INK, LINE, MAX_STATIONS, MUTED, frame, path_data, significant
 from .html import html, join, number
 
 __all__ = ["replay_table", "replay_animation", "TRACE_BINS_PER_SECOND", "REPLAY_GEOMETRY"]
@@ -27,7 +27,6 @@ REPLAY_GEOMETRY = {"width": 720.0, "left": 56.0, "right": 16.0, "plan_top": 36.0
                    "plan_height": 36.0, "deck_y": 140.0, "trace_top": 222.0,
                    "trace_height": 84.0, "deflection": 30.0, "lift": 4.0, "bob": 1.5}
 _WALKER_COLOURS = ("#1f4e79", "#c0392b")   # walking forward, walking back
-_MUTED, _INK, _LINE = "#5b6470", "#1b1f24", "#d9dee4"
 
 
 def replay_table(replay, structure, *, busiest=True):
@@ -162,23 +161,23 @@ def _plan(g, width):
     return html('<text x="{}" y="{}" font-size="12" fill="{}">plan</text>'
                 '<rect x="{}" y="{}" width="{}" height="{}" fill="#f3f5f8" stroke="{}"/>'
                 '<text x="{}" y="{}" font-size="11" fill="{}" text-anchor="end">{} m</text>'
-                '<g data-cv-plan=""></g>', 4, g["plan_top"] + 22, _MUTED, g["left"],
-                g["plan_top"], right - g["left"], g["plan_height"], _LINE, g["left"] - 4,
-                g["plan_top"] + g["plan_height"], _MUTED, number(width, 3))
+                '<g data-cv-plan=""></g>', 4, g["plan_top"] + 22, MUTED, g["left"],
+                g["plan_top"], right - g["left"], g["plan_height"], LINE, g["left"] - 4,
+                g["plan_top"] + g["plan_height"], MUTED, number(width, 3))
 
 
 def _elevation(g, x, ax, bx, deck_y):
     y0, right = g["deck_y"], g["width"] - g["right"]
     supports = join(html('<path d="M{} {}l-6 10h12z" fill="{}"/>', round(ax + bx * end, 1),
-                         y0 + 2, _MUTED) for end in (x[0], x[-1]))
+                         y0 + 2, MUTED) for end in (x[0], x[-1]))
     ticks = join(html('<text x="{}" y="{}" font-size="11" fill="{}" text-anchor="middle">'
-                      "{} m</text>", round(ax + bx * v, 1), y0 + 48, _MUTED, number(v, 4))
+                      "{} m</text>", round(ax + bx * v, 1), y0 + 48, MUTED, number(v, 4))
                  for v in np.linspace(x[0], x[-1], 6))
     return html('<text x="{}" y="{}" font-size="12" fill="{}">elevation</text>'
                 '<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="{}" stroke-dasharray="4 3"/>'
                 '{}{}<path data-cv-deck="" d="{}" fill="none" stroke="{}" stroke-width="3"/>',
-                4, y0 - 4, _MUTED, g["left"], y0, right, y0, _MUTED, supports, ticks,
-                path_data(ax + bx * x, deck_y), _INK)
+                4, y0 - 4, MUTED, g["left"], y0, right, y0, MUTED, supports, ticks,
+                path_data(ax + bx * x, deck_y), INK)
 
 
 def _walkers(data, w, t, deck_y):
@@ -224,11 +223,11 @@ def _traces(found, g, length, n_outputs, t):
             '<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="{}"/>'
             '<path d="{}" fill="#1f4e79" fill-opacity="0.55" stroke="none"/>{}'
             '<line data-cv-cursor="" x1="{:.1f}" x2="{:.1f}" y1="{}" y2="{}" stroke="#c0392b" '
-            'stroke-width="1.5"/>', left, top - 4, _MUTED, found["names"][o], number(reach, 3),
-            left, top, right - left, g["trace_height"], _LINE, band, limits, x, x, top,
+            'stroke-width="1.5"/>', left, top - 4, MUTED, found["names"][o], number(reach, 3),
+            left, top, right - left, g["trace_height"], LINE, band, limits, x, x, top,
             top + g["trace_height"]))
     bottom = g["trace_top"] + n_outputs * (g["trace_height"] + 22) - 8
     parts += [html('<text x="{:.1f}" y="{}" font-size="11" fill="{}" text-anchor="middle">'
-                   "{} s</text>", left + (v - found["t0"]) * bx, bottom, _MUTED, number(v, 5))
+                   "{} s</text>", left + (v - found["t0"]) * bx, bottom, MUTED, number(v, 5))
               for v in np.linspace(found["t0"], found["t0"] + length, 7)]
     return join(parts)
