@@ -21,8 +21,9 @@ from crowdvib.io.casefile import load_case
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 #: Keys of results.json that are the command's and not the computation's (the provenance stamp
-#: of reporting.report.provenance, the figures drawn, the warnings caught).
-COMMAND_KEYS = {"created", "case_sha256", "figures", "warnings"}
+#: of reporting.report.provenance, the figures drawn, the warnings caught, the data of the
+#: report's moving pictures: issue 38).
+COMMAND_KEYS = {"created", "case_sha256", "figures", "warnings", "mode_shapes", "replay"}
 
 
 def _as_json(value):

@@ -26,8 +26,10 @@ from crowdvib.io.casefile import load_case
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 #: What a command adds to the computation's results: its provenance stamp, the figures it drew,
-#: the warnings it caught and its wall-clock time.
-COMMAND_KEYS = {"created", "case_sha256", "figures", "warnings", "elapsed_s", "files"}
+#: the warnings it caught, its wall-clock time, and the data of its report's moving pictures
+#: (issue 38: the mode shapes, the crossing replay; figures of a kind, drawn by the report).
+COMMAND_KEYS = {"created", "case_sha256", "figures", "warnings", "elapsed_s", "files",
+                "mode_shapes", "replay"}
 
 
 def _cli(out, argv, capsys):

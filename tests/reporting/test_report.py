@@ -94,18 +94,28 @@ def _browser(url, tmp_path, *options):
     return done.stdout
 
 
-def _with_probe(text):
-    """The report's page with the probe before </body>, its Content-Security-Policy allowing
-    that one script by its hash (as the policy would allow a script of crowdvib's own)."""
+def with_script(text, script, where="</body>"):
+    """The report's page with ``script`` (``<script>…</script>``) before ``where``, its
+    Content-Security-Policy allowing that script too by its hash (as the policy allows
+    crowdvib's own: none in a report without moving pictures, its one script in one with
+    them; issue 38)."""
     import hashlib
 
-    from crowdvib.reporting.safe_html import CSP
+    from crowdvib.reporting.animation import SCRIPT_HASH
+    from crowdvib.reporting.safe_html import CSP, policy_with_scripts
 
-    code = _PROBE[len("<script>"):-len("</script>")]
+    code = script[len("<script>"):-len("</script>")]
     digest = base64.b64encode(hashlib.sha256(code.encode("utf-8")).digest()).decode("ascii")
-    assert text.count(CSP) == 1
-    return (text.replace(CSP, CSP.replace("script-src 'none'", f"script-src 'sha256-{digest}'"))
-            .replace("</body>", _PROBE + "</body>"))
+    policies = [p for p in (CSP, policy_with_scripts([SCRIPT_HASH])) if p in text]
+    assert len(policies) == 1 and text.count(policies[0]) == 1
+    own = [SCRIPT_HASH] if policies[0] != CSP else []
+    return (text.replace(policies[0], policy_with_scripts([*own, f"sha256-{digest}"]))
+            .replace(where, script + where, 1))
+
+
+def _with_probe(text):
+    """The report's page with the probe before </body>, allowed by its hash."""
+    return with_script(text, _PROBE)
 
 
 def _open_in_browser(report, tmp_path):

@@ -11,7 +11,9 @@ import pytest
 from crowdvib import ParameterError, load_case
 from crowdvib.cases import check_case
 from crowdvib.reporting.report import render_report
-from crowdvib.reporting.safe_html import CSP, CSP_META, checked_page, css_problem
+from crowdvib.reporting.animation import SCRIPT_HASH
+from crowdvib.reporting.safe_html import (CSP, CSP_META, checked_page, css_problem,
+                                          policy_with_scripts)
 # The case with a letterhead template and its logo (the fixture ``folder``), as there.
 from tests.reporting.test_report_template import LETTERHEAD, folder  # noqa: F401
 
@@ -136,7 +138,8 @@ def _head(page):
 def _policy_first(page):
     """Whether the policy is the first element of the page's <head>: of the one the page
     writes, or (without one) of the one a browser makes for the first element that is not
-    <html>."""
+    <html>. The policy is :data:`CSP`, or where the page has moving pictures (issue 38) the same
+    policy allowing crowdvib's own script alone, by its hash."""
     class First(HTMLParser):
         first = None
 
@@ -146,7 +149,8 @@ def _policy_first(page):
 
     parser = First()
     parser.feed(page)
-    return parser.first == ("meta", {"http-equiv": "Content-Security-Policy", "content": CSP})
+    return parser.first in (("meta", {"http-equiv": "Content-Security-Policy", "content": policy})
+                            for policy in (CSP, policy_with_scripts([SCRIPT_HASH])))
 
 
 def test_the_policy_is_strict():
@@ -154,6 +158,12 @@ def test_the_policy_is_strict():
     rules = dict(rule.strip().split(" ", 1) for rule in CSP.split(";"))
     assert rules == {"default-src": "'none'", "img-src": "data:", "style-src": "'unsafe-inline'",
                      "script-src": "'none'", "form-action": "'none'", "base-uri": "'none'"}
+    # A report with moving pictures (issue 38): the same, but one script may run, crowdvib's
+    # own, named by its hash (no 'unsafe-inline', no source to fetch from, no 'strict-dynamic').
+    own = dict(rule.strip().split(" ", 1)
+               for rule in policy_with_scripts([SCRIPT_HASH]).split(";"))
+    assert own == {**rules, "script-src": f"'{SCRIPT_HASH}'"}
+    assert re.fullmatch(r"sha256-[A-Za-z0-9+/]{43}=", SCRIPT_HASH)
 
 
 @pytest.mark.parametrize("command", ["demo", "estimate", "simulate", "map", "sensitivity",

@@ -24,6 +24,14 @@ def add_arguments(parser):
                              "(default the case's simulation.formats)")
     parser.add_argument("--no-hsi", action="store_true",
                         help="pedestrians as moving forces only (no MSD)")
+    parser.add_argument("--animate", type=Path, default=None, metavar="FILE.gif|mp4",
+                        help="also write the crossing replay (the report's) as a video: "
+                             ".gif always, .mp4 where ffmpeg is installed")
+    parser.add_argument("--replay-start", type=float, default=None, metavar="S",
+                        help="the replay's first time [s] (default: the stretch with the most "
+                             "walkers on the deck)")
+    parser.add_argument("--replay-length", type=float, default=None, metavar="S",
+                        help="the replay's length [s] (default 30)")
 
 
 def run(args):
@@ -32,5 +40,7 @@ def run(args):
     with warnings_as_lines("simulate"):
         run_simulate(args.case, args.out, duration=args.duration_s, sample_rate=args.sample_rate,
                      seed=args.seed, formats=args.format, hsi=False if args.no_hsi else None,
-                     force=args.force, say=say, progress=progress_printer)
+                     force=args.force, say=say, progress=progress_printer,
+                     animate=args.animate, replay_start=args.replay_start,
+                     replay_length=args.replay_length)
     return say_verdict(args.out)

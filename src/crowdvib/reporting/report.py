@@ -34,6 +34,7 @@ from ..cases.schema import case_name
 from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, findings
 from ..errors import DataError, ParameterError
 from . import sections
+from .animation import report_animations
 from .design_section import design_section
 from .figures import collect_figures
 from .html import html, page
@@ -133,13 +134,14 @@ def render_report(results, directory=None, *, template=None):
         if template.suffix.lower() not in TEMPLATE_SUFFIXES:
             raise ParameterError(f"report template {terminal_safe(template.name)}: must be a "
                                  f"{' or '.join(TEMPLATE_SUFFIXES)} file")
+    animations = report_animations(shown)          # issue 38: put in once the page is safe
     body = [
         sections.header(shown),
         sections.nav(shown),
         sections.summary_section(shown, notes),
         sections.estimate_section(shown),
         diagnostics,
-        sections.figures_section(figures),
+        sections.figures_section(figures) + animations.slot,
         sections.inputs_section(shown),
         sections.provenance_section(results, directory),
     ]
@@ -148,12 +150,13 @@ def render_report(results, directory=None, *, template=None):
     title = html("crowdvib {} — {}", shown.get("command", "results"), case_name(shown))
     generator = f"crowdvib {__version__}"
     if template is None:
-        return str(page(title, generator, body))
+        return animations.finish(str(page(title, generator, body)))
     from .html import CSS
     from .template import BLOCKS, render_template
 
-    return render_template(template, dict(zip(BLOCKS, body)), title=title, generator=generator,
-                           css=CSS, report=_report_table(shown))
+    return animations.finish(render_template(template, dict(zip(BLOCKS, body)), title=title,
+                                             generator=generator, css=CSS,
+                                             report=_report_table(shown)))
 
 
 def case_template(results):

@@ -28,17 +28,33 @@ from markupsafe import escape
 
 from ..errors import ParameterError
 
-__all__ = ["CSP", "CSP_META", "checked_page"]
+__all__ = ["CSP", "CSP_META", "csp_meta", "policy_with_scripts", "checked_page"]
 
 #: The report's Content-Security-Policy. Nothing is fetched (``default-src 'none'``): images only
 #: as ``data:`` URIs (the figures, a logo), styles only inline (the report's own ``<style>``, a
-#: template's, and ``style=``), no script at all (a report holds none), no form to send, no
+#: template's, and ``style=``), no script (a report with moving pictures allows crowdvib's own
+#: script alone, by its hash: :func:`policy_with_scripts`), no form to send, no
 #: ``<base>`` to move relative links. A ``<meta>`` policy cannot hold ``frame-ancestors`` or
 #: ``sandbox``; navigation (``<meta http-equiv="refresh">``) it cannot stop: the allow-list does.
 CSP = ("default-src 'none'; img-src data:; style-src 'unsafe-inline'; script-src 'none'; "
        "form-action 'none'; base-uri 'none'")
+
+
+def csp_meta(policy):
+    """A policy as the first element of ``<head>``."""
+    return f'<meta http-equiv="Content-Security-Policy" content="{policy}">'
+
+
 #: The policy as the first element of ``<head>``.
-CSP_META = f'<meta http-equiv="Content-Security-Policy" content="{CSP}">'
+CSP_META = csp_meta(CSP)
+
+
+def policy_with_scripts(digests):
+    """:data:`CSP` allowing the inline scripts of these ``sha256-…`` digests and no other:
+    crowdvib's own script (:mod:`crowdvib.reporting.animation`), put in after the page passed
+    the allow-list; every other directive as it is."""
+    sources = " ".join(f"'{digest}'" for digest in digests)
+    return CSP.replace("script-src 'none'", f"script-src {sources}")
 
 _VOID = {"br", "hr", "img", "meta", "col", "wbr"}
 _TAGS = {"html", "head", "body", "title", "meta", "style", "main", "header", "footer",

@@ -49,6 +49,7 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
     from .._manifest import verified_file
     from ..cases import check_case, check_design_table, design_msd, estimated_msd
     from ..io.casefile import load_case
+    from ..reporting.animation import mode_shape_table
     from ..reporting.reading import read_results
 
     with caught_warnings() as caught:
@@ -70,6 +71,7 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
             figures = _figures(found.checks, staging, case.name)
             written = write_results(staging, {
                 **found.to_dict(), "figures": figures, **provenance(case.path),
+                "mode_shapes": mode_shape_table(case.structure, case.crowd, found.msd),
                 "warnings": list(dict.fromkeys(warning_texts(caught)))})   # once each
     for line in _table_lines(found.rows):
         say("  " + line)

@@ -85,7 +85,7 @@ def run_demo(out: str | Path = "crowdvib-demo", *, duration: float = 3600.0,
     with staged_output(out, force, command="demo") as staging:
         written = write_results(staging, {**found.to_dict(),
                                           "figures": [_figure(found, spectral, staging)],
-                                          **provenance()})
+                                          **_moving(found), **provenance()})
     say(f"\n  wrote {Path(out) / 'results.json'} and {Path(out) / 'psd_fit.png'}")
     say(f"  report: {Path(out) / 'report.html'}")
     return written
@@ -110,6 +110,18 @@ def _say_estimate(estimate, truth, say):
     misfit = "deviance D" if estimate.method == "likelihood" else "J (paper Eq. 6)"
     say(f"  misfit {misfit} = {estimate.cost:.3g}, relative to no HSI "
         f"{estimate.relative_cost:.3g}")
+
+
+def _moving(found):
+    """The modal model's shapes and, for a simulated record, the crossing replay (issue 38)."""
+    from ..reporting.animation import mode_shape_table
+    from ..reporting.replay_view import replay_table
+    from .animate import demo_replay
+
+    structure = found.case.structure
+    replay = demo_replay(found)
+    return {"mode_shapes": mode_shape_table(structure),
+            **({} if replay is None else {"replay": replay_table(replay, structure)})}
 
 
 def _figure(found, spectral, out):

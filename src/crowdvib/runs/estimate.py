@@ -43,6 +43,7 @@ def run_estimate(case: Case | str | Path, out: str | Path, *, force: bool = Fals
         As written; the run's warnings are recorded in it (``.warnings``), not shown again.
     """
     from ..cases import estimate_case
+    from ..reporting.animation import mode_shape_table
 
     with caught_warnings() as caught:
         case = as_case(case)
@@ -51,6 +52,8 @@ def run_estimate(case: Case | str | Path, out: str | Path, *, force: bool = Fals
             fit = estimate_case(case)
             _say_fit(fit, say)
             results = fit.to_dict()
+            results["mode_shapes"] = mode_shape_table(case.structure, fit.crowd,   # issue 38
+                                                      fit.estimate.msd)
             results["figures"] = (_joint_figures if fit.joint else _figures)(fit, staging)
             results.update(stamp)
             results["warnings"] = warning_texts(caught)

@@ -53,6 +53,7 @@ def run_modes(ambient: str | Path, out: str | Path, *, cross_check: bool = False
     """
     from ..cases.ambient import identify_ambient
     from ..io.modalfiles import write_modal_model
+    from ..reporting.animation import mode_shape_table
 
     with staged_output(out, force, command="modes",
                        inputs=[("the ambient file", Path(ambient))]) as staging:
@@ -91,7 +92,9 @@ def run_modes(ambient: str | Path, out: str | Path, *, cross_check: bool = False
             write_modal_model(structure, staging / "modal_table.csv",
                               staging / "modal_shapes.csv", staging / "output_points.csv")
             files += ["modal_table.csv", "modal_shapes.csv", "output_points.csv"]
-        results = {**found.to_dict(), "files": files, "figures": figures,
+        # The model's shapes beside the identified ones (issue 38).
+        shapes = {} if structure is None else {"mode_shapes": mode_shape_table(structure)}
+        results = {**found.to_dict(), **shapes, "files": files, "figures": figures,
                    "elapsed_s": found.seconds, "warnings": warning_texts(caught)}
         written = write_results(staging, results)
     for j in range(modes.n_modes):

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..cases.results import provenance
+from .animate import check_video_path, in_results
 from .folders import case_inputs, staged_output, write_results
 from .lines import Progress, Say, as_case, recorded_warnings, silent
 
@@ -24,7 +25,9 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
                  duration: float | None = None, sample_rate: float | None = None,
                  seed: int | None = None, formats: Sequence[str] | None = None,
                  hsi: bool | None = None, force: bool = False, say: Say = silent,
-                 progress: Progress | None = None) -> Results:
+                 progress: Progress | None = None, animate: str | Path | None = None,
+                 replay_start: float | None = None, replay_length: float | None = None
+                 ) -> Results:
     """What ``crowdvib simulate`` does: :func:`~crowdvib.cases.simulate_case`, the record in each
     of ``formats`` (default ``simulation.formats``), its PSD and time histories, results.json and
     report.html in ``out``.
@@ -49,6 +52,13 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
     progress : callable, optional
         ``progress(label, unit, offset)`` → the ``progress(done, total)`` callback of the
         simulation [s of simulated time, counted after the warm-up].
+    animate : str or pathlib.Path, optional
+        Also write the crossing replay (the report's) as this ``.gif`` (Pillow) or ``.mp4``
+        (ffmpeg) video (:func:`~crowdvib.reporting.video.write_replay_video`); refused at
+        once if the file exists.
+    replay_start, replay_length : float, optional
+        The stretch of the record the report (and the video) replays [s]: default the 30 s
+        with the most walkers on the deck.
 
     Returns
     -------
@@ -58,14 +68,15 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
     """
     from ..io.casefile import paper_example_case
 
+    animate = None if animate is None else check_video_path(animate, out)
     with recorded_warnings() as caught:
         case = paper_example_case() if case is None else as_case(case)
         return _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say,
-                         progress, caught)
+                         progress, caught, animate, (replay_start, replay_length))
 
 
 def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, progress,
-              caught):
+              caught, animate=None, stretch=(None, None)):
     from ..cases.simulation import simulate_case, simulation_msd
     from ..io.records import RECORD_FORMATS, write_record
     from ..reporting.plotting import plot_psd_comparison, save_figure
@@ -108,11 +119,39 @@ def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, 
         figures += _time_histories(case, simulation, staging)
         results = found.to_dict()
         results["record"]["files"] = files
+        replay = _replay(found, results, *stretch)
         results.update({"elapsed_s": elapsed, "figures": figures, **provenance(case.path),
                         "warnings": list(caught)})
         written = write_results(staging, results)
+        if animate is not None and in_results(animate, out):     # one of the results
+            _video(replay, case, staging / animate.name, animate, say)
     say(f"  wrote {', '.join(files)} and results.json to {out} ({elapsed:.1f} s)")
+    if animate is not None and not in_results(animate, out):
+        _video(replay, case, animate, animate, say)
     return written
+
+
+def _video(replay, case, path, shown, say):
+    """The replay as the video ``path`` (``shown`` in the line said)."""
+    from ..reporting.video import write_replay_video
+
+    started = time.perf_counter()
+    count = write_replay_video(replay, case.structure, path)
+    say(f"  wrote the crossing replay to {shown} ({count} frames, "
+        f"{time.perf_counter() - started:.1f} s)")
+
+
+def _replay(found, results, start, length):
+    """The modal model's shapes and the crossing replay of ``length`` s from ``start`` (default
+    the busiest 30 s) into ``results`` (issue 38); the replay returned, for a video."""
+    from ..reporting.animation import mode_shape_table
+    from ..reporting.replay_view import replay_table
+    from .animate import simulation_replay
+
+    replay = simulation_replay(found, start=start, length=length)
+    results["mode_shapes"] = mode_shape_table(found.case.structure, found.case.crowd, found.msd)
+    results["replay"] = replay_table(replay, found.case.structure, busiest=start is None)
+    return replay
 
 
 #: Said when the simulation kernel is about to be compiled: numba caches the compiled kernel
