@@ -373,9 +373,13 @@ def _tags(text):
 # results file, not another rendering of the same one).
 @given(st.text(min_size=1, max_size=40).filter(lambda t: t not in ("name", "description")))
 def test_any_string_in_results_leaves_the_markup_unchanged(text):
-    # The page's elements and attribute names are the same whatever text the file holds.
-    assert _tags(render_report(_hostile_results(text))) == \
-        _tags(render_report(_hostile_results("benign")))
+    # The page's elements and attribute names are the same whatever text the file holds, but
+    # for the bare <sub> of the symbols the report typesets in a warning's words (f_h1, ξ_h1,
+    # μ_h1, J/J_noHSI: reporting.sections.finding_markup, after escaping): a text holding
+    # "f_h1" is shown as f<sub>h1</sub>, an element with no attribute and no content of its own.
+    def tags(results):
+        return [tag for tag in _tags(render_report(results)) if tag != ("sub", ())]
+    assert tags(_hostile_results(text)) == tags(_hostile_results("benign"))
 
 
 # ------------------------------------------------------------------------------ in-place studies
