@@ -24,6 +24,8 @@ The layer order, lowest first; a module may import its own layer and the layers 
 9. ``oma``: the empty bridge's modes from ambient records (its cross-check states its errors at
    the studies' paper levels)
 10. ``design``: the code checks and the damper design
+10b. ``comfort``: a year of comfort (traffic, the window's comfort measure, the year), built on
+   the response, the runner's pool and the design layer's classes and dampers
 11. ``_manifest``: a results directory's manifest (it reads the runner's task files; a case
     verifies another run's results.json against it before use)
 12. ``cases``: what a case file describes, run from Python (the commands' pipelines: it reads
@@ -48,7 +50,8 @@ BASE = ("crowdvib.errors", "crowdvib._validation", "crowdvib._plausibility", "cr
 #: Lowest first; each entry is the set of units (subpackages or top-level modules) of one layer.
 LAYERS = (BASE, ("crowdvib.models",), ("crowdvib.signals",), ("crowdvib.io",),
           ("crowdvib.response",), ("crowdvib.runner",), ("crowdvib.identification",),
-          ("crowdvib.studies",), ("crowdvib.oma",), ("crowdvib.design",), ("crowdvib._manifest",),
+          ("crowdvib.studies",), ("crowdvib.oma",), ("crowdvib.design",), ("crowdvib.comfort",),
+          ("crowdvib._manifest",),
           ("crowdvib.cases",), ("crowdvib.reporting",), ("crowdvib.runs",),
           ("crowdvib.cli",),
           ("crowdvib", "crowdvib.__main__"))
