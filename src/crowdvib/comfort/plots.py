@@ -8,7 +8,7 @@ import numpy as np
 from .._figures import DARK, FigureAxes, panels
 from .measure import peak_cdf
 
-__all__ = ["plot_class_hours", "plot_exceedance", "plot_week"]
+__all__ = ["plot_class_hours", "plot_exceedance", "plot_week", "plot_peaks"]
 
 #: Grays from light (CL1, comfortable) to dark (CL4): legible in a grayscale print.
 _CLASS_SHADES = ("0.92", "0.7", "0.45", "0.15")
@@ -128,4 +128,41 @@ def plot_week(year: dict, *, model: str | None = None, axes=None, title=None) ->
     else:
         handles.axes[0].text(0.5, 0.5, "the traffic has no hours of the week", ha="center")
     handles.figure.suptitle(title or "Expected comfort class in the week")
+    return handles
+
+
+def plot_peaks(year: dict, *, axes=None, title=None) -> FigureAxes:
+    """The window's peak against the crowd density per model (its first tabled quantile as a
+    line, up to its last as a shade), with the comfort classes' bounds.
+
+    Parameters
+    ----------
+    year : dict
+    axes, title
+    """
+    settings = year["settings"]
+    handles = panels(axes, 1, 1, (7.5, 4.2))
+    ax = handles.axes[0]
+    keys = list(dict.fromkeys((row["model"], row["damper"]) for row in year["rows"]))
+    labels = {(row["model"], row["damper"]): _label(row) for row in year["rows"]}
+    quantiles = settings["quantiles"]
+    for model, damper in keys:
+        cells = [c for c in year["table"] if (c["model"], c["damper"]) == (model, damper)]
+        density = [c["density"] for c in cells]
+        peaks = np.array([c["peak"] for c in cells])
+        colour = DARK if not damper else "0.5"
+        ax.plot(density, peaks[:, 0], _LINES[model], color=colour,
+                label=f"{labels[(model, damper)]} ({100 * quantiles[0]:g} %)")
+        ax.fill_between(density, peaks[:, 0], peaks[:, -1], color=colour, alpha=0.12, lw=0)
+    for name, bound in settings["classes"]:
+        if bound is not None:
+            ax.axhline(bound, color="0.3", lw=0.7, ls="-.")
+            ax.annotate(f"{name} ≤ {bound:g}", (0.0, bound), xycoords=("axes fraction", "data"),
+                        fontsize="x-small", va="bottom")
+    ax.set_xlabel("Crowd density [persons/m²]")
+    ax.set_ylabel(f"Peak over {settings['duration']:g} s [m/s²]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="x-small")
+    ax.set_title(title or f"Window peak: {100 * quantiles[0]:g} % (line) to "
+                          f"{100 * quantiles[-1]:g} % (shade)")
     return handles

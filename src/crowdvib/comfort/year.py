@@ -115,11 +115,12 @@ class ComfortYear:
 
     def plot(self, kind: str = "hours", **options: Any):
         """A figure (:mod:`crowdvib.comfort.plots`): ``"hours"`` per class as stacked bars,
-        ``"exceedance"`` against density, ``"week"`` the heat map of the expected class."""
+        ``"exceedance"`` against density, ``"week"`` the heat map of the expected class,
+        ``"peaks"`` the window's peak quantiles against density."""
         from . import plots
 
         functions = {"hours": plots.plot_class_hours, "exceedance": plots.plot_exceedance,
-                     "week": plots.plot_week}
+                     "week": plots.plot_week, "peaks": plots.plot_peaks}
         if kind not in functions:
             raise ParameterError(f"kind must be one of {list(functions)}, got {kind!r}")
         return functions[kind](self.to_dict(), **options)
@@ -191,14 +192,26 @@ def _class_probabilities(rms, rate, spread, duration, peak_model):
     return np.diff(cdf, axis=-1)
 
 
-def _year(traffic, at, duration, peak_model):
+def _year(traffic, at, duration, peak_model, simulated=None):
     """Hours per class (4,), exceedance probability per limit, hours above each limit, and
-    the expected class per hour of the week (168,) or None."""
+    the expected class per hour of the week (168,) or None.
+
+    ``simulated`` = (SimulatedWindows, density below which they stand in for the spectral law):
+    a state there takes the fractions of the windows simulated at the nearest density."""
     rms, rate, spread, _, _ = at(traffic.density)
     probabilities = _class_probabilities(rms, rate, spread, duration, peak_model)
+    exceed = np.stack([1 - peak_cdf(limit, rms, rate, spread, duration, peak_model)
+                       for limit in LIMITS], axis=-1)
+    if simulated is not None:
+        windows, below = simulated
+        grid = np.array(windows.densities)
+        for i in np.flatnonzero((traffic.density > 0) & (traffic.density < below)):
+            peaks = windows.peak[int(np.argmin(np.abs(grid - traffic.density[i])))]
+            cdf = [np.mean(peaks <= bound) for bound in CLASS_BOUNDS]
+            probabilities[i] = np.diff([0.0, *cdf, 1.0])
+            exceed[i] = [np.mean(peaks > limit) for limit in LIMITS]
     hours = traffic.hours @ probabilities
-    above = np.array([traffic.hours @ (1 - peak_cdf(limit, rms, rate, spread, duration,
-                                                    peak_model)) for limit in LIMITS])
+    above = traffic.hours @ exceed
     week = None
     if traffic.has_week:
         expected = probabilities @ np.arange(1, len(CLASS_NAMES) + 1)
@@ -230,7 +243,8 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
                  rms_window: float = 1.0, peak_model: str = "vanmarcke",
                  output: str | None = None, crowd_model: str = DEFAULT_CROWD_MODEL,
                  force=None, n_densities: int = 12, n_resamples: int = 200,
-                 rng=None) -> ComfortYear:
+                 rng=None, simulated: dict | None = None,
+                 simulate_below: float = 0.0) -> ComfortYear:
     """Hours a year per comfort class, exceedance probabilities and the week's map, per model.
 
     Parameters
@@ -266,6 +280,13 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
         Resamples of a season's windows for its sampling band (0: none).
     rng : None, int or numpy.random.Generator
         Seeds the resampling.
+    simulated : dict, optional
+        ``(model, damper)`` → :class:`~crowdvib.comfort.simulated.SimulatedWindows` of that
+        model (the estimate's MSD for "hsi"): below ``simulate_below`` their windows stand in
+        for the spectral law, where the response is not Gaussian (the densities
+        :func:`~crowdvib.comfort.simulated.simulated_check` names).
+    simulate_below : float
+        [persons/m²]; 0: the spectral route everywhere.
 
     Returns
     -------
@@ -304,7 +325,10 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
         if which not in (None, 0):
             continue                                # a corner of the box: in the band only
         at = _interpolator(grid, found)
-        hours, exceed, above, week = _year(traffic, at, duration, peak_model)
+        stand_in = (simulated or {}).get((model, damper))
+        stand_in = None if stand_in is None or not simulate_below else (stand_in,
+                                                                        simulate_below)
+        hours, exceed, above, week = _year(traffic, at, duration, peak_model, stand_in)
         row = {"model": model, "label": MODEL_LABELS[model], "damper": damper,
                "hours_per_class": _named(hours, CLASS_NAMES),
                "exceedance": _named(exceed, _limit_names()),
@@ -320,7 +344,7 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
             row["exceedance_band_hsi"] = _band(np.array([y[1] for y in years]),
                                                _limit_names())
         if resampled:
-            years = [_year(sample, at, duration, peak_model) for sample in resampled]
+            years = [_year(sample, at, duration, peak_model, stand_in) for sample in resampled]
             tail = (1 - _SAMPLING_LEVEL) / 2
             for key, column, names in (("hours_band_sampling", 0, CLASS_NAMES),
                                        ("exceedance_band_sampling", 1, _limit_names())):
@@ -345,7 +369,9 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
                 "n_resamples": len(resampled), "traffic_source": traffic.source,
                 "filled_hours": list(traffic.filled), "unmeasured": traffic.unmeasured,
                 "week_hours": traffic.week_hours().tolist() if traffic.has_week else None,
-                "dampers": [d.to_dict() for d in dampers]}
+                "dampers": [d.to_dict() for d in dampers],
+                "simulate_below": float(simulate_below) if simulated else 0.0,
+                "simulated_rows": sorted([m, bool(d)] for m, d in (simulated or {}))}
     return ComfortYear(tuple(rows), tuple(float(d) for d in grid), tuple(table), settings)
 
 

@@ -18,7 +18,7 @@ __all__ = ["run_comfort", "COMFORT_FIGURES"]
 
 #: The figures ``crowdvib comfort`` writes: file name → ComfortYear.plot kind.
 COMFORT_FIGURES = {"comfort_hours.png": "hours", "comfort_exceedance.png": "exceedance",
-                   "comfort_week.png": "week"}
+                   "comfort_week.png": "week", "comfort_peaks.png": "peaks"}
 
 
 def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path | None = None,
