@@ -139,3 +139,33 @@ def test_the_damper_and_hsi_lower_the_hours_above_cl1(year):
 def test_the_year_round_trips(year):
     assert ComfortYear.from_dict(year.to_dict()) == year
     assert len(year.row("hsi")["week_class"]) == 168
+
+
+# ------------------------------------------------------------------------------ simulated
+def test_simulated_windows_are_seeded_and_their_running_rms_stays_below_the_peak():
+    from crowdvib.comfort.simulated import simulated_windows
+
+    paper = paper_example()
+    options = dict(msd=paper.msd, n_windows=3, duration=60.0, windows_per_task=2,
+                   warm_up=20.0, seed=5)
+    first = simulated_windows(paper.structure, paper.crowd, [0.5], **options)
+    again = simulated_windows(paper.structure, paper.crowd, [0.5], **options)
+    assert first.peak[0].shape == (3,)
+    np.testing.assert_array_equal(first.peak[0], again.peak[0])
+    # an RMS over any 1 s is at most the largest |a| in it: max running RMS ≤ peak, and a
+    # sine's RMS is its peak / √2, a narrow-band response's about that
+    assert np.all(first.running_rms[0] <= first.peak[0])
+    assert np.all(first.running_rms[0] > 0.5 * first.peak[0])
+
+
+def test_the_quantile_interval_covers_the_true_quantiles_of_a_normal_sample():
+    from scipy import stats
+
+    from crowdvib.comfort.simulated import _quantile_interval
+
+    # order-statistic intervals (distribution-free); the normal quantiles are the reference
+    q = np.array([0.5, 0.9, 0.99])
+    low, high = _quantile_interval(np.random.default_rng(2).standard_normal(2000), q)
+    truth = stats.norm.ppf(q)
+    assert np.all(low <= truth) and np.all(truth <= high)
+    assert np.all(high - low < 0.5)

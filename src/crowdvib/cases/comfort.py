@@ -5,11 +5,12 @@ interval (issue 37; docs: theory, A year of comfort)."""
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
-from ..errors import DataError, ParameterError
+from ..errors import DataError, DataWarning, ParameterError
 from .results import AsResults, software_versions
 from .schema import schema_header
 
@@ -112,7 +113,14 @@ def case_traffic(case: Case, *, season: dict | None = None, traffic=None):
 def comfort_dampers(case: Case, msd) -> list:
     """The dampers of the "with damper" rows: the case's ``[design.damper]`` if any, else one of
     ``[comfort] damper_mass_ratio`` (default 2 %) tuned (Asami et al.) at the antinode of the
-    mode with the largest resonant response, to the occupied mode with the MSD; none for 0."""
+    mode with the largest resonant response, to the occupied mode with the MSD; none for 0.
+
+    Parameters
+    ----------
+    case : Case
+    msd : MSDModel or None
+        The identified MSD (the damper is tuned to the occupied mode with it).
+    """
     from ..design import tune_damper
     from ..response.fluctuation import dominant_mode
     from .design import _dampers
@@ -172,6 +180,11 @@ def comfort_case(case: Case, *, season: dict | None = None, traffic=None,
         raise DataError(f"{msd_source or 'the MSD results'}: its results.json holds no MSD "
                         "estimate (estimate.frequency and estimate.damping_ratio)")
     else:
+        if season is not None:
+            warnings.warn("the season holds no joint estimate (its joint_error: "
+                          f"{season.get('joint_error')}): the identified HSI row uses the case's "
+                          "[hsi] MSD, without a band; give --msd-from an estimate", DataWarning,
+                          stacklevel=2)
         msd_source = "[hsi]"
     spec = case.comfort
     options = {} if spec is None else {

@@ -144,7 +144,17 @@ def peak_cdf(level, rms, crossing_rate, spread, duration=600.0, peak_model="vanm
 
 def peak_quantile(probability, law: WindowLaw, duration=600.0, peak_model="vanmarcke"):
     """The level x [m/s²] the window's peak stays below with ``probability`` (bisection on
-    :func:`peak_cdf`, monotone in x)."""
+    :func:`peak_cdf`, monotone in x).
+
+    Parameters
+    ----------
+    probability : array_like
+        q, in (0, 1).
+    law : WindowLaw
+    duration : float
+        T [s].
+    peak_model : {"vanmarcke", "davenport"}
+    """
     if law.rms == 0:
         return np.zeros_like(np.asarray(probability, float))
     probability = np.asarray(probability, float)
@@ -166,7 +176,16 @@ def _gamma(law):
 
 
 def running_rms_cdf(level, law: WindowLaw, duration=600.0):
-    """P(largest running RMS over ``duration`` ≤ ``level``) (translation process)."""
+    """P(largest running RMS over ``duration`` ≤ ``level``) (translation process).
+
+    Parameters
+    ----------
+    level : array_like
+        [m/s²].
+    law : WindowLaw
+    duration : float
+        T [s].
+    """
     level = np.asarray(level, float)
     if law.rms == 0:
         return np.ones_like(level)
@@ -179,7 +198,16 @@ def running_rms_cdf(level, law: WindowLaw, duration=600.0):
 
 def running_rms_quantile(probability, law: WindowLaw, duration=600.0):
     """The level [m/s²] the largest running RMS stays below with ``probability``: the
-    translation of z_q = sqrt(2 ln(ν_z T / −ln q)), the Poisson crossings' quantile."""
+    translation of z_q = sqrt(2 ln(ν_z T / −ln q)), the Poisson crossings' quantile.
+
+    Parameters
+    ----------
+    probability : array_like
+        q, in (0, 1).
+    law : WindowLaw
+    duration : float
+        T [s].
+    """
     probability = np.asarray(probability, float)
     if law.rms == 0:
         return np.zeros_like(probability)

@@ -61,6 +61,9 @@ class Traffic:
         The hours of the week no window measured, filled by the ``unmeasured`` rule.
     unmeasured : str or None
         That rule (a season only).
+    _windows : tuple or None
+        A season's windows (density, hour of the week, length, year's hours), kept to resample
+        them; None otherwise.
     """
 
     density: np.ndarray

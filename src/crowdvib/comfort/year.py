@@ -100,13 +100,23 @@ class ComfortYear:
 
     @classmethod
     def from_dict(cls, data: dict) -> ComfortYear:
-        """The year of :meth:`to_dict`."""
+        """The year of :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : dict
+        """
         return cls(tuple(data["rows"]), tuple(data["densities"]), tuple(data["table"]),
                    dict(data["settings"]))
 
     def row(self, model: str, damper: bool = False) -> dict:
-        """The row of a model (``"empty"``, ``"added_mass"``, ``"hsi"``), without or with the
-        dampers."""
+        """The row of a model, without or with the dampers.
+
+        Parameters
+        ----------
+        model : {"empty", "added_mass", "hsi"}
+        damper : bool
+        """
         for row in self.rows:
             if row["model"] == model and row["damper"] == damper:
                 return row
@@ -116,7 +126,14 @@ class ComfortYear:
     def plot(self, kind: str = "hours", **options: Any):
         """A figure (:mod:`crowdvib.comfort.plots`): ``"hours"`` per class as stacked bars,
         ``"exceedance"`` against density, ``"week"`` the heat map of the expected class,
-        ``"peaks"`` the window's peak quantiles against density."""
+        ``"peaks"`` the window's peak quantiles against density.
+
+        Parameters
+        ----------
+        kind : {"hours", "exceedance", "week", "peaks"}
+        **options
+            The keywords of the figure's function (``axes``, ``title``, …).
+        """
         from . import plots
 
         functions = {"hours": plots.plot_class_hours, "exceedance": plots.plot_exceedance,
@@ -141,6 +158,23 @@ def response_table(structure: ModalModel, crowd: Crowd, densities: np.ndarray, *
     and the HSI of every MSD of ``msds``; one of the added-mass bridge gives added mass
     (:func:`crowdvib.response.fluctuation.spectral_model`, the PSD of
     :func:`crowdvib.response_psd`).
+
+    Parameters
+    ----------
+    structure, crowd
+        The empty bridge and the walkers (each density replaces the crowd's).
+    densities : ndarray
+        [persons/m²], > 0.
+    msds : sequence of MSDModel
+        The MSDs of the "hsi" model (the estimate, then the corners of its box).
+    dampers : sequence of TunedMassDamper
+        Every model again with them.
+    output : int
+        Index of the output judged.
+    rms_window : float
+        τ of the running RMS [s].
+    crowd_model : {"fluctuating", "smeared"}
+    force : ForceModel, optional
 
     Returns
     -------

@@ -126,6 +126,10 @@ class Case:
     crowd_profile : CrowdProfile or None
         The crowd's density against the record's time (``[crowd] counts`` or
         ``density_profile``; docs: theory, A crowd that changes); None: stationary.
+    comfort : ComfortSpec or None
+        The ``[comfort]`` table (``crowdvib comfort``), None without one.
+    traffic : TrafficSpec or None
+        The ``[traffic]`` table: a design table or a daily profile, None without one.
 
     See Also
     --------
