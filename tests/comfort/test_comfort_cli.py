@@ -160,3 +160,34 @@ def test_the_simulator_stands_in_below_the_gaussian_density():
     hours = year.row("empty")["hours_per_class"]
     assert hours["CL2"] == pytest.approx(1000.0 + spectral.row("empty")["hours_per_class"]["CL2"])
     assert sum(hours.values()) == pytest.approx(1100.0)
+
+
+def test_simulated_windows_stand_in_below_the_cases_density(paper_case, tmp_path):
+    # [comfort] simulate_below: the states of the profile below 0.15 persons/m² (0.05 and 0.1)
+    # take the class fractions of windows simulated at those densities (theory: Where the
+    # Gaussian model holds); 1-minute windows and 3 of them per density keep the test short.
+    case = paper_case.read_text(encoding="utf-8").replace(
+        "[comfort]\n", "[comfort]\nsimulate_below = 0.15\nsimulated_windows = 3\nduration = 60.0\n")
+    paper_case.write_text(case, encoding="utf-8")
+    found = comfort_case(load_case(paper_case), traffic=paper_case.parent / "traffic.csv")
+    settings = found.year.settings
+    assert settings["simulate_below"] == 0.15
+    assert settings["simulated_rows"] == [["empty", False], ["empty", True], ["hsi", False],
+                                          ["hsi", True]]
+    spectral = comfort_case(_without_simulation(paper_case),
+                            traffic=paper_case.parent / "traffic.csv")
+    for row in found.year.rows:
+        assert sum(row["hours_per_class"].values()) == pytest.approx(8760.0)
+    # the dense hours are the spectral route's in both: the rows differ by the thin ones only
+    # (2 + 1 h a day at 0.05 and 0.1 persons/m², 365 days: ≤ 1095 h can move)
+    for row, other in zip(found.year.rows, spectral.year.rows):
+        moved = sum(abs(row["hours_per_class"][k] - other["hours_per_class"][k])
+                    for k in row["hours_per_class"]) / 2
+        assert moved <= 1095.0 + 1e-6
+
+
+def _without_simulation(case_path):
+    text = case_path.read_text(encoding="utf-8").replace("simulate_below = 0.15\n", "")
+    plain = case_path.parent / "plain.toml"
+    plain.write_text(text, encoding="utf-8")
+    return load_case(plain)

@@ -140,7 +140,7 @@ def comfort_dampers(case: Case, msd) -> list:
 
 def comfort_case(case: Case, *, season: dict | None = None, traffic=None,
                  msd_results: dict | None = None, msd_source: str | None = None,
-                 rng=None) -> CaseComfort:
+                 rng=None, executor=None) -> CaseComfort:
     """Run ``crowdvib comfort`` on a case, without writing anything.
 
     Parameters
@@ -160,6 +160,9 @@ def comfort_case(case: Case, *, season: dict | None = None, traffic=None,
         What ``msd_results`` is, for the results.
     rng : None, int or numpy.random.Generator
         Seeds the resampling of a season's windows (default the case's seed).
+    executor : concurrent.futures.Executor, optional
+        Where the windows of ``[comfort] simulate_below`` are simulated
+        (:func:`crowdvib.runner.study_executor`); default this process.
 
     Returns
     -------
@@ -194,11 +197,51 @@ def comfort_case(case: Case, *, season: dict | None = None, traffic=None,
         **({"crowd_model": spec.crowd_model} if spec.crowd_model else {})}
     started = time.process_time()
     dampers = comfort_dampers(case, msd)
+    if spec is not None and spec.simulate_below > 0:
+        options.update(simulate_below=spec.simulate_below,
+                       simulated=_simulated(case, found, msd, dampers, executor))
     year = comfort_year(case.structure, case.crowd, found, msd=msd, msd_box=box,
                         dampers=dampers, force=case.force,
                         rng=case.seed if rng is None else rng, **options)
     return CaseComfort(case, year, found, where, msd, msd_source, box, dampers,
                        time.process_time() - started)
+
+
+#: Densities simulated below ``simulate_below`` (geometric between the lowest and the highest
+#: there): the nearest stands in for each state.
+_SIMULATED_DENSITIES = 3
+
+
+def _simulated(case, traffic, msd, dampers, executor):
+    """The simulated windows of the no-HSI and HSI rows (each without and with the dampers) at
+    the traffic's densities below ``[comfort] simulate_below``: (model, damper) → windows.
+
+    The added-mass row stays spectral: its model has no walkers to simulate."""
+    import numpy as np
+
+    from ..comfort import loudest_output
+    from ..comfort.simulated import simulated_windows
+
+    spec = case.comfort
+    below = traffic.density[(traffic.density > 0) & (traffic.density < spec.simulate_below)]
+    if below.size == 0:
+        return {}
+    densities = np.unique(np.geomspace(below.min(), below.max(), _SIMULATED_DENSITIES)) \
+        if below.max() > below.min() else below[:1]
+    output = (case.structure.output_index([spec.output])[0] if spec.output is not None
+              else loudest_output(case.structure, case.crowd, traffic.density.max()))
+    found = {}
+    for model, model_msd in (("empty", None), ("hsi", msd)):
+        if model == "hsi" and msd is None:
+            continue
+        for damper, tmds in ((False, []), (True, dampers)):
+            if damper and not dampers:
+                continue
+            found[(model, damper)] = simulated_windows(
+                case.structure, case.crowd, densities, msd=model_msd, dampers=tmds,
+                output=output, n_windows=spec.simulated_windows, duration=spec.duration,
+                rms_window=spec.rms_window, seed=case.seed or 0, executor=executor)
+    return found
 
 
 def _name(case):

@@ -10,7 +10,7 @@ and with the identified HSI, each without and with a tuned mass damper. The work
 import argparse
 from pathlib import Path
 
-from .common import add_output_arguments, say, say_verdict, say_warnings
+from .common import add_output_arguments, add_workers_argument, say, say_verdict, say_warnings
 
 __all__ = ["add_arguments", "run"]
 
@@ -31,6 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="results directory of `crowdvib estimate`, `sensitivity` or "
                              "`season`: its MSD and interval (with its modelling bound) for the "
                              "HSI model and its band")
+    add_workers_argument(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -38,5 +39,6 @@ def run(args: argparse.Namespace) -> int:
 
     say_warnings("comfort", run_comfort(args.case, args.out, season=args.season,
                                         traffic=args.traffic, msd_from=args.msd_from,
+                                        workers=args.workers, hung_after=args.hung_after,
                                         force=args.force, say=say))
     return say_verdict(args.out)

@@ -15,9 +15,9 @@ from .measure import (PEAK_MODELS, WindowLaw, peak_cdf, peak_quantile, running_r
                       running_rms_quantile, window_law)
 from .traffic import HOURS_PER_YEAR, UNMEASURED_RULES, WEEK_HOURS, Traffic
 from .year import (CLASS_BOUNDS, CLASS_NAMES, LIMITS, MODEL_LABELS, QUANTILES, ComfortYear,
-                   comfort_year, response_table)
+                   comfort_year, loudest_output, response_table)
 
 __all__ = ["Traffic", "HOURS_PER_YEAR", "WEEK_HOURS", "UNMEASURED_RULES", "WindowLaw",
            "window_law", "PEAK_MODELS", "peak_cdf", "peak_quantile", "running_rms_cdf",
            "running_rms_quantile", "ComfortYear", "comfort_year", "response_table",
-           "MODEL_LABELS", "CLASS_NAMES", "CLASS_BOUNDS", "LIMITS", "QUANTILES"]
+           "MODEL_LABELS", "CLASS_NAMES", "CLASS_BOUNDS", "LIMITS", "QUANTILES", "loudest_output"]

@@ -44,7 +44,7 @@ from .measure import (PEAK_MODELS, WindowLaw, peak_cdf, peak_quantile, running_r
 from .traffic import WEEK_HOURS, Traffic
 
 __all__ = ["ComfortYear", "comfort_year", "MODEL_LABELS", "CLASS_NAMES", "CLASS_BOUNDS",
-           "LIMITS", "QUANTILES", "response_table"]
+           "LIMITS", "QUANTILES", "response_table", "loudest_output"]
 
 #: The models of the structure as tables and figures name them.
 MODEL_LABELS = {"empty": "no HSI", "added_mass": "added mass", "hsi": "identified HSI"}
@@ -347,7 +347,7 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
                              "nothing to judge")
     grid = _density_grid(positive, n_densities)
     index = structure.output_index([output])[0] if output is not None else \
-        _loudest_output(structure, crowd, grid[-1], crowd_model, force)
+        loudest_output(structure, crowd, grid[-1], crowd_model, force)
     msds = [] if msd is None else [msd] + _corners(msd, msd_box)
     laws = response_table(structure, crowd, grid, msds=msds, dampers=dampers, output=index,
                           rms_window=rms_window, crowd_model=crowd_model, force=force)
@@ -434,8 +434,18 @@ def _corners(msd, box):
             for xi in box["damping_ratio"]]
 
 
-def _loudest_output(structure, crowd, density, crowd_model, force):
-    """Index of the output with the largest no-HSI RMS at ``density``."""
+def loudest_output(structure, crowd, density, crowd_model=DEFAULT_CROWD_MODEL, force=None):
+    """Index of the output with the largest no-HSI RMS at ``density``.
+
+    Parameters
+    ----------
+    structure : ModalModel
+    crowd : Crowd
+    density : float
+        [persons/m²], > 0.
+    crowd_model : {"fluctuating", "smeared"}
+    force : ForceModel, optional
+    """
     if structure.n_outputs == 1:
         return 0
     here = crowd.with_density(float(density))

@@ -3,6 +3,7 @@ identified MSD, written as a results folder (issue 37)."""
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -23,7 +24,8 @@ COMFORT_FIGURES = {"comfort_hours.png": "hours", "comfort_exceedance.png": "exce
 
 def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path | None = None,
                 traffic: str | Path | None = None, msd_from: str | Path | None = None,
-                force: bool = False, say: Say = silent) -> Results:
+                workers: int = 1, hung_after: float = 60.0, force: bool = False,
+                say: Say = silent) -> Results:
     """What ``crowdvib comfort`` does: :func:`~crowdvib.cases.comfort_case`, its figures,
     results.json and report.html in ``out``.
 
@@ -42,6 +44,9 @@ def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path 
     msd_from : str or pathlib.Path, optional
         A results folder of ``crowdvib estimate``, ``sensitivity`` or ``season``: its MSD and
         interval. Each results.json read is verified against its folder's manifest first.
+    workers, hung_after
+        Local worker processes of the windows ``[comfort] simulate_below`` simulates (1: this
+        process), and when one counts as hung (:func:`~crowdvib.runner.study_executor`).
     force : bool
         Replace crowdvib's earlier results in ``out``.
     say : callable, optional
@@ -57,6 +62,7 @@ def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path 
     from ..errors import ParameterError
     from ..io.casefile import load_case
     from ..reporting.reading import read_results
+    from ..runner import study_executor
 
     if season is not None and traffic is not None:
         raise ParameterError("give --season or --traffic, not both")
@@ -74,11 +80,15 @@ def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path 
             inputs.append(("the traffic table", Path(traffic)))
         say(f"crowdvib comfort: {case.name}, traffic from "
             f"{season or traffic or 'the case [traffic]'}")
-        with staged_output(out, force, command="comfort", inputs=inputs) as staging:
+        simulates = case.comfort is not None and case.comfort.simulate_below > 0
+        pool = (study_executor(workers, timeout_floor=hung_after) if simulates
+                else contextlib.nullcontext(None))
+        with staged_output(out, force, command="comfort", inputs=inputs) as staging, \
+                pool as executor:
             found = comfort_case(case, season=read.get("season"), traffic=traffic,
                                  msd_results=read.get("msd"),
                                  msd_source=None if msd_from is None
-                                 else f"the estimate in {msd_from}")
+                                 else f"the estimate in {msd_from}", executor=executor)
             figures = _figures(found.year, staging, case.name)
             written = write_results(staging, {
                 **found.to_dict(), "figures": figures, **provenance(case.path),
