@@ -309,20 +309,21 @@ def _states(density, cells, weight, unmeasured, year_hours, groups=None):
         hours = year_hours * weight / weight.sum()
         return Traffic(density, hours, cells, groups, "season", (), unmeasured, windows)
     share = year_hours / WEEK_HOURS
-    measured = sorted(set(cells.tolist()))
-    states: list[tuple] = []
-    filled = []
+    by_cell: dict[int, list] = {}
+    for index, cell in enumerate(cells.tolist()):
+        by_cell.setdefault(cell, []).append(index)
+    measured = sorted(by_cell)
+    parts, filled = [], []
     for cell in range(WEEK_HOURS):
-        if cell in measured:
-            sources = [cell]
+        if cell in by_cell:
+            inside = np.array(by_cell[cell])
         else:
             filled.append(cell)
             if unmeasured == "zero":
-                states.append((0.0, share, cell, -1))
+                parts.append((np.zeros(1), np.full(1, share), np.full(1, cell), np.full(1, -1)))
                 continue
-            sources = _pool(cell, measured)
-        inside = np.flatnonzero(np.isin(cells, sources))
-        total = weight[inside].sum()
-        states += [(density[i], share * weight[i] / total, cell, groups[i]) for i in inside]
-    d, h, c, g = (np.array(column) for column in zip(*states))
+            inside = np.array([i for source in _pool(cell, measured) for i in by_cell[source]])
+        parts.append((density[inside], share * weight[inside] / weight[inside].sum(),
+                      np.full(inside.size, cell), groups[inside]))
+    d, h, c, g = (np.concatenate(column) for column in zip(*parts))
     return Traffic(d, h, c, g, "season", tuple(filled), unmeasured, windows)
