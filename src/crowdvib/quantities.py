@@ -51,6 +51,8 @@ QUANTITIES = MappingProxyType({
     "hours_per_year": ("hours a year", "h"), "days": ("days a year", "d"),
     "year_hours": ("hours of the year", "h"),
     "profile": ("crowd density by hour of the day", "persons/m²"),
+    "simulate_below": ("simulated windows below the density", "persons/m²"),
+    "simulated_windows": ("simulated windows per density", "-"),
 })
 
 

@@ -60,7 +60,7 @@ def test_comfort_with_a_daily_profile_writes_results_figures_and_report(paper_ca
 
 
 def test_comfort_on_a_report_in_a_headless_browser(paper_case, tmp_path):
-    from tests.reporting.test_report import _open_in_browser
+    from tests.reporting.test_report import _input_rows_without_units, _open_in_browser
     from tests.reporting.test_template_security import _policy_first
 
     out = tmp_path / "browser"
@@ -73,6 +73,7 @@ def test_comfort_on_a_report_in_a_headless_browser(paper_case, tmp_path):
     assert re.search(r'data-broken-images="(\d+)"', dom).group(1) == "0"
     assert re.search(r'data-split-words="([^"]*)"', dom).group(1) == ""
     assert re.search(r'<section id="comfort">\s*<h2>A year of comfort</h2>', dom)
+    assert _input_rows_without_units(dom) == []          # every input with its unit
     assert pdf.read_bytes().startswith(b"%PDF")
 
 

@@ -11,7 +11,7 @@ from markupsafe import Markup
 from ..cases.schema import get, real
 from .html import html, join, number, table
 
-__all__ = ["comfort_section"]
+__all__ = ["comfort_section", "comfort_headline"]
 
 
 def _year(results):
@@ -110,3 +110,22 @@ def _validity(settings):
                 "as stationary and Gaussian. At low densities (a few walkers on the deck) it is "
                 "not: the simulator's 10-minute peaks run above the spectral ones there "
                 "(accuracy/comfort_validation.py; docs: validation).</p>")
+
+
+def comfort_headline(results: dict) -> list:
+    """The summary's lines of a year of comfort: per model without and with the damper, the
+    hours a year above CL1 (the primary model, identified HSI when present, first)."""
+    year = _year(results)
+    if year is None:
+        return []
+    rows = [r for r in year["rows"] if isinstance(r, dict)]
+    first = [r for r in rows if r.get("model") == "hsi"] or rows[:1]
+    items = []
+    for row in first + [r for r in rows if r not in first and r.get("model") == "empty"]:
+        hours = row.get("hours_per_class") or {}
+        above = sum(v for k, v in hours.items() if k != "CL1" and real(v) is not None)
+        items.append(html("{}: {} h a year above CL1 (0.5 m/s²), {} h in CL3 or CL4",
+                          _label(row), number(above, 4),
+                          number(sum(v for k, v in hours.items() if k in ("CL3", "CL4")
+                                     and real(v) is not None), 4)))
+    return items
