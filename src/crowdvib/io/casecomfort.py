@@ -111,13 +111,16 @@ def _traffic(table, path):
     if given[0] == "table":
         spec = read_traffic_table(table.file("table"), days=days, year_hours=year_hours)
     elif given[0] == "density":
-        spec = TrafficSpec("table", _non_negative(table, "density"),
-                           _non_negative(table, "hours_per_year"), year_hours=year_hours)
+        spec = TrafficSpec("table", _non_negative(table, "density", table.numbers("density")),
+                           _non_negative(table, "hours_per_year",
+                                         table.numbers("hours_per_year")),
+                           year_hours=year_hours)
         if len(spec.density) != len(spec.hours_per_year):
             raise table.error("hours_per_year", f"must have one value per density "
                               f"({len(spec.density)})", list(spec.hours_per_year))
     else:
-        spec = TrafficSpec("profile", _non_negative(table, "profile"), days=days)
+        spec = TrafficSpec("profile", _non_negative(table, "profile", table.numbers("profile")),
+                           days=days)
         if len(spec.density) != 24:
             raise table.error("profile", "must hold 24 densities (hours 0–23)",
                               list(spec.density))
@@ -125,9 +128,9 @@ def _traffic(table, path):
     return spec
 
 
-def _non_negative(table, name):
-    """A list of numbers >= 0 (one number is a list of one)."""
-    values = np.atleast_1d(table.numbers(name))
+def _non_negative(table, name, values):
+    """The numbers read from ``name`` (one number is a list of one), checked >= 0."""
+    values = np.atleast_1d(values)
     if np.any(values < 0):
         raise table.error(name, "must be >= 0", values.tolist())
     return tuple(float(v) for v in values)
