@@ -12,8 +12,9 @@ P(max |a| ≤ x) = exp(−T ν(x)). With ``peak_model="davenport"`` ν(x) = 2 ν
 response come in clumps, one per excursion of its envelope, and only the first of a clump counts
 (Vanmarcke 1975): ν(x) = 2 ν0 exp(−η²/2) (1 − exp(−sqrt(π/2) δ η)) / (1 − exp(−η²/2)),
 δ = sqrt(1 − m1²/(m0 m2)) the spread of the spectrum. A footbridge's response is narrow band
-(δ ≈ 0.03 on the paper's bridge): the Poisson crossings read its 10-minute median 12–20 % high,
-the clumped ones within 2.5 % of the simulator (accuracy/comfort_validation.py).
+(δ ≈ 0.03 on the paper's bridge): the Poisson crossings read its 10-minute median 12–18 % high,
+the clumped ones within 1.5 % of the simulator from 0.25 persons/m² on
+(accuracy/comfort_validation.py, which also shows where the upper tail parts).
 
 Running RMS. The 1-s running mean square r(t) of a narrow-band response is the mean of its
 envelope square A²/2 over the window (the ripple at 2 f0 averages out). A²/2 has the mean σ²
