@@ -53,6 +53,17 @@ def test_a_seasons_windows_fill_the_week_by_the_hour_rule():
     assert zero.density[zero.cell != 8].max() == 0.0 and zero.total_hours == pytest.approx(8760)
 
 
+def test_a_seasons_rows_give_their_lengths_by_window_or_duration():
+    # Traffic.from_season: a window's length is end − start, a whole record's its duration;
+    # both rows measured Monday 08:00 share its 52.1 h in the ratio of their lengths (1 : 3)
+    rows = [{"name": "a[0-300s]", "start": 0.0, "end": 300.0, "density": 0.2,
+             "time": "2026-06-01T08:00"},
+            {"name": "b", "duration": 900.0, "density": 0.6, "time": "2026-06-01T08:20"}]
+    traffic = Traffic.from_season({"records": rows})
+    assert traffic.hours[traffic.cell == 8] == pytest.approx([8760 / 168 / 4,
+                                                              3 * 8760 / 168 / 4])
+
+
 def test_resampling_a_season_draws_its_windows_again_from_the_seed():
     traffic = Traffic.from_windows([0.1, 0.4, 0.9], ["2026-06-01T08:00", "2026-06-02T08:00",
                                                      "2026-06-06T12:00"])

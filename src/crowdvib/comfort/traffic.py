@@ -198,8 +198,8 @@ class Traffic:
     def from_season(cls, results: dict, *, unmeasured: str = "hour",
                     year_hours: float = HOURS_PER_YEAR, area: float | None = None) -> Traffic:
         """The windows of a ``crowdvib season`` results.json (its ``records`` table): each row's
-        density, ``time`` and length (``end − start``; a whole record the median of the
-        windows' lengths, or all alike).
+        density, ``time`` and length (``end − start``, else its ``duration``; else the median
+        of the known lengths, or all alike).
 
         Parameters
         ----------
@@ -224,9 +224,10 @@ class Traffic:
                                 f"density, got {value!r}")
             density.append(float(value))
             times.append(row.get("time"))
-            start, end = row.get("start"), row.get("end")
-            lengths.append(end - start if isinstance(start, (int, float))
-                           and isinstance(end, (int, float)) else None)
+            start, end, length = row.get("start"), row.get("end"), row.get("duration")
+            if isinstance(start, (int, float)) and isinstance(end, (int, float)):
+                length = end - start
+            lengths.append(length if isinstance(length, (int, float)) and length > 0 else None)
         dated = [t is not None for t in times]
         if any(dated) and not all(dated):
             first = dated.index(False) + 1
