@@ -18,7 +18,8 @@ SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd",
             "_measurement": "measurement", "_estimation": "estimation",
             "_simulation": "simulation", "_outputs": "structure", "_output_nodes": "structure", "_design": "design",
             "_design_damper": "design.damper",
-            "_measurement_block": "measurement", "_measurements": "case", "_report": "report"}
+            "_measurement_block": "measurement", "_measurements": "case", "_report": "report",
+            "_comfort": "comfort", "_traffic": "traffic"}
 #: The same for the ambient-test file (crowdvib.io.ambient): parser function → the table each of
 #: its variables is (the records' ``table`` is one [record] block).
 AMBIENT_SECTIONS = {"read_ambient": {"root": "case"}, "_records": {"table": "record", "root": "case"},
@@ -254,7 +255,7 @@ def _special(helper, node, prefixes, keys):
 
 
 #: The modules whose functions read the case-file keys.
-PARSER_MODULES = ("crowdvib.io.casefile", "crowdvib.io.casedesign")
+PARSER_MODULES = ("crowdvib.io.casefile", "crowdvib.io.casedesign", "crowdvib.io.casecomfort")
 
 
 def parser_sources():
@@ -266,7 +267,7 @@ def parser_sources():
 
 #: The case file's sections in the order of the reference.
 CASE_ORDER = ("case", "structure", "crowd", "hsi", "measurement", "estimation", "simulation",
-              "design", "report")
+              "design", "comfort", "traffic", "report")
 
 
 def write_reference(source_paths, units, target, sections=None, order=CASE_ORDER):

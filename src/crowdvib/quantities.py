@@ -44,6 +44,15 @@ QUANTITIES = MappingProxyType({
     "decimation": ("decimation factor", "-"), "n_blocks": ("data blocks for σ", "-"),
     "segment_length": ("Welch segment", "samples"), "mac_threshold": ("MAC threshold", "-"),
     "groups": ("jackknife groups", "-"),
+    # a year of comfort (crowdvib comfort: [comfort], [traffic])
+    "rms_window": ("running RMS window", "s"), "damper_mass_ratio": ("damper mass ratio", "-"),
+    "densities": ("densities of the response table", "-"),
+    "resamples": ("resamples of the season's windows", "-"),
+    "hours_per_year": ("hours a year", "h"), "days": ("days a year", "d"),
+    "year_hours": ("hours of the year", "h"),
+    "profile": ("crowd density by hour of the day", "persons/m²"),
+    "simulate_below": ("simulated windows below the density", "persons/m²"),
+    "simulated_windows": ("simulated windows per density", "-"),
 })
 
 

@@ -24,7 +24,8 @@ SRC = Path(__file__).resolve().parents[2] / "src"
 #: through ``reporting.plotting``; the CLI has no Python API).
 PUBLIC = ("crowdvib", "crowdvib.models", "crowdvib.signals", "crowdvib.io", "crowdvib.response",
           "crowdvib.runner", "crowdvib.identification", "crowdvib.studies", "crowdvib.oma",
-          "crowdvib.design", "crowdvib.cases", "crowdvib.runs", "crowdvib.reporting.plotting")
+          "crowdvib.design", "crowdvib.comfort", "crowdvib.cases", "crowdvib.runs",
+          "crowdvib.reporting.plotting")
 
 #: autosummary's end of a summary sentence (sphinx.ext.autosummary.periods_re): a period and
 #: white space. The docs relax it after "Eq."/"Fig.", but help(), IDEs and numpydoc do not.

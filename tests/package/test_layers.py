@@ -24,15 +24,17 @@ The layer order, lowest first; a module may import its own layer and the layers 
 8. ``identification``: the inverse problem, the MSD from a measured PSD
 9. ``studies``: the objective landscape, the modelling-error, parametric and Monte Carlo studies
 10. ``design``: the code checks and the damper design
-11. ``_manifest``: a results directory's manifest (it reads the runner's task files; a case
+11. ``comfort``: a year of comfort (traffic, the window's comfort measure, the year), built on
+    the response, the runner's pool and the design layer's classes and dampers
+12. ``_manifest``: a results directory's manifest (it reads the runner's task files; a case
     verifies another run's results.json against it before use)
-12. ``cases``: what a case file describes, run from Python (the commands' pipelines: it reads
+13. ``cases``: what a case file describes, run from Python (the commands' pipelines: it reads
     with ``io`` and computes with the layers below it, so each command only prints and writes)
-13. ``reporting``: figures and the HTML report
-14. ``runs``: the commands as calls (a case's work, its figures and report in a results folder
+14. ``reporting``: figures and the HTML report
+15. ``runs``: the commands as calls (a case's work, its figures and report in a results folder
     written safely), so each command is argument parsing, one call and printing
-15. ``cli``: the command line
-16. the package itself (``crowdvib/__init__``, ``__main__``): it re-exports the public API.
+16. ``cli``: the command line
+17. the package itself (``crowdvib/__init__``, ``__main__``): it re-exports the public API.
 """
 
 import ast
@@ -48,7 +50,8 @@ BASE = ("crowdvib.errors", "crowdvib._validation", "crowdvib._plausibility", "cr
 #: Lowest first; each entry is the set of units (subpackages or top-level modules) of one layer.
 LAYERS = (BASE, ("crowdvib.models",), ("crowdvib.signals",), ("crowdvib.io",),
           ("crowdvib.oma",), ("crowdvib.response",), ("crowdvib.runner",),
-          ("crowdvib.identification",), ("crowdvib.studies",), ("crowdvib.design",), ("crowdvib._manifest",),
+          ("crowdvib.identification",), ("crowdvib.studies",), ("crowdvib.design",),
+          ("crowdvib.comfort",), ("crowdvib._manifest",),
           ("crowdvib.cases",), ("crowdvib.reporting",), ("crowdvib.runs",),
           ("crowdvib.cli",),
           ("crowdvib", "crowdvib.__main__"))

@@ -167,7 +167,7 @@ def test_the_policy_is_strict():
 
 
 @pytest.mark.parametrize("command", ["demo", "estimate", "simulate", "map", "sensitivity",
-                                     "check", "modes", "season", None])
+                                     "check", "modes", "season", "comfort", None])
 def test_every_report_kind_has_the_policy_first_in_its_head(command):
     # The built-in page of each command's results (its sections vary, its head does not).
     page = render_report({} if command is None else {"command": command})

@@ -11,7 +11,8 @@ a :class:`~crowdvib.io.casefile.Case` thus gets what the command gets:
 - :func:`simulate_case` (``crowdvib simulate``);
 - :func:`study_case` (``crowdvib sensitivity``), :func:`demo_case` (``crowdvib demo``);
 - :func:`identify_ambient` (``crowdvib modes``, on an ambient-test file);
-- :func:`season_case` (``crowdvib season``), from :func:`plan_season`.
+- :func:`season_case` (``crowdvib season``), from :func:`plan_season`;
+- :func:`comfort_case` (``crowdvib comfort``).
 
 Each returns an object whose ``to_dict()`` is the command's results.json and whose
 ``results()`` is that as a :class:`Results`, the object :func:`load_results` reads back from the
@@ -28,7 +29,8 @@ import importlib
 
 from .results import (DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES, CheckResults,
                       DemoResults, EstimateResults, MapResults, ModesResults, Results,
-                      SeasonResults, SensitivityResults, SimulateResults, load_results,
+                      SeasonResults, SensitivityResults, SimulateResults, ComfortResults,
+                      load_results,
                       results_of, software_versions)
 from .schema import KINDS, SCHEMA
 
@@ -46,12 +48,15 @@ _MODULES = {
     **dict.fromkeys(("CaseDemo", "demo_case"), "demo"),
     **dict.fromkeys(("CaseSeason", "SeasonPlan", "plan_season", "season_case",
                      "season_records"), "season"),
+    **dict.fromkeys(("CaseComfort", "comfort_case", "case_traffic", "comfort_dampers",
+                     "COMFORT_TABLES"), "comfort"),
     "Finding": "verdict",
 }
 
 __all__ = ["DESIGN_TABLES", "ESTIMATION_TABLES", "SIMULATION_TABLES", "software_versions",
            "Results", "EstimateResults", "SensitivityResults", "CheckResults", "ModesResults",
-           "SimulateResults", "MapResults", "DemoResults", "SeasonResults", "load_results",
+           "SimulateResults", "MapResults", "DemoResults", "SeasonResults", "ComfortResults",
+           "load_results",
            "results_of", "SCHEMA", "KINDS", *_MODULES]
 
 

@@ -34,7 +34,8 @@ if TYPE_CHECKING:
 __all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "software_versions",
            "provenance",
            "Results", "EstimateResults", "SensitivityResults", "CheckResults", "ModesResults",
-           "SimulateResults", "MapResults", "DemoResults", "SeasonResults", "AsResults",
+           "SimulateResults", "MapResults", "DemoResults", "SeasonResults", "ComfortResults",
+           "AsResults",
            "load_results", "results_of"]
 
 #: The case tables each kind of command reads; its results and report show no others.
@@ -503,9 +504,30 @@ class SeasonResults(Results):
         return found + super()._headline()
 
 
+class ComfortResults(Results):
+    """``crowdvib comfort``: a year of comfort per model (:func:`comfort_case`)."""
+
+    kind = "comfort"
+
+    def table(self) -> list[dict]:
+        """One row per model and damper: hours a year per comfort class and the probability
+        that a window exceeds each limit."""
+        rows = (self.data.get("comfort") or {}).get("rows") or []
+        return [{"model": row.get("label"), "damper": row.get("damper"),
+                 **{f"hours_{k}": v for k, v in (row.get("hours_per_class") or {}).items()},
+                 **{f"exceedance_{k}": v for k, v in (row.get("exceedance") or {}).items()}}
+                for row in rows if isinstance(row, dict)]
+
+    def comfort_year(self):
+        """The :class:`~crowdvib.comfort.ComfortYear` it holds."""
+        from ..comfort import ComfortYear
+
+        return ComfortYear.from_dict(self.data["comfort"])
+
+
 _CLASSES = {cls.kind: cls for cls in (EstimateResults, SensitivityResults, CheckResults,
                                       ModesResults, SimulateResults, MapResults, DemoResults,
-                                      SeasonResults)}
+                                      SeasonResults, ComfortResults)}
 
 
 def _json(data: dict) -> dict:

@@ -18,7 +18,8 @@ __all__ = ["SCHEMA", "KINDS", "schema_header", "get", "hsi", "sensitivity", "sum
 #: key, or changes its meaning, makes a new version.
 SCHEMA = "crowdvib.results/1"
 #: The kinds of results: one per command that writes a results.json.
-KINDS = ("estimate", "sensitivity", "check", "modes", "simulate", "map", "demo", "season")
+KINDS = ("estimate", "sensitivity", "check", "modes", "simulate", "map", "demo", "season",
+         "comfort")
 
 
 def schema_header(kind: str) -> dict:

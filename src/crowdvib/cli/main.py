@@ -19,7 +19,8 @@ from .._version import __version__
 from .._files import os_error_text, require_file
 from .._terminal import terminal_safe
 from ..errors import CrowdvibError
-from . import check, demo, estimate, init, landscape, modes, season, sensitivity, simulate
+from . import (check, comfort, demo, estimate, init, landscape, modes, season, sensitivity,
+               simulate)
 from .common import IN_DOUBT, close_progress, say, set_quiet
 
 __all__ = ["main", "build_parser"]
@@ -64,6 +65,8 @@ _COMMANDS = {
     "modes": ("the empty bridge's modes from an ambient record (operational modal analysis)",
               modes),
     "season": ("a season of records with a crowd table: each estimated, one MSD for all", season),
+    "comfort": ("a year of comfort: hours per comfort class from a season or a traffic table",
+                comfort),
 }
 
 

@@ -31,7 +31,7 @@ from ..models.structure import ModalModel
 from ..response.spectral import SpectralModel, effective_modal_properties
 from .check import structure_models
 
-__all__ = ["ResponsePrediction", "predict_response", "davenport_peak_factor"]
+__all__ = ["ResponsePrediction", "predict_response", "davenport_peak_factor", "frequency_grid"]
 
 EULER_GAMMA = 0.5772156649015329
 #: Frequency steps per half-power half-width ξ f of the narrowest mode: a Lorentzian peak's
@@ -98,8 +98,9 @@ class ResponsePrediction:
                                 "weighted_rms")}}
 
 
-def _grid(structure, crowd, msd, dampers):
-    """Frequencies [Hz] fine enough for the narrowest mode of every model, 0 to the top."""
+def frequency_grid(structure, crowd, msd, dampers):
+    """Frequencies [Hz] fine enough for the narrowest mode of every model, 0 to the top (an even
+    grid from 0 Hz: the spectral moments by the trapezoid rule; also :mod:`crowdvib.comfort`)."""
     modal = effective_modal_properties(structure, None, None, dampers=dampers)
     widths = np.concatenate([modal.frequencies * modal.damping_ratios,
                              modal.interaction_frequencies * modal.interaction_damping_ratios])
@@ -174,7 +175,7 @@ def predict_response(structure: ModalModel, crowd: Crowd, *, msd: MSDModel | Non
     if weighting not in (None, "Wb"):
         raise ParameterError(f"weighting must be None or 'Wb', got {weighting!r}")
     dampers = as_dampers(dampers)
-    grid = _grid(structure, crowd, msd, dampers) if frequency is None else frequency
+    grid = frequency_grid(structure, crowd, msd, dampers) if frequency is None else frequency
     columns: dict[str, list] = {"rms": [], "crossing_rate": [], "weighted_rms": []}
     models = structure_models(structure, crowd, crowd.density, msd)
     for model, _, model_msd in models.values():

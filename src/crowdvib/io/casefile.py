@@ -28,6 +28,8 @@ A case file describes one bridge and one crowd, and how its records are read and
     [design]       codes, density, comfort_class, hsi, weighting, prediction, duration;
                    [design.classes] per code; [design.site_factors] k1–k4 (UK NA);
                    [design.msd] (else [hsi]); [design.damper] (used by `crowdvib check`)
+    [comfort]      duration, rms_window, peak_model, output, damper_mass_ratio, …; [traffic]
+                   a design table, a daily profile or a CSV (`crowdvib comfort`; casecomfort)
     [report]       client, project, bridge, location, engineer, measurement_date: who the
                    reports are for, shown in the header of every report of the case;
                    template: the consultancy's own page (Jinja2) around the report
@@ -66,6 +68,7 @@ from ._toml import Table, _is_number, read_toml, wrap
 from .csvtables import number_columns, read_csv_table, require_columns
 from .measurement import load_measurement
 from .modalfiles import read_modal_model, write_modal_model
+from .casecomfort import ComfortSpec, TrafficSpec, _comfort, _traffic
 from .casedesign import _design
 from .casespecs import (DesignSpec, EstimationSpec, MeasurementBlock, MeasurementSpec,
                         SimulationSpec, StepFrequencySpec)
@@ -123,6 +126,10 @@ class Case:
     crowd_profile : CrowdProfile or None
         The crowd's density against the record's time (``[crowd] counts`` or
         ``density_profile``; docs: theory, A crowd that changes); None: stationary.
+    comfort : ComfortSpec or None
+        The ``[comfort]`` table (``crowdvib comfort``), None without one.
+    traffic : TrafficSpec or None
+        The ``[traffic]`` table: a design table or a daily profile, None without one.
 
     See Also
     --------
@@ -153,6 +160,9 @@ class Case:
     #: The crowd's density against the record's time (``[crowd] counts`` or
     #: ``density_profile``), None for a stationary crowd.
     crowd_profile: CrowdProfile | None = None
+    #: ``[comfort]`` and ``[traffic]`` (``crowdvib comfort``; :mod:`crowdvib.io.casecomfort`).
+    comfort: ComfortSpec | None = None
+    traffic: TrafficSpec | None = None
 
     def record_crowd_profile(self) -> CrowdProfile | None:
         """:attr:`crowd_profile` on the time axis of the record as measured: t = 0 at the
@@ -209,6 +219,8 @@ class Case:
                 "simulation": plain(self.simulation), "expected": dict(self.expected),
                 **({} if self.design is None else {"design": plain(self.design)}),
                 **({"records": plain(self.records)} if self.records else {}),
+                **{key: plain(getattr(self, key)) for key in ("comfort", "traffic")
+                   if getattr(self, key) is not None},
                 **({"report": dict(self.report)} if self.report else {})}
         if self.crowd_profile is not None:      # with the crowd: every command's inputs
             data["crowd"]["profile"] = {"kind": self.crowd_profile.kind,
@@ -643,6 +655,8 @@ def _case(path, data):
     expected = _expected(root.table("expected"))
     design = _design(root.table("design"), path, _msd) if root.has("design") else None
     report = _report(root.table("report"))
+    comfort = _comfort(root.table("comfort"), path) if root.has("comfort") else None
+    traffic = _traffic(root.table("traffic"), path) if root.has("traffic") else None
     root.finish()
     not_set = _not_set(root.defaulted | ({"estimation"} if not root.has("estimation") else set()))
     outputs = estimation.outputs or structure.output_names
@@ -671,7 +685,7 @@ def _case(path, data):
                 measurement=measurement, estimation=estimation, simulation=simulation,
                 expected=expected, seed=seed, description=description, not_set=not_set,
                 design=design, records=records, force=force, report=report,
-                crowd_profile=crowd_profile)
+                crowd_profile=crowd_profile, comfort=comfort, traffic=traffic)
 
 
 #: Case-file keys whose :meth:`Case.to_dict` name differs.

@@ -35,6 +35,7 @@ from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, findings
 from ..errors import DataError, ParameterError
 from . import sections
 from .animation import report_animations
+from .comfort_section import comfort_section
 from .design_section import design_section
 from .figures import collect_figures
 from .html import html, page
@@ -210,5 +211,6 @@ def _assess(results, shown, directory):
     diagnostics = sections.diagnostics_section(shown)
     diagnostics += design_section(shown)         # crowdvib check only
     diagnostics += modes_section(shown)                    # crowdvib modes only
+    diagnostics += comfort_section(shown)                  # crowdvib comfort only
     return notes, figures, diagnostics
 

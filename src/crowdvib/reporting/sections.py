@@ -14,6 +14,7 @@ from .._version import __version__
 from .._files import sha256_file
 from ..cases.schema import case_name, estimate, get, hsi, real as _real, sensitivity, summary
 from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL
+from .comfort_section import comfort_headline
 from .design_section import damper_items, design_decisions, msd_section
 from .estimator_section import client_inputs, convergence_norm_words, estimator_details
 from .html import Markup, escape, html, join, label, number, span, table, value
@@ -137,6 +138,7 @@ def summary_section(results, notes):
     if response is not None:
         items.append(response[0])
     items += design_decisions(results) + damper_items(results) + modes_headline(results)
+    items += comfort_headline(results)
     verdict = (join(html("<li>{}</li>", item) for item in items)
                or Markup("<li>no estimate in these results</li>"))
     return html('<section id="summary"><h2>Summary</h2><ul class="headline">{}</ul>{}{}</section>',

@@ -8,7 +8,8 @@ command of the command line is one call here, and prints nothing of its own but 
 - :func:`run_estimate` (``crowdvib estimate``), :func:`run_map` (``crowdvib map``);
 - :func:`run_check` (``crowdvib check``), :func:`run_simulate` (``crowdvib simulate``);
 - :func:`run_demo` (``crowdvib demo``), :func:`run_sensitivity` (``crowdvib sensitivity``);
-- :func:`run_modes` (``crowdvib modes``), :func:`run_season` (``crowdvib season``).
+- :func:`run_modes` (``crowdvib modes``), :func:`run_season` (``crowdvib season``);
+- :func:`run_comfort` (``crowdvib comfort``).
 
 Each takes a ``say`` callable for the lines the command prints (default: none; pass ``print``
 to see them) and returns the :class:`~crowdvib.cases.Results` it wrote, the object
@@ -29,6 +30,7 @@ _MODULES = {
     "run_check": "check", "run_simulate": "simulate", "run_demo": "demo",
     "run_sensitivity": "sensitivity", "run_modes": "modes",
     **dict.fromkeys(("run_season", "SEASON_STORES"), "season"),
+    **dict.fromkeys(("run_comfort", "COMFORT_FIGURES"), "comfort"),
 }
 
 __all__ = list(_MODULES)
