@@ -72,14 +72,17 @@ def as_float_array(name, value, *, ndim=None):
         raise ParameterError(f"{name} must be numeric, got {value!r}") from exc
     if ndim is not None and array.ndim != ndim:
         raise ParameterError(f"{name} must have {ndim} dimension(s), got shape {array.shape}")
-    if not np.all(np.isfinite(array)):
+    if not np.isfinite(array).all():
         bad = np.flatnonzero(~np.isfinite(array.ravel()))[0]
         raise ParameterError(f"{name} must be finite, got {array.ravel()[bad]} at flat index {bad}")
     return array
 
 
 def _first_bad(array, ok):
-    index = np.flatnonzero(~np.asarray(ok).ravel())
+    ok = np.asarray(ok)
+    if ok.all():            # the common case, at a fraction of flatnonzero's cost
+        return None
+    index = np.flatnonzero(~ok.ravel())
     return None if index.size == 0 else array.ravel()[index[0]]
 
 

@@ -365,7 +365,9 @@ def _reference_on_grid(track, slope, path, omega, u, rho, covariance):
 
 
 def _reference_drift_spectrum(track, slope, path, omega):
-    u, rho, covariance = module._path_grid(path, float(-track.real.max()))
+    u, rho = module._path_grid(path, float(-track.real.max()))
+    lag = np.abs(np.subtract.outer(np.arange(u.size), np.arange(u.size)))
+    covariance = rho[lag] - np.multiply.outer(rho, rho)    # the linear prediction's error
     fine = _reference_on_grid(track, slope, path, omega, u, rho, covariance)
     coarse = _reference_on_grid(track, slope, path, omega, u[::2], rho[::2],
                                 covariance[::2, ::2])

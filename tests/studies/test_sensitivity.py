@@ -1,6 +1,7 @@
 """Objective landscape, modelling-error study and parametric study (issue 5; paper Figs. 4–6, 11)."""
 
 import concurrent.futures
+import dataclasses
 import multiprocessing
 import os
 import signal
@@ -13,6 +14,7 @@ import numpy as np
 import pytest
 
 from crowdvib import estimate_hsi, response_psd
+from crowdvib.errors import CrowdvibError
 from crowdvib.runner import TaskStore, run_tasks, study_executor
 from crowdvib.studies import modelling_error_study, objective_map, parametric_study
 
@@ -295,3 +297,16 @@ def test_warm_started_study_equals_the_full_multistart_on_the_paper_example():
     for level in (0, 1):
         for name, value in cold.bound(level).items():
             assert warm.bound(level)[name] == pytest.approx(value, abs=0.01, rel=0.01)
+
+
+def test_a_study_of_a_record_no_msd_explains_stops_at_its_nominal(measured, paper_bridge,
+                                                                   paper_crowd):
+    # Issue 39: a warm-started case skips the level check its nominal passed on the same
+    # record. A record in m/s² declared as g (its PSD g² ≈ 96 times too large, beyond the
+    # check's factor 10: issue 35 §2) gives no warm starts: the study still stops at its
+    # nominal with the check's message, as every case refuses the level before any fit.
+    wrong = dataclasses.replace(measured, psd=measured.psd * 9.80665**2)
+    with pytest.raises(CrowdvibError, match="nominal estimation failed.*measured PSD level "
+                                            "must be one the model reaches"):
+        modelling_error_study(wrong, paper_bridge, paper_crowd, band=(0.0, 10.0),
+                              levels=SMALL_LEVELS, joint=False)

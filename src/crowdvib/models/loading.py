@@ -220,6 +220,16 @@ def _half_mean_square_dlf(force, frequency, step):
     return _cached_half_mean_square_dlf((force, frequency.shape, frequency.tobytes()))
 
 
+@functools.cache
+def _harmonic_mean_squares():
+    """E[α_c²] of the second to fifth harmonics' DLFs (Živanović): constants, as their draws do
+    not follow the step frequency; computed once, not at every evaluation of the load."""
+    squares = positive_normal_moments(np.asarray(ZIVANOVIC_HARMONIC_MEAN[1:]),
+                                      np.asarray(ZIVANOVIC_HARMONIC_STD[1:]))[1]
+    squares.flags.writeable = False
+    return squares
+
+
 @functools.lru_cache(maxsize=16)
 def _cached_half_mean_square_dlf(key):
     force, shape, data = key
@@ -302,15 +312,13 @@ class ZivanovicForce(WalkingForce):
     def mean_square_dlf(self, step_frequency: ArrayLike) -> np.ndarray:
         mu1 = self.first_harmonic_dlf(np.asarray(step_frequency, dtype=float))
         column = (slice(None),) + (np.newaxis,) * (mu1.ndim - 1)
-        means = np.asarray(ZIVANOVIC_HARMONIC_MEAN[1:])[column]
-        stds = np.asarray(ZIVANOVIC_HARMONIC_STD[1:])[column]
         slope = np.asarray(ZIVANOVIC_SUBHARMONIC_SLOPE)[column]
         offset = np.asarray(ZIVANOVIC_SUBHARMONIC_OFFSET)[column]
         # The moments of the DLFs the sampler draws: normal, redrawn while not positive
         # (positive_normal), so the spectral load and the simulator see the same crowd.
         first_mean, first_square = positive_normal_moments(mu1[:1],
                                                            ZIVANOVIC_DLF1_COV * np.abs(mu1[:1]))
-        harmonics = np.broadcast_to(positive_normal_moments(means, stds)[1], mu1[1:5].shape)
+        harmonics = np.broadcast_to(_harmonic_mean_squares()[column], mu1[1:5].shape)
         if self.subharmonics_follow_sampled_dlf:     # α_s = a α₁ + b with the sampled α₁
             sub_mean, sub_square = positive_normal_moments(mu1[5:],
                                                            ZIVANOVIC_DLF1_COV * np.abs(mu1[5:]))

@@ -44,14 +44,15 @@ class Attached:
         return (2 * np.pi * frequency) ** 2 * apparent
 
 
-def crowd_attachment(crowd, msd, psi):
-    """The smeared crowd of MSDs as an :class:`Attached`, or None (no HSI or empty deck)."""
+def crowd_attachment(crowd, msd, factor):
+    """The smeared crowd of MSDs as an :class:`Attached`, or None (no HSI or empty deck).
+    ``factor``: B with Ψ = B Bᵀ (:func:`psd_factor`), which a model keeps for every MSD."""
     if msd is None or crowd is None or crowd.density == 0:
         return None
     body = crowd.body_mass
     sprung = msd.sprung_mass(body)
     return Attached(body - sprung, sprung, msd.frequency, msd.damping_ratio,
-                     msd.stiffness(body), msd.damping(body), psd_factor(psi))
+                     msd.stiffness(body), msd.damping(body), factor)
 
 
 def damper_attachments(structure, dampers):
@@ -64,8 +65,9 @@ def damper_attachments(structure, dampers):
 
 def attachments(structure, crowd, msd, dampers):
     """Everything attached to the modes: the crowd's MSDs (if HSI) and the dampers."""
-    psi = None if msd is None or crowd is None else structure.influence_matrix(crowd.density)
-    crowd_part = crowd_attachment(crowd, msd, psi)
+    factor = (None if msd is None or crowd is None
+              else psd_factor(structure.influence_matrix(crowd.density)))
+    crowd_part = crowd_attachment(crowd, msd, factor)
     return ((crowd_part,) if crowd_part is not None else ()) + \
         damper_attachments(structure, dampers)
 

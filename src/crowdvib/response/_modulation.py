@@ -29,10 +29,10 @@ an even grid in u and taken piecewise linear, and the exponentials are integrate
 from __future__ import annotations
 
 import dataclasses
-import functools
 from types import SimpleNamespace
 
 import numpy as np
+from numba import njit
 
 from ..models.structure import ModalModel
 from ._attached import reduced_matrices
@@ -175,27 +175,15 @@ def _is_light(poles):
     return (poles.imag > 0) & (-poles.real < _LIGHT_DAMPING * np.abs(poles))
 
 
-def _cumulative(values, step, axis=-1):
-    """∫₀^u of samples on an even grid (trapezoids) along ``axis``: h (Σ_{k≤i} f_k − (f₀ + f_i)/2),
-    one running sum (scipy's cumulative_trapezoid costs more in checks than in sums here)."""
-    total = np.cumsum(values, axis=axis)
-    total -= 0.5 * values
-    total -= 0.5 * np.take(values, [0], axis=axis)
-    total *= step
-    return total
-
-
 def _path_grid(path: OccupancyPath, decay: float):
-    """The grid in u (an odd number of points), ρ on it and the correlation of the path about
-    its mean given λ₀: σ⁻² Cov(δλ(u), δλ(u')) = ρ(u − u') − ρ(u) ρ(u') (the linear
-    prediction's error)."""
+    """The grid in u (an odd number of points) and ρ on it: the correlation of the path about
+    its mean given λ₀ is σ⁻² Cov(δλ(u), δλ(u')) = ρ(u − u') − ρ(u) ρ(u') (the linear
+    prediction's error), formed where it is used (_lag_sums)."""
     step = min(path.time_scale, 1.0 / decay) / _PER_SCALE
     count = min(2 * int(np.ceil(_MEMORIES / (2 * decay * step))) + 1, _MAX_POINTS)
     step = max(step, _MEMORIES / (decay * (count - 1)))
     u = step * np.arange(count)
-    rho = path.correlation(u)
-    lag = np.abs(np.subtract.outer(np.arange(count), np.arange(count)))
-    return u, rho, rho[lag] - np.multiply.outer(rho, rho)
+    return u, path.correlation(u)
 
 
 def _powers(base, count):
@@ -211,18 +199,6 @@ def _powers(base, count):
     return powers
 
 
-@functools.lru_cache(maxsize=2)     # the fine and the coarse grid of the estimate at hand
-def _lower_by_lag(count):
-    """The lower triangle (j ≥ k) of a count × count matrix ordered by lag δ = j − k, then k:
-    flat indices j·count + k, those of the real parts of the transposed elements in a complex
-    matrix viewed as floats, 2 (k·count + j), then j, k, and where each lag begins."""
-    lag = np.repeat(np.arange(count), np.arange(count, 0, -1))
-    starts = np.concatenate(([0], np.cumsum(np.arange(count, 1, -1))))
-    column = np.arange(lag.size) - starts[lag]
-    row = column + lag
-    return row * count + column, 2 * (column * count + row), row, column, starts
-
-
 def drift_spectrum(track, slope, path: OccupancyPath, omega):
     """S − S_frozen of the module docstring per unit |r|², for poles followed along the mean
     path (``track``, ``slope``: (n_p, n_t) on _TRACK, the first column at λ₀)
@@ -230,7 +206,7 @@ def drift_spectrum(track, slope, path: OccupancyPath, omega):
     track, slope = np.asarray(track, dtype=complex), np.asarray(slope, dtype=complex)
     omega = np.asarray(omega, dtype=float)
     decay = float(-track.real.max())                # the longest memory along the mean path
-    u, rho, covariance = _path_grid(path, decay)
+    u, rho = _path_grid(path, decay)
     step, pole = u[1], track[:, :1]
     # the pole and its slope where the mean path λ₀ + (1 − λ₀)(1 − ρ(u)) is at u (_TRACK is
     # even: one interpolation weight for every pole)
@@ -242,53 +218,86 @@ def drift_spectrum(track, slope, path: OccupancyPath, omega):
     # e^{iΩu} and e^{−iωu} on the fine grid; the coarse grid (2h) takes every other power
     spin = _powers(np.exp(1j * pole[:, 0].imag * step), u.size).T     # (n_p, N)
     rotation = _powers(np.exp(-1j * omega * step), u.size)            # (N, n_f)
-    covariance = path.variance * covariance
     zh = (pole - 1j * omega) * step
     growth = np.expm1(zh)                                   # e^{zh} − 1; doubled: e(e + 2)
-    fine = _drift_on_grid(pole, along, rate, covariance, step, spin, rotation,
+    fine = _drift_on_grid(pole, along, rate, rho, path.variance, step, spin, rotation,
                           _filon(zh, growth, step))
-    coarse = _drift_on_grid(pole, along[:, ::2], rate[:, ::2],
-                            np.ascontiguousarray(covariance[::2, ::2]), 2 * step, spin[:, ::2],
-                            rotation[::2], _filon(2 * zh, growth * (growth + 2), 2 * step))
+    coarse = _drift_on_grid(pole, np.ascontiguousarray(along[:, ::2]),
+                            np.ascontiguousarray(rate[:, ::2]), np.ascontiguousarray(rho[::2]),
+                            path.variance, 2 * step, spin[:, ::2], rotation[::2],
+                            _filon(2 * zh, growth * (growth + 2), 2 * step))
     return (4 * fine - coarse) / 3
 
 
-def _drift_on_grid(pole, along, rate, covariance, step, spin, rotation, filon):
-    """drift_spectrum on one grid of ``step``: the pole at λ₀ (n_p, 1), the pole and its slope
-    along the mean path (n_p, N), Cov(δλ(u), δλ(u')) (N, N), e^{iΩu} (n_p, N), e^{−iωu}
-    (N, n_f) and Filon's weights (n_p, n_f) on it."""
+@njit(cache=True, nogil=True)
+def _lag_sums(pole, along, rate, rho, variance, step):
+    """The lag sums L(δ) = Σ_k K(u_k + δ, u_k) of the integrand K (module docstring) and its
+    first column K(u_k, 0), per pole → two (n_p, N) arrays: the O(N²) part of _drift_on_grid,
+    compiled (numba), as numpy's N × N temporaries cost more than the sums (issue 39).
+
+    Z(u) = ∫₀^u p₁ δλ = X + iY (X the damping's part, Y the frequency's). The Gaussian
+    cumulant of Z(u) + Z̄(u') less Var(X(u) + X(u'))/2: the damping's fluctuation enters to
+    first order (with the frequency's, as a phase); its square would let rare paths of a
+    linearised pole go undamped. Left: −Var(Y(u) − Y(u'))/2 + i Cov(X(u) + X(u'), Y(u) − Y(u')).
+    M(u, u') = E[X(u) Y(u')] + i E[Y(u) Y(u')] in one: the double integral of p₁(u) Cov Im p₁(u'),
+    over u' first (shared by both), then over u, by trapezoids. K is Hermitian in (u, u'): only
+    u ≥ u' is evaluated, where its exponent is E(u) + Ē(u') − i M(u, u') + i Re M(u', u) with
+    E(u) = ∫₀^u p(λ̄) − iΩu + i Re M(u, u) − Im M(u, u)/2; its real part,
+    Re ∫p + Re ∫p' − Var(Y(u) − Y(u'))/2, cannot overflow.
+    """
     size, count = along.shape
-    u = step * np.arange(count)
-    # Z(u) = ∫₀^u p₁ δλ = X + iY (X the damping's part, Y the frequency's). The Gaussian
-    # cumulant of Z(u) + Z̄(u') less Var(X(u) + X(u'))/2: the damping's fluctuation enters to
-    # first order (with the frequency's, as a phase); its square would let rare paths of a
-    # linearised pole go undamped. Left: −Var(Y(u) − Y(u'))/2 + i Cov(X(u) + X(u'), Y(u) − Y(u')).
-    # E[X(u) Y(u')] + i E[Y(u) Y(u')] in one: the double integral of p₁(u) Cov Im p₁(u'),
-    # over u' first (shared by both), then over u.
-    inner = _cumulative(covariance * rate.imag[:, np.newaxis, :], step)
-    moments = _cumulative(rate[:, :, np.newaxis] * inner, step, axis=-2)  # XY + i YY (n_p, N, N)
-    flat_moments = moments.reshape(size, -1)
-    diagonal = flat_moments[:, ::count + 1]
-    exponent = (_cumulative(along, step) - 1j * pole.imag * u
-                + 1j * diagonal.real - diagonal.imag / 2)
-    # The integrand is Hermitian in (u, u'): only u ≥ u' is evaluated, ordered by lag
-    # δ = u − u', as the lag sums L(δ) = Σ_k K(u_k + δ, u_k) need it. Its exponent adds
-    # −Var(Y(u) − Y(u'))/2 + i Cov(…) = i (XY(u', u) − XY(u, u') − i YY(u, u')).
-    flat, transposed, row, column, starts = _lower_by_lag(count)
-    # (np.take: a gather at a fraction of the cost of fancy indexing)
-    argument = np.take(exponent, row, axis=1) + np.take(exponent.conj(), column, axis=1)
-    argument -= 1j * np.take(flat_moments, flat, axis=1)
-    argument.imag += np.take(flat_moments.view(float), transposed, axis=1)
-    # one exponential: its real part, Re ∫p + Re ∫p' − Var(Y(u) − Y(u'))/2, cannot overflow
-    moving = np.exp(argument, out=argument)
+    half = 0.5 * step
+    sums = np.zeros((size, count), dtype=np.complex128)
+    column = np.empty((size, count), dtype=np.complex128)
+    inner = np.empty((count, count))
+    moments = np.empty((count, count), dtype=np.complex128)
+    exponent = np.empty(count, dtype=np.complex128)
+    for p in range(size):
+        # ∫₀^{u'} Cov(δλ(u), δλ(s)) Im p₁(s) ds on the grid, Cov = σ² (ρ(u − s) − ρ(u) ρ(s))
+        for j in range(count):
+            inner[j, 0] = 0.0
+            previous = variance * (rho[j] - rho[j] * rho[0]) * rate[p, 0].imag
+            for k in range(1, count):
+                current = variance * (rho[abs(j - k)] - rho[j] * rho[k]) * rate[p, k].imag
+                inner[j, k] = inner[j, k - 1] + half * (previous + current)
+                previous = current
+        for k in range(count):
+            moments[0, k] = 0.0
+        for j in range(1, count):
+            for k in range(count):
+                moments[j, k] = moments[j - 1, k] + half * (rate[p, j - 1] * inner[j - 1, k]
+                                                            + rate[p, j] * inner[j, k])
+        integral = 0.0j
+        for j in range(count):
+            if j:
+                integral += half * (along[p, j - 1] + along[p, j])
+            own = moments[j, j]
+            exponent[j] = (integral - 1j * pole[p, 0].imag * step * j + 1j * own.real
+                           - 0.5 * own.imag)
+        for j in range(count):
+            for k in range(j + 1):
+                value = np.exp(exponent[j] + np.conj(exponent[k]) - 1j * moments[j, k]
+                               + 1j * moments[k, j].real)
+                sums[p, j - k] += value
+                if k == 0:
+                    column[p, j] = value
+    return sums, column
+
+
+def _drift_on_grid(pole, along, rate, rho, variance, step, spin, rotation, filon):
+    """drift_spectrum on one grid of ``step``: the pole at λ₀ (n_p, 1), the pole and its slope
+    along the mean path (n_p, N), ρ (N,) and Var λ, e^{iΩu} (n_p, N), e^{−iωu} (N, n_f) and
+    Filon's weights (n_p, n_f) on it."""
+    size, count = along.shape
+    moving, first_column = _lag_sums(pole, along, rate, rho, variance, step)
     # less the frozen envelope e^{γ(u + u')}, γ = Re p, whose lag sums are geometric series:
     # Σ_{k < N−δ} e^{γh(2k + δ)} = e^{γhδ} (e^{2γh(N−δ)} − 1)/(e^{2γh} − 1)
     decay, lags = pole.real * step, np.arange(count)
     envelope = np.exp(decay * lags)
     frozen = envelope * np.expm1(2 * decay * (count - lags)) / np.expm1(2 * decay)
-    sums = (np.add.reduceat(moving, starts, axis=-1) - frozen) * spin   # L(δ) e^{iΩδ}, δ ≥ 0
+    sums = (moving - frozen) * spin                             # L(δ) e^{iΩδ}, δ ≥ 0
     sums[:, 0] /= 2                                              # L(0) is real: 2 Re once
-    first_column = (np.take(moving, starts, axis=1) - envelope) * spin   # K(u_k, 0) e^{iΩu_k}
+    first_column = (first_column - envelope) * spin             # K(u_k, 0) e^{iΩu_k}
     # Σ_δ (…) e^{−iωδ}, the ω part shared by all poles: one real product (complex products of
     # this skinny shape are slow in OpenBLAS); its columns alternate real and imaginary parts
     products = (np.concatenate([sums.real, sums.imag, first_column.real, first_column.imag])

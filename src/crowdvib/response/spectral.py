@@ -137,8 +137,8 @@ class SpectralModel:
 
         self.lowpass = check_optional("lowpass", lowpass, LowPassFilter)
         self.crossing_spread = check_non_negative("crossing_spread", crossing_spread, unit="Hz")
-        self._psi = structure.influence_matrix(crowd.density)
-        self._load_factor = psd_factor(self._psi)
+        # B with Ψ = B Bᵀ: the crowd's load and its MSDs' coupling, kept for every MSD
+        self._load_factor = psd_factor(structure.influence_matrix(crowd.density))
         self._shapes = shapes
         self._dampers = damper_attachments(structure, dampers)
         self._dense = None
@@ -158,8 +158,10 @@ class SpectralModel:
         has it (it depends on the step frequencies and the body mass, not on the density)."""
         other = copy.copy(self)
         other.crowd = crowd
-        other._psi = self.structure.influence_matrix(crowd.density)
-        other._load_factor = psd_factor(other._psi)
+        if crowd.density != self.crowd.density:
+            # Ψ's factor depends on the density alone: kept for other step frequencies
+            # (their fits build hundreds of these)
+            other._load_factor = psd_factor(self.structure.influence_matrix(crowd.density))
         other._dense = None
         if self._welch is None:
             frequency, _, diagonal = self._grid
@@ -189,7 +191,7 @@ class SpectralModel:
 
     def _attached(self, msd):
         _check_msd_inputs(self.crowd, msd)
-        crowd_part = crowd_attachment(self.crowd, msd, self._psi)
+        crowd_part = crowd_attachment(self.crowd, msd, self._load_factor)
         return ((crowd_part,) if crowd_part is not None else ()) + self._dampers
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
@@ -293,8 +295,12 @@ class SpectralModel:
 def _state_matrix(mass, damping, stiffness):
     size = mass.shape[0]
     inverse_mass = np.linalg.inv(mass)
-    return np.block([[np.zeros((size, size)), np.eye(size)],
-                     [-inverse_mass @ stiffness, -inverse_mass @ damping]]), inverse_mass
+    # set block by block (np.block's checks cost more than the matrix here)
+    state = np.zeros((2 * size, 2 * size))
+    state[:size, size:] = np.eye(size)
+    state[size:, :size] = -inverse_mass @ stiffness
+    state[size:, size:] = -inverse_mass @ damping
+    return state, inverse_mass
 
 
 #: Pole expansions a model and its copies for other step frequencies keep (_expected): the
