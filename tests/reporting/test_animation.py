@@ -149,7 +149,7 @@ def test_the_replay_page_stays_light(replayed):
     picture = _replay_picture(render_report(results))[0]
     # 30 s at 20 frames a second of one mode, some 130 walkers, the trace's envelope (1.3 kB a
     # second without HSI) and the MSD motion of the ~70 walkers on the deck at one byte a
-    # frame (1.4 kB a second): under 3 kB a second of replay, the script (7 kB) once a page
+    # frame (1.4 kB a second): under 3 kB a second of replay, the script (6.5 kB) once a page
     # (issue 38: the page stays light).
     assert len(picture.encode("utf-8")) / 30.0 < 3000
 
