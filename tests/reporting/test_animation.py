@@ -135,14 +135,105 @@ def test_the_replay_data_agree_with_the_replay(replayed):
                                    atol=1e-3 * table["largest_deflection"])
 
 
-def test_the_replay_page_stays_light(replayed):
-    results = replayed[0]
-    page = render_report(results)
+def _replay_picture(page):
+    """The replay's figure, its data block and its still's walkers."""
     picture = re.search(r'<figure class="cv-anim" data-cv-kind="replay".*?</figure>', page,
                         flags=re.S).group(0)
-    # 30 s at 20 frames a second of one mode, some 150 walkers, the trace's envelope: under
-    # 2 kB a second of replay, the script (6 kB) once a page (issue 38: the page stays light).
-    assert len(picture.encode("utf-8")) / 30.0 < 2000
+    data = json.loads(re.search(r'<script type="application/json" class="cv-data">(.*?)'
+                                r"</script>", picture, flags=re.S).group(1))
+    return picture, data
+
+
+def test_the_replay_page_stays_light(replayed):
+    results = replayed[0]
+    picture = _replay_picture(render_report(results))[0]
+    # 30 s at 20 frames a second of one mode, some 130 walkers, the trace's envelope (1.3 kB a
+    # second without HSI) and the MSD motion of the ~70 walkers on the deck at one byte a
+    # frame (1.4 kB a second): under 3 kB a second of replay, the script (6.5 kB) once a page
+    # (issue 38: the page stays light).
+    assert len(picture.encode("utf-8")) / 30.0 < 3000
+
+
+def test_the_pages_msd_motion_is_the_replays(replayed):
+    # Decoded as the script does (code index − zero, times unit), each walker's MSD motion in
+    # the page's data at frame k equals u − φᵀz of the Replay (reference: Replay.
+    # msd_displacement, checked against paper Eq. 2 in tests/response/test_replay.py) to half
+    # a quantisation step, the step the largest motion / 30; no walker off the deck has one.
+    results, replay, _ = replayed
+    data = _replay_picture(render_report(results))[1]
+    msd = data["msd"]
+    largest = np.nanmax(np.abs(replay.msd_displacement))
+    assert msd["unit"] == pytest.approx(largest / 30, rel=1e-12)
+    assert len(msd["codes"]) == replay.arrival.size
+    for k in (0, 37, 300, replay.n_frames - 1):
+        expected = replay.msd_displacement[:, k]
+        found = np.full(expected.shape, np.nan)
+        for i, (first, code) in enumerate(zip(msd["first"], msd["codes"])):
+            if 0 <= k - first < len(code):
+                found[i] = msd["unit"] * (msd["alphabet"].index(code[k - first]) - msd["zero"])
+        np.testing.assert_array_equal(np.isfinite(found), np.isfinite(expected))
+        assert np.sum(np.isfinite(found)) >= 30
+        np.testing.assert_allclose(found[np.isfinite(found)], expected[np.isfinite(expected)],
+                                   rtol=0, atol=msd["unit"] / 2 * (1 + 1e-9))
+
+
+def test_the_still_lifts_each_walker_by_its_msds_motion(replayed):
+    # The still's dot of walker i at the frame the caption names: the deck under it (the
+    # page's own deflection there) less the lift (4 + 8 px) less 8 px × r_i / max|r| (r the
+    # Replay's u − φᵀz; REPLAY_GEOMETRY), to the quantisation step and the 0.1 px written.
+    results, replay, _ = replayed
+    picture, data = _replay_picture(render_report(results))
+    t = float(re.search(r"The still shows t = ([\d.]+) s", picture).group(1))
+    k = int(round((t - data["t0"]) * data["rate"]))
+    deck = data["y0"] + np.asarray(data["shapes"]).T @ np.asarray(data["q"][k])
+    w = {name: np.asarray(v) for name, v in data["walkers"].items()}
+    on = np.flatnonzero((w["t_on"] <= t) & (t < w["t_off"]))      # as the page puts them
+    px = data["ax"] + data["bx"] * (w["x_start"][on] + w["velocity"][on] * (t - w["arrival"][on]))
+    r = replay.msd_displacement[on, k]
+    pixels = 8.0 / np.nanmax(np.abs(replay.msd_displacement))
+    expected = np.interp(px, data["x"], deck) - 12.0 - pixels * r
+    still = re.search(r'<g class="cv-still">(.*?)</g>', picture, flags=re.S).group(1)
+    dots = np.array(re.findall(r'<circle r="2.5" cx="([\d.]+)" cy="([\d.]+)"', still),
+                    dtype=float)
+    assert dots.shape == (on.size, 2) and on.size >= 30
+    order = np.argsort(px)
+    drawn = dots[np.argsort(dots[:, 0])]
+    np.testing.assert_allclose(drawn[:, 0], px[order], atol=0.06)
+    np.testing.assert_allclose(drawn[:, 1], expected[order],
+                               atol=pixels * data["msd"]["unit"] / 2 + 0.06)
+    assert "lifted by their MSD's motion relative to the deck" in picture
+    assert "bobbing" not in picture
+
+
+def test_without_hsi_no_msd_motion_is_written():
+    # Moving forces (no msd): the Replay has no MSD motion, results.json's table and the page's
+    # data none either, and the caption says the walkers bob at their step frequency.
+    from crowdvib.models.examples import paper_example
+    from crowdvib.reporting.replay_view import replay_table
+    from crowdvib.response.replay import crossing_replay
+
+    case = paper_example()
+    replay = crossing_replay(case.structure, case.crowd, 20.0, rng=3, start=5.0, length=5.0)
+    assert not replay.hsi and replay.msd_displacement is None
+    table = replay_table(replay, case.structure)
+    assert "msd" not in table and table["hsi"] is False
+    picture, data = _replay_picture(render_report({"command": "simulate", "replay": table}))
+    assert "msd" not in data and data["lift"] == 4.0
+    assert "bobbing at their step frequency" in picture and "MSD" not in picture
+
+
+@pytest.mark.parametrize("broken", [{"first": [10**6]}, {"codes": ["!"]}, {"unit": -1.0},
+                                    {"alphabet": "ab"}, {"codes": []}])
+def test_a_replay_whose_msd_motion_does_not_decode_is_left_out(replayed, broken):
+    # A received results.json's msd: codes beyond the frames, a character not crowdvib's, a
+    # unit not positive, another alphabet, fewer codes than walkers: no picture.
+    results = dict(replayed[0])
+    del results["mode_shapes"]
+    msd = dict(results["replay"]["msd"])
+    for key, value in broken.items():
+        msd[key] = value * len(msd[key]) if isinstance(value, list) and value else value
+    results["replay"] = {**results["replay"], "msd": msd}
+    assert report_animations(results).pictures == []
 
 
 def test_a_received_results_file_cannot_end_the_data_block_or_add_script(replayed):

@@ -144,6 +144,35 @@ def test_simulate_report_plays_its_mode_shapes_and_its_crossing(simulated, tmp_p
     assert float(box["time"]) == pytest.approx(replay["t0"] + int(box["slid"])
                                                / replay["frame_rate"], abs=0.006)
     assert int(box["max"]) + 1 == len(replay["q"])
+    _check_walkers_lifted(run.out / REPORT_NAME, box)
+
+
+def _check_walkers_lifted(report, box):
+    """The script's walker dots at the slider's frame: where the page's data put them, with
+    HSI lifted by the MSD motion decoded in Python (replay_view.msd_motion, from the same
+    codes: reference for the script's own decoding), to the 0.1 px the script writes."""
+    import numpy as np
+
+    from crowdvib.reporting.replay_view import msd_motion
+
+    page = report.read_text(encoding="utf-8")
+    blocks = re.findall(r'<script type="application/json" class="cv-data">(.*?)</script>', page,
+                        flags=re.S)
+    data = [d for d in map(json.loads, blocks) if d["kind"] == "replay"][0]
+    w = {k: np.asarray(v) for k, v in data["walkers"].items()}
+    step = int(box["slid"])
+    t = data["t0"] + step / data["rate"]
+    deck = data["y0"] + np.asarray(data["shapes"]).T @ np.asarray(data["q"][step])
+    px = data["ax"] + data["bx"] * (w["x_start"] + w["velocity"] * (t - w["arrival"]))
+    lift = data["msd"]["px"] / data["msd"]["unit"] * msd_motion(
+        data["msd"], w["t_on"].size, len(data["q"]))[:, step]
+    expected = np.interp(px, data["x"], deck) - data["lift"] - lift
+    dots = np.array([part.split(",") for part in box["picture2"].split(";") if "," in part],
+                    dtype=float)
+    on = (w["t_on"] <= t) & (t < w["t_off"])
+    assert dots.shape == (w["t_on"].size, 2) and on.sum() >= 5
+    np.testing.assert_allclose(dots[on], np.c_[px, expected][on], atol=0.051)
+    assert np.any(lift[on] != 0)          # lifted: a step is 8/30 px, the tolerance 0.05 px
 
 
 def test_demo_report_plays_its_mode_shapes_and_its_crossing(tmp_path):

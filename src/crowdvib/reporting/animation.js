@@ -66,8 +66,16 @@
     });
   }
 
+  /* With HSI, walker k's MSD motion at frame `step` [px]: its code there (one character a
+     frame from its first on the deck) as an integer times px; 0 where it has none. */
+  function lifted(m, k, step) {
+    var c = m.codes[k].charAt(step - m.first[k]);
+    return c ? m.px * (m.alphabet.indexOf(c) - m.zero) : 0;
+  }
+
   /* The crossing: the deck's deflection from the modal coordinates, the walkers where their
-     arrival time and speed put them, the cursor on the acceleration traces. */
+     arrival time and speed put them (with HSI lifted by their MSD's motion, else bobbing at
+     their step frequency), the cursor on the acceleration traces. */
   function replay(box, data) {
     var deck = box.querySelector("path[data-cv-deck]");
     var cursors = box.querySelectorAll("line[data-cv-cursor]");
@@ -100,7 +108,8 @@
         var here = w.t_on[k] <= t && t < w.t_off[k];
         var x = w.x_start[k] + w.velocity[k] * (t - w.arrival[k]);
         var px = data.ax + data.bx * x;
-        var bob = data.bob * Math.sin(2 * Math.PI * w.step_frequency[k] * (t - w.arrival[k]));
+        var bob = data.msd ? lifted(data.msd, k, step)
+          : data.bob * Math.sin(2 * Math.PI * w.step_frequency[k] * (t - w.arrival[k]));
         dots[k].setAttribute("r", here ? "2.5" : "0");
         dots[k].setAttribute("cx", px.toFixed(1));
         dots[k].setAttribute("cy", (interpolate(data.x, ys, px) - data.lift - bob).toFixed(1));
