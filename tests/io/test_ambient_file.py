@@ -33,7 +33,7 @@ def test_a_logger_csv_in_g(logger_csv, extra):
 
 
 @pytest.mark.parametrize("key, value, pattern", [
-    ("units", '"gee"', r"ambient.toml: record.units must be 'm/s2' or 'g', got 'gee'"),
+    ("units", '"gee"', r"ambient.toml: record.units must be 'm/s2', 'g', 'mg' or 'mm/s2', got 'gee'"),
     ("format", '"xlsx"', r"ambient.toml: record.format must be one of \[.*'csv'.*\], "
                          r"got 'xlsx'"),
 ])

@@ -133,8 +133,9 @@ def main(argv=None):
               file=sys.stderr)
         return 1
     if status == IN_DOUBT and args.strict:
+        written = getattr(args, "out", None) or getattr(args, "output", None) or "--out"
         print(f"crowdvib {args.command}: error: --strict: the verdict doubts the result (see "
-              f"above; written to {getattr(args, 'out', '--out')})", file=sys.stderr)
+              f"above; written to {written})", file=sys.stderr)
         return 1
     return status
 

@@ -6,7 +6,9 @@ identification options and the modal-model table, every key checked through
 from pathlib import Path
 
 from ._toml import Table, read_toml
-from .records import _UNIT_ALIASES, RECORD_FORMATS, read_record
+from .casemeasurement import header_row_of
+from .headers import unit_key
+from .records import RECORD_FORMATS, read_record
 
 __all__ = ["read_ambient"]
 
@@ -28,14 +30,14 @@ def _records(root):
                                           "\"channel in file\"", channels)
         # The reader of a case file's [measurement], with its keys: format, units, time column.
         units = table.string("units", None)
-        if units is not None and units.strip().lower().replace(" ", "") not in _UNIT_ALIASES:
-            raise table.error("units", "must be 'm/s2' or 'g'", units)
+        if units is not None and unit_key(units) is None:
+            raise table.error("units", "must be 'm/s2', 'g', 'mg' or 'mm/s2'", units)
         records.append(read_record(
             table.file("file"), format=table.string("format", None,
                                                     choices=tuple(RECORD_FORMATS)),
             channels=channels, units=units,
             sample_rate=table.number("sample_rate", None, rule="positive"),
-            time_column=table.string("time_column", "time")))
+            time_column=table.string("time_column", "time"), header_row=header_row_of(table)))
         table.finish()
     return records
 

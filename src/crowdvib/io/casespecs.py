@@ -46,6 +46,14 @@ class MeasurementSpec:
     overlap : float
     detrend : str
         "constant" (paper) or "linear".
+    header_row : int or None
+        CSV: the line number (from 1) of the header row; None finds it below a logger's
+        metadata lines.
+    gaps : str or None
+        A dropout (empty cells): "cut" keeps the longest stretch without one, "bridge"
+        interpolates each up to ``max_gap``; None refuses it (:mod:`crowdvib.io.gaps`).
+    max_gap : float
+        [s] the longest dropout "bridge" interpolates.
     """
 
     files: tuple = ()
@@ -61,6 +69,9 @@ class MeasurementSpec:
     window_length: float = 60.0
     overlap: float = 0.5
     detrend: str = "constant"
+    header_row: int = None
+    gaps: str = None
+    max_gap: float = 0.1
 
 
 @dataclass(frozen=True)
