@@ -19,6 +19,7 @@ from crowdvib import load_results
 from crowdvib.cases import (SCHEMA, CheckResults, DemoResults, EstimateResults, MapResults,
                             ModesResults, Results, SensitivityResults, SimulateResults,
                             check_case, estimate_case, identify_ambient, map_case, simulate_case)
+from crowdvib.cases.verdict import is_doubt
 from crowdvib.cli import main
 from crowdvib.errors import DataError
 from crowdvib.io.casefile import load_case
@@ -36,9 +37,10 @@ def _cli(out, argv, capsys):
     printed = capsys.readouterr().out
     written = json.loads((out / "results.json").read_text(encoding="utf-8"))
     found = load_results(out / "results.json")
-    # Exit status 3 exactly when the verdict doubts the result (docs: Command line).
-    doubts = any(f.severity == "doubt" for f in found.verdict())
-    assert status == (3 if doubts else 0), (status, found.verdict())
+    # Exit status 3 exactly when the verdict doubts the result, else 4 when the bridge fails a
+    # design code (docs: Command line, Exit status).
+    doubts = found.in_doubt
+    assert status == (3 if doubts else 4 if found.fails_design else 0), (status, found.verdict())
     # The file and the object hold the same thing, and the object survives its own dict.
     assert written["schema"] == SCHEMA and written["kind"] == found.kind
     assert found.to_dict() == written
@@ -57,16 +59,21 @@ def _computed(written):
 
 def _same_verdict(found, printed, out):
     """The console's verdict lines and report.html's summary box hold the result's findings."""
-    doubts = [f.text for f in found.verdict() if f.severity != "ok"]
+    doubts = [f.text for f in found.verdict() if is_doubt(f)]
+    fails = [f.text for f in found.verdict() if f.severity == "fail" and not is_doubt(f)]
     if doubts:
-        assert f"check before use ({len(doubts)} warning(s)" in printed
-        assert all(f"    - {text}" in printed for text in doubts)
+        assert (f"check before use: the result itself is in doubt ({len(doubts)} warning(s)"
+                in printed)
+        # A run warning printed as raised is counted, not repeated (issue 36 §3).
+        assert all(f"    - {text}" in printed or text in found.warnings for text in doubts)
     else:
-        assert "verdict: no warnings" in printed
+        assert "verdict: no warnings" in printed or "not in doubt: no warnings" in printed
+    assert all(f"    - {text}" in printed for text in fails)
     summary = (out / "report.html").read_text(encoding="utf-8").split(
         '<section id="summary">')[1].split("</section>")[0]
     assert summary.count("<li>") >= len(found.verdict())
     assert ("Check before use" in summary) == bool(doubts)
+    assert ("The bridge fails" in summary) == bool(fails)
 
 
 def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):

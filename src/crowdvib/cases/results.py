@@ -206,6 +206,15 @@ class Results:
 
         return in_doubt(self.verdict())
 
+    @property
+    def fails_design(self) -> bool:
+        """True when the bridge fails a design code at the result
+        (:func:`~crowdvib.cases.verdict.fails_design`): an answer, not a doubt; the command line
+        then exits with status 4 unless the result is also in doubt (3)."""
+        from .verdict import fails_design
+
+        return fails_design(self.verdict())
+
     # ------------------------------------------------------------------------------- tables
     def table(self) -> list[dict]:
         """The result's main table as rows (dicts of one column each).
@@ -272,7 +281,9 @@ class Results:
                         for k, v in self._headline())
         found = "".join(f"<li>{marks[f.severity]} {html.escape(f.text)}</li>"
                         for f in self.verdict())
-        state = "no warnings" if self.passes else "check before use"
+        state = ("check before use: the result is in doubt" if self.in_doubt
+                 else "the bridge fails a design check" if self.fails_design
+                 else "no warnings")
         return (f"<div><strong>crowdvib {html.escape(self.command)}: "
                 f"{html.escape(self.name)}</strong><table>{cells}</table>"
                 f"<p>Verdict: {state}</p><ul>{found}</ul></div>")

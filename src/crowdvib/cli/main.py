@@ -2,7 +2,8 @@
 
 The CLI only parses arguments, makes one call of the library (:mod:`crowdvib.runs`) and prints.
 Exit status (docs: Command line, Exit status): 0 finished, 1 an error, 2 a usage error, 3
-finished and written but the verdict doubts the result (1 with ``--strict``), 130 Ctrl-C.
+finished and written but the verdict doubts the result (1 with ``--strict``), 4 finished and
+written, not in doubt, and the bridge fails a design code (an answer, issue 36 §3), 130 Ctrl-C.
 Whatever ends a command, it ends in one line on stderr (the traceback only with ``--verbose``):
 a crowdvib error's message, an ``OSError`` as its path and cause, Ctrl-C as "interrupted", and
 any other exception as a bug in crowdvib, with how to report it. ``--quiet`` leaves the verdict,
@@ -20,7 +21,7 @@ from .._files import os_error_text, require_file
 from .._terminal import terminal_safe
 from ..errors import CrowdvibError
 from . import check, demo, estimate, init, landscape, modes, season, sensitivity, simulate
-from .common import IN_DOUBT, close_progress, say, set_quiet
+from .common import IN_DOUBT, close_progress, forget_printed, say, set_quiet
 
 __all__ = ["main", "build_parser"]
 
@@ -85,7 +86,9 @@ def build_parser():
 
 #: The exit statuses, as every command's help ends.
 EXIT_STATUS = ("exit status: 0 finished; 1 error; 2 usage error; 3 finished and written, but the "
-               "verdict doubts the result (check before use; 1 with --strict); 130 interrupted")
+               "verdict doubts the result (check before use; 1 with --strict); 4 finished and "
+               "written, not in doubt, and the bridge fails a design check (an answer, not a "
+               "doubt); 130 interrupted")
 
 
 def _add_verbosity(parser, suppress):
@@ -108,6 +111,7 @@ def main(argv=None):
     except SystemExit as exit_:
         return int(exit_.code or 0)
     set_quiet(args.quiet)
+    forget_printed()
     _log_records(args.verbose)
     try:
         case = getattr(args, "case", None)

@@ -13,7 +13,7 @@ import numpy as np
 from .._version import __version__
 from .._files import sha256_file
 from ..cases.schema import case_name, estimate, get, hsi, real as _real, sensitivity, summary
-from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL
+from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, is_doubt
 from .design_section import damper_items, design_decisions, msd_section
 from .estimator_section import client_inputs, convergence_norm_words, estimator_details
 from .html import Markup, escape, html, join, label, number, span, table, value
@@ -67,9 +67,11 @@ class Notes:
 
     def __init__(self, findings=(), results=None):
         findings = list(findings)
-        self.fails = [finding_markup(f.text) for f in findings if f.severity == "fail"]
-        self.warnings = [finding_markup(f.text) for f in findings
-                         if f.severity not in ("ok", "fail")]
+        # A code that fails only at the conservative end of the interval is a doubt (the data
+        # do not decide it); one the bridge fails at the result is the checks' answer.
+        self.fails = [finding_markup(f.text) for f in findings
+                      if f.severity == "fail" and not is_doubt(f)]
+        self.warnings = [finding_markup(f.text) for f in findings if is_doubt(f)]
         said = {f.text for f in findings}
         self.warnings += [finding_markup(m) for m in run_warnings(results or {})
                           if m not in said]
@@ -134,15 +136,21 @@ def summary_section(results, notes):
     items += design_decisions(results) + damper_items(results) + modes_headline(results)
     verdict = (join(html("<li>{}</li>", item) for item in items)
                or Markup("<li>no estimate in these results</li>"))
-    if notes.fails or notes.warnings:
-        # What the bridge fails apart from what the tool doubts (issue 27 §4), each counted.
-        box = html('<div class="callout warn"><strong>Check before use</strong>{}{}</div>',
-                   _listed("The bridge fails {} check(s)", notes.fails),
-                   _listed("The tool doubts its result: {} warning(s)", notes.warnings))
+    # What the bridge fails (the checks' answer, red) apart from what the tool doubts about its
+    # own result (check before use, yellow), each in its box and words (issue 36 §3).
+    box = (html('<div class="callout fail"><strong>The bridge fails {} design check(s)'
+                '</strong><p>The checks\' answer, not a doubt about the result.</p>{}</div>',
+                len(notes.fails), _listed(None, notes.fails)) if notes.fails else Markup(""))
+    if notes.warnings:
+        box += html('<div class="callout warn"><strong>Check before use: the result itself is '
+                    'in doubt</strong>{}</div>',
+                    _listed("The tool doubts its result: {} warning(s)", notes.warnings))
     else:
         good = (html("<ul>{}</ul>", join(html("<li>{}</li>", g) for g in notes.good))
                 if notes.good else "")
-        box = html('<div class="callout ok"><strong>No warnings</strong>{}</div>', good)
+        box += html('<div class="callout ok"><strong>{}</strong>{}</div>',
+                    "The result itself is not in doubt: no warnings" if notes.fails
+                    else "No warnings", good)
     return html('<section id="summary"><h2>Summary</h2><ul class="headline">{}</ul>{}{}</section>',
                 verdict, response[1] if response is not None else "", box)
 
@@ -150,8 +158,8 @@ def summary_section(results, notes):
 def _listed(heading, items):
     if not items:
         return Markup("")
-    return html("<p>{}:</p><ul>{}</ul>", html(heading, len(items)),
-                join(html("<li>{}</li>", item) for item in items))
+    listed = html("<ul>{}</ul>", join(html("<li>{}</li>", item) for item in items))
+    return listed if heading is None else html("<p>{}:</p>{}", html(heading, len(items)), listed)
 
 
 def _response(results):
