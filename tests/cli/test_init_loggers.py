@@ -1,7 +1,7 @@
 """`crowdvib init` on logger exports as they come (issue 36 §2): a unit in the column header
 (``[mg]``, ``[g]``), metadata lines above the header row, a dropout. Each draft, its placeholders
 filled with the paper example's values, is read by ``load_measurement`` into the m/s² the file
-holds (g = 9.80665 m/s², docs: theory, Conventions), and names its output ``midspan``.
+holds (g = 9.81 m/s², docs: theory, Conventions), and names its output ``midspan``.
 """
 
 import re
@@ -79,7 +79,7 @@ def test_mg_header_with_the_gravity_offset(tmp_path, capsys):
     assert f"crowdvib estimate {record.with_suffix('.toml')} --out mg-estimate" in out
     measured = load_measurement(_filled(record, text))
     assert measured.channel_names == ("midspan",)
-    # 1 mg = 9.80665e-3 m/s²: the offset removed (detrend "constant"), the signal in m/s² back
+    # 1 mg = 9.81e-3 m/s²: the offset removed (detrend "constant"), the signal in m/s² back
     # to the 6 decimals of a mg cell (1e-6 mg = 1e-8 m/s²).
     np.testing.assert_allclose(measured.data[0], signal - signal.mean(), atol=1e-7)
 
@@ -98,7 +98,7 @@ def test_four_line_preamble_is_skipped_and_said(tmp_path, capsys):
     assert draft["measurement"]["units"] == "g"
     assert draft["measurement"]["channels"] == {"midspan": "Acc Z midspan [g]"}
     measured = load_measurement(_filled(record, text))
-    # g = 9.80665 m/s²; cells of 6 decimals in g: 1e-6 g ≈ 1e-5 m/s².
+    # g = 9.81 m/s²; cells of 6 decimals in g: 1e-6 g ≈ 1e-5 m/s².
     np.testing.assert_allclose(measured.data[0], signal - signal.mean(), atol=1e-5)
     # Read without header_row, the same header is found; skip_rows = 4 says the same.
     found = read_record(record)

@@ -26,12 +26,12 @@ from crowdvib.models.loading import STANDARD_GRAVITY
     (0.0, 500.0, "mm/s2"),                      # only in the mm/s² range 10–2000
     (0.0, 5000.0, None),                        # in no range
     (1000.0, 30.0, "mg"),                       # offset 1 g = 1000 mg (issue 36 §2's file)
-    (-9806.0, 300.0, "mm/s2"),                  # offset 9806.65 mm/s², upside down
+    (-9810.0, 300.0, "mm/s2"),                  # offset 9810 mm/s², upside down
     (0.0, 1e-4, None),
     (1.0, 0.6, "m/s2"),                         # no 1 g offset under 0.6 g of motion: the level
 ])
 def test_guess_units(mean, rms, units):
-    # Issue 27 §2 and the brief's levels: gravity offset ±15 % (1 g, 9.81 m/s², 1000 mg, 9807
+    # Issue 27 §2 and the brief's levels: gravity offset ±15 % (1 g, 9.81 m/s², 1000 mg, 9810
     # mm/s²), else RMS in 0.01–2 m/s², 0.001–0.2 g, 1–200 mg, 10–2000 mm/s²; a level fitting
     # two ranges, or none, is unsure.
     assert guess_units(mean, rms)[0] == units

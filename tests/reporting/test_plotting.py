@@ -303,3 +303,17 @@ def test_save_and_encode_close_the_figure(tmp_path):
     svg = plotting.figure_bytes(plotting.plot_psd_comparison({"flat": psd}), "svg")
     assert b"<svg" in svg
     assert plt.get_fignums() == []
+
+
+def test_season_trends_of_failed_rows_draw_without_a_legend_warning():
+    # Issue 36 §3: a season whose one row failed printed matplotlib's "No artists with labels
+    # found to put in legend". Nothing estimated: no legend, no warning, the row counted.
+    import warnings
+
+    rows = [{"name": "record 1", "status": "error", "density": 0.5, "time": None}]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        handles = plotting.plot_season_trends(rows)
+    assert handles.axes[0].get_legend() is None
+    assert "(1 row(s) not estimated are not shown)" in handles.figure._suptitle.get_text()
+    plt.close(handles.figure)

@@ -5,6 +5,8 @@ identification options and the modal-model table, every key checked through
 
 from pathlib import Path
 
+from ..errors import ParameterError
+
 from ._toml import Table, read_toml
 from .casemeasurement import header_row_of
 from .headers import unit_key
@@ -47,6 +49,7 @@ def read_ambient(path):
     table (checked); the keys are those of docs, Case files, Ambient-test files."""
     path = Path(path)
     root = Table(read_toml(path), "", path)
+    _refuse_case_file(root, path)
     name = root.string("name", path.stem)
     records = _records(root)
     ident = root.table("identification")
@@ -82,6 +85,22 @@ def read_ambient(path):
         model.finish()
     root.finish()
     return name, records, options, spec
+
+
+#: Tables of a case file that an ambient-test file never holds.
+_CASE_TABLES = ("structure", "crowd", "measurement", "hsi", "estimation", "design", "simulation")
+
+
+def _refuse_case_file(root, path):
+    """A case file given for an ambient-test file is named as one (issue 36 §3: its tables were
+    answered key by key, "record is required", "found 'report': misspelt?")."""
+    found = [key for key in _CASE_TABLES if root.has(key)]
+    if found and not root.has("record"):
+        raise ParameterError(
+            f"{path.name}: is a case file ({', '.join(f'[{key}]' for key in found)}), not an "
+            "ambient-test file: crowdvib modes reads an ambient record's [record] and "
+            "[identification] (docs: Case files, Ambient-test files); a case file goes to "
+            "crowdvib estimate, check, simulate or season")
 
 
 def _count(table, name, default, least):

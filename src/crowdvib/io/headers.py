@@ -7,7 +7,7 @@ sample rate) above the header row, and the unit of each column in its header
 (``Acc Z midspan [mg]``, ``a (g)``). :func:`header_unit` reads such a unit, :func:`find_header`
 finds the header row below the metadata, :func:`output_name` makes a short output name of a
 header (``midspan``) for ``crowdvib init``'s draft. The units crowdvib reads, and their scale to
-m/s², are :data:`UNITS` (docs: theory, Conventions: g = 9.80665 m/s²).
+m/s², are :data:`UNITS` (docs: theory, Conventions: g = 9.81 m/s²).
 """
 
 import csv

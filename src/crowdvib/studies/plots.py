@@ -317,7 +317,8 @@ def plot_season_trends(rows, *, joint=None, axes=None, title=None):
             ax.grid(True, alpha=0.3)
             if dated and row_index == 1:
                 ax.tick_params(axis="x", labelrotation=30)
-    handles.axes[0].legend(fontsize="small", loc="best")
+    if handles.axes[0].get_legend_handles_labels()[0]:    # no row estimated: no legend to draw
+        handles.axes[0].legend(fontsize="small", loc="best")
     skipped = len(rows) - len(done)
     note = f" ({skipped} row(s) not estimated are not shown)" if skipped else ""
     handles.figure.suptitle((title or "A season of monitoring: the MSD's trends") + note)
