@@ -144,3 +144,22 @@ def test_verdict_colours_only_on_a_terminal(monkeypatch):
     assert _paint("x", "fail", object()) == "x"
     monkeypatch.setenv("NO_COLOR", "1")
     assert _paint("x", "fail", Terminal()) == "x"
+
+
+def test_every_commands_help_ends_with_examples_that_parse(capsys):
+    # Issue 36 §3: --help had no examples. Each command shows one or two, and each is a valid
+    # command line of this parser (the words after "crowdvib", a "#" comment dropped).
+    import shlex
+
+    from crowdvib.cli.main import _COMMANDS, EXAMPLES, build_parser
+
+    assert set(EXAMPLES) == set(_COMMANDS)
+    for name in _COMMANDS:
+        assert main([name, "--help"]) == 0
+        text = capsys.readouterr().out
+        assert 1 <= len(EXAMPLES[name]) <= 2
+        for line in EXAMPLES[name]:
+            assert f"\n  {line}\n" in text
+            argv = shlex.split(line.split("#")[0])
+            assert argv[:2] == ["crowdvib", name]
+            assert build_parser().parse_args(argv[1:]).command == name

@@ -68,6 +68,39 @@ _COMMANDS = {
 }
 
 
+#: One or two examples per command, as its --help ends them (issue 36 §3); the files are the
+#: repository's examples/ (run from a clone) or the user's own.
+EXAMPLES = {
+    "init": ["crowdvib init bridge.csv                     # drafts bridge.toml beside it",
+             "crowdvib init logger.txt --sample-rate 100 -o bridge.toml"],
+    "demo": ["crowdvib demo", "crowdvib demo --spectral --out demo"],
+    "estimate": ["crowdvib estimate examples/paper_example.toml --out estimate",
+                 "crowdvib estimate bridge.toml --out estimate --force"],
+    "simulate": ["crowdvib simulate --out sim --duration-s 600",
+                 "crowdvib simulate examples/eeklo_like.toml --out sim --format csv,npz"],
+    "report": ["crowdvib report estimate",
+               "crowdvib report estimate --template house.html"],
+    "map": ["crowdvib map examples/paper_example.toml --out map",
+            "crowdvib map bridge.toml --out map --frequencies 2:4:21 --damping-ratios 0.1:0.5:21"],
+    "sensitivity": ["crowdvib sensitivity examples/paper_example.toml --out sens --workers 2",
+                    "crowdvib sensitivity examples/paper_example.toml --out sens --resume"],
+    "check": ["crowdvib check examples/check_paper.toml --out check",
+              "crowdvib check bridge.toml --msd-from estimate --out check"],
+    "modes": ["crowdvib modes examples/ambient/paper_beam_ambient.toml --out modes",
+              "crowdvib modes ambient.toml --out modes --cross-check"],
+    "season": ["crowdvib season bridge.toml crowd.csv --records records --out season",
+               "crowdvib season bridge.toml crowd.csv --records records --out season --resume"],
+}
+
+
+def _epilog(name):
+    """A command's --help ending: its examples, then the exit statuses."""
+    import textwrap
+
+    examples = "\n".join(f"  {line}" for line in EXAMPLES.get(name, ()))
+    return (f"examples:\n{examples}\n\n" if examples else "") + textwrap.fill(EXIT_STATUS, 79)
+
+
 def build_parser():
     """The argument parser with one sub-command per entry of ``_COMMANDS``."""
     parser = argparse.ArgumentParser(
@@ -78,7 +111,8 @@ def build_parser():
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (help_text, command) in _COMMANDS.items():
         sub = commands.add_parser(name, help=help_text, description=help_text,
-                                  epilog=EXIT_STATUS)
+                                  epilog=_epilog(name),
+                                  formatter_class=argparse.RawDescriptionHelpFormatter)
         _add_verbosity(sub, {"default": argparse.SUPPRESS})
         command.add_arguments(sub)
     return parser

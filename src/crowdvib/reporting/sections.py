@@ -242,8 +242,14 @@ def estimate_section(results):
                      statistical, band, number(truth), error, limits_text])
     level = next((interval_of(found, k)[2] for k, _, _ in _PARAMETERS
                   if interval_of(found, k)), 0.95)
-    parts = [table(["parameter", "estimate", f"{100 * level:g} % interval", "nominal ± bound",
-                    reference_name, "error", "search bounds"], rows, "data")]
+    headers = ["parameter", "estimate", f"{100 * level:g} % interval", "nominal ± bound",
+               reference_name, "error", "search bounds"]
+    # A field estimate has no modelling-error study nor truth: those columns go, not left
+    # empty (issue 36 §3).
+    keep = [i for i, header in enumerate(headers)
+            if i not in (3, 4, 5) or any(str(row[i]) != "—" for row in rows)]
+    parts = [table([headers[i] for i in keep], [[row[i] for i in keep] for row in rows],
+                   "data")]
     if any(interval_of(found, k) for k, _, _ in _PARAMETERS):
         parts.append(_interval_note(results))
     if bounds_summary:
@@ -281,8 +287,9 @@ def _interval_note(results):
     parts = [html('<p class="muted">Interval: the statistical uncertainty of this record '
                   "(profile interval calibrated for the Welch scatter and the correlation of "
                   "neighbouring bins; docs: theory, Statistical uncertainty of an estimate) "
-                  "and {}. It does not hold the modelling errors, which the nominal ± bound "
-                  "column shows.</p>", held)]
+                  "and {}. It does not hold the modelling errors, {}.</p>", held,
+                  "which the nominal ± bound column shows" if summary(results) else
+                  "which crowdvib sensitivity estimates (the nominal ± bound)")]
     rows = [[html("{} [{}]", symbol, unit),
              html("{} %", number(100 * shares[key], 2)) if _real(shares.get(key)) is not None
              else "—",
