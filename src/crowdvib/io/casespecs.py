@@ -30,7 +30,8 @@ class MeasurementSpec:
     channels : dict or None
         Output name → channel name in the file(s); None keeps the file's names.
     units : str or None
-        "m/s2" or "g"; None: as stored in the file, else m/s².
+        "m/s2", "g", "mg" or "mm/s2"; None: as stored in the file (a comment, the column
+        headers), else m/s².
     sample_rate : float or None
         [Hz] for files without time stamps.
     time_column : str
