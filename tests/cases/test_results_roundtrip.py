@@ -21,6 +21,7 @@ from crowdvib.cases import (SCHEMA, CheckResults, DemoResults, EstimateResults, 
                             check_case, estimate_case, identify_ambient, map_case, simulate_case)
 from crowdvib.cases.verdict import is_doubt
 from crowdvib.cli import main
+from crowdvib.reporting.paths import without_machine_paths
 from crowdvib.errors import DataError
 from crowdvib.io.casefile import load_case
 
@@ -47,6 +48,12 @@ def _cli(out, argv, capsys):
     assert Results.from_dict(found.to_dict()) == found
     assert type(found).from_dict(found.to_dict()) == found
     return written, found, printed
+
+
+def _here(computed, out):
+    """A computation's results as its results folder ``out`` holds them: every path relative to
+    the folder, or its name when far from it (issue 36 §3: no folder of the writer's machine)."""
+    return without_machine_paths(computed, out.resolve())
 
 
 def _computed(written):
@@ -85,7 +92,9 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     fit = estimate_case(case)
     written, found, printed = _cli(tmp_path / "estimate", ["estimate", str(case.path)], capsys)
     assert isinstance(found, EstimateResults)
-    assert _computed(written) == fit.results().to_dict()
+    # The file holds the computation, its paths relative to the results folder (issue 36 §3).
+    assert _computed(written) == _here(fit.results().to_dict(), tmp_path / "estimate")
+    assert written["case"] == "paper_example.toml"      # examples/ is not near tmp_path
     again = found.hsi_estimate()         # HSIEstimate.from_dict: the estimate back from the file
     assert again.msd == fit.estimate.msd and again.intervals == {
         name: tuple(fit.estimate.interval(name, fit.estimate.interval_level))
@@ -108,7 +117,7 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     # One row per grid point; the second is (f_h1 = 2.5 Hz, ξ_h1 = 0.2), cost[ξ index, f index].
     assert found.table()[1] == {"frequency": 2.5, "damping_ratio": 0.2,
                                 "cost": grid.landscape.cost[0, 1]}
-    assert _computed(written) == grid.results().to_dict()
+    assert _computed(written) == _here(grid.results().to_dict(), tmp_path / "map")
     _same_verdict(found, printed, tmp_path / "map")
 
     # crowdvib simulate, 300 s of the same case (same seed, same record)
@@ -116,7 +125,8 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     written, found, printed = _cli(tmp_path / "simulate", [
         "simulate", str(case.path), "--duration-s", "300", "--format", "npz"], capsys)
     assert isinstance(found, SimulateResults)
-    assert _computed(written) == _computed(simulation.results().to_dict())
+    assert _computed(written) == _computed(_here(simulation.results().to_dict(),
+                                                 tmp_path / "simulate"))
     assert [row["output"] for row in found.table()] == list(case.structure.output_names)
 
     # crowdvib check (examples/check_paper.toml: the paper's bridge fails with HSI)
@@ -124,7 +134,7 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     checks = check_case(design)
     written, found, printed = _cli(tmp_path / "check", ["check", str(design.path)], capsys)
     assert isinstance(found, CheckResults)
-    assert _computed(written) == _computed(checks.results().to_dict())
+    assert _computed(written) == _computed(_here(checks.results().to_dict(), tmp_path / "check"))
     assert [f.severity for f in found.verdict()] == [f.severity for f in checks.verdict()]
     assert "fail" in {f.severity for f in found.verdict()} and not found.passes
     _same_verdict(found, printed, tmp_path / "check")
@@ -134,7 +144,7 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     modes = identify_ambient(ambient)
     written, found, printed = _cli(tmp_path / "modes", ["modes", str(ambient)], capsys)
     assert isinstance(found, ModesResults)
-    assert _computed(written) == _computed(modes.results().to_dict())
+    assert _computed(written) == _computed(_here(modes.results().to_dict(), tmp_path / "modes"))
     assert [round(row["frequency"], 1) for row in found.table()] == [2.0, 7.5]
     _same_verdict(found, printed, tmp_path / "modes")
 

@@ -46,8 +46,14 @@ def test_no_absolute_machine_path_in_the_report(design_dir, tmp_path):
     out = tmp_path / "copy"
     shutil.copytree(design_dir, out)
     results = json.loads((out / "results.json").read_text(encoding="utf-8"))
-    case = Path(results["case"])
-    assert case.is_absolute()                      # what the run records
+    # What the run records: the case relative to its results folder, no folder of the machine
+    # (issue 36 §3) ...
+    assert results["case"] == "../check_paper.toml"
+    assert str(design_dir.parent) not in (out / "results.json").read_text(encoding="utf-8")
+    # ... and the report of a results.json that holds absolute paths (an earlier crowdvib's)
+    # shows none of them.
+    case = (design_dir / results["case"]).resolve()
+    results["case"] = results["inputs"]["path"] = str(case)
     results["inputs"]["measurement"] = {"files": [str(case.parent / "records" / "bridge.csv"),
                                                   "/srv/far/away/from/the/case/deck.csv"]}
     results["warnings"].append(f"{case.parent}/bridge.py:12: ResolutionWarning: a doubt")
