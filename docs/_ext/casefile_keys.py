@@ -15,7 +15,8 @@ from pathlib import Path
 #: Parser function → the case-file section its ``table`` argument is.
 SECTIONS = {"_case": "case", "_structure": "structure", "_crowd": "crowd",
             "_crowd_profile": "crowd", "_density_uncertainty": "crowd", "_msd": "hsi",
-            "_measurement": "measurement", "_estimation": "estimation",
+            "measurement_spec": "measurement", "header_row_of": "measurement",
+            "_estimation": "estimation",
             "_simulation": "simulation", "_outputs": "structure", "_output_nodes": "structure", "_design": "design",
             "_design_damper": "design.damper",
             "_measurement_block": "measurement", "_measurements": "case", "_report": "report",
@@ -80,8 +81,19 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
                              "(one MSD fitted to all, each block with its own name and "
                              "[measurement.crowd])",
          "measurement.name": "the block's label in a joint fit (default \"record N\")",
-         "measurement.units": "\"m/s2\" (also m/s^2, m/s², m s-2, mps2) or \"g\" (also g0; "
-                              "g = 9.81 m/s²); default: the units the file states, else m/s2",
+         "measurement.units": "\"m/s2\" (also m/s^2, m/s², m s-2, mps2), \"g\" (also g0; "
+                              "g = 9.81 m/s²), \"mg\" or \"mm/s2\"; default: the units the "
+                              "file states (a comment, or its column headers: \"a [mg]\"), "
+                              "else m/s2",
+         "measurement.header_row": "CSV: the line number (from 1) of the header row, below a "
+                                   "logger's metadata lines; default: the first line naming "
+                                   "as many columns as the rows below it hold numbers",
+         "measurement.skip_rows": "CSV: the lines above the header row (instead of "
+                                  "header_row = skip_rows + 1)",
+         "measurement.gaps": "a dropout (empty cells): \"cut\" keeps the longest stretch "
+                             "without one, \"bridge\" interpolates each up to max_gap; "
+                             "default: refused; the results state what was done",
+         "measurement.max_gap": "> 0; the longest dropout gaps = \"bridge\" interpolates",
          "structure.n_modes": "an integer >= 1: the first n sine modes",
          "case.record": "one [record] table, or several [[record]] blocks (setups; they share "
                         "one sample rate)",
@@ -104,7 +116,7 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
 #: Units of keys whose name alone does not find them in crowdvib.quantities (a damper's mass
 #: is not a modal mass, its position is along the walkway, its lane across it).
 UNITS = {"design.damper.mass": "kg", "design.damper.position": "m", "design.damper.lane": "m",
-         "measurement.resample": "Hz", "identification.frequency_band": "Hz",
+         "measurement.resample": "Hz", "measurement.max_gap": "s", "identification.frequency_band": "Hz",
          "identification.segment_length": "samples", "modal_model.modal_masses": "kg",
          "modal_model.sensor_positions": "m", "modal_model.walkway": "m"}
 
@@ -255,7 +267,8 @@ def _special(helper, node, prefixes, keys):
 
 
 #: The modules whose functions read the case-file keys.
-PARSER_MODULES = ("crowdvib.io.casefile", "crowdvib.io.casedesign", "crowdvib.io.casecomfort")
+PARSER_MODULES = ("crowdvib.io.casefile", "crowdvib.io.casemeasurement",
+                  "crowdvib.io.casedesign", "crowdvib.io.casecomfort")
 
 
 def parser_sources():

@@ -20,7 +20,9 @@ from crowdvib.cases import (SCHEMA, CheckResults, DemoResults, EstimateResults, 
                             ModesResults, Results, SensitivityResults, SimulateResults,
                             check_case, estimate_case, identify_ambient, map_case, simulate_case)
 from crowdvib.cases.notebook import MAX_ROWS
+from crowdvib.cases.verdict import is_doubt
 from crowdvib.cli import main
+from crowdvib.reporting.paths import without_machine_paths
 from crowdvib.errors import DataError
 from crowdvib.io.casefile import load_case
 
@@ -39,15 +41,22 @@ def _cli(out, argv, capsys):
     printed = capsys.readouterr().out
     written = json.loads((out / "results.json").read_text(encoding="utf-8"))
     found = load_results(out / "results.json")
-    # Exit status 3 exactly when the verdict doubts the result (docs: Command line).
-    doubts = any(f.severity == "doubt" for f in found.verdict())
-    assert status == (3 if doubts else 0), (status, found.verdict())
+    # Exit status 3 exactly when the verdict doubts the result, else 4 when the bridge fails a
+    # design code (docs: Command line, Exit status).
+    doubts = found.in_doubt
+    assert status == (3 if doubts else 4 if found.fails_design else 0), (status, found.verdict())
     # The file and the object hold the same thing, and the object survives its own dict.
     assert written["schema"] == SCHEMA and written["kind"] == found.kind
     assert found.to_dict() == written
     assert Results.from_dict(found.to_dict()) == found
     assert type(found).from_dict(found.to_dict()) == found
     return written, found, printed
+
+
+def _here(computed, out):
+    """A computation's results as its results folder ``out`` holds them: every path relative to
+    the folder, or its name when far from it (issue 36 §3: no folder of the writer's machine)."""
+    return without_machine_paths(computed, out.resolve())
 
 
 def _computed(written):
@@ -60,16 +69,21 @@ def _computed(written):
 
 def _same_verdict(found, printed, out):
     """The console's verdict lines and report.html's summary box hold the result's findings."""
-    doubts = [f.text for f in found.verdict() if f.severity != "ok"]
+    doubts = [f.text for f in found.verdict() if is_doubt(f)]
+    fails = [f.text for f in found.verdict() if f.severity == "fail" and not is_doubt(f)]
     if doubts:
-        assert f"check before use ({len(doubts)} warning(s)" in printed
-        assert all(f"    - {text}" in printed for text in doubts)
+        assert (f"check before use: the result itself is in doubt ({len(doubts)} warning(s)"
+                in printed)
+        # A run warning printed as raised is counted, not repeated (issue 36 §3).
+        assert all(f"    - {text}" in printed or text in found.warnings for text in doubts)
     else:
-        assert "verdict: no warnings" in printed
+        assert "verdict: no warnings" in printed or "not in doubt: no warnings" in printed
+    assert all(f"    - {text}" in printed for text in fails)
     summary = (out / "report.html").read_text(encoding="utf-8").split(
         '<section id="summary">')[1].split("</section>")[0]
     assert summary.count("<li>") >= len(found.verdict())
     assert ("Check before use" in summary) == bool(doubts)
+    assert ("The bridge fails" in summary) == bool(fails)
 
 
 def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
@@ -81,7 +95,9 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     fit = estimate_case(case)
     written, found, printed = _cli(tmp_path / "estimate", ["estimate", str(case.path)], capsys)
     assert isinstance(found, EstimateResults)
-    assert _computed(written) == fit.results().to_dict()
+    # The file holds the computation, its paths relative to the results folder (issue 36 §3).
+    assert _computed(written) == _here(fit.results().to_dict(), tmp_path / "estimate")
+    assert written["case"] == "paper_example.toml"      # examples/ is not near tmp_path
     again = found.hsi_estimate()         # HSIEstimate.from_dict: the estimate back from the file
     assert again.msd == fit.estimate.msd and again.intervals == {
         name: tuple(fit.estimate.interval(name, fit.estimate.interval_level))
@@ -104,7 +120,7 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     # One row per grid point; the second is (f_h1 = 2.5 Hz, ξ_h1 = 0.2), cost[ξ index, f index].
     assert found.table()[1] == {"frequency": 2.5, "damping_ratio": 0.2,
                                 "cost": grid.landscape.cost[0, 1]}
-    assert _computed(written) == grid.results().to_dict()
+    assert _computed(written) == _here(grid.results().to_dict(), tmp_path / "map")
     _same_verdict(found, printed, tmp_path / "map")
 
     # crowdvib simulate, 300 s of the same case (same seed, same record)
@@ -112,7 +128,8 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     written, found, printed = _cli(tmp_path / "simulate", [
         "simulate", str(case.path), "--duration-s", "300", "--format", "npz"], capsys)
     assert isinstance(found, SimulateResults)
-    assert _computed(written) == _computed(simulation.results().to_dict())
+    assert _computed(written) == _computed(_here(simulation.results().to_dict(),
+                                                 tmp_path / "simulate"))
     assert [row["output"] for row in found.table()] == list(case.structure.output_names)
     # Its notebook view holds its table, not an empty one (issue 36 §1): the RMS per output.
     assert all(f"<td>{row['output']}</td><td>{row['rms']:.4g}</td>" in found._repr_html_()
@@ -123,7 +140,7 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     checks = check_case(design)
     written, found, printed = _cli(tmp_path / "check", ["check", str(design.path)], capsys)
     assert isinstance(found, CheckResults)
-    assert _computed(written) == _computed(checks.results().to_dict())
+    assert _computed(written) == _computed(_here(checks.results().to_dict(), tmp_path / "check"))
     assert [f.severity for f in found.verdict()] == [f.severity for f in checks.verdict()]
     assert "fail" in {f.severity for f in found.verdict()} and not found.passes
     # Its notebook view holds the verdict rows (issue 36 §1), each utilisation as the table's.
@@ -142,7 +159,7 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
     modes = identify_ambient(ambient)
     written, found, printed = _cli(tmp_path / "modes", ["modes", str(ambient)], capsys)
     assert isinstance(found, ModesResults)
-    assert _computed(written) == _computed(modes.results().to_dict())
+    assert _computed(written) == _computed(_here(modes.results().to_dict(), tmp_path / "modes"))
     assert [round(row["frequency"], 1) for row in found.table()] == [2.0, 7.5]
     _same_verdict(found, printed, tmp_path / "modes")
 

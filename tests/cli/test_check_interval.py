@@ -139,7 +139,7 @@ def test_check_cli_prints_the_range_and_writes_hsi_range(estimate_dir, tmp_path,
             "FAILSattheconservativeend") in section
     assert status == IN_DOUBT
     # The codes failing at the estimate alone are answers, not doubts (the verdict without the
-    # interval's finding exits 0): the status is the interval's.
+    # interval's finding exits 4, issue 36 §3): the status is the interval's.
     assert not in_doubt([f for f in load_results(out).verdict() if f.key != "hsi_range.ukna"])
     # CheckResults.interval: the box the checks spanned, the estimate's own 95 % interval.
     source = _results(estimate_dir)["estimate"]["interval"]

@@ -151,11 +151,13 @@ def test_european_csv_without_time_stamps(tmp_path, capsys):
     text = (tmp_path / "case.toml").read_text(encoding="utf-8")
     assert "sample_rate = 50.0" in text and 'units = "m/s2"' in text
     filled = _fill(text, {**{k: v for k, v in PAPER.items() if k != '"midspan"'},
-                          '"Kanal 1"': "20.0", '"Kanal 2"': "30.0"})
+                          '"Kanal_1"': "20.0", '"Kanal_2"': "30.0"})
     (tmp_path / "filled.toml").write_text(filled, encoding="utf-8")
     case = load_case(tmp_path / "filled.toml")
     assert case.measurement.sample_rate == 50.0
-    assert case.structure.output_names == ("Kanal 1", "Kanal 2")
+    # The drafted output names (blanks made "_", issue 36 §2), each mapped to its column.
+    assert case.structure.output_names == ("Kanal_1", "Kanal_2")
+    assert case.measurement.channels == {"Kanal_1": "Kanal 1", "Kanal_2": "Kanal 2"}
 
 
 def _written(path, content):

@@ -40,7 +40,7 @@ def _clean(output):
 def test_a_case_files_name_and_keys_reach_the_terminal_escaped(tmp_path, capsys):
     case = tmp_path / "case.toml"
     case.write_text(f'name = "{HOSTILE_TOML}"\n' + BEAM.split("\n", 1)[1], encoding="utf-8")
-    assert main(["check", str(case), "--out", str(tmp_path / "out")]) in (0, 3)
+    assert main(["check", str(case), "--out", str(tmp_path / "out")]) in (0, 3, 4)
     out, err = capsys.readouterr()
     assert _clean(out) and _clean(err)
     assert r"crowdvib check: \x1b]0;PWNED\x07\x1b[2J\u202eevil, codes hivoss" in out

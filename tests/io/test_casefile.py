@@ -64,7 +64,7 @@ def test_error_names_file_key_rule_and_value(tmp_path):
     ("[measurement]\nfilter = { cutoff = 10, order = 2.5 }", r"measurement.filter.order must "
                                                              r"be an integer"),
     ("[measurement]\ntime_frame = [-1, 10]", r"measurement.time_frame must start at t >= 0"),
-    ("[measurement]\nunits = \"mg\"", r"measurement.units must be 'm/s2' or 'g'"),
+    ("[measurement]\nunits = \"µg\"", r"measurement.units must be 'm/s2', 'g', 'mg' or 'mm/s2'"),
     ("[simulation]\nformats = [\"xls\"]", r"simulation.formats must list formats among"),
     ("[estimation]\nband = [2, 6]\n[estimation.bounds]\nfrequency = [0, 10]",
      r"estimation.bounds.frequency must have a lower bound > 0"),

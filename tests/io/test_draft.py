@@ -8,6 +8,7 @@ import pytest
 from crowdvib.errors import ParameterError
 from crowdvib.io.draft import (PLACEHOLDER, ChannelSummary, RecordSummary, draft_case,
                                guess_units, new_case_path)
+from crowdvib.io.headers import output_name
 from crowdvib.models.loading import STANDARD_GRAVITY
 
 
@@ -20,26 +21,32 @@ from crowdvib.models.loading import STANDARD_GRAVITY
     (0.0, 0.005, "g"),                          # 0.005 m/s² would be below the m/s² range
     (0.0, 0.5, "m/s2"),                         # 0.5 g would be beyond the g range
     (0.0, 0.05, None),                          # in both ranges: unsure
-    (0.0, 50.0, None),                          # mm/s²: not read by crowdvib
-    (0.0, 5.0, None),                           # in no range
+    (0.0, 50.0, None),                          # in the mg and the mm/s² ranges: unsure
+    (0.0, 5.0, "mg"),                           # only in the mg range 1–200 (issue 36 §2)
+    (0.0, 500.0, "mm/s2"),                      # only in the mm/s² range 10–2000
+    (0.0, 5000.0, None),                        # in no range
+    (1000.0, 30.0, "mg"),                       # offset 1 g = 1000 mg (issue 36 §2's file)
+    (-9810.0, 300.0, "mm/s2"),                  # offset 9810 mm/s², upside down
     (0.0, 1e-4, None),
     (1.0, 0.6, "m/s2"),                         # no 1 g offset under 0.6 g of motion: the level
 ])
 def test_guess_units(mean, rms, units):
-    # Issue 27 §2 and the brief's levels: gravity offset ±15 % (1 g, 9.81 m/s²), else RMS in
-    # 0.01–2 m/s², 0.001–0.2 g, 10–2000 mm/s²; a level fitting two ranges, or none, is unsure.
+    # Issue 27 §2 and the brief's levels: gravity offset ±15 % (1 g, 9.81 m/s², 1000 mg, 9810
+    # mm/s²), else RMS in 0.01–2 m/s², 0.001–0.2 g, 1–200 mg, 10–2000 mm/s²; a level fitting
+    # two ranges, or none, is unsure.
     assert guess_units(mean, rms)[0] == units
 
 
 def test_guess_units_says_why():
-    assert guess_units(0.0, 50.0)[1] == ("RMS 50 fits mm/s² (10–2000 mm/s2), which crowdvib "
-                                         "does not read: convert the record to m/s² (× 0.001)")
+    assert guess_units(0.0, 50.0)[1] == ("RMS 50 fits each of the usual footbridge levels "
+                                         "1–200 mg, 10–2000 mm/s2")
     assert guess_units(-1.0, 0.01)[1] == "mean -1.000 is the gravity offset -1 g"
 
 
 def _summary(names, **changes):
     fields = dict(path=Path("/data/site/rec.dat"), format="csv",
-                  channels=tuple(ChannelSummary(n, 0.0, 0.5, "m/s2", "level") for n in names),
+                  channels=tuple(ChannelSummary(n, 0.0, 0.5, "m/s2", "level", output_name(n))
+                                 for n in names),
                   time_column=None, sample_rate=40.0, rate_source="given", duration=900.0,
                   n_samples=36000, units="m/s2", units_reason="level")
     fields.update(changes)
@@ -49,11 +56,14 @@ def _summary(names, **changes):
 def test_draft_is_toml_that_gives_back_every_name():
     # Channel names from a file may hold quotes, backslashes, non-ASCII letters and DEL: the
     # draft quotes them so that TOML gives each back exactly (as outputs and as channels).
+    # Each output is named by the draft (issue 36 §2: the header without unit and the words
+    # "acceleration" and axis), mapped to the channel as the file names it.
     names = ['a "q"', "b\\c", "Brücke Mitte", "x\x7fy", "[z]"]
+    outputs = ["q", "b_c", "Brücke_Mitte", "x_y", "z"]
     text = draft_case(_summary(names), "/data/cases/rec.toml")
     table = tomllib.loads(text)
-    assert list(table["structure"]["outputs"]) == names
-    assert table["measurement"]["channels"] == {n: n for n in names}
+    assert list(table["structure"]["outputs"]) == outputs
+    assert table["measurement"]["channels"] == dict(zip(outputs, names))
     # What was found is filled in: path relative to the case's folder, the suffix .dat tells
     # no format, the file has no time stamps (the given rate is written), the units.
     assert table["measurement"]["files"] == ["../site/rec.dat"]

@@ -59,7 +59,7 @@ def test_units_g_are_converted_with_standard_gravity(tmp_path):
     # g = 9.81 m/s² (docs: theory, Conventions)
     np.testing.assert_allclose(record.data[0], [0.981, -1.962, 0.0])
     np.testing.assert_allclose(convert_units([1.0], "m/s2"), [1.0])
-    with pytest.raises(ParameterError, match="units must be 'm/s2' or 'g'"):
+    with pytest.raises(ParameterError, match="units must be 'm/s2', 'g', 'mg' or 'mm/s2'"):
         read_record(path, units="mm/s")
 
 

@@ -303,3 +303,37 @@ def test_save_and_encode_close_the_figure(tmp_path):
     svg = plotting.figure_bytes(plotting.plot_psd_comparison({"flat": psd}), "svg")
     assert b"<svg" in svg
     assert plt.get_fignums() == []
+
+
+def test_season_trends_of_failed_rows_draw_without_a_legend_warning():
+    # Issue 36 §3: a season whose one row failed printed matplotlib's "No artists with labels
+    # found to put in legend". Nothing estimated: no legend, no warning, the row counted.
+    import warnings
+
+    rows = [{"name": "record 1", "status": "error", "density": 0.5, "time": None}]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        handles = plotting.plot_season_trends(rows)
+    assert handles.axes[0].get_legend() is None
+    assert "(1 row(s) not estimated are not shown)" in handles.figure._suptitle.get_text()
+    plt.close(handles.figure)
+
+
+def test_mode_accelerations_of_one_mode_on_whole_numbers_with_the_limit_inside():
+    # Issue 36 §3: one mode was drawn on a continuous axis 0.96–1.04 with the UK NA limit on
+    # the lower edge. The mode axis has the whole mode numbers; both the limit and the peaks
+    # lie inside the axes, which start at 0 (the paper bridge, docs: theory, Design checks).
+    from crowdvib import ModalModel
+    from crowdvib.design import design_check
+    from crowdvib.reporting.design_plots import plot_mode_accelerations
+
+    bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3,
+                                              outputs={"midspan": 25.0})
+    checks = {"ukna": design_check(bridge, "ukna", traffic_class="C")}
+    handles = plot_mode_accelerations(checks)
+    ax = handles.axes[0]
+    assert list(ax.get_xticks()) == [1] and ax.get_xlim() == (0.5, 1.5)
+    low, high = ax.get_ylim()
+    peak = float(np.max(checks["ukna"].peak_accelerations))
+    assert low == 0.0 and high == pytest.approx(1.15 * max(checks["ukna"].limit, peak))
+    plt.close(handles.figure)

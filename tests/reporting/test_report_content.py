@@ -112,3 +112,40 @@ def test_sensitivity_cases_on_a_search_bound_reach_the_verdict():
     assert "No warnings" not in summary
     assert "1 of 2 modelling-error case(s) ended on a search bound" in summary
     assert "structural frequency +5 %" in summary
+
+
+def _text(page, section):
+    part = page.split(f'<section id="{section}">')[1].split("</section>")[0]
+    return re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", part))
+
+
+def test_a_check_with_another_msd_does_not_list_hsi_and_a_field_estimate_no_empty_columns(
+        tmp_path):
+    # Issue 36 §3. (1) A check that used an estimate's MSD listed the case's [hsi] beside it;
+    # (2) a structure name the file did not set (the file's name) was listed as "default";
+    # (3) a field estimate showed empty "nominal ± bound / expected / error" columns.
+    case_file = tmp_path / "bridge.toml"
+    case_file.write_text('[structure]\ntype = "simply_supported_beam"\nspan = 50.0\nwidth = 3.0\n'
+                         'frequency = 2.0\ndamping_ratio = 0.005\nmodal_mass = 5e4\n'
+                         'outputs = { mid = 25.0 }\n[crowd]\ndensity = 0.5\n'
+                         '[hsi]\nfrequency = 3.0\ndamping_ratio = 0.3\n'
+                         '[estimation]\nband = [0.0, 10.0]\n')
+    inputs = load_case(case_file).to_dict(ESTIMATION_TABLES)
+    assert inputs["not_set"].get("structure.name") == "default"
+    msd = {"frequency": 3.1, "damping_ratio": 0.25, "mass_ratio": 0.95,
+           "source": "the estimate in est"}
+    page = render_report({"command": "check", "inputs": inputs, "msd": msd})
+    assert "the MSD model of the check is the estimate in est" in _row(page, "not used")
+    cards = _text(page, "inputs")
+    assert "HSI (MSD model) not used" in cards and "damping ratio [-] 0.3 " not in cards
+    assert "bridge" not in _text(page, "inputs").split("Structure")[1].split("Crowd")[0]
+    # The same [hsi] used by the check itself is listed.
+    page = render_report({"command": "check", "inputs": inputs, "msd": {**msd,
+                                                                       "source": "[hsi]"}})
+    assert "damping ratio [-] 0.3" in _text(page, "inputs")
+    # (3) An estimate with neither a modelling-error study nor a truth: three columns fewer.
+    page = render_report({"command": "estimate", "estimate": {
+        "frequency": 3.1, "damping_ratio": 0.25, "mass_ratio": 0.95}})
+    head = page.split('<section id="estimate">')[1].split("</tr>")[0]
+    assert "nominal ± bound" not in head and "error" not in head and "expected" not in head
+    assert "search bounds" in head

@@ -36,7 +36,8 @@ def design_dir(tmp_path_factory):
     case.write_text((EXAMPLES / "check_paper.toml").read_text(encoding="utf-8")
                     + "\n[design.damper]\nmode = 1\nmass_ratio = 0.02\n", encoding="utf-8")
     out = folder / "with_tmd"
-    assert main(["check", str(case), "--out", str(out)]) in (0, 3)   # 3: finished, in doubt
+    # 3: finished, in doubt; 4: finished, a code failed
+    assert main(["check", str(case), "--out", str(out)]) in (0, 3, 4)
     return out
 
 
@@ -45,8 +46,14 @@ def test_no_absolute_machine_path_in_the_report(design_dir, tmp_path):
     out = tmp_path / "copy"
     shutil.copytree(design_dir, out)
     results = json.loads((out / "results.json").read_text(encoding="utf-8"))
-    case = Path(results["case"])
-    assert case.is_absolute()                      # what the run records
+    # What the run records: the case relative to its results folder, no folder of the machine
+    # (issue 36 §3) ...
+    assert results["case"] == "../check_paper.toml"
+    assert str(design_dir.parent) not in (out / "results.json").read_text(encoding="utf-8")
+    # ... and the report of a results.json that holds absolute paths (an earlier crowdvib's)
+    # shows none of them.
+    case = (design_dir / results["case"]).resolve()
+    results["case"] = results["inputs"]["path"] = str(case)
     results["inputs"]["measurement"] = {"files": [str(case.parent / "records" / "bridge.csv"),
                                                   "/srv/far/away/from/the/case/deck.csv"]}
     results["warnings"].append(f"{case.parent}/bridge.py:12: ResolutionWarning: a doubt")
@@ -118,7 +125,7 @@ def test_every_warning_is_counted_and_fails_are_told_apart_from_doubts(design_di
     failing = [r for r in json.loads((out / "results.json").read_text())["design"]["verdict"]
                if r["model"] == "HSI" and not r["passes"]]
     summary = _text((out / REPORT_NAME).read_text(encoding="utf-8"), "summary")
-    assert failing and f"The bridge fails {len(failing)} check(s)" in summary
+    assert failing and f"The bridge fails {len(failing)} design check(s)" in summary
     assert "The tool doubts its result" not in summary
     assert "Sétra II: fails with HSI at midspan" in summary
 

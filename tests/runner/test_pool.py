@@ -110,11 +110,41 @@ def test_shutdown_cancels_what_has_not_started_and_close_kill_stops_busy_workers
     workers = [psutil.Process(p.pid) for p in pool._processes.values()]
     pool.close(kill=True)
     assert all(f.cancelled() for f in waiting)
-    with pytest.raises(WorkerDied):
+    with pytest.raises(WorkerDied, match=r"the pool ended its worker \(close\(kill=True\)"):
         busy.result(timeout=10)
     assert not any(w.is_running() and w.status() != psutil.STATUS_ZOMBIE for w in workers)
     with pytest.raises(RuntimeError, match="closed"):
         pool.submit(_square, 1)
+
+
+def test_workers_ended_by_the_pool_are_not_said_to_die_nor_leak_semaphores(tmp_path):
+    # Issue 36 §3: after Ctrl-C (close(kill=True)) the console said "worker … died, its task
+    # fails" for workers the pool itself ended, and Python's resource tracker "There appear to
+    # be 2 leaked semaphore objects" (numba's thread-launch lock, made in each worker: a
+    # SIGKILL skips its release). The workers are now asked to exit (SIGTERM) first.
+    script = tmp_path / "ended.py"
+    script.write_text(textwrap.dedent("""
+        import time
+        from crowdvib.runner._pool import ProcessPool
+
+        def nap(seconds):
+            time.sleep(seconds)
+
+        if __name__ == "__main__":
+            pool = ProcessPool(2)
+            busy = [pool.submit(nap, 60.0) for _ in range(2)]
+            while not all(f.running() for f in busy):
+                time.sleep(0.05)
+            started = time.monotonic()
+            pool.close(kill=True)
+            print(f"closed in {time.monotonic() - started:.2f} s")
+    """))
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          timeout=180, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert "died" not in done.stderr and "leaked" not in done.stderr, done.stderr
+    # Within the grace period: a sleeping worker leaves at once (_pool._GRACE = 2 s).
+    assert float(done.stdout.split()[2]) < 2.0
 
 
 def test_workers_ignore_ctrl_c_and_die_with_their_parent_even_by_sigkill(tmp_path):

@@ -36,7 +36,9 @@ def results_html(results, table=(), columns=()):
                     "</tr>" for k, v in results._headline())
     found = "".join(f"<li>{_MARKS[f.severity]} {html.escape(f.text)}</li>"
                     for f in results.verdict())
-    state = "no warnings" if results.passes else "check before use"
+    state = ("check before use: the result is in doubt" if results.in_doubt
+             else "the bridge fails a design check" if results.fails_design
+             else "no warnings")
     return (f"<div><strong>crowdvib {html.escape(results.command)}: "
             f"{html.escape(results.name)}</strong>{f'<table>{cells}</table>' if cells else ''}"
             f"{_table(list(table), columns)}<p>Verdict: {state}</p><ul>{found}</ul></div>")

@@ -207,6 +207,15 @@ class Results:
 
         return in_doubt(self.verdict())
 
+    @property
+    def fails_design(self) -> bool:
+        """True when the bridge fails a design code at the result
+        (:func:`~crowdvib.cases.verdict.fails_design`): an answer, not a doubt; the command line
+        then exits with status 4 unless the result is also in doubt (3)."""
+        from .verdict import fails_design
+
+        return fails_design(self.verdict())
+
     # ------------------------------------------------------------------------------- tables
     def table(self) -> list[dict]:
         """The result's main table as rows (dicts of one column each).

@@ -14,8 +14,8 @@ from typing import NamedTuple
 
 from .schema import get, hsi, real, sensitivity
 
-__all__ = ["Finding", "findings", "in_doubt", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL",
-           "SEVERITIES"]
+__all__ = ["Finding", "findings", "in_doubt", "is_doubt", "fails_design", "CONVERGENCE_LEVEL",
+           "RELATIVE_COST_LEVEL", "SEVERITIES"]
 
 #: The paper's convergence criterion for a Welch PSD (Fig. 15): ΔG below 10 %.
 CONVERGENCE_LEVEL = 0.10
@@ -247,11 +247,17 @@ def _interval(results):
     return found
 
 
-def in_doubt(found) -> bool:
-    """Whether a verdict doubts its result: a ``"doubt"``, or a ``"fail"`` the data do not
+def is_doubt(finding) -> bool:
+    """Whether a finding doubts the result: a ``"doubt"``, or a ``"fail"`` the data do not
     decide (a design code that passes at the estimate and fails at the conservative end of its
-    interval). A code the bridge fails at the estimate is an answer, not a doubt (docs: Command
-    line, Exit status: status 3).
+    interval). A code the bridge fails at the estimate is an answer, not a doubt."""
+    return finding.severity == "doubt" or (finding.severity == "fail"
+                                           and finding.key.startswith("hsi_range."))
+
+
+def in_doubt(found) -> bool:
+    """Whether a verdict doubts its result (any finding :func:`is_doubt`): the command line
+    exits with status 3 (docs: Command line, Exit status).
 
     Parameters
     ----------
@@ -262,8 +268,14 @@ def in_doubt(found) -> bool:
     -------
     bool
     """
-    return any(f.severity == "doubt" or (f.severity == "fail" and f.key.startswith("hsi_range."))
-               for f in found)
+    return any(is_doubt(f) for f in found)
+
+
+def fails_design(found) -> bool:
+    """Whether the bridge fails a design code at the result (a ``"fail"`` that is no doubt): an
+    answer of the checks, exit status 4 when the result itself is not in doubt (docs: Command
+    line, Exit status)."""
+    return any(f.severity == "fail" and not is_doubt(f) for f in found)
 
 
 _METHODS = {"ssi-cov": "SSI-cov", "efdd": "EFDD"}

@@ -26,8 +26,32 @@ __all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "staged_output", "write_res
 #: Exit status of a command that finished and wrote its results, but whose verdict doubts them
 #: (docs: Command line, Exit status).
 IN_DOUBT = 3
+#: Exit status of a command that finished and wrote its results, not in doubt, by which the
+#: bridge fails a design code: an answer, not a doubt (issue 36 §3).
+FAILS_DESIGN = 4
 #: ``--quiet``: only the verdict, warnings and errors reach the terminal.
 _QUIET = [False]
+#: The warnings this run printed as they were raised: the verdict counts them, not again.
+_PRINTED: list = []
+#: ANSI colours of the verdict's headings on a terminal: red fails, yellow doubts, green none.
+_COLOURS = {"fail": "31", "doubt": "33", "ok": "32"}
+
+
+def _paint(text, severity, stream=None):
+    """``text`` in the colour of ``severity`` when ``stream`` (stdout) is a terminal and the
+    user has not asked for none (the NO_COLOR convention, no-color.org)."""
+    import os
+
+    stream = sys.stdout if stream is None else stream
+    if not getattr(stream, "isatty", lambda: False)() or os.environ.get("NO_COLOR"):
+        return text
+    return f"\x1b[{_COLOURS[severity]}m{text}\x1b[0m"
+
+
+def forget_printed():
+    """A new run: no warning printed yet (the command line runs one command per process, the
+    tests many)."""
+    _PRINTED.clear()
 
 
 def set_quiet(quiet):
@@ -35,11 +59,13 @@ def set_quiet(quiet):
     _QUIET[0] = bool(quiet)
 
 
-def say(message="", *, always=False):
+def say(message="", *, always=False, severity=None):
     """Print a line of the command's output; text from files in it reaches the terminal escaped
-    (:func:`crowdvib._terminal.terminal_safe`: a case's name may hold ESC or U+202E)."""
+    (:func:`crowdvib._terminal.terminal_safe`: a case's name may hold ESC or U+202E), a verdict
+    heading in its ``severity``'s colour on a terminal."""
     if always or not _QUIET[0]:
-        print(terminal_safe(message), flush=True)
+        text = terminal_safe(message)
+        print(text if severity is None else _paint(text, severity), flush=True)
 
 
 @contextlib.contextmanager
@@ -56,6 +82,7 @@ def warnings_as_lines(command):
                 return others(message, category, *rest)
             print(f"crowdvib {command}: warning: {terminal_safe(message)}", file=sys.stderr,
                   flush=True)
+            _PRINTED.append(str(message))
 
         warnings.simplefilter("always", CrowdvibWarning)
         warnings.showwarning = show
@@ -63,9 +90,12 @@ def warnings_as_lines(command):
 
 
 def say_warnings(command, results):
-    """The warnings a run recorded in its results, one line each on stderr."""
+    """The warnings a run recorded in its results, one line each on stderr (once: the verdict
+    then counts them)."""
     for text in results.warnings:
-        print(f"crowdvib {command}: warning: {terminal_safe(text)}", file=sys.stderr)
+        if text not in _PRINTED:
+            print(f"crowdvib {command}: warning: {terminal_safe(text)}", file=sys.stderr)
+            _PRINTED.append(text)
 
 
 #: Progress bars drawn and not yet closed: a command that ends early closes them
@@ -108,28 +138,43 @@ def progress_printer(label, unit="s", offset=0.0):
 
 
 def say_verdict(directory):
-    """Print the verdict on the results in ``directory`` (its doubts and failures, or that there
-    are none): the findings ``load_results(directory).verdict()`` gives and report.html shows.
+    """Print the verdict on the results in ``directory``: the findings
+    ``load_results(directory).verdict()`` gives and report.html shows, in two parts, each in
+    its words and colour (issue 36 §3): the design checks the bridge fails (an answer), and the
+    doubts about the result itself (check before use). A warning already printed as raised is
+    counted, not printed again.
 
     Returns
     -------
     int
-        The command's exit status: 0, or :data:`IN_DOUBT` when the verdict doubts the result
-        (``Results.in_doubt``: a design code the bridge fails at the estimate is an answer, not
-        a doubt; one that fails only at the conservative end of the estimate's interval is).
+        The command's exit status: :data:`IN_DOUBT` when the verdict doubts the result, else
+        :data:`FAILS_DESIGN` when the bridge fails a design code, else 0.
     """
     from ..cases.results import load_results
+    from ..cases.verdict import is_doubt
 
     found = load_results(directory)
-    warnings = [f for f in found.verdict() if f.severity != "ok"]
-    if not warnings:
-        say("  verdict: no warnings (details in report.html)", always=True)
-        return 0
-    say(f"  verdict: check before use ({len(warnings)} warning(s); details in report.html):",
-        always=True)
-    for finding in warnings:
+    verdict = found.verdict()
+    fails = [f for f in verdict if f.severity == "fail" and not is_doubt(f)]
+    doubts = [f for f in verdict if is_doubt(f)]
+    if fails:
+        say(f"  verdict: the bridge fails {len(fails)} design check(s) (the checks' answer; "
+            "details in report.html):", always=True, severity="fail")
+        for finding in fails:
+            say(f"    - {finding.text}", always=True)
+    if not doubts:
+        say("  verdict: " + ("the result itself is not in doubt: no warnings" if fails
+                             else "no warnings") + " (details in report.html)",
+            always=True, severity="ok")
+        return FAILS_DESIGN if fails else 0
+    say(f"  verdict: check before use: the result itself is in doubt ({len(doubts)} "
+        "warning(s); details in report.html):", always=True, severity="doubt")
+    shown = [f for f in doubts if not (f.key == "warnings" and f.text in _PRINTED)]
+    for finding in shown:
         say(f"    - {finding.text}", always=True)
-    return IN_DOUBT if found.in_doubt else 0
+    if len(shown) < len(doubts):
+        say(f"    - and the {len(doubts) - len(shown)} warning(s) printed above", always=True)
+    return IN_DOUBT
 
 
 def positive_float(text):

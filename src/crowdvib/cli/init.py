@@ -1,13 +1,18 @@
 """``crowdvib init RECORD``: what a record holds, and a case-file draft for it (issue 27 §2).
 
 The work is :mod:`crowdvib.io.draft`; this command prints its findings, writes the draft (never
-over an existing file) and names the next command.
+over an existing file) and names the next command. What the draft is unsure of (units it cannot
+tell, a header's unit the samples contradict) and the warnings of reading are printed on stderr,
+``-q`` or not, and the command then exits with status 3 (1 with ``--strict``): a doubt in the
+draft is a doubt (issue 36 §2).
 """
 
+import sys
 from pathlib import Path
 
+from .._terminal import terminal_safe
 from ..runs.lines import caught_warnings
-from .common import positive_float, say, warning_texts
+from .common import IN_DOUBT, positive_float, say, warning_texts
 
 
 def add_arguments(parser):
@@ -32,6 +37,7 @@ def run(args):
     from ..io.draft import inspect_record, new_case_path, write_draft
 
     output = new_case_path(args.record, args.output)   # refused before the record is read
+    args.output = output      # named by --strict's line
     with caught_warnings() as caught:
         found = inspect_record(args.record, format=args.format, sample_rate=args.sample_rate,
                                time_column=args.time_column)
@@ -39,18 +45,27 @@ def run(args):
     source = {"time stamps": "from the time stamps", "given": "given (--sample-rate)",
               "file": "stated in the file"}[found.rate_source]
     say(f"crowdvib init: {found.path} ({found.format})")
+    if found.skipped:
+        say(f"  header       line {found.header_line}; skipped the {len(found.skipped)} line(s) "
+            f"of metadata above it ({'; '.join(found.skipped[:3])}"
+            f"{' …' if len(found.skipped) > 3 else ''})")
     say(f"  columns      {', '.join(map(repr, found.channel_names))}"
         + (f" and the time {time}" if found.time_column else ""))
     say(f"  time         {time}; sample rate {found.sample_rate:.6g} Hz {source}")
     say(f"  length       {found.n_samples} samples, {found.duration:g} s")
+    if found.gaps:
+        say(f"  dropouts     {found.gaps_text}: the draft sets gaps = \"{found.gap_mode}\" "
+            "(\"cut\" keeps the longest stretch without one, \"bridge\" interpolates short ones)")
     for channel in found.channels:
-        say(f"  {channel.name!r}: mean {channel.mean:.4g}, RMS {channel.rms:.3g} → "
-            f"{channel.units or 'unsure'} ({channel.reason})")
+        say(f"  {channel.name!r} → output {channel.output!r}: mean {channel.mean:.4g}, RMS "
+            f"{channel.rms:.3g} → {channel.units or 'unsure'} ({channel.reason})")
     say(f"  units        {found.units or 'unsure'}: {found.units_reason}")
-    for text in warning_texts(caught):
-        say(f"crowdvib init: warning: {text}")
+    doubts = [*warning_texts(caught), *found.doubts]
+    for text in doubts:
+        print(f"crowdvib init: warning: {terminal_safe(text)}", file=sys.stderr, flush=True)
     write_draft(found, output)
     say(f"  wrote {output}: replace its \"REPLACE: …\" values (the bridge, the crowd, the band"
         + ("" if found.units else ", the units") + "), then run")
-    say(f"    crowdvib estimate {shlex.quote(str(output))}")
-    return 0
+    say(f"    crowdvib estimate {shlex.quote(str(output))} --out "
+        f"{shlex.quote(output.stem + '-estimate')}")
+    return IN_DOUBT if doubts else 0

@@ -2,7 +2,8 @@
 
 The CLI only parses arguments, makes one call of the library (:mod:`crowdvib.runs`) and prints.
 Exit status (docs: Command line, Exit status): 0 finished, 1 an error, 2 a usage error, 3
-finished and written but the verdict doubts the result (1 with ``--strict``), 130 Ctrl-C.
+finished and written but the verdict doubts the result (1 with ``--strict``), 4 finished and
+written, not in doubt, and the bridge fails a design code (an answer, issue 36 §3), 130 Ctrl-C.
 Whatever ends a command, it ends in one line on stderr (the traceback only with ``--verbose``):
 a crowdvib error's message, an ``OSError`` as its path and cause, Ctrl-C as "interrupted", and
 any other exception as a bug in crowdvib, with how to report it. ``--quiet`` leaves the verdict,
@@ -21,7 +22,7 @@ from .._terminal import terminal_safe
 from ..errors import CrowdvibError
 from . import (check, comfort, demo, estimate, init, landscape, modes, season, sensitivity,
                simulate)
-from .common import IN_DOUBT, close_progress, say, set_quiet
+from .common import IN_DOUBT, close_progress, forget_printed, say, set_quiet
 
 __all__ = ["main", "build_parser"]
 
@@ -70,6 +71,39 @@ _COMMANDS = {
 }
 
 
+#: One or two examples per command, as its --help ends them (issue 36 §3); the files are the
+#: repository's examples/ (run from a clone) or the user's own.
+EXAMPLES = {
+    "init": ["crowdvib init bridge.csv                     # drafts bridge.toml beside it",
+             "crowdvib init logger.txt --sample-rate 100 -o bridge.toml"],
+    "demo": ["crowdvib demo", "crowdvib demo --spectral --out demo"],
+    "estimate": ["crowdvib estimate examples/paper_example.toml --out estimate",
+                 "crowdvib estimate bridge.toml --out estimate --force"],
+    "simulate": ["crowdvib simulate --out sim --duration-s 600",
+                 "crowdvib simulate examples/eeklo_like.toml --out sim --format csv,npz"],
+    "report": ["crowdvib report estimate",
+               "crowdvib report estimate --template house.html"],
+    "map": ["crowdvib map examples/paper_example.toml --out map",
+            "crowdvib map bridge.toml --out map --frequencies 2:4:21 --damping-ratios 0.1:0.5:21"],
+    "sensitivity": ["crowdvib sensitivity examples/paper_example.toml --out sens --workers 2",
+                    "crowdvib sensitivity examples/paper_example.toml --out sens --resume"],
+    "check": ["crowdvib check examples/check_paper.toml --out check",
+              "crowdvib check bridge.toml --msd-from estimate --out check"],
+    "modes": ["crowdvib modes examples/ambient/paper_beam_ambient.toml --out modes",
+              "crowdvib modes ambient.toml --out modes --cross-check"],
+    "season": ["crowdvib season bridge.toml crowd.csv --records records --out season",
+               "crowdvib season bridge.toml crowd.csv --records records --out season --resume"],
+}
+
+
+def _epilog(name):
+    """A command's --help ending: its examples, then the exit statuses."""
+    import textwrap
+
+    examples = "\n".join(f"  {line}" for line in EXAMPLES.get(name, ()))
+    return (f"examples:\n{examples}\n\n" if examples else "") + textwrap.fill(EXIT_STATUS, 79)
+
+
 def build_parser():
     """The argument parser with one sub-command per entry of ``_COMMANDS``."""
     parser = argparse.ArgumentParser(
@@ -80,7 +114,8 @@ def build_parser():
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (help_text, command) in _COMMANDS.items():
         sub = commands.add_parser(name, help=help_text, description=help_text,
-                                  epilog=EXIT_STATUS)
+                                  epilog=_epilog(name),
+                                  formatter_class=argparse.RawDescriptionHelpFormatter)
         _add_verbosity(sub, {"default": argparse.SUPPRESS})
         command.add_arguments(sub)
     return parser
@@ -88,7 +123,9 @@ def build_parser():
 
 #: The exit statuses, as every command's help ends.
 EXIT_STATUS = ("exit status: 0 finished; 1 error; 2 usage error; 3 finished and written, but the "
-               "verdict doubts the result (check before use; 1 with --strict); 130 interrupted")
+               "verdict doubts the result (check before use; 1 with --strict); 4 finished and "
+               "written, not in doubt, and the bridge fails a design check (an answer, not a "
+               "doubt); 130 interrupted")
 
 
 def _add_verbosity(parser, suppress):
@@ -111,6 +148,7 @@ def main(argv=None):
     except SystemExit as exit_:
         return int(exit_.code or 0)
     set_quiet(args.quiet)
+    forget_printed()
     _log_records(args.verbose)
     try:
         case = getattr(args, "case", None)
@@ -136,8 +174,9 @@ def main(argv=None):
               file=sys.stderr)
         return 1
     if status == IN_DOUBT and args.strict:
+        written = getattr(args, "out", None) or getattr(args, "output", None) or "--out"
         print(f"crowdvib {args.command}: error: --strict: the verdict doubts the result (see "
-              f"above; written to {getattr(args, 'out', '--out')})", file=sys.stderr)
+              f"above; written to {written})", file=sys.stderr)
         return 1
     return status
 

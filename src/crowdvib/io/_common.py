@@ -136,3 +136,19 @@ def sample_rate_from_time(time, source, channel=None):
         raise DataError(f"{prefix}time stamps {time[0]:.9g} … {time[-1]:.9g} s give no finite "
                         "sample rate")
     return rate
+
+
+#: More channels than this, and more channels than samples, is a transposed table (one row per
+#: channel): a footbridge test has tens of sensors, never thousands (issue 35 §2: a CSV of 1e5
+#: columns took 71 s to read, `crowdvib init` drafted 100 000 placeholders).
+MAX_CHANNELS = 1000
+
+
+def refuse_transposed(source, n_channels, n_samples):
+    """DataError for a record of more than MAX_CHANNELS channels, each shorter than that count:
+    asks whether the file is transposed."""
+    if n_channels > MAX_CHANNELS and n_samples < n_channels:
+        raise DataError(f"{where(source)}must hold at most {MAX_CHANNELS} channels (one column "
+                        f"or variable per sensor, one row per sample), got {n_channels} channels "
+                        f"of {n_samples} sample(s) each: is the file transposed (one row per "
+                        "channel)? Transpose it, or write one column per channel")

@@ -72,7 +72,8 @@ from .casecomfort import ComfortSpec, TrafficSpec, _comfort, _traffic
 from .casedesign import _design
 from .casespecs import (DesignSpec, EstimationSpec, MeasurementBlock, MeasurementSpec,
                         SimulationSpec, StepFrequencySpec)
-from .records import RECORD_FORMATS, _unit_key
+from .casemeasurement import measurement_spec
+from .records import RECORD_FORMATS
 
 __all__ = ["Case", "MeasurementSpec", "MeasurementBlock", "EstimationSpec", "StepFrequencySpec",
            "SimulationSpec", "DesignSpec",
@@ -374,48 +375,6 @@ def _msd(table, path):
         raise wrap(path, table.prefix, exc) from None    # "hsi" or "design.msd"
 
 
-def _measurement(table, path):
-    files = table.strings("files", ())
-    # Existence is checked when the records are read (load_measurement): `crowdvib simulate`
-    # writes them from the same case file.
-    resolved = [(path.parent / name).resolve() for name in files]
-    channels = table.raw("channels", None)
-    if channels is not None and (not isinstance(channels, dict) or not all(
-            isinstance(v, str) for v in channels.values())):
-        raise table.error("channels", "must be a table output_name = \"channel in file\"",
-                          channels)
-    units = table.string("units", None)
-    if units is not None:
-        _unit_key(units, f"{path.name}: measurement.")
-    frame = table.raw("time_frame", None)
-    if frame is not None and frame != "stationary" and frame != "all":
-        frame = table.pair("time_frame")
-        if frame[0] < 0:
-            raise table.error("time_frame", "must start at t >= 0 s", list(frame))
-    frame = None if frame == "all" else frame
-    filter_table = table.table("filter")
-    cutoff = filter_table.raw("cutoff", 10.0)
-    cutoff = None if cutoff is False else filter_table.number("cutoff", 10.0, rule="positive")
-    order = filter_table.number("order", 4.0, rule="positive")
-    if int(order) != order:
-        raise filter_table.error("order", "must be an integer", order)
-    filter_table.finish()
-    overlap = table.number("overlap", 0.5, rule="non_negative")
-    if not overlap < 1:
-        raise table.error("overlap", "must lie in [0, 1)", overlap)
-    spec = MeasurementSpec(
-        files=tuple(resolved), format=table.string("format", None, choices=tuple(RECORD_FORMATS)),
-        channels=channels, units=units,
-        sample_rate=table.number("sample_rate", None, rule="positive"),
-        time_column=table.string("time_column", "time"), time_frame=frame,
-        lowpass_cutoff=cutoff, lowpass_order=int(order),
-        resample=table.number("resample", None, rule="positive"),
-        window_length=table.number("window_length", 60.0, rule="positive"), overlap=overlap,
-        detrend=table.string("detrend", "constant", choices=("constant", "linear")))
-    table.finish()
-    return spec
-
-
 # -------------------------------------------------------- several measurements (joint fit)
 def _measurement_block(table, path, crowd, number, structure):
     """One ``[[measurement]]`` block: its name, its own crowd (default the case's, stationary),
@@ -426,7 +385,7 @@ def _measurement_block(table, path, crowd, number, structure):
         crowd_table = table.table("crowd")
         profile = _crowd_profile(crowd_table, path, structure)
         crowd = _crowd(crowd_table, path, profile)
-    measurement = _measurement(table, path)
+    measurement = measurement_spec(table, path)
     _check_profile_frame(profile, measurement, path, f"measurement[{number}].crowd",
                          "its [[measurement]] block")
     return MeasurementBlock(name=name, measurement=measurement, crowd=crowd,
@@ -451,7 +410,7 @@ def _measurements(root, path, crowd, structure):
     """``[measurement]`` → (spec, ()); ``[[measurement]]`` blocks → (first spec, blocks)."""
     blocks = root.raw("measurement", {})
     if not isinstance(blocks, list):
-        return _measurement(root.table("measurement"), path), ()
+        return measurement_spec(root.table("measurement"), path), ()
     if not blocks:
         raise root.error("measurement", "must hold at least one [[measurement]] block", blocks)
     records = tuple(_measurement_block(Table(block, f"measurement[{i}]", path), path, crowd, i,

@@ -30,7 +30,8 @@ class MeasurementSpec:
     channels : dict or None
         Output name → channel name in the file(s); None keeps the file's names.
     units : str or None
-        "m/s2" or "g"; None: as stored in the file, else m/s².
+        "m/s2", "g", "mg" or "mm/s2"; None: as stored in the file (a comment, the column
+        headers), else m/s².
     sample_rate : float or None
         [Hz] for files without time stamps.
     time_column : str
@@ -46,6 +47,14 @@ class MeasurementSpec:
     overlap : float
     detrend : str
         "constant" (paper) or "linear".
+    header_row : int or None
+        CSV: the line number (from 1) of the header row; None finds it below a logger's
+        metadata lines.
+    gaps : str or None
+        A dropout (empty cells): "cut" keeps the longest stretch without one, "bridge"
+        interpolates each up to ``max_gap``; None refuses it (:mod:`crowdvib.io.gaps`).
+    max_gap : float
+        [s] the longest dropout "bridge" interpolates.
     """
 
     files: tuple = ()
@@ -61,6 +70,9 @@ class MeasurementSpec:
     window_length: float = 60.0
     overlap: float = 0.5
     detrend: str = "constant"
+    header_row: int = None
+    gaps: str = None
+    max_gap: float = 0.1
 
 
 @dataclass(frozen=True)

@@ -24,6 +24,8 @@ from ..errors import DataError, ParameterError
 from ..models.loading import STANDARD_GRAVITY
 from ._common import quote_names
 from .formats import suffix_format
+from .gaps import describe_gaps, dropouts
+from .headers import UNITS, output_name
 from .records import _format_of, _read_record, _unit_key, check_record
 
 __all__ = ["ChannelSummary", "RecordSummary", "inspect_record", "guess_units", "draft_case",
@@ -32,10 +34,12 @@ __all__ = ["ChannelSummary", "RecordSummary", "inspect_record", "guess_units", "
 #: How every placeholder value of a draft starts.
 PLACEHOLDER = "REPLACE:"
 #: The gravity offset of a vertical accelerometer that keeps it, in the units load_case reads.
-_GRAVITY = {"g": 1.0, "m/s2": STANDARD_GRAVITY}
+_GRAVITY = {units: STANDARD_GRAVITY / scale for units, scale in UNITS.items()}
 #: RMS of footbridge accelerations, from an ambient test to a dense crowd, in each unit a logger
-#: may write: about 0.01–2 m/s², 0.001–0.2 g, 10–2000 mm/s².
-_LEVELS = (("g", 1e-3, 0.2), ("m/s2", 0.01, 2.0), ("mm/s2", 10.0, 2000.0))
+#: may write: about 0.01–2 m/s², 0.001–0.2 g, 1–200 mg, 10–2000 mm/s².
+_LEVELS = (("g", 1e-3, 0.2), ("m/s2", 0.01, 2.0), ("mg", 1.0, 200.0), ("mm/s2", 10.0, 2000.0))
+#: The dropouts a draft proposes to bridge (measurement.max_gap's default [s]); longer: cut.
+_MAX_GAP = 0.1
 #: The Welch window a draft proposes (the case files' default T [s]).
 _WINDOW = 60.0
 
@@ -49,10 +53,16 @@ class ChannelSummary:
     mean: float
     #: RMS of the fluctuation about the mean, in the file's units.
     rms: float
-    #: The units it looks to be in: "g", "m/s2" (names measurement.units takes), or None.
+    #: The units it looks to be in: "g", "mg", "m/s2", "mm/s2" (names measurement.units
+    #: takes), or None: the unit its header states, else a guess from the samples.
     units: str | None
-    #: Why (the mean or the level it rests on), or why crowdvib cannot tell.
+    #: Why (the header, the mean or the level it rests on), or why crowdvib cannot tell.
     reason: str
+    #: The output name the draft gives it (the header without its unit and the words
+    #: "acceleration", axis: ``"Acc Z midspan [g]"`` → ``"midspan"``).
+    output: str = ""
+    #: Where the header's unit and the samples disagree (the samples' guess), else "".
+    doubt: str = ""
 
 
 @dataclass(frozen=True)
@@ -74,10 +84,34 @@ class RecordSummary:
     units_reason: str
     #: Whether the file states its units (else they are guessed from the samples).
     units_stated: bool = False
+    #: CSV: the header row's line number (from 1), and the metadata lines above it skipped.
+    header_line: int | None = None
+    skipped: tuple = ()
+    #: The dropouts (sample index, length) and in words ("" when none).
+    gaps: tuple = ()
+    gaps_text: str = ""
 
     @property
     def channel_names(self) -> tuple:
         return tuple(channel.name for channel in self.channels)
+
+    @property
+    def doubts(self) -> tuple:
+        """What the draft is unsure of, in words: units crowdvib cannot tell, a header's unit
+        the samples contradict (``crowdvib init`` prints each; ``--strict`` fails on any)."""
+        found = [f"units unsure: {self.units_reason}"] if self.units is None else []
+        return tuple(found + [f"channel {c.name!r}: {c.doubt}" for c in self.channels
+                              if c.doubt])
+
+    @property
+    def gap_mode(self) -> str | None:
+        """What the draft proposes for the dropouts: "bridge" when each lasts up to
+        ``max_gap`` (0.1 s) and none is at an end, else "cut"; None without dropouts."""
+        if not self.gaps:
+            return None
+        short = max(length for _, length in self.gaps) / self.sample_rate <= _MAX_GAP
+        inside = self.gaps[0][0] > 0 and sum(self.gaps[-1]) < self.n_samples
+        return "bridge" if short and inside else "cut"
 
 
 def _offset_units(mean, rms):
@@ -104,17 +138,42 @@ def guess_units(mean: float, rms: float) -> tuple[str | None, str]:
     if len(fits) != 1:
         return None, (f"RMS {rms:.3g} fits {'none' if not fits else 'each'} of the usual "
                       f"footbridge levels {ranges}")
-    units = fits[0][0]
-    if units == "mm/s2":
-        return None, (f"RMS {rms:.3g} fits mm/s² ({ranges}), which crowdvib does not read: "
-                      "convert the record to m/s² (× 0.001)")
-    return units, f"RMS {rms:.3g} fits the usual footbridge level {ranges}"
+    return fits[0][0], f"RMS {rms:.3g} fits the usual footbridge level {ranges}"
 
 
-def _record_units(channels, stated, path):
-    """(units, why) of the whole record from its channels' guesses (or the unit it states)."""
-    if stated:
+def _channel(name, mean, rms, stated):
+    """A channel's summary: the unit its header states over the guess from its samples, the
+    disagreement said (a logger set to g writing "[mg]" is 1000 times off one way or the other)."""
+    guess, why = guess_units(mean, rms)
+    output = output_name(name)
+    if stated is None:
+        return ChannelSummary(name, mean, rms, guess, why, output)
+    doubt = "" if guess in (None, stated) else (
+        f"its header states {stated!r} but its samples look like {guess!r} ({why}): check the "
+        "logger's unit setting")
+    return ChannelSummary(name, mean, rms, stated, f"its header states {stated!r}", output, doubt)
+
+
+def _outputs(names):
+    """Unique output names (a second "midspan" becomes "midspan_2")."""
+    found = []
+    for name in names:
+        unique, number = name or "channel", 1
+        while unique in found:
+            number += 1
+            unique = f"{name}_{number}"
+        found.append(unique)
+    return found
+
+
+def _record_units(channels, stated, path, headers):
+    """(units, why) of the whole record from its channels' guesses (or the unit it states: in a
+    comment, or in the column headers)."""
+    if stated and not headers:
         return _unit_key(stated, f"{path.name}: its stated "), f"the file states {stated!r}"
+    if stated:
+        return stated, (f"the column headers state {stated!r}" + "".join(
+            f"; but channel {c.name!r}: {c.doubt}" for c in channels if c.doubt))
     # The gravity offset is the stronger sign; the level decides only where no channel has one.
     offset = [c for c in channels if _offset_units(c.mean, c.rms)]
     decided = offset or [c for c in channels if c.units]
@@ -161,24 +220,37 @@ def inspect_record(path: str | os.PathLike, *, format: str | None = None,
     # "m/s2" reads the samples as stored (no conversion), whatever unit the file states.
     record, meta = _read_record(path, format=format, units="m/s2", sample_rate=sample_rate,
                                 time_column=time_column)
+    gaps = dropouts(record)
+    if gaps:
+        # Measured around the dropouts; the draft proposes to bridge or cut them (issue 36 §2).
+        record = record.replace(data=np.where(np.isnan(record.data), 0.0, record.data))
     check_record(record)
     if time_column != "time" and meta.get("time") is None:
         # read_record takes a missing named column for a file without one: here it was asked for
         raise DataError(f"{path.name}: has no time column {time_column!r}; its columns are "
                         f"{quote_names(record.channel_names)}")
+    missing = np.zeros(record.n_samples, bool)
+    for start, length in gaps:
+        missing[start:start + length] = True
+    headers = meta.get("header_units") or {}
     channels = []
     for name, row in zip(record.channel_names, record.data):
-        mean = float(np.mean(row))
-        rms = float(np.std(row))
-        channels.append(ChannelSummary(name, mean, rms, *guess_units(mean, rms)))
+        mean = float(np.mean(row[~missing]))
+        rms = float(np.std(row[~missing]))
+        channels.append(_channel(name, mean, rms, headers.get(name)))
+    channels = [c.__class__(**{**c.__dict__, "output": unique})
+                for c, unique in zip(channels, _outputs([c.output for c in channels]))]
     source = ("time stamps" if meta.get("time") is not None
               else "given" if sample_rate is not None else "file")
-    units, reason = _record_units(channels, meta.get("units"), path)
+    units, reason = _record_units(channels, meta.get("units"), path, headers)
     return RecordSummary(path=path, format=kind, channels=tuple(channels),
                          time_column=meta.get("time_name") if source == "time stamps" else None,
                          sample_rate=record.sample_rate, rate_source=source,
                          duration=record.duration, n_samples=record.n_samples, units=units,
-                         units_reason=reason, units_stated=bool(meta.get("units")))
+                         units_reason=reason, units_stated=bool(meta.get("units")),
+                         header_line=meta.get("header_line"),
+                         skipped=tuple(meta.get("skipped") or ()), gaps=tuple(gaps),
+                         gaps_text=describe_gaps(record, gaps) if gaps else "")
 
 
 # ------------------------------------------------------------------------------------ the draft
@@ -197,6 +269,28 @@ def _relative(path, folder):
         return Path(os.path.relpath(Path(path).resolve(), Path(folder).resolve())).as_posix()
     except ValueError:
         return Path(path).resolve().as_posix()
+
+
+#: Metadata lines above the header the draft quotes.
+_SHOWN = 6
+
+
+def _comment(text):
+    """A line of the file as a TOML comment's text (control characters shown escaped)."""
+    return json.dumps(str(text), ensure_ascii=False)[1:-1][:100]
+
+
+def _gap_lines(summary):
+    """``gaps`` proposed for a record with dropouts (none without)."""
+    mode = summary.gap_mode
+    if mode is None:
+        return []
+    other = "cut" if mode == "bridge" else "bridge"
+    return [f"gaps = {_string(mode)}   # found: {summary.gaps_text}",
+            f"# \"{other}\" instead " + (
+                "keeps only the longest stretch without a dropout" if other == "cut" else
+                f"interpolates dropouts up to max_gap = {_MAX_GAP:g} s [s]") + "; the results "
+            "state what was done"]
 
 
 def draft_case(summary: RecordSummary, case_path: str | os.PathLike) -> str:
@@ -238,8 +332,8 @@ def draft_case(summary: RecordSummary, case_path: str | os.PathLike) -> str:
         "",
         "[structure.outputs]",
         "# One output per channel of the record: the sensor's position along the span [m].",
-        *(f"{_string(c)} = {_placeholder('position of this sensor along the span [m]')}"
-          for c in summary.channel_names),
+        *(f"{_string(c.output)} = {_placeholder('position of this sensor along the span [m]')}"
+          for c in summary.channels),
         "",
         "[crowd]",
         "# The pedestrians on the bridge during the record.",
@@ -260,6 +354,12 @@ def draft_case(summary: RecordSummary, case_path: str | os.PathLike) -> str:
     ]
     if row is None or row.name != summary.format:
         lines.append(f"format = {_string(summary.format)}")
+    if summary.skipped:
+        lines.append(f"header_row = {summary.header_line}   # found: the "
+                     f"{len(summary.skipped)} line(s) of metadata above it are skipped")
+        lines += [f"#   {_comment(line)}" for line in summary.skipped[:_SHOWN]]
+        if len(summary.skipped) > _SHOWN:
+            lines.append(f"#   … and {len(summary.skipped) - _SHOWN} more")
     if summary.time_column is not None:
         lines.append(f"time_column = {_string(summary.time_column)}   # found: "
                      f"{summary.sample_rate:.6g} Hz from its time stamps")
@@ -267,12 +367,14 @@ def draft_case(summary: RecordSummary, case_path: str | os.PathLike) -> str:
         lines.append(f"sample_rate = {summary.sample_rate!r}   # [Hz], given: the file has no "
                      "time stamps")
     units = (_string(summary.units) if summary.units else
-             _placeholder("'m/s2' or 'g': crowdvib could not tell (see the comment)"))
+             _placeholder("'m/s2', 'g', 'mg' or 'mm/s2': crowdvib could not tell (see the "
+                          "comment)"))
     lines += [
         f"units = {units}   # "
         f"{'found' if summary.units_stated else 'guess' if summary.units else 'unsure'}: "
         f"{summary.units_reason}",
         "# (a gravity offset is removed with the mean: detrend = \"constant\", the default)",
+        *_gap_lines(summary),
         f"window_length = {_WINDOW!r}   # T [s] of the Welch PSD; " + (
             f"the record holds {windows} such window(s)" if windows else
             f"the record is shorter ({summary.duration:g} s): choose a shorter one"),
@@ -281,8 +383,8 @@ def draft_case(summary: RecordSummary, case_path: str | os.PathLike) -> str:
         "[measurement.channels]",
         "# output name (as in [structure.outputs]) = channel in the record; drop what is no",
         "# acceleration of the deck.",
-        *(f"{_string(c.name)} = {_string(c.name)}   # found: mean {c.mean:.4g}, RMS {c.rms:.3g} "
-          "in the file's units" for c in summary.channels),
+        *(f"{_string(c.output)} = {_string(c.name)}   # found: mean {c.mean:.4g}, RMS "
+          f"{c.rms:.3g} in the file's units" for c in summary.channels),
         "",
         "[estimation]",
         "# method, crowd_model, interval and the rest keep their defaults (docs, Case files).",

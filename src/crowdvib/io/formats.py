@@ -29,11 +29,7 @@ UFF 58
     name in ID line 1, even abscissa spacing (Δt) and the unit in the ordinate-axis label.
 """
 
-import csv
-import io
-import itertools
 import re
-import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import NamedTuple
@@ -43,11 +39,14 @@ import numpy as np
 from .._files import atomic_path
 from .._memory import check_declared_size
 from ..errors import DataError, ParameterError
-from ._common import quote, quote_names, sample_rate_from_time, stated_rate, where
+from ._common import (MAX_CHANNELS, quote, refuse_transposed, sample_rate_from_time, stated_rate,
+                      where)
 from ._matv5 import check_mat_v5
+from .csvformat import _read_csv, _write_csv, read_table_cells
+from .headers import time_key
 
 __all__ = ["FileFormat", "FORMATS", "register_format", "file_formats", "suffix_format",
-           "check_names"]
+           "check_names", "read_table_cells", "refuse_transposed", "MAX_CHANNELS"]
 
 _MAT73_HEADER = b"MATLAB 7.3 MAT-file, Platform: crowdvib, Created by: crowdvib HDF5 schema 1.00 ."
 # A UFF data set starts and ends with the tag "    -1" closing a line (binary data run up to the
@@ -111,221 +110,6 @@ def _scalar(path, key, value):
     if array.size != 1:
         raise DataError(f"{where(path)}{key} must be one number, got shape {array.shape}")
     return float(array.ravel()[0])
-
-
-# ---------------------------------------------------------------------------------------- CSV
-#: Column separators tried in turn: crowdvib's ",", then ";" and tab (spreadsheets of locales
-#: whose decimal mark is a comma write ";" and "1,5").
-_DELIMITERS = (",", ";", "\t")
-#: A name a spreadsheet would run as a formula (OWASP "CSV injection": = + - @ first). The writer
-#: puts one "'" before it (and before any "'" already there), the reader takes exactly one off.
-_FORMULA = re.compile(r"'*[=+\-@]")
-_ESCAPED = re.compile(r"'+[=+\-@]")
-#: The usual headers of a time column (English, German, French, Dutch, Spanish, Italian, Nordic,
-#: Polish, Finnish), with an optional unit: "Time [s]", "t (s)", "time_s", "Zeit/s".
-_TIME_HEADER = re.compile(r"\s*(time|zeit|temps|tijd|tiempo|tempo|tid|czas|aika|t)\s*"
-                          r"(?:[\[(]\s*(\w+)\s*[\])]|[_/ ]\s*(\w+))?\s*", re.IGNORECASE)
-_SECONDS = {"s", "sec", "secs", "second", "seconds", "sek", "sekunden"}
-_OTHER_TIME_UNITS = {"ms", "us", "µs", "ns", "min", "h", "hr", "hrs"}
-
-
-#: More channels than this, and more channels than samples, is a transposed table (one row per
-#: channel): a footbridge test has tens of sensors, never thousands (issue 35 §2: a CSV of 1e5
-#: columns took 71 s to read, `crowdvib init` drafted 100 000 placeholders).
-MAX_CHANNELS = 1000
-
-
-def refuse_transposed(source, n_channels, n_samples):
-    """DataError for a record of more than MAX_CHANNELS channels, each shorter than that count:
-    asks whether the file is transposed."""
-    if n_channels > MAX_CHANNELS and n_samples < n_channels:
-        raise DataError(f"{where(source)}must hold at most {MAX_CHANNELS} channels (one column "
-                        f"or variable per sensor, one row per sample), got {n_channels} channels "
-                        f"of {n_samples} sample(s) each: is the file transposed (one row per "
-                        "channel)? Transpose it, or write one column per channel")
-
-
-def _time_unit(name):
-    """The unit of a usual time header ("s", or e.g. "ms"); None for any other name (a capital
-    "T" alone is left alone: a temperature or a period as often as a time)."""
-    match = _TIME_HEADER.fullmatch(name)
-    if match is None or match.group(1) == "T":
-        return None
-    unit = (match.group(2) or match.group(3) or "s").lower()
-    return "s" if unit in _SECONDS else unit if unit in _OTHER_TIME_UNITS else None
-
-
-def time_key(path, names, time_column, stated=None):
-    """The time column (variable) among ``names``, or None.
-
-    A ``time_column`` other than the default "time" is taken as given; otherwise the column the
-    file itself names (``stated``: the ``# time_column`` comment crowdvib writes), else "time",
-    else the one usual time header in seconds. Two candidates, or a time header in another
-    unit, are refused rather than guessed.
-    """
-    if time_column != "time":
-        return time_column if time_column in names else None
-    for name in (stated, "time"):
-        if name is not None and name in names:
-            return name
-    found = [name for name in names if _time_unit(name) is not None]
-    if len(found) > 1:
-        raise DataError(f"{where(path)}columns {quote_names(found)} all look like time stamps: "
-                        "name the one to use with measurement.time_column (time_column=)")
-    if found and _time_unit(found[0]) != "s":
-        raise DataError(f"{where(path)}column {quote(found[0])} looks like time in "
-                        f"{_time_unit(found[0])}, crowdvib reads time stamps in s: convert it to "
-                        "seconds, or drop it and give measurement.sample_rate [Hz]")
-    return found[0] if found else None
-
-
-def _header(lines, start):
-    """(column names, delimiter, index of the first line below the header) of a CSV whose header
-    starts at ``lines[start]``: the first delimiter that splits the header into as many names as
-    the first row into fields (RFC 4180 quoting; a quoted name may hold the delimiter)."""
-    row = next((line for line in itertools.islice(lines, start + 1, None)
-                if line.split("#", 1)[0].strip()), "")
-    parsed = []
-    for delimiter in _DELIMITERS:
-        reader = csv.reader(itertools.islice(lines, start, None), delimiter=delimiter)
-        names = next(reader)
-        parsed.append((names, delimiter, start + reader.line_num))
-        if len(names) > 1 and len(names) == len(row.split(delimiter)):
-            return parsed[-1]
-    return parsed[0]
-
-
-def read_table_cells(lines):
-    """The cells (stripped) of a CSV table whose header is ``lines[0]``, in the records' dialect:
-    the separator as :func:`_header` finds it (',' or ';' or tab), and below the header a number
-    written with a decimal comma ("1,5" after ';' or tab) as Python reads it; other cells (a
-    record's name, an ISO time) as they are. For crowdvib's other tables (crowd, counts, modal).
-    """
-    if not lines:
-        return []
-    delimiter = _header(lines, 0)[1]
-    cells = [[cell.strip() for cell in row] for row in csv.reader(lines, delimiter=delimiter)]
-    if delimiter == "," or not cells:
-        return cells
-    return cells[:1] + [[_decimal_point(cell) for cell in row] for row in cells[1:]]
-
-
-def _decimal_point(cell):
-    candidate = cell.replace(",", ".", 1)
-    try:
-        float(candidate)
-    except ValueError:
-        return cell
-    return candidate if cell.count(",") == 1 else cell
-
-
-def _column_names(path, names):
-    """Header cells → column names: blanks around them dropped, the writer's formula guard
-    taken off; a name given twice is refused (which of the two columns is meant?)."""
-    names = [name.strip() for name in names]
-    names = [name[1:] if _ESCAPED.match(name) else name for name in names]
-    seen = {}
-    for number, name in enumerate(names, start=1):
-        if name in seen:
-            raise DataError(f"{where(path)}channel_names must be unique: column {quote(name)} "
-                            f"is both column {seen[name]} and column {number} of the header")
-        seen[name] = number
-    return names
-
-
-def _body(path, lines, first, delimiter):
-    """The rows below the header as text for numpy: comments cut off, decimal commas made points
-    when the columns are not separated by commas (a mix of both marks is refused)."""
-    rows = [line.partition("#")[0] if "#" in line else line
-            for line in itertools.islice(lines, first, None)]
-    if delimiter == ",":
-        return rows
-    comma = next((i for i, row in enumerate(rows) if "," in row), None)
-    if comma is None:
-        return rows
-    point = next((i for i, row in enumerate(rows) if "." in row), None)
-    if point is not None:
-        raise DataError(f"{where(path)}mixes decimal commas (line {first + comma + 1}) and decimal "
-                        f"points (line {first + point + 1}): refusing to guess which is meant")
-    return [row.replace(",", ".") for row in rows]
-
-
-def _first_bad_line(path, rows, first, header, delimiter):
-    """Why the rows below the header are not a table of numbers (only run after a failure).
-
-    A cell and its column are quoted only below a row of numbers: before that the file may be
-    anything a case file named (never quote a file that is not the record we expected).
-    """
-    numbers = 0
-    for number, text in enumerate(rows, start=first + 1):
-        text = text.strip()
-        if not text:
-            continue
-        cells = text.split(delimiter)
-        if len(cells) != len(header):
-            hint = (" (decimal commas? separate the columns with ';')"
-                    if delimiter == "," and len(cells) > len(header) else "")
-            return (f"line {number} (sample index {numbers}) has {len(cells)} field(s), the "
-                    f"header names {len(header)} column(s){hint}")
-        for name, cell in zip(header, cells):
-            try:
-                float(cell)
-            except ValueError:
-                if not numbers:
-                    return (f"line {number} (sample index 0) is not a row of numbers "
-                            f"separated by {delimiter!r}: is {path} a CSV record?")
-                return (f"line {number} (sample index {numbers}), column {quote(name)}: "
-                        f"{quote(cell.strip())} is not a number")
-        numbers += 1
-    return "its rows are not all numbers"
-
-
-def _read_csv(path, *, sample_rate, time_column):
-    # utf-8-sig: a spreadsheet's "CSV UTF-8" starts with a byte-order mark.
-    # newline="": lines end at "\n", "\r\n" or "\r" only, for the csv module to join the lines
-    # of a quoted name that holds one.
-    lines = list(io.StringIO(Path(path).read_bytes().decode("utf-8-sig"), newline=""))
-    meta = {}
-    start = 0
-    while start < len(lines) and (not lines[start].strip()
-                                  or lines[start].lstrip().startswith("#")):
-        match = re.match(r"#\s*([\w ]+?)\s*[=:]\s*(.+)$", lines[start].strip())
-        if match:
-            meta[match.group(1).strip().lower()] = match.group(2).strip()
-        start += 1
-    if start == len(lines):
-        raise DataError(f"{where(path)}has no header line of column names")
-    header, delimiter, first = _header(lines, start)
-    # Before the rows are parsed (1e5 columns took 71 s): the line count bounds the samples.
-    refuse_transposed(path, len(header), len(lines) - first)
-    header = _column_names(path, header)
-    rows = _body(path, lines, first, delimiter)
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")   # numpy warns on a table without rows: refused below
-            values = np.loadtxt(rows, delimiter=delimiter, ndmin=2, dtype=float)
-    except ValueError as exc:
-        # numpy's message quotes the whole offending row: name the line and cell instead.
-        raise DataError(f"{where(path)}cannot be read as a table of numbers: "
-                        f"{_first_bad_line(path, rows, first, header, delimiter)}") from exc
-    if values.size == 0:
-        raise DataError(f"{where(path)}has no rows of numbers below its header line")
-    if values.shape[1] != len(header):
-        raise DataError(f"{where(path)}has {values.shape[1]} columns of data but {len(header)} "
-                        "names in its header line")
-    key = time_key(path, header, time_column, meta.get("time_column"))
-    stored = None
-    if "sample_rate" in meta:
-        try:
-            stored = float(meta["sample_rate"])
-        except ValueError:
-            raise DataError(f"{where(path)}comment 'sample_rate' must be a number, got "
-                            f"{quote(meta['sample_rate'])}") from None
-    rate, source = stated_rate(path, sample_rate, stored, "its comment 'sample_rate'")
-    columns = [(name, values[:, i], None) for i, name in enumerate(header) if name != key]
-    return columns, dict(time=None if key is None else values[:, header.index(key)],
-                         time_name=key, sample_rate=rate, rate_source=source,
-                         units=meta.get("unit"))
 
 
 # --------------------------------------------------------------------------------- NPZ and MAT
@@ -541,35 +325,7 @@ def _read_uff(path, *, sample_rate, time_column):
 
 
 # ------------------------------------------------------------------------------------ writers
-def _csv_name(name):
-    """A channel name as a header cell that reads back to the name and that a spreadsheet does
-    not run as a formula (RFC 4180 quoting is the csv module's)."""
-    return "'" + name if _FORMULA.match(name) else name
-
-
-def _csv_line(cells):
-    """One CSV line ending in "\n" (a writer told its line ends in "\r\n" quotes a name holding
-    a "\r", which one told "\n" would leave bare)."""
-    line = io.StringIO()
-    csv.writer(line, lineterminator="\r\n").writerow(cells)
-    return line.getvalue()[:-2] + "\n"
-
-
-def _write_csv(record, path, dtype):
-    digits = 8 if np.dtype(dtype) == np.float32 else 17
-    time_name = "time"
-    while time_name in record.channel_names:     # a channel may itself be called "time"
-        time_name += "_"
-    header = [time_name] + [_csv_name(n) for n in record.channel_names]
-    columns = np.vstack([record.time, record.data]).T
-    with atomic_path(path) as temporary:
-        with open(temporary, "w", encoding="utf-8", newline="") as handle:
-            handle.write(f"# crowdvib record\n# unit = m/s2\n"
-                         f"# sample_rate = {record.sample_rate!r}\n# time_column = {time_name}\n")
-            handle.write(_csv_line(header))
-            np.savetxt(handle, columns, delimiter=",", fmt=f"%.{digits}g")
-
-
+# ------------------------------------------------------------------------------------ writers
 def _write_npz(record, path, dtype):
     with atomic_path(path) as temporary:
         with open(temporary, "wb") as handle:

@@ -3,6 +3,7 @@
 from ..errors import ParameterError
 from ..signals import detrend, resample, stationary_time_frame
 from ._common import named_file
+from .gaps import mend_gaps
 from .records import check_record, merge_records, read_record
 
 __all__ = ["load_measurement"]
@@ -12,7 +13,8 @@ def load_measurement(case, *, band=None):
     """Read, merge, check and pre-process the records of a case (``[measurement]``).
 
     Steps (docs: theory, Welch PSDs, filters and convergence): read every file (channels mapped to output names, units converted to
-    m/s²), merge the files' channels, check the samples (:func:`crowdvib.io.records.check_record`,
+    m/s²), merge the files' channels, cut at or bridge dropouts if ``gaps`` says so
+    (:func:`crowdvib.io.gaps.mend_gaps`, stated in the record's notes), check the samples (:func:`crowdvib.io.records.check_record`,
     Nyquist above ``band``'s upper edge and the filter cut-off), cut the time frame (explicit, or
     the longest stationary stretch), remove the trend and resample if asked. The low-pass filter
     is *not* applied here: :func:`crowdvib.welch_psd` applies it and records it in the PSD, so the
@@ -37,7 +39,8 @@ def load_measurement(case, *, band=None):
     for number, file in enumerate(spec.files):
         named_file(file, f"{case.path.name}: measurement.files[{number}]")
         record = read_record(file, format=spec.format, units=spec.units,
-                             sample_rate=spec.sample_rate, time_column=spec.time_column)
+                             sample_rate=spec.sample_rate, time_column=spec.time_column,
+                             header_row=spec.header_row)
         if spec.channels is not None:
             wanted = {out: name for out, name in spec.channels.items()
                       if name in record.channel_names}
@@ -46,7 +49,7 @@ def load_measurement(case, *, band=None):
             record = record.select(wanted) if wanted else None
         if record is not None:
             records.append(record)
-    record = merge_records(records)
+    record = mend_gaps(merge_records(records), spec.gaps, spec.max_gap)
     band = case.estimation.band if band is None else band
     upper = max(band[1], spec.lowpass_cutoff or 0.0)
     check_record(record, band=(band[0], upper))

@@ -30,17 +30,16 @@ from .._validation import check_positive
 from ..errors import DataError, DataWarning, ParameterError, PlausibilityWarning
 from ..models.loading import STANDARD_GRAVITY
 from .._files import require_file
-from ._common import (quote, quote_names, reading, same_rate, sample_rate_from_time,
-                      where)
-from .formats import check_names, file_formats, refuse_transposed, suffix_format
+from ._common import (quote, quote_names, reading, refuse_transposed, same_rate,
+                      sample_rate_from_time, where)
+from .formats import check_names, file_formats, suffix_format
+from .headers import UNITS, unit_key
 
 __all__ = ["Record", "read_record", "write_record", "check_record", "merge_records",
            "RECORD_FORMATS", "convert_units"]
 
 #: Record file formats by name → file suffixes (from the formats table, io.formats.FORMATS).
 RECORD_FORMATS = {name: row.suffixes for name, row in file_formats("record").items()}
-_UNIT_ALIASES = {"m/s2": "m/s2", "m/s^2": "m/s2", "m/s²": "m/s2", "m s-2": "m/s2", "mps2": "m/s2",
-                 "g": "g", "g0": "g"}
 
 
 #: |sample| beyond which a record is refused: no accelerometer nor unit mix-up gives it, and its
@@ -59,40 +58,50 @@ def _refuse_absurd_samples(source, names, data, units=""):
                         f"{index}: a damaged cell or a wrong scale")
 
 
-def _check_declared_g(source, names, data):
-    """A record declared in g whose values are m/s²: a mean at the gravity offset 9.81 (m/s²:
-    DataError, 9.81 g at rest is no accelerometer), or an RMS above 1 g (PlausibilityWarning:
-    footbridge accelerations stay below 0.2 g, their m/s² values are 0.01–2)."""
+def _check_declared_units(source, names, data, units):
+    """A record declared in ``units`` whose mean is the gravity offset in other units (DataError:
+    an accelerometer at rest shows 1 g, so a mean of 9.81 declared as g, or of 1000 declared as
+    g, is another unit's offset), or, declared in g or mg, whose RMS is above 1 g
+    (PlausibilityWarning: footbridge accelerations stay below 0.2 g)."""
+    scale = UNITS[units]
     for name, row in zip(names, data):
         mean = float(np.mean(row))
         rms = float(np.std(row))
-        if abs(abs(mean) - STANDARD_GRAVITY) <= 0.15 * STANDARD_GRAVITY \
-                and rms < 0.5 * STANDARD_GRAVITY:
-            raise DataError(f"{where(source, name)}units 'g' must not hold a mean of {mean:.3g} "
-                            f"g (an accelerometer at rest shows 1 g): {mean:.3g} is the gravity "
-                            "offset in m/s²; declare units 'm/s2'")
-        if rms > 1.0:
-            warnings.warn(f"{where(source, name)}RMS {rms:.3g} g is above 1 g, unusual for a "
-                          f"footbridge (below 0.2 g): m/s² declared as g? ({rms:.3g} m/s² is "
-                          f"{rms / STANDARD_GRAVITY:.3g} g)", PlausibilityWarning, stacklevel=4)
+        offset = next((other for other, other_scale in UNITS.items()
+                       if other != units and other != "mm/s2"
+                       and abs(abs(mean) * other_scale - STANDARD_GRAVITY)
+                       <= 0.15 * STANDARD_GRAVITY and rms * other_scale < 0.5 * STANDARD_GRAVITY
+                       and abs(abs(mean) * scale - STANDARD_GRAVITY) > 0.15 * STANDARD_GRAVITY),
+                      None)
+        if offset is not None:
+            raise DataError(f"{where(source, name)}units {units!r} must not hold a mean of "
+                            f"{mean:.3g} {units} (an accelerometer at rest shows 1 g): {mean:.3g} "
+                            f"is the gravity offset in {'m/s²' if offset == 'm/s2' else offset}; "
+                            f"declare units {offset!r}")
+        if units in ("g", "mg") and rms * scale > STANDARD_GRAVITY:
+            warnings.warn(f"{where(source, name)}RMS {rms:.3g} {units} is above 1 g, unusual for a "
+                          f"footbridge (below 0.2 g): m/s² declared as {units}? ({rms:.3g} m/s² "
+                          f"is {rms / STANDARD_GRAVITY:.3g} g)", PlausibilityWarning, stacklevel=4)
 
 
 def _unit_key(units, prefix):
-    key = _UNIT_ALIASES.get(str(units).strip().lower().replace(" ", ""))
+    key = unit_key(units)
     if key is None:
-        raise ParameterError(f"{prefix}units must be 'm/s2' or 'g', got {quote(units)}")
+        raise ParameterError(f"{prefix}units must be 'm/s2', 'g', 'mg' or 'mm/s2', got "
+                             f"{quote(units)}")
     return key
 
 
 def convert_units(data, units):
-    """Accelerations in ``units`` ("g" or "m/s2") → m/s² (g = 9.81 m/s², docs: theory, Conventions).
+    """Accelerations in ``units`` ("g", "mg", "m/s2" or "mm/s2") → m/s² (g = 9.81 m/s², docs:
+    theory, Conventions).
 
     Parameters
     ----------
     data : array_like
         Accelerations in ``units``.
     units : str
-        ``"g"`` (g = 9.81 m/s²) or ``"m/s2"``.
+        ``"g"`` (g = 9.81 m/s²), ``"mg"``, ``"m/s2"`` or ``"mm/s2"``.
 
     Returns
     -------
@@ -105,8 +114,7 @@ def convert_units(data, units):
     >>> convert_units([0.0, 0.01], "g")
     array([0.    , 0.0981])
     """
-    scale = STANDARD_GRAVITY if _unit_key(units, "") == "g" else 1.0
-    return np.asarray(data, dtype=float) * scale
+    return np.asarray(data, dtype=float) * UNITS[_unit_key(units, "")]
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,6 +133,9 @@ class Record:
         Time of the first sample [s].
     source : str
         File the record was read from (for messages); empty for records made in memory.
+    notes : tuple of str
+        What was done to the samples as read, in words (a dropout cut or bridged:
+        :func:`crowdvib.io.gaps.mend_gaps`); results.json states them with the record.
 
     Notes
     -----
@@ -136,6 +147,7 @@ class Record:
     channel_names: tuple
     start_time: float = 0.0
     source: str = ""
+    notes: tuple = ()
 
     def __post_init__(self):
         if np.iscomplexobj(self.data):    # numpy would drop the imaginary part with a warning
@@ -161,6 +173,7 @@ class Record:
                            check_positive("sample_rate", self.sample_rate, unit="Hz"))
         object.__setattr__(self, "start_time", float(self.start_time))
         object.__setattr__(self, "source", str(self.source))
+        object.__setattr__(self, "notes", tuple(str(note) for note in self.notes))
 
     @property
     def n_channels(self) -> int:
@@ -274,7 +287,7 @@ class Record:
         """
         fields = dict(data=self.data, sample_rate=self.sample_rate,
                       channel_names=self.channel_names, start_time=self.start_time,
-                      source=self.source)
+                      source=self.source, notes=self.notes)
         fields.update(changes)
         return Record(**fields)
 
@@ -283,9 +296,10 @@ class Record:
 
     def to_dict(self) -> dict[str, Any]:
         """Metadata as a JSON-ready dict (no samples)."""
-        return {"source": self.source, "channel_names": list(self.channel_names),
-                "sample_rate": self.sample_rate, "n_samples": self.n_samples,
-                "start_time": self.start_time, "duration": self.duration}
+        found = {"source": self.source, "channel_names": list(self.channel_names),
+                 "sample_rate": self.sample_rate, "n_samples": self.n_samples,
+                 "start_time": self.start_time, "duration": self.duration}
+        return {**found, "notes": list(self.notes)} if self.notes else found
 
 
 # ------------------------------------------------------------------------------------ checks
@@ -343,9 +357,12 @@ def check_record(record: Record, *, band: tuple[float, float] | None = None,
         channel, index = np.argwhere(~finite)[0]
         value = record.data[channel, index]
         kind = "NaN" if np.isnan(value) else "infinite"
+        gap = (" (a dropout: an empty cell or NaN): set measurement.gaps = \"cut\" to keep the "
+               "longest stretch without one, or \"bridge\" to interpolate gaps up to "
+               "measurement.max_gap" if np.isnan(value) else "")
         raise DataError(f"{where(source, record.channel_names[channel])}{kind} sample at sample "
                         f"index {index} "
-                        f"(t = {record.start_time + index / record.sample_rate:.6g} s)")
+                        f"(t = {record.start_time + index / record.sample_rate:.6g} s){gap}")
     if band is not None:
         upper = float(band[1])
         nyquist = record.sample_rate / 2
@@ -418,7 +435,8 @@ def merge_records(records):
     sources = sorted({r.source for r in records})
     return Record(data=np.concatenate([r.data for r in records]), sample_rate=first.sample_rate,
                   channel_names=tuple(names), start_time=first.start_time,
-                  source=sources[0] if len(sources) == 1 else ", ".join(sources))
+                  source=sources[0] if len(sources) == 1 else ", ".join(sources),
+                  notes=tuple(note for record in records for note in record.notes))
 
 
 def _assemble(source, channels, *, sample_rate=None, rate_source=None, time=None,
@@ -472,8 +490,8 @@ def _assemble(source, channels, *, sample_rate=None, rate_source=None, time=None
     refuse_transposed(source, len(names), np.size(first))
     raw = np.stack([np.asarray(s, dtype=float).ravel() for _, s, _ in channels])
     _refuse_absurd_samples(source, names, raw)
-    if _unit_key(units, "") == "g":
-        _check_declared_g(source, names, raw)
+    if _unit_key(units, "") != "m/s2":
+        _check_declared_units(source, names, raw, _unit_key(units, ""))
     data = convert_units(raw, units)
     return Record(data=data, sample_rate=rate, channel_names=[n for n, _, _ in channels],
                   start_time=start_time, source=str(source))
@@ -495,7 +513,7 @@ def _format_of(path, format):
 def read_record(path: str | os.PathLike, *, format: str | None = None,
                 channels: Mapping[str, str] | Sequence[str] | None = None,
                 units: str | None = None, sample_rate: float | None = None,
-                time_column: str = "time") -> Record:
+                time_column: str = "time", header_row: int | None = None) -> Record:
     """Read an acceleration record from a CSV, NPZ, MAT (v5, v7.3) or UFF-58 file.
 
     Parameters
@@ -508,25 +526,43 @@ def read_record(path: str | os.PathLike, *, format: str | None = None,
     channels : sequence of str or dict of str to str, optional
         Channels to keep, or output name → channel name in the file (renames them to the
         structure's output names). Default all channels, as named in the file.
-    units : {"m/s2", "g"}, optional
-        Units of the samples; default the unit stored in the file, else m/s². g → 9.81 m/s².
+    units : {"m/s2", "g", "mg", "mm/s2"}, optional
+        Units of the samples; default the unit stored in the file (a CSV's ``# unit`` comment,
+        else the unit its column headers close in, ``a [mg]``), else m/s². g → 9.81 m/s².
     sample_rate : float, optional
         Sample rate [Hz] for files without time stamps (CSV without a time column).
     time_column : str
         Name of the time column/variable [s].
+    header_row : int, optional
+        CSV only: the line number (1 for the first line) of the header row. Default: the first
+        line that names as many columns as the rows below it hold numbers (the metadata lines a
+        logger writes above it are skipped).
 
     Returns
     -------
     Record
         In m/s²; time stamps are checked (uniform, increasing, no gaps), the samples are not —
         call :func:`check_record`.
+
+    Warns
+    -----
+    DataWarning
+        ``units`` differ from the unit a column header states (``a [mg]`` read as g).
     """
-    record, _ = _read_record(path, format=format, units=units, sample_rate=sample_rate,
-                             time_column=time_column)
+    record, meta = _read_record(path, format=format, units=units, sample_rate=sample_rate,
+                                time_column=time_column, header_row=header_row)
+    stated = meta.get("header_units") or {}
+    if units is not None:
+        other = {name: unit for name, unit in stated.items() if unit != _unit_key(units, "")}
+        if other:
+            warnings.warn(f"{where(path)}read in {units!r} as given, but the header of column(s) "
+                          + ", ".join(f"{quote(name)} states {unit!r}"
+                                      for name, unit in other.items())
+                          + ": is the given unit right?", DataWarning, stacklevel=2)
     return record if channels is None else record.select(channels)
 
 
-def _read_record(path, *, format, units, sample_rate, time_column):
+def _read_record(path, *, format, units, sample_rate, time_column, header_row=None):
     """(Record, the reader's meta: its time base and the units the file states) — the work of
     :func:`read_record`; ``crowdvib init`` (:mod:`crowdvib.io.draft`) reports the time base."""
     path = Path(path)
@@ -539,8 +575,15 @@ def _read_record(path, *, format, units, sample_rate, time_column):
     # The one guard of every reader: whatever goes wrong in the file, the caller gets a
     # DataError naming it (a unit or sample rate stored in the file included).
     row = file_formats("record")[kind]
+    options = {}
+    if header_row is not None:
+        if kind != "csv":
+            raise ParameterError(f"header_row applies to CSV records only, got it for "
+                                 f"{Path(path).name!r} read as {kind}")
+        options["header_row"] = check_positive("header_row", header_row)
     with reading(path, row.description):
-        columns, meta = row.reader(path, sample_rate=sample_rate, time_column=time_column)
+        columns, meta = row.reader(path, sample_rate=sample_rate, time_column=time_column,
+                                   **options)
         unit = units if units is not None else (meta.get("units") or "m/s2")
         _unit_key(unit, f"{path.name}: ")
         record = _assemble(path, columns, sample_rate=meta.get("sample_rate"),

@@ -63,6 +63,14 @@ def plot_mode_accelerations(checks: dict, *, axes: object = None,
             ax.plot(modes, check.peak_accelerations[index, output], "o-",
                     color=_SHADES[model], mec=DARK, label=MODEL_LABELS[model])
         ax.axhline(check.limit, color=DARK, ls="--", lw=1.0, label="limit")
+        # Modes are whole numbers, the limit and every peak inside the axes from 0 (issue 36
+        # §3: one mode was drawn on a continuous axis 0.96–1.04, the limit on the lower edge).
+        ax.set_xticks(modes)
+        ax.set_xlim(0.5, modes[-1] + 0.5)
+        peaks = check.peak_accelerations[:, output]
+        top = max(float(check.limit), float(np.nanmax(peaks)) if np.isfinite(peaks).any()
+                  else 0.0)
+        ax.set_ylim(0.0, 1.15 * top)
         ax.set_xlabel("Mode [-]")
         ax.set_title(f"{_code_label(check)}, {check.output_names[output]}", fontsize="medium")
         ax.grid(True, alpha=0.3)

@@ -4,8 +4,10 @@ internals, not inputs of the bridge).
 
 :func:`client_inputs` leaves out of the Inputs section what is no input there: the estimator's
 internal switches (shown here instead, in a details section), the ``[hsi]`` defaults of
-parameters the run estimated, and a default time column no record was read by; it adds to the
-``[design]`` card the checked codes' defaults not verified against their guide.
+parameters the run estimated (all of ``[hsi]`` for a check that used another MSD), a structure
+name the file did not set (the case file's name) and a default time column no record was read
+by; it adds to the ``[design]`` card the checked codes' defaults not verified against their
+guide.
 """
 
 from markupsafe import Markup
@@ -51,9 +53,17 @@ def client_inputs(results, name, block, not_set):
     """The rows of input card ``name`` a client reads (see the module docstring)."""
     if name == "estimation":
         return {k: v for k, v in block.items() if k not in _SWITCHES}
+    if name == "structure" and not_set.get("structure.name") == "default":
+        # Not set: the case file's name, which the case card shows already (issue 36 §3).
+        return {k: v for k, v in block.items() if k != "name"}
     if name == "design":
         return design_inputs(results, block)
     if name == "hsi":
+        msd = results.get("msd") if isinstance(results.get("msd"), dict) else {}
+        if results.get("command") == "check" and msd.get("source") not in (None, "[hsi]"):
+            # The check used another MSD (an estimate, [design.msd]): [hsi] was not (issue
+            # 36 §3), and its values beside the MSD used would read as a second model.
+            return {"not used": f"the MSD model of the check is {msd['source']} (below)"}
         found = estimate(results) or {}
         return {k: v for k, v in block.items()
                 if not (k in found and not_set.get(f"hsi.{k}") == "default")}

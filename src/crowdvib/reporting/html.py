@@ -103,7 +103,8 @@ def page(title, generator, body):
 #: The page's style, inline so the file stands alone (no external resources).
 CSS = Markup("""
 :root { --ink: #1b1f24; --muted: #5b6470; --line: #d9dee4; --accent: #1f4e79;
-        --warn-bg: #fff5d6; --warn: #7a5200; --ok-bg: #e8f5ec; --ok: #1d6531; }
+        --warn-bg: #fff5d6; --warn: #7a5200; --ok-bg: #e8f5ec; --ok: #1d6531;
+        --fail-bg: #fde8e8; --fail: #8a1c1c; }
 * { box-sizing: border-box; }
 body { margin: 0; background: #eef0f3; color: var(--ink);
        font: 15px/1.5 system-ui, -apple-system, "Segoe UI", Roboto, "Helvetica Neue", Arial,
@@ -126,6 +127,7 @@ ul.headline { list-style: none; padding: 0; margin: 0 0 12px; display: flex; fle
 .callout ul { margin: 6px 0 0; padding-left: 20px; }
 .callout.warn { background: var(--warn-bg); color: var(--warn); border-left: 5px solid #e0a800; }
 .callout.ok { background: var(--ok-bg); color: var(--ok); border-left: 5px solid #2e9e4f; }
+.callout.fail { background: var(--fail-bg); color: var(--fail); border-left: 5px solid #c62828; }
 .badge { display: inline-block; padding: 0 6px; border-radius: 4px; font-size: .82em; }
 .badge.warn { background: var(--warn-bg); color: var(--warn); border: 1px solid #e0a800; }
 table { border-collapse: collapse; margin: 6px 0 12px; font-variant-numeric: tabular-nums; }

@@ -13,7 +13,7 @@ import numpy as np
 from .._version import __version__
 from .._files import sha256_file
 from ..cases.schema import case_name, estimate, get, hsi, real as _real, sensitivity, summary
-from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL
+from ..cases.verdict import CONVERGENCE_LEVEL, RELATIVE_COST_LEVEL, is_doubt
 from .comfort_section import comfort_headline
 from .design_section import damper_items, design_decisions, msd_section
 from .estimator_section import client_inputs, convergence_norm_words, estimator_details
@@ -68,9 +68,11 @@ class Notes:
 
     def __init__(self, findings=(), results=None):
         findings = list(findings)
-        self.fails = [finding_markup(f.text) for f in findings if f.severity == "fail"]
-        self.warnings = [finding_markup(f.text) for f in findings
-                         if f.severity not in ("ok", "fail")]
+        # A code that fails only at the conservative end of the interval is a doubt (the data
+        # do not decide it); one the bridge fails at the result is the checks' answer.
+        self.fails = [finding_markup(f.text) for f in findings
+                      if f.severity == "fail" and not is_doubt(f)]
+        self.warnings = [finding_markup(f.text) for f in findings if is_doubt(f)]
         said = {f.text for f in findings}
         self.warnings += [finding_markup(m) for m in run_warnings(results or {})
                           if m not in said]
@@ -146,22 +148,29 @@ def summary_section(results, notes):
 
 
 def verdict_box(notes, more=Markup("")):
-    """The summary's box: what the bridge fails apart from what the tool doubts (issue 27 §4),
-    each counted, then ``more`` (a season's records in doubt); or "No warnings"."""
-    if notes.fails or notes.warnings:
-        return html('<div class="callout warn"><strong>Check before use</strong>{}{}{}</div>',
-                    _listed("The bridge fails {} check(s)", notes.fails),
-                    _listed("The tool doubts its result: {} warning(s)", notes.warnings), more)
+    """The summary's boxes: what the bridge fails (the checks' answer, red) apart from what the
+    tool doubts about its own result (check before use, yellow), each in its box and words
+    (issue 36 §3), ``more`` (a season's records in doubt) in the doubt's; or "No warnings"."""
+    box = (html('<div class="callout fail"><strong>The bridge fails {} design check(s)'
+                '</strong><p>The checks\' answer, not a doubt about the result.</p>{}</div>',
+                len(notes.fails), _listed(None, notes.fails)) if notes.fails else Markup(""))
+    if notes.warnings or more:
+        return box + html('<div class="callout warn"><strong>Check before use: the result '
+                          'itself is in doubt</strong>{}{}</div>',
+                          _listed("The tool doubts its result: {} warning(s)", notes.warnings),
+                          more)
     good = (html("<ul>{}</ul>", join(html("<li>{}</li>", g) for g in notes.good))
             if notes.good else "")
-    return html('<div class="callout ok"><strong>No warnings</strong>{}</div>', good)
+    return box + html('<div class="callout ok"><strong>{}</strong>{}</div>',
+                      "The result itself is not in doubt: no warnings" if notes.fails
+                      else "No warnings", good)
 
 
 def _listed(heading, items):
     if not items:
         return Markup("")
-    return html("<p>{}:</p><ul>{}</ul>", html(heading, len(items)),
-                join(html("<li>{}</li>", item) for item in items))
+    listed = html("<ul>{}</ul>", join(html("<li>{}</li>", item) for item in items))
+    return listed if heading is None else html("<p>{}:</p>{}", html(heading, len(items)), listed)
 
 
 def _response(results):
@@ -244,8 +253,14 @@ def estimate_section(results):
                      statistical, band, number(truth), error, limits_text])
     level = next((interval_of(found, k)[2] for k, _, _ in _PARAMETERS
                   if interval_of(found, k)), 0.95)
-    parts = [table(["parameter", "estimate", f"{100 * level:g} % interval", "nominal ± bound",
-                    reference_name, "error", "search bounds"], rows, "data")]
+    headers = ["parameter", "estimate", f"{100 * level:g} % interval", "nominal ± bound",
+               reference_name, "error", "search bounds"]
+    # A field estimate has no modelling-error study nor truth: those columns go, not left
+    # empty (issue 36 §3).
+    keep = [i for i, header in enumerate(headers)
+            if i not in (3, 4, 5) or any(str(row[i]) != "—" for row in rows)]
+    parts = [table([headers[i] for i in keep], [[row[i] for i in keep] for row in rows],
+                   "data")]
     if any(interval_of(found, k) for k, _, _ in _PARAMETERS):
         parts.append(_interval_note(results))
     if bounds_summary:
@@ -305,10 +320,12 @@ def _interval_note(results):
     records = _records_held(results)
     parts = [html('<p class="muted">Interval: the statistical uncertainty of {} ({}; docs: '
                   "theory, Statistical uncertainty of an estimate) and {}. It does not hold "
-                  "the modelling errors, which the nominal ± bound column shows.</p>",
+                  "the modelling errors, {}.</p>",
                   "this record" if records == 1
                   else f"the joint fit of {records} records, each with its crowd",
-                  _INTERVALS.get(method, _INTERVALS["profile"]), held)]
+                  _INTERVALS.get(method, _INTERVALS["profile"]), held,
+                  "which the nominal ± bound column shows" if summary(results) else
+                  "which crowdvib sensitivity estimates (the nominal ± bound)")]
     rows = [[html("{} [{}]", symbol, unit),
              html("{} %", number(100 * shares[key], 2)) if _real(shares.get(key)) is not None
              else "—",

@@ -53,6 +53,9 @@ logger = logging.getLogger(__name__)
 
 #: What the fork server imports once, for every worker it forks: the studies and their kernels.
 _PRELOAD = ["crowdvib.studies"]
+#: Seconds the workers ended after Ctrl-C get to exit (and release their semaphores) before
+#: they are killed.
+_GRACE = 2.0
 
 #: Seconds between two looks at a busy worker's time limit (it grows as tasks finish).
 _POLL = 1.0
@@ -126,6 +129,7 @@ class ProcessPool(concurrent.futures.Executor):
         self._queue = collections.deque()
         self._ready = threading.Condition()
         self._closed = False
+        self._ending = False                     # close(kill=True): the pool ends its workers
         # One lifeline for all workers: each closes the write end it inherits, so the parent
         # holds the only one and its death closes the pipe for every worker.
         self._lifeline, self._lifeline_end = self._context.Pipe(duplex=False)
@@ -171,12 +175,23 @@ class ProcessPool(concurrent.futures.Executor):
         return False
 
     def close(self, *, kill=False):
-        """Shut down; ``kill`` first kills the workers still running a task (after Ctrl-C:
-        their results would be thrown away), their futures then fail."""
+        """Shut down; ``kill`` first ends the workers still running a task (after Ctrl-C:
+        their results would be thrown away), their futures then fail, without a word: the pool
+        ended them, they did not die (issue 36 §3). Each is asked to exit (SIGTERM: it exits
+        as a process does, releasing the semaphores numba made in it, which a kill leaks) and
+        killed if it has not after :data:`_GRACE` s."""
         self.shutdown(wait=False, cancel_futures=kill)
         if kill:
-            for process in list(self._processes.values()):
-                process.kill()
+            self._ending = True
+            processes = list(self._processes.values())
+            for process in processes:
+                process.terminate()
+            deadline = time.monotonic() + _GRACE
+            for thread in self._threads:
+                thread.join(timeout=max(deadline - time.monotonic(), 0.0))
+            for slot, process in enumerate(processes):
+                if self._threads[slot].is_alive():    # its worker has not exited yet
+                    process.kill()
         for thread in self._threads:
             thread.join()
         self._lifeline_end.close()
@@ -237,6 +252,10 @@ class ProcessPool(concurrent.futures.Executor):
                     process.kill()                  # SIGKILL ends a stopped process too
                 process.join()
                 connection.close()
+                if self._ending:                    # ended by close(kill=True), not dead
+                    item.future.set_exception(WorkerDied("the pool ended its worker "
+                                                         "(close(kill=True): interrupted)"))
+                    return
                 item.attempts += 1
                 reason = (f"killed after {held:.1f} s without an answer, past the time limit "
                           f"{self._describe_limit()}" if outcome is _HUNG
@@ -382,9 +401,22 @@ def _restore_interrupts(held):
 
 
 # ------------------------------------------------------------------------ worker side
+def _end(signum, frame):
+    """SIGTERM from :meth:`ProcessPool.close`: leave the task and the worker (SystemExit ends
+    the process as a return would, its finalizers run)."""
+    _ENDING.append(signum)
+    raise SystemExit(1)
+
+
+#: The signal that ended this worker, once it came.
+_ENDING: list = []
+
+
 def _work(connection, lifeline, lifeline_end, share):
-    """A worker's life: ignore Ctrl-C, die with the parent, run calls until told to stop."""
+    """A worker's life: ignore Ctrl-C, die with the parent, run calls until told to stop, exit
+    when the pool ends it (SIGTERM)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, _end)
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     if lifeline_end is not None:
@@ -404,6 +436,8 @@ def _work(connection, lifeline, lifeline_end, share):
         except Exception as error:
             reply = "error", error, traceback.format_exc()
         except BaseException as error:       # sys.exit() in a task must not end the parent
+            if _ENDING:
+                return
             reply = "error", RuntimeError(f"the task ended its worker: {error!r}"), None
         try:
             connection.send(reply)

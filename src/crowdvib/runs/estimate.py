@@ -120,10 +120,12 @@ def run_map(case: Case | str | Path, out: str | Path, *, frequencies: ArrayLike,
 
 
 def measurement_line(measurement) -> str:
-    """One line on a case's record (:class:`crowdvib.cases.CaseMeasurement`)."""
+    """One line on a case's record (:class:`crowdvib.cases.CaseMeasurement`), and one on each
+    thing done to its samples as read (a dropout cut or bridged: its notes)."""
     record = measurement.record
     return (f"  record  {record.n_channels} channel(s) {list(record.channel_names)}, "
-            f"{record.duration:g} s at {record.sample_rate:g} Hz")
+            f"{record.duration:g} s at {record.sample_rate:g} Hz"
+            + "".join(f"\n          {note}" for note in record.notes))
 
 
 def crowd_line(case, fitted) -> str | None:

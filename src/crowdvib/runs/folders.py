@@ -287,9 +287,15 @@ def write_results(directory, results):
     """
     from .._files import write_json
     from ..cases.results import Results
+    from ..reporting.paths import without_machine_paths
     from ..reporting.report import case_template, write_report
 
     found = Results.from_dict(results)
-    write_json(directory / "results.json", found.to_dict())
+    # The report is written from the paths as the run saw them (the case's template, its
+    # records); results.json holds each relative to the results folder (a sibling of this
+    # staging folder: the same relative path), as the report shows them, not a folder of the
+    # machine that wrote it (issue 36 §3).
+    written = Results.from_dict(without_machine_paths(found.to_dict(), directory.resolve()))
+    write_json(directory / "results.json", written.to_dict())
     write_report(directory, results=found, template=case_template(results))
-    return found
+    return written
