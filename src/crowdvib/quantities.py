@@ -27,6 +27,7 @@ QUANTITIES = MappingProxyType({
     "sample_rate": ("sample rate", "Hz"), "record_sample_rate": ("stored sample rate", "Hz"),
     "time_frame": ("time frame", "s"), "lowpass_cutoff": ("low-pass cut-off", "Hz"),
     "lowpass_order": ("low-pass order", "-"), "window_length": ("Welch window T", "s"),
+    "max_gap": ("longest dropout bridged", "s"), "header_row": ("header row (line)", "-"),
     "overlap": ("window overlap", "-"), "band": ("analysis band", "Hz"),
     "cutoff": ("low-pass cut-off", "Hz"), "duration": ("duration", "s"),
     "duration_s": ("duration", "s"), "warm_up": ("warm-up", "s"),

@@ -134,7 +134,8 @@ def test_modes_report_shows_its_inputs_shapes_and_the_missed_column(ambient, tmp
     assert "identification 50/50 steps" in printed.err                    # the progress bar
     results = json.loads((out / "results.json").read_text())
     inputs = results["inputs"]
-    assert inputs["record"]["file"] == str(tmp_path / "ambient.npz")
+    # Relative to the results folder: no folder of the writer's machine (issue 36 §3).
+    assert inputs["record"]["file"] == "../ambient.npz"
     assert inputs["record"]["sample_rate"] == 50.0 and inputs["record"]["duration"] == 1800.0
     assert inputs["identification"]["block_rows"] == 50
     assert results["missed"][0]["frequency"] == pytest.approx(2.0, rel=0.005)
