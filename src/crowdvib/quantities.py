@@ -31,8 +31,6 @@ QUANTITIES = MappingProxyType({
     "overlap": ("window overlap", "-"), "band": ("analysis band", "Hz"),
     "cutoff": ("low-pass cut-off", "Hz"), "duration": ("duration", "s"),
     "duration_s": ("duration", "s"), "warm_up": ("warm-up", "s"),
-    "max_gap": ("longest dropout bridged", "s"), "header_row": ("header row of the file", "-"),
-    "skip_rows": ("lines skipped above the header", "-"),
     "rms": ("RMS acceleration", "m/s²"), "elapsed_s": ("run time", "s"),
     "n_windows": ("Welch windows", "-"), "level": ("confidence level", "-"),
     "output_weights": ("output weights γ", "-"), "weights": ("output weights γ", "-"),
