@@ -56,7 +56,8 @@ write_synthetic_season(folder / "records", paper.structure, paper.crowd, paper.m
 text = (examples / "paper_example.toml").read_text(encoding="utf-8")
 (folder / "bridge.toml").write_text(text.replace(
     "[estimation]\n", '[estimation]\nmethod = "least_squares"   # fast, for this page\n')
-    + '\n[comfort]\ndamper_mass_ratio = 0.02   # the "+ damper" rows: a 2 % damper\n',
+    + '\n[comfort]\ndamper_mass_ratio = 0.02   # the "+ damper" rows: a 2 % damper\n'
+    'simulated_windows = 20      # thin crowds: 20 simulated windows a density (100 by default)\n',
     encoding="utf-8")
 
 
@@ -75,7 +76,10 @@ run("crowdvib season bridge.toml records/crowd.csv --records records --out seaso
 # ------------------------
 # Each window stands for its hour of the week (52 hours a year); an hour of the week no window
 # measured takes the windows of the same hour on days of the same kind (``[comfort] unmeasured``
-# says otherwise). The MSD is the season's joint estimate, its interval the HSI band.
+# says otherwise). The MSD is the season's joint estimate, its interval the HSI band. Below a
+# thin crowd, fewer than 100 walkers on the walkway (0.67 persons/m² here), the no-HSI and HSI
+# rows take windows made by the simulator, where the spectral law reads the upper tail low
+# (``[comfort] simulate_below``; 0 switches it off; docs: theory, A year of comfort).
 status = run("crowdvib comfort bridge.toml --season season --out comfort")
 print("exit status", status)
 

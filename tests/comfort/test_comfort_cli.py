@@ -207,8 +207,10 @@ def test_the_simulator_stands_in_for_a_thin_crowd_by_default(paper_case):
     case = paper_case.read_text(encoding="utf-8").replace(
         "simulate_below = 0\n", "simulated_windows = 3\nduration = 60.0\n")
     paper_case.write_text(case, encoding="utf-8")
-    settings = comfort_case(load_case(paper_case),
-                            traffic=paper_case.parent / "traffic.csv").year.settings
+    out = paper_case.parent / "out"
+    assert main(["comfort", str(paper_case), "--traffic", str(paper_case.parent / "traffic.csv"),
+                 "--out", str(out), "-q"]) == 0
+    settings = load_results(out).comfort_year().settings
     assert settings["simulate_below"] == pytest.approx(100.0 / 150.0)
     assert settings["simulated_rows"] == [["empty", False], ["empty", True], ["hsi", False],
                                           ["hsi", True]]
