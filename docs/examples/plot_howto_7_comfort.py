@@ -80,7 +80,7 @@ run("crowdvib season bridge.toml records/crowd.csv --records records --out seaso
 # thin crowd, fewer than 100 walkers on the walkway (0.67 persons/m² here), the no-HSI and HSI
 # rows take windows made by the simulator, where the spectral law reads the upper tail low
 # (``[comfort] simulate_below``; 0 switches it off; docs: theory, A year of comfort).
-status = run("crowdvib comfort bridge.toml --season season --out comfort")
+status = run("crowdvib comfort bridge.toml --season season --out comfort --workers 1")
 print("exit status", status)
 
 # %%
@@ -114,6 +114,7 @@ profile = [0.0] * 6 + [0.1, 0.3, 0.6, 0.3, 0.2, 0.2, 0.4, 0.3, 0.2, 0.2, 0.3, 0.
                        0.2, 0.1, 0.05, 0.0]
 (folder / "traffic.csv").write_text(
     "hour,density\n" + "".join(f"{h},{d}\n" for h, d in enumerate(profile)), encoding="utf-8")
-run("crowdvib comfort bridge.toml --traffic traffic.csv --msd-from season --out design-year -q")
+run("crowdvib comfort bridge.toml --traffic traffic.csv --msd-from season --out design-year -q "
+    "--workers 1")
 load_results(folder / "design-year").comfort_year().plot("exceedance")
 plt.show()
