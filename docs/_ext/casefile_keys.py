@@ -112,7 +112,9 @@ RULES = {"structure.outputs": "a table name = position x [m] (or [x, y] across l
          "modal_model.modal_masses": "> 0, one per identified mode (with sensor_positions and "
                                      "walkway instead of fe_model)",
          "modal_model.sensor_positions": "one per sensor, in the order of the sensors",
-         "modal_model.walkway": "[start, end] of the walkway"}
+         "modal_model.walkway": "[start, end] of the walkway",
+         "comfort.simulate_below": ">= 0; default: a thin crowd, 100 walkers over the "
+                                   "walkway's area (docs: theory, A year of comfort); 0: none"}
 #: Units of keys whose name alone does not find them in crowdvib.quantities (a damper's mass
 #: is not a modal mass, its position is along the walkway, its lane across it).
 UNITS = {"design.damper.mass": "kg", "design.damper.position": "m", "design.damper.lane": "m",

@@ -26,11 +26,11 @@ FIGURES = ["comfort_hours.png", "comfort_exceedance.png", "comfort_week.png",
 
 @pytest.fixture
 def paper_case(tmp_path):
-    """examples/paper_example.toml with a [comfort] table (few densities, for speed) and a
-    daily profile in traffic.csv."""
+    """examples/paper_example.toml with a [comfort] table (few densities, for speed; the
+    default simulation of the thin crowd switched off) and a daily profile in traffic.csv."""
     case = copy_paper_case(tmp_path)
     case.write_text(case.read_text(encoding="utf-8") + "\n[comfort]\ndensities = 6\n"
-                    "damper_mass_ratio = 0.02\n", encoding="utf-8")
+                    "damper_mass_ratio = 0.02\nsimulate_below = 0\n", encoding="utf-8")
     (tmp_path / "traffic.csv").write_text(
         "hour,density\n" + "".join(f"{h},{d}\n" for h, d in enumerate(PROFILE)),
         encoding="utf-8")
@@ -57,6 +57,11 @@ def test_comfort_with_a_daily_profile_writes_results_figures_and_report(paper_ca
     report = (out / "report.html").read_text(encoding="utf-8")
     assert '<section id="comfort"><h2>A year of comfort</h2>' in report
     assert report.count("data:image/png;base64,") == 4
+    # simulate_below = 0: the thin crowd's states (below 100 walkers on the 150 m² walkway) are
+    # spectral all the same, and said so: 16 h a day of the profile lie in (0, 2/3) persons/m²
+    assert year.settings["thin_crowd_density"] == pytest.approx(100.0 / 150.0)
+    assert year.settings["spectral_thin_hours"] == pytest.approx(16 * 365.0)
+    assert "are judged by the spectral route all the same" in report
 
 
 def test_comfort_on_a_report_in_a_headless_browser(paper_case, tmp_path):
@@ -168,7 +173,7 @@ def test_simulated_windows_stand_in_below_the_cases_density(paper_case, tmp_path
     # take the class fractions of windows simulated at those densities (theory: Where the
     # Gaussian model holds); 1-minute windows and 3 of them per density keep the test short.
     case = paper_case.read_text(encoding="utf-8").replace(
-        "[comfort]\n", "[comfort]\nsimulate_below = 0.15\nsimulated_windows = 3\nduration = 60.0\n")
+        "simulate_below = 0\n", "simulate_below = 0.15\nsimulated_windows = 3\nduration = 60.0\n")
     paper_case.write_text(case, encoding="utf-8")
     found = comfort_case(load_case(paper_case), traffic=paper_case.parent / "traffic.csv")
     settings = found.year.settings
@@ -188,7 +193,25 @@ def test_simulated_windows_stand_in_below_the_cases_density(paper_case, tmp_path
 
 
 def _without_simulation(case_path):
-    text = case_path.read_text(encoding="utf-8").replace("simulate_below = 0.15\n", "")
+    text = case_path.read_text(encoding="utf-8").replace("simulate_below = 0.15\n",
+                                                         "simulate_below = 0\n")
     plain = case_path.parent / "plain.toml"
     plain.write_text(text, encoding="utf-8")
     return load_case(plain)
+
+
+def test_the_simulator_stands_in_for_a_thin_crowd_by_default(paper_case):
+    # Without simulate_below the states below the thin crowd's density, 100 walkers over the
+    # walkway's 150 m² (docs: theory, Where the Gaussian model holds), take simulated windows:
+    # every density of the profile but 0.7 persons/m²; 1-minute windows, 3 per density.
+    case = paper_case.read_text(encoding="utf-8").replace(
+        "simulate_below = 0\n", "simulated_windows = 3\nduration = 60.0\n")
+    paper_case.write_text(case, encoding="utf-8")
+    out = paper_case.parent / "out"
+    assert main(["comfort", str(paper_case), "--traffic", str(paper_case.parent / "traffic.csv"),
+                 "--out", str(out), "-q"]) == 0
+    settings = load_results(out).comfort_year().settings
+    assert settings["simulate_below"] == pytest.approx(100.0 / 150.0)
+    assert settings["simulated_rows"] == [["empty", False], ["empty", True], ["hsi", False],
+                                          ["hsi", True]]
+    assert settings["spectral_thin_hours"] == 0.0

@@ -428,3 +428,34 @@ def test_slopes_by_perturbation_keep_the_quadrature_accuracy(paper_bridge, paper
         expected = drift_spectrum(track, reference, model._path, omega)
         np.testing.assert_allclose(drift_spectrum(track, slope, model._path, omega), expected,
                                    rtol=0, atol=7e-4 * np.abs(expected).max())
+
+
+def test_a_walker_pole_of_a_long_memory_leaves_the_bridges_correction_finite():
+    # An estimate's level check tries the MSD at the corners of its bounds (f_h1 = 1 mHz,
+    # ξ_h1 = 1e-3: a walker's pole whose memory, 1/Γ = 1.6e5 s, is 1e4 times the bridge's).
+    # One grid in u for both stepped an hour, Filon's weights of the bridge's pole overflowed
+    # and the expected PSD was NaN (12 RuntimeWarnings of a season). Each pole group on its own
+    # grid: finite, no warning, and the poles of comparable memory (the paper's MSD, and a
+    # lightly damped one whose pole is 20–26 times the bridge's Γ) keep their one grid, so
+    # their correction is the batched drift_spectrum's to the last bit.
+    from crowdvib.models.examples import paper_example
+
+    paper = paper_example()
+    here = paper.crowd.with_density(0.3)
+    frequency = np.arange(601) / 100.0
+    model = FluctuatingSpectralModel(paper.structure, here, frequency)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        slow = model.psd_array(MSDModel(1e-3, 1e-3, 0.95))
+    assert np.all(np.isfinite(slow)) and slow.sum() > 0
+    for msd in (paper.msd, MSDModel(3.0, 0.1, 0.95)):
+        occupied = _OccupiedMode(paper.structure, model._base._attached(msd), model.mode)
+        track, slope, residue, node = occupied.drifting_poles(model.nodes)
+        assert len(module._memory_groups(track)) == 1
+        near = module._near_resonances(track[:, 0], frequency)
+        batched = (model.weights[node] * residue) @ drift_spectrum(
+            track, slope, model._path, 2 * np.pi * frequency[near])
+        found = module.modulation_correction(
+            paper.structure, model._base._attached(msd), model._base._shapes, model.mode,
+            model.nodes, model.weights, model._path, frequency)
+        assert np.array_equal(found[0, near], model._base._shapes[0, model.mode] ** 2 * batched)

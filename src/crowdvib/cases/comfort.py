@@ -17,7 +17,8 @@ from .schema import schema_header
 if TYPE_CHECKING:
     from ..io.casefile import Case
 
-__all__ = ["CaseComfort", "comfort_case", "case_traffic", "comfort_dampers", "COMFORT_TABLES"]
+__all__ = ["CaseComfort", "comfort_case", "case_traffic", "comfort_dampers", "COMFORT_TABLES",
+           "simulate_below"]
 
 #: The case tables ``crowdvib comfort`` reads; its results and report show no others.
 COMFORT_TABLES = ("structure", "crowd", "hsi", "design", "comfort", "traffic")
@@ -197,9 +198,10 @@ def comfort_case(case: Case, *, season: dict | None = None, traffic=None,
         **({"crowd_model": spec.crowd_model} if spec.crowd_model else {})}
     started = time.process_time()
     dampers = comfort_dampers(case, msd)
-    if spec is not None and spec.simulate_below > 0:
-        options.update(simulate_below=spec.simulate_below,
-                       simulated=_simulated(case, found, msd, dampers, executor))
+    below = simulate_below(case)
+    if below > 0:
+        options.update(simulate_below=below,
+                       simulated=_simulated(case, found, msd, dampers, below, executor))
     year = comfort_year(case.structure, case.crowd, found, msd=msd, msd_box=box,
                         dampers=dampers, force=case.force,
                         rng=case.seed if rng is None else rng, **options)
@@ -212,18 +214,32 @@ def comfort_case(case: Case, *, season: dict | None = None, traffic=None,
 _SIMULATED_DENSITIES = 3
 
 
-def _simulated(case, traffic, msd, dampers, executor):
+def simulate_below(case) -> float:
+    """The density [persons/m²] below which simulated windows stand in for the spectral route:
+    ``[comfort] simulate_below``, by default that of a thin crowd
+    (:func:`crowdvib.comfort.measure.thin_crowd_density`: fewer than 100 walkers expected on
+    the walkway; docs: theory, A year of comfort); 0 switches it off."""
+    from ..comfort.measure import thin_crowd_density
+
+    spec = case.comfort
+    if spec is None or spec.simulate_below is None:
+        return thin_crowd_density(case.structure)
+    return spec.simulate_below
+
+
+def _simulated(case, traffic, msd, dampers, bound, executor):
     """The simulated windows of the no-HSI and HSI rows (each without and with the dampers) at
-    the traffic's densities below ``[comfort] simulate_below``: (model, damper) → windows.
+    the traffic's densities below ``bound`` (:func:`simulate_below`): (model, damper) → windows.
 
     The added-mass row stays spectral: its model has no walkers to simulate."""
     import numpy as np
 
     from ..comfort import loudest_output
     from ..comfort.simulated import simulated_windows
+    from ..io.casecomfort import ComfortSpec
 
-    spec = case.comfort
-    below = traffic.density[(traffic.density > 0) & (traffic.density < spec.simulate_below)]
+    spec = case.comfort or ComfortSpec()
+    below = traffic.density[(traffic.density > 0) & (traffic.density < bound)]
     if below.size == 0:
         return {}
     densities = np.unique(np.geomspace(below.min(), below.max(), _SIMULATED_DENSITIES)) \

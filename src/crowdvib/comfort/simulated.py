@@ -20,14 +20,11 @@ import numpy as np
 from .._validation import check_count, check_positive
 from ..errors import ParameterError
 from ..runner.tasks import run_tasks
-from .measure import peak_quantile, running_rms_quantile, window_law
+from .measure import GAUSSIAN_TOLERANCE, peak_quantile, running_rms_quantile, window_law
 from .year import QUANTILES
 
 __all__ = ["SimulatedWindows", "simulated_windows", "simulated_check", "GAUSSIAN_TOLERANCE"]
 
-#: Spectral and simulated quantiles within this (relative) count as agreeing: the response is
-#: Gaussian enough for the spectral route (the issue's target).
-GAUSSIAN_TOLERANCE = 0.05
 
 
 @dataclass(frozen=True)

@@ -40,7 +40,7 @@ from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ..response.fluctuation import spectral_model
 from .measure import (PEAK_MODELS, WindowLaw, peak_cdf, peak_quantile, running_rms_quantile,
-                      window_law)
+                      thin_crowd_density, window_law)
 from .traffic import WEEK_HOURS, Traffic
 
 __all__ = ["ComfortYear", "comfort_year", "MODEL_LABELS", "CLASS_NAMES", "CLASS_BOUNDS",
@@ -320,7 +320,10 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
         for the spectral law, where the response is not Gaussian (the densities
         :func:`~crowdvib.comfort.simulated.simulated_check` names).
     simulate_below : float
-        [persons/m²]; 0: the spectral route everywhere.
+        [persons/m²]; 0: the spectral route everywhere. ``crowdvib comfort`` simulates by
+        default below :func:`~crowdvib.comfort.measure.thin_crowd_density` (fewer than 100
+        walkers expected on the walkway); the year's settings name that density and the hours
+        of the states below it left to the spectral route (``spectral_thin_hours``).
 
     Returns
     -------
@@ -405,8 +408,21 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
                 "week_hours": traffic.week_hours().tolist() if traffic.has_week else None,
                 "dampers": [d.to_dict() for d in dampers],
                 "simulate_below": float(simulate_below) if simulated else 0.0,
-                "simulated_rows": sorted([m, bool(d)] for m, d in (simulated or {}))}
+                "simulated_rows": sorted([m, bool(d)] for m, d in (simulated or {})),
+                **_thin_crowd(structure, traffic, simulate_below if simulated else 0.0)}
     return ComfortYear(tuple(rows), tuple(float(d) for d in grid), tuple(table), settings)
+
+
+def _thin_crowd(structure, traffic, simulate_below):
+    """The thin crowd's density (:func:`~crowdvib.comfort.measure.thin_crowd_density`) and the
+    hours a year of the states below it that the no-HSI and HSI rows judge by the spectral
+    route all the same (its upper quantiles read low there: docs, Where the Gaussian model
+    holds)."""
+    thin = thin_crowd_density(structure)
+    spectral = (traffic.density > 0) & (traffic.density < thin) & \
+        (traffic.density >= simulate_below)
+    return {"thin_crowd_density": float(thin),
+            "spectral_thin_hours": float(traffic.hours[spectral].sum())}
 
 
 def _quantiles(law: WindowLaw, duration, peak_model):

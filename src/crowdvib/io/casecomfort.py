@@ -15,7 +15,9 @@ the traffic CSV, parsed apart from the other tables; every key through
     densities = 12                 # densities of the response table
     resamples = 200                # resamples of a season's windows (its sampling band)
     unmeasured = "hour"            # or "zero": the hours of the week no window measured
-    simulate_below = 0.15          # [persons/m²]: below, simulated windows stand in (0: none)
+    simulate_below = 0.15          # [persons/m²]: below, simulated windows stand in (0: none;
+                                   # default: a thin crowd, fewer than 100 walkers expected on
+                                   # the walkway)
     simulated_windows = 100        # windows simulated per density there
 
     [traffic]                      # one of:
@@ -61,7 +63,7 @@ class ComfortSpec:
     densities: int = 12
     resamples: int = 200
     unmeasured: str = "hour"
-    simulate_below: float = 0.0
+    simulate_below: float | None = None
     simulated_windows: int = 100
 
 
@@ -90,7 +92,7 @@ def _comfort(table, path):
         densities=table.count("densities", 12, minimum=2),
         resamples=table.count("resamples", 200, minimum=0),
         unmeasured=table.string("unmeasured", "hour", choices=UNMEASURED_CHOICES),
-        simulate_below=table.number("simulate_below", 0.0, rule="non_negative"),
+        simulate_below=table.number("simulate_below", None, rule="non_negative"),
         simulated_windows=table.count("simulated_windows", 100, minimum=1))
     if spec.damper_mass_ratio >= 1:
         raise table.error("damper_mass_ratio", "must be < 1 (a fraction of the modal mass)",

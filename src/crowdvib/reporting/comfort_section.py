@@ -108,10 +108,11 @@ def _notes(results, settings):
 def _validity(settings):
     return html('<p class="muted">The spectral route takes the response of each crowd state '
                 "as stationary and Gaussian. For a thin crowd it is not: on the paper's bridge "
-                "the 99 % quantile of the simulator's 10-minute peaks runs 5–14 % above the "
-                "spectral one at 0.1–0.5 persons/m² ([comfort] simulate_below lets the "
-                "simulator stand in there; accuracy/comfort_validation.py; docs: theory, A "
-                "year of comfort).{}</p>", _simulated_note(settings))
+                "the 99 % quantile of the simulator's 10-minute peaks runs 6–14 % above the "
+                "spectral one at 0.1–0.5 persons/m², fewer than 100 walkers on the walkway. "
+                "Below that crowd the simulator stands in by default ([comfort] simulate_below; "
+                "0 switches it off; accuracy/comfort_validation.py; docs: theory, A year of "
+                "comfort).{}{}</p>", _simulated_note(settings), _thin_note(settings))
 
 
 def _simulated_note(settings):
@@ -121,6 +122,15 @@ def _simulated_note(settings):
     return html(" Here the simulator's windows stand in below {} persons/m² for the rows "
                 "{}.", number(below), ", ".join(f"{m}{' + damper' if d else ''}"
                                                 for m, d in settings.get("simulated_rows") or []))
+
+
+def _thin_note(settings):
+    hours = real(settings.get("spectral_thin_hours"))
+    if not hours:
+        return ""
+    return html(" {} hours a year of this traffic lie below the thin crowd's {} persons/m² "
+                "and are judged by the spectral route all the same: its upper quantiles read "
+                "low there.", number(hours), number(settings.get("thin_crowd_density")))
 
 
 def comfort_headline(results: dict) -> list:

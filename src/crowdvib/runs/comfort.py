@@ -59,6 +59,7 @@ def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path 
     """
     from .._manifest import verified_file
     from ..cases import comfort_case
+    from ..cases.comfort import simulate_below
     from ..errors import ParameterError
     from ..io.casefile import load_case
     from ..reporting.reading import read_results
@@ -80,7 +81,7 @@ def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path 
             inputs.append(("the traffic table", Path(traffic)))
         say(f"crowdvib comfort: {case.name}, traffic from "
             f"{season or traffic or 'the case [traffic]'}")
-        simulates = case.comfort is not None and case.comfort.simulate_below > 0
+        simulates = simulate_below(case) > 0
         pool = (study_executor(workers, timeout_floor=hung_after) if simulates
                 else contextlib.nullcontext(None))
         with staged_output(out, force, command="comfort", inputs=inputs) as staging, \
