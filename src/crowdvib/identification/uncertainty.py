@@ -130,17 +130,30 @@ def profile_interval(residuals, estimate, index, lower, upper, covariance, hessi
     r = residuals(estimate)
     best = float(r @ r)
     known = {value: 0.0}
+    # The inner fits stop when a step gains less than ``tolerance`` of S: the rise is then
+    # known to about 1e-3 of its threshold, which moves an end by some 5e-4 of the half-width,
+    # twenty times below the crossing's own precision (brentq's xtol below); at most 1e-4,
+    # at least scipy's own 1e-8 (issue 39: a quarter of the inner fits' iterations).
+    tolerance = float(np.clip(1e-3 * threshold / max(factor * best, 1e-300), 1e-8, 1e-4))
     # The others' minimum along the profile, t → x(t): each inner fit starts from the
-    # quadratic through the three nearest points found so far (at first the line of slope
-    # −H_oo⁻¹ H_op, the minimum's motion for a quadratic S), leaving it a step or two.
+    # quadratic through the three nearest points found so far (at each end's first fit, the
+    # line of slope −H_oo⁻¹ H_op, the minimum's motion for a quadratic S, bent as the points
+    # found on the other side bend), leaving it a step or two.
     found = {value: estimate[others]}
     slope = (-np.linalg.lstsq(hessian[np.ix_(others, others)], hessian[others, index],
                               rcond=None)[0] if others else np.zeros(0))
 
     def predicted(t):
         near = sorted(found, key=lambda s: abs(s - t))[:3]
-        if len(near) == 1:
-            return found[value] + slope * (t - value)
+        if not any((s - value) * (t - value) > 0 for s in found):
+            # No point on t's side yet (each end's first fit): the quadratic through θ̂ with
+            # the minimum's slope there, its curvature fitted to the points found on the
+            # other side (none at first: the line). A quadratic through the three nearest,
+            # all on the other side, extrapolates their spacing's noise across θ̂.
+            d = np.array([s - value for s in found])
+            bend = np.array([found[s] - found[value] - slope * (s - value) for s in found])
+            curvature = (d ** 2 @ bend) / max(float(np.sum(d ** 4)), 1e-300)
+            return found[value] + slope * (t - value) + curvature * (t - value) ** 2
         scale = max(abs(s - value) for s in near)
         return np.array([np.polyval(np.polyfit((np.array(near) - value) / scale, column,
                                                len(near) - 1), (t - value) / scale)
@@ -184,7 +197,7 @@ def profile_interval(residuals, estimate, index, lower, upper, covariance, hessi
                         try:
                             fit = optimize.least_squares(
                                 inner, start, method="trf", bounds=(lower[others], upper[others]),
-                                x_scale=scale, ftol=1e-6, xtol=1e-6)
+                                x_scale=scale, ftol=tolerance, xtol=1e-6)
                             break
                         except ValueError:
                             if scale != "jac":

@@ -156,7 +156,8 @@ def _estimate_task(task):
     # A warm-started case skips the level check: its nominal has passed it on the same record
     # (warm starts exist only then), the case moves the inputs by a few per cent, not by the
     # check's factor 10, and the check's grid of model evaluations was a third of the task
-    # (issue 39). Every other task (the nominal, a cold case, a record length) checks.
+    # (issue 39); a warm-started record length is a part of the record whose whole passed it.
+    # Every other task (the nominal, a cold case, the whole record) checks.
     options = dict(task.options, check_level=not task.warm)
     with warnings.catch_warnings():
         # An active bound is reported in the result; a warning per task would only be noise.
@@ -226,6 +227,29 @@ def _warm_starts(nominal):
 #: Keys of every result of :func:`_estimate_task` (a stored one lacking any is computed again).
 _ESTIMATE_FIELDS = ("frequency", "damping_ratio", "mass_ratio", "cost", "relative_cost",
                     "success", "active_bounds", "optima")
+
+
+def _run_warm_started(function, tasks, first, warm_start, *, executor, store, progress, fields):
+    """Run a study's tasks (:func:`crowdvib.runner.tasks.run_tasks`), with ``warm_start`` the
+    reference task ``tasks[first]`` (the nominal, the whole record) before the others, each
+    then given its optima as warm starts (:func:`_warm_starts`): a task's key is its content,
+    so a changed reference recomputes them. Name → result."""
+    if not warm_start:
+        return run_tasks(function, tasks, executor=executor, store=store, progress=progress,
+                         fields=fields)
+    total, (name, reference) = len(tasks), tasks[first]
+    others = tasks[:first] + tasks[first + 1:]
+    results = run_tasks(function, [(name, reference)], executor=executor, store=store,
+                        progress=None if progress is None
+                        else (lambda done, _: progress(done, total)), fields=fields)
+    if "error" not in results[name]:
+        warm, limit = _warm_starts(results[name])
+        others = [(key, replace(task, warm=warm, warm_cost=limit)) for key, task in others]
+    results.update(run_tasks(function, others, executor=executor, store=store,
+                             progress=None if progress is None
+                             else (lambda done, _: progress(done + 1, total)),
+                             fields=fields))
+    return results
 
 
 @dataclass(frozen=True, eq=False)
@@ -415,25 +439,8 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
     cases = error_cases(levels, joint=joint)
     tasks = [(case.name, _EstimationTask(measured, structure, crowd, case, options))
              for case in cases]
-    total = len(tasks)
-    if warm_start:
-        # The nominal first: its optima start the cases (_warm_starts), whose tasks then hold
-        # them (a task's key is its content: a changed nominal recomputes them).
-        nominal_tasks, tasks = tasks[:1], tasks[1:]
-        results = run_tasks(_estimate_task, nominal_tasks, executor=executor, store=store,
-                            progress=None if progress is None
-                            else (lambda done, _: progress(done, total)),
-                            fields=_ESTIMATE_FIELDS)
-        if "error" not in results["nominal"]:
-            warm, limit = _warm_starts(results["nominal"])
-            tasks = [(name, replace(task, warm=warm, warm_cost=limit)) for name, task in tasks]
-        results.update(run_tasks(_estimate_task, tasks, executor=executor, store=store,
-                                 progress=None if progress is None
-                                 else (lambda done, _: progress(done + 1, total)),
-                                 fields=_ESTIMATE_FIELDS))
-    else:
-        results = run_tasks(_estimate_task, tasks, executor=executor, store=store,
-                            progress=progress, fields=_ESTIMATE_FIELDS)
+    results = _run_warm_started(_estimate_task, tasks, 0, warm_start, executor=executor,
+                                store=store, progress=progress, fields=_ESTIMATE_FIELDS)
     nominal = results["nominal"]
     if "error" in nominal:
         raise CrowdvibError(f"the nominal estimation failed: {nominal['error']}")
@@ -462,6 +469,8 @@ class _WindowCountTask:
     structure: object
     crowd: object
     options: tuple
+    warm: tuple = ()                 # as in _EstimationTask: the whole record's optima
+    warm_cost: float = float("inf")
 
 
 def _window_count_task(task):
@@ -471,7 +480,8 @@ def _window_count_task(task):
                          window_length=task.window_length, output_names=task.output_names,
                          lowpass=task.lowpass)
     result = _estimate_task(_EstimationTask(measured, task.structure, task.crowd,
-                                            ErrorCase("nominal", ()), task.options))
+                                            ErrorCase("nominal", ()), task.options,
+                                            task.warm, task.warm_cost))
     result["n_windows"] = measured.n_windows
     result["duration"] = task.duration
     return result
@@ -479,7 +489,7 @@ def _window_count_task(task):
 
 def record_length_study(signals, sample_rate, structure, crowd, *, window_length, band,
                         durations=None, output_names=None, lowpass=None, executor=None,
-                        store=None, progress=None, **options):
+                        store=None, progress=None, warm_start=True, **options):
     """Estimation error from PSD convergence: re-estimate on the first k·T seconds of the record.
 
     The paper does this for Waalse Krook (8 windows of 60 s): the estimate from fewer windows,
@@ -503,6 +513,11 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
     lowpass : LowPassFilter, optional
     executor, store, progress
         As in :func:`modelling_error_study`.
+    warm_start : bool
+        Estimate on the whole record first and start each shorter record's fit from the
+        optima of its multistart, with the modelling-error study's fallback to the full
+        multistart (default; the same estimates: docs: theory, Modelling-error study, Warm
+        starts). False: every record length from the estimator's own starts.
     **options
         Further keyword arguments of :func:`crowdvib.estimate_hsi` (outputs, output_weights,
         starts, bounds, mass_ratio).
@@ -536,8 +551,9 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
               _WindowCountTask(signals[:, :int(round(d * sample_rate))], sample_rate, d,
                                window_length, names, lowpass, structure, crowd, settings))
              for d in durations]
-    results = run_tasks(_window_count_task, tasks, executor=executor, store=store,
-                        progress=progress, fields=_ESTIMATE_FIELDS + ("n_windows", "duration"))
+    results = _run_warm_started(_window_count_task, tasks, len(tasks) - 1, warm_start,
+                                executor=executor, store=store, progress=progress,
+                                fields=_ESTIMATE_FIELDS + ("n_windows", "duration"))
     full = results[tasks[-1][0]]
     rows = []
     for key, _ in tasks:
