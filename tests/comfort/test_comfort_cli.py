@@ -65,6 +65,7 @@ def test_comfort_with_a_daily_profile_writes_results_figures_and_report(paper_ca
 
 
 def test_comfort_on_a_report_in_a_headless_browser(paper_case, tmp_path):
+    from tests.reporting.test_animation_browser import _check_moving
     from tests.reporting.test_report import _input_rows_without_units, _open_in_browser
     from tests.reporting.test_template_security import _policy_first
 
@@ -80,6 +81,8 @@ def test_comfort_on_a_report_in_a_headless_browser(paper_case, tmp_path):
     assert re.search(r'<section id="comfort">\s*<h2>A year of comfort</h2>', dom)
     assert _input_rows_without_units(dom) == []          # every input with its unit
     assert pdf.read_bytes().startswith(b"%PDF")
+    # Issue 38: the bridge's modes swing in this report too (played, paused, slid; no request).
+    _check_moving(out / "report.html", tmp_path, ["modes"])
 
 
 def test_the_hsi_band_from_a_simulated_record_covers_the_true_msd(paper_case, tmp_path):

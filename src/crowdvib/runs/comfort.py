@@ -62,6 +62,7 @@ def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path 
     from ..cases.comfort import simulate_below
     from ..errors import ParameterError
     from ..io.casefile import load_case
+    from ..reporting.animation import mode_shape_table
     from ..reporting.reading import read_results
     from ..runner import study_executor
 
@@ -93,6 +94,8 @@ def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path 
             figures = _figures(found.year, staging, case.name)
             written = write_results(staging, {
                 **found.to_dict(), "figures": figures, **provenance(case.path),
+                # the modes swing in the report (issue 38), occupied by the case's crowd
+                "mode_shapes": mode_shape_table(case.structure, case.crowd, found.msd),
                 "warnings": list(dict.fromkeys(warning_texts(caught)))})
     for line in comfort_lines(found.year.to_dict()):
         say("  " + line)
