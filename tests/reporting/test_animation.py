@@ -65,6 +65,19 @@ def test_a_report_without_a_modal_model_allows_no_script():
     assert CSP_META in page and "<script" not in page
 
 
+def test_the_table_of_contents_links_the_animations_where_they_are_drawn():
+    # The section follows the figures on the page (report.py); the contents list it there, and
+    # only where a picture is drawn (a table that does not draw leaves no dead link).
+    page = render_report(_results())
+    contents = page[page.index('<nav class="toc">'):page.index("</nav>")]
+    assert '<a href="#figures">Figures</a><a href="#animations">Animations</a>' in contents
+    assert '<section id="animations">' in page
+    assert "#animations" not in render_report({"command": "map"})
+    broken = _results()
+    broken["mode_shapes"] = {**broken["mode_shapes"], "frequencies": [1.0, 2.0, 3.0]}
+    assert "#animations" not in render_report(broken)
+
+
 def test_mode_shape_table_keeps_exact_values_at_its_stations():
     # An FE-like model of 1001 stations: at most MAX_STATIONS kept, both ends, each kept value
     # the model's own at that station (reference: ModalModel.mode_shapes), to 5 significant digits.

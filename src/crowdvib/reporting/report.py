@@ -138,7 +138,7 @@ def render_report(results, directory=None, *, template=None):
     animations = report_animations(shown)          # issue 38: put in once the page is safe
     body = [
         sections.header(shown),
-        sections.nav(shown),
+        sections.nav(shown, animated=bool(animations.pictures)),
         sections.summary_section(shown, notes),
         sections.estimate_section(shown),
         diagnostics,

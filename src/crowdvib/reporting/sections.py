@@ -100,9 +100,10 @@ def header(results):
                 case_name(results), get(results, ("inputs", "description")) or "", about)
 
 
-def section_titles(results):
+def section_titles(results, animated=False):
     """Section id → its title in the table of contents, in page order: a design check shows the
-    MSD model it used where an estimate would be; an OMA report has no estimate section."""
+    MSD model it used where an estimate would be; an OMA report has no estimate section;
+    ``animated``: the page shows its animations after the figures."""
     titles = {s: s.capitalize() for s in SECTIONS}
     if results.get("command") == "check":
         titles["estimate"] = "MSD model"
@@ -113,13 +114,17 @@ def section_titles(results):
         order.insert(order.index("estimate") + 1, "records")
         own = {"estimate": "Joint estimate", "records": "Records"}
         titles = {s: own.get(s) or titles[s] for s in order}
+    if animated:
+        order = list(titles)
+        order.insert(order.index("figures") + 1, "animations")
+        titles = {s: titles.get(s, "Animations") for s in order}
     return titles
 
 
-def nav(results=None):
+def nav(results=None, animated=False):
     return html('<nav class="toc">{}</nav>',
                 join(html('<a href="#{}">{}</a>', s, title)
-                     for s, title in section_titles(results or {}).items()))
+                     for s, title in section_titles(results or {}, animated).items()))
 
 
 def summary_section(results, notes):
