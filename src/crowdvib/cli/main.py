@@ -93,6 +93,8 @@ EXAMPLES = {
               "crowdvib modes ambient.toml --out modes --cross-check"],
     "season": ["crowdvib season bridge.toml crowd.csv --records records --out season",
                "crowdvib season bridge.toml crowd.csv --records records --out season --resume"],
+    "comfort": ["crowdvib comfort bridge.toml --season season --msd-from season --out comfort",
+                "crowdvib comfort bridge.toml --traffic traffic.csv --out comfort --workers 2"],
 }
 
 
