@@ -7,7 +7,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from .errors import ParameterError
+from .errors import DataError, ParameterError
 
 
 def check_type(name, value, kind):
@@ -142,6 +142,62 @@ def frozen_array(array, dtype=float):
     array = np.array(array, dtype=dtype)
     array.flags.writeable = False
     return array
+
+
+def fields_from_dict(cls, data, **given):
+    """An instance of the dataclass ``cls`` back from the dict its ``to_dict`` wrote.
+
+    Each field is read from the key of its name: a list becomes a tuple, or an array where the
+    field's annotation names ``ndarray`` (null as NaN, as JSON stores it); keys that
+    ``to_dict`` derives from the fields (properties) are not read; ``given`` fields are taken
+    as they are (objects the dict holds in another shape). A dict that is not one, or lacks a
+    required key, is a DataError naming the class and the key; the values then meet the
+    class's own checks, as any constructor's arguments do.
+    """
+    import dataclasses
+
+    if not isinstance(data, Mapping):
+        raise DataError(f"{cls.__name__}.from_dict needs a dict, got {type(data).__name__}")
+    values = {}
+    for item in dataclasses.fields(cls):
+        if not item.init:
+            continue
+        if item.name in given:
+            values[item.name] = given[item.name]
+        elif item.name in data:
+            values[item.name] = _field_value(data[item.name], str(item.type))
+        elif item.default is dataclasses.MISSING and item.default_factory is dataclasses.MISSING:
+            raise DataError(f"{cls.__name__}.from_dict: the dict lacks {item.name!r}")
+    return cls(**values)
+
+
+class FieldsFromDict:
+    """Mixin of the dataclasses whose ``to_dict`` writes each field under its name:
+    ``from_dict`` rebuilds one (:func:`fields_from_dict`)."""
+
+    @classmethod
+    def from_dict(cls, data):
+        """The instance of :meth:`to_dict`'s dict (keys it derives, such as properties, are
+        not read).
+
+        Raises
+        ------
+        DataError
+            ``data`` is not a dict or lacks a field; the class's own checks raise as its
+            constructor does.
+        """
+        return fields_from_dict(cls, data)
+
+
+def _field_value(value, annotation):
+    """A JSON value as the field annotated ``annotation`` holds it (see fields_from_dict)."""
+    if value is None or not isinstance(value, list):
+        return value
+    if "ndarray" in annotation:
+        array = np.asarray(value)
+        # JSON's null in a list of numbers is a NaN the writer stored (json_default)
+        return np.asarray(value, dtype=float) if array.dtype == object else array
+    return tuple(value) if "tuple" in annotation else value
 
 
 def name_indices(names, known, what="output name"):

@@ -10,6 +10,7 @@ import pytest
 
 from crowdvib import DataError, MSDModel, ParameterError, load_case
 from crowdvib.cases import check_case, check_over_interval, load_results, msd_interval
+from crowdvib.cases.schema import schema_header
 from crowdvib.cases.verdict import Finding, in_doubt
 from crowdvib.cli import main
 from crowdvib.cli.common import IN_DOUBT
@@ -105,7 +106,7 @@ def test_check_cli_prints_the_range_and_writes_hsi_range(estimate_dir, tmp_path,
     written = _results(out)["hsi_range"]
     assert set(written) == {"hivoss", "setra", "en1990", "ukna"}
     # What the command writes is check_case's, given the same results (issue 26 §1).
-    library = check_case(load_case(CASE), estimate_results=_results(estimate_dir))
+    library = check_case(load_case(CASE), estimate=_results(estimate_dir))
     assert library.msd.frequency == _results(estimate_dir)["estimate"]["frequency"]
     assert json.loads(json.dumps(library.to_dict()["hsi_range"])) == written
     for code, row in written.items():
@@ -152,7 +153,7 @@ def test_results_without_an_interval_give_the_point_estimate_with_a_note(tmp_pat
     # estimation.interval = "none": the estimate alone, as `crowdvib estimate` then writes it.
     source = tmp_path / "estimate"
     source.mkdir()
-    (source / "results.json").write_text(json.dumps({"command": "estimate", "estimate": {
+    (source / "results.json").write_text(json.dumps({**schema_header("estimate"), "estimate": {
         "frequency": 3.1, "damping_ratio": 0.25, "mass_ratio": 0.95}}))
     assert check_over_interval(load_case(CASE), _results(source)) is None
     out = tmp_path / "check"
@@ -171,3 +172,26 @@ def test_results_without_an_interval_give_the_point_estimate_with_a_note(tmp_pat
 def test_grid_must_hold_the_corners(estimate_dir):
     with pytest.raises(ParameterError, match=r"grid must be an integer of at least 2.*got 1"):
         check_over_interval(load_case(CASE), _results(estimate_dir), grid=1)
+
+
+def test_an_estimate_made_in_python_spans_the_same_box_as_its_results_folder(estimate_dir):
+    # Issue 34 §1: the ξ_h1 of an estimate reaches the design check as an object. The
+    # HSIEstimate rebuilt from the folder (EstimateResults.hsi_estimate, what a Python user holds
+    # after estimate_hsi) and the loaded results give the same box and the same ranges as the
+    # results.json object the command reads.
+    from crowdvib.design import MSDBox
+
+    results = load_results(estimate_dir)
+    estimate = results.hsi_estimate()
+    box = MSDBox.from_estimate(estimate)
+    written = _results(estimate_dir)["estimate"]
+    # the box is the estimate's 95 % profile interval (results.json's estimate.interval)
+    assert box.frequency == tuple(written["interval"]["frequency"])
+    assert box.damping_ratio == tuple(written["interval"]["damping_ratio"])
+    assert box.msd.damping_ratio == written["damping_ratio"] and box.level == 0.95
+    case = load_case(CASE)
+    from_dict = check_case(case, estimate=_results(estimate_dir), grid=2).spread.hsi_range()
+    for given in (estimate, results, box):
+        found = check_case(case, estimate=given, grid=2)
+        assert found.msd == box.msd
+        assert found.spread.hsi_range() == from_dict

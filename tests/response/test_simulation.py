@@ -31,7 +31,7 @@ def test_record_layout(paper_bridge, paper_crowd, paper_msd):
     assert 50 < record.n_on_deck.mean() < 100
     # internal step: 20 per period of the fastest walker's 5th harmonic, a divisor of 0.01 s
     assert 0.01 / record.time_step == pytest.approx(round(0.01 / record.time_step))
-    meta = record.to_dict()
+    meta = record.metadata()
     assert meta["seed"] == 3 and meta["n_samples"] == 2000 and meta["hsi"] is True
     assert "acceleration" not in meta
 

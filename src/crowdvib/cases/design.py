@@ -13,12 +13,15 @@ from .results import AsResults, DESIGN_TABLES, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
+    from ..design.interval import MSDBox
     from ..io.casefile import Case
     from ..models.pedestrian import MSDModel
+    from .results import Results
 
 
 __all__ = ["CaseCheck", "IntervalCheck", "check_design_table", "design_msd", "check_case",
-           "estimated_msd", "msd_interval", "check_over_interval", "verdict_rows", "damper_frf"]
+           "estimated_msd", "msd_interval", "msd_box", "check_over_interval", "verdict_rows",
+           "damper_frf"]
 
 @dataclass(frozen=True)
 class CaseCheck(AsResults):
@@ -39,7 +42,7 @@ class CaseCheck(AsResults):
     seconds : float
         Wall-clock time of the checks and the prediction [s].
     spread : IntervalCheck or None
-        The checks across the estimate's interval (``estimate_results`` of :func:`check_case`).
+        The checks across the estimate's interval (``estimate`` of :func:`check_case`).
     """
 
     case: Any
@@ -145,7 +148,7 @@ def design_msd(case):
 
 
 def check_case(case: Case, *, msd: MSDModel | None = None, msd_source: str | None = None,
-               estimate_results: dict | None = None, grid: int = 3) -> CaseCheck:
+               estimate: Any = None, grid: int = 3) -> CaseCheck:
     """Run ``crowdvib check``'s design checks on a case, without writing anything.
 
     Parameters
@@ -156,10 +159,12 @@ def check_case(case: Case, *, msd: MSDModel | None = None, msd_source: str | Non
         The MSD of the HSI model (default :func:`design_msd`: the case's own).
     msd_source : str, optional
         Where ``msd`` comes from, for the results (given with ``msd``).
-    estimate_results : dict, optional
-        The ``results.json`` of the run that estimated the MSD (``crowdvib check --msd-from``):
-        its estimate is the MSD (unless ``msd`` is given) and its interval is carried into the
-        checks (:func:`check_over_interval`, ``spread``).
+    estimate : HSIEstimate, Results, MSDBox or dict, optional
+        The estimated MSD (``crowdvib check --msd-from``): an :class:`~crowdvib.HSIEstimate`
+        made in Python, the results of the run that estimated it (:func:`load_results`, or its
+        results.json object), or the box itself. Its point estimate is the MSD (unless ``msd``
+        is given) and its interval is carried into the checks (:func:`check_over_interval`,
+        ``spread``).
     grid : int
         Points per parameter of :func:`check_over_interval`.
 
@@ -173,8 +178,9 @@ def check_case(case: Case, *, msd: MSDModel | None = None, msd_source: str | Non
     import time
 
     check_design_table(case)
-    if msd is None and estimate_results is not None:
-        msd, msd_source = estimated_msd(case, estimate_results), msd_source or "the estimate"
+    box = None if estimate is None else msd_box(case, estimate)
+    if msd is None and estimate is not None:
+        msd, msd_source = _point(case, estimate, box), msd_source or "the estimate"
     if msd is None:
         msd, msd_source = design_msd(case)
     spec = case.design
@@ -189,10 +195,18 @@ def check_case(case: Case, *, msd: MSDModel | None = None, msd_source: str | Non
         prediction = predict_response(case.structure, crowd, msd=msd, dampers=dampers,
                                       duration=spec.duration, weighting=spec.weighting,
                                       force=case.force)
-    spread = (None if estimate_results is None
-              else check_over_interval(case, estimate_results, grid=grid))
+    spread = None if box is None else check_over_interval(case, box, grid=grid)
     return CaseCheck(case, msd, msd_source, checks, dampers, prediction,
                      time.perf_counter() - started, spread)
+
+
+def _point(case, estimate, box):
+    """The point estimate of ``estimate`` (see :func:`check_case`)."""
+    from ..identification.result import HSIEstimate
+
+    if box is not None:
+        return box.msd
+    return estimate.msd if isinstance(estimate, HSIEstimate) else estimated_msd(case, estimate)
 
 
 def _dampers(case, spec, msd):
@@ -331,15 +345,17 @@ def damper_frf(found: CaseCheck) -> dict | None:
             "without_damper": magnitude([]), "with_damper": magnitude(found.dampers)}
 
 
-def estimated_msd(case: Case, results: dict, *, source: str = "the results") -> MSDModel:
+def estimated_msd(case: Case, results: Results | dict, *,
+                  source: str = "the results") -> MSDModel:
     """The MSD another run estimated (``crowdvib check --msd-from``), with the case's mass ratio
     if the results hold none.
 
     Parameters
     ----------
     case : Case
-    results : dict
-        A ``results.json`` of ``crowdvib estimate``, ``sensitivity`` or ``demo``.
+    results : Results or dict
+        The results (or results.json object) of ``crowdvib estimate``, ``sensitivity`` or
+        ``demo``.
     source : str
         What the results are, for the error message.
 
@@ -350,9 +366,8 @@ def estimated_msd(case: Case, results: dict, *, source: str = "the results") -> 
     """
     from ..errors import DataError
     from ..models.pedestrian import MSDModel
-    from .schema import estimate
 
-    found = estimate(results)
+    found = _as_results(results).estimate
     if not found or not {"frequency", "damping_ratio"} <= set(found):
         raise DataError(f"{source}: its results.json holds no MSD estimate "
                         "(estimate.frequency and estimate.damping_ratio)")
@@ -360,12 +375,16 @@ def estimated_msd(case: Case, results: dict, *, source: str = "the results") -> 
                     found.get("mass_ratio") or case.msd.mass_ratio)
 
 
-#: The MSD parameters whose interval the design check spans (μ_h1 is held, as the paper does).
-_SPANNED = ("frequency", "damping_ratio")
+def _as_results(results):
+    """``results`` as a :class:`Results` (a results.json object is read as one)."""
+    from .results import Results
+
+    return results if isinstance(results, Results) else Results.from_dict(results)
 
 
-def msd_interval(results) -> dict | None:
-    """The box of f_h1 and ξ_h1 an estimate's results allow (issue 27 §3).
+def msd_interval(results: Results | dict) -> dict | None:
+    """The box of f_h1 and ξ_h1 an estimate's results allow, as a dict (issue 27 §3):
+    :meth:`Results.msd_box`'s :meth:`~crowdvib.design.interval.MSDBox.to_dict`.
 
     The results of ``crowdvib sensitivity`` give the statistical interval widened by the
     modelling bound (``combined``, :meth:`~crowdvib.studies.SensitivityResult.combined`),
@@ -374,39 +393,40 @@ def msd_interval(results) -> dict | None:
 
     Parameters
     ----------
-    results : dict
-        The results.json object of ``crowdvib estimate`` or ``crowdvib sensitivity``.
+    results : Results or dict
+        The results (or results.json object) of ``crowdvib estimate`` or ``sensitivity``.
 
     Returns
     -------
     dict or None
         ``frequency`` and ``damping_ratio`` [low, high], ``level`` (of the statistical
         interval), ``interval`` (what the box is: ``"estimate 95 %"`` or ``"estimate 95 % +
-        modelling bound"``); None if the results hold no interval
+        modelling bound"``) and the point ``msd``; None if the results hold no interval
         (``estimation.interval = "none"``).
     """
-    from .schema import estimate, get
+    box = _as_results(results).msd_box()
+    return None if box is None else box.to_dict()
 
-    point = estimate(results) or {}
 
-    def pair(value):
-        ok = (isinstance(value, list) and len(value) == 2
-              and all(isinstance(v, (int, float)) and v == v for v in value))
-        return [float(v) for v in value] if ok else None
+def msd_box(case: Case, estimate: Any) -> MSDBox | None:
+    """The box of f_h1 and ξ_h1 of ``estimate`` (see :func:`check_over_interval`), around the
+    estimated MSD (:func:`estimated_msd`: μ_h1 the case's if the results hold none); None
+    without an interval.
 
-    combined = results.get("combined") if isinstance(results.get("combined"), dict) else {}
-    widened = {name: pair(get(combined, (name, "combined"))) for name in _SPANNED}
-    if any(widened.values()):
-        ends, level, what = widened, get(combined, *((n, "level") for n in _SPANNED)), \
-            " + modelling bound"
-    else:
-        ends = {name: pair(get(results, ("estimate", "interval", name))) for name in _SPANNED}
-        level, what = get(results, ("estimate", "interval", "level")), ""
-    if not any(ends.values()):
-        return None
-    box = {name: ends[name] or [float(point[name])] * 2 for name in _SPANNED}
-    level = level if isinstance(level, (int, float)) else 0.95
-    return {**box, "level": level, "interval": f"estimate {100 * level:g} %{what}"}
+    Parameters
+    ----------
+    case : Case
+    estimate : MSDBox, HSIEstimate, Results or dict
+    """
+    from ..design.interval import MSDBox
+    from ..identification.result import HSIEstimate
+
+    if isinstance(estimate, MSDBox):
+        return estimate
+    if isinstance(estimate, HSIEstimate):
+        return MSDBox.from_estimate(estimate)
+    results = _as_results(estimate)
+    return results.msd_box(estimated_msd(case, results))
 
 
 @dataclass(frozen=True)
@@ -416,52 +436,59 @@ class IntervalCheck:
 
     Attributes
     ----------
-    msd : MSDModel
-        The point estimate.
-    interval : dict
-        The box (:func:`msd_interval`).
+    box : MSDBox
+        The box, around the point estimate ``box.msd``.
     grid : int
         Points per parameter (``grid × grid`` checks; 2: the corners only).
     rows : list of dict
-        Per code and model: ``code``, ``model``, ``utilisation`` at the point estimate,
-        ``low``/``high`` over the grid and the point (largest utilisation over the outputs),
-        ``conservative_end`` (the f_h1 and ξ_h1 of ``high``), ``monotone`` (the grid's
-        utilisation is monotone along each parameter: its extremes are at the box's corners),
-        ``passes`` (at the conservative end, ``high`` ≤ 1) and
-        ``verdict`` (``"passes"``, ``"FAILS"`` or ``"FAILS at the conservative end"``: the
-        interval decides).
+        Per code and model: ``code``, ``model`` and what
+        :func:`~crowdvib.design.interval.check_over_box` gives of the largest utilisation over
+        the outputs (``utilisation`` at the point estimate, ``low``/``high``,
+        ``conservative_end``, ``monotone``, ``passes``, ``verdict``).
     """
 
-    msd: Any
-    interval: dict
+    box: Any
     grid: int
     rows: list
 
+    @property
+    def msd(self) -> MSDModel:
+        """The point estimate."""
+        return self.box.msd
+
+    @property
+    def interval(self) -> dict:
+        """The box as a dict (:meth:`~crowdvib.design.interval.MSDBox.to_dict`)."""
+        return self.box.to_dict()
+
     def hsi_range(self) -> dict:
         """results.json's ``hsi_range``: per code, the HSI model's row and the box."""
-        box = {name: list(self.interval[name]) for name in _SPANNED}
+        box = self.box
         return {row["code"]: {**{k: v for k, v in row.items() if k not in ("code", "model")},
-                              "interval": self.interval["interval"], **box,
-                              "level": self.interval["level"], "grid": self.grid}
+                              "interval": box.interval, "frequency": list(box.frequency),
+                              "damping_ratio": list(box.damping_ratio), "level": box.level,
+                              "grid": self.grid}
                 for row in self.rows if row["model"] == "HSI"}
 
 
-def check_over_interval(case: Case, results: dict, *, grid: int = 3) -> IntervalCheck | None:
+def check_over_interval(case: Case, estimate: Any, *, grid: int = 3) -> IntervalCheck | None:
     """The design checks of :func:`check_case` with the estimated MSD, across its interval.
 
     Each code is checked with the MSD at the ``grid × grid`` points of the box of f_h1 and ξ_h1
-    (:func:`msd_interval`: the statistical interval, or with ``crowdvib sensitivity``'s results
-    that widened by the modelling bound), μ_h1 held at the estimate. The box is wider than the
-    joint confidence region, so the range is on the safe side. A damper of ``[design.damper]``
-    is tuned once, to the point estimate: it is built, the MSD is what is uncertain. The crowd
+    (:func:`msd_box`: the statistical interval, or with ``crowdvib sensitivity``'s results that
+    widened by the modelling bound), μ_h1 held at the estimate
+    (:func:`~crowdvib.design.interval.check_over_box`). The box is wider than the joint
+    confidence region, so the range is on the safe side. A damper of ``[design.damper]`` is
+    tuned once, to the point estimate: it is built, the MSD is what is uncertain. The crowd
     stream's prediction is not repeated.
 
     Parameters
     ----------
     case : Case
         With a ``[design]`` table.
-    results : dict
-        The ``results.json`` of ``crowdvib estimate`` or ``sensitivity`` (:func:`estimated_msd`).
+    estimate : MSDBox, HSIEstimate, Results or dict
+        The box itself; an estimate made in Python; or the results (or results.json object)
+        of ``crowdvib estimate`` or ``sensitivity``.
     grid : int
         Points per parameter, at least 2 (the corners). The utilisation of the paper example is
         monotone in each parameter (tests/cli/test_check_interval.py), so the corners
@@ -470,61 +497,29 @@ def check_over_interval(case: Case, results: dict, *, grid: int = 3) -> Interval
     Returns
     -------
     IntervalCheck or None
-        None if the results hold no interval.
+        None if the estimate holds no interval.
     """
-    import numpy as np
+    from ..design.interval import check_over_box
 
-    from ..models.pedestrian import MSDModel
-
-    if not (isinstance(grid, (int, np.integer)) and grid >= 2):
+    if not (isinstance(grid, int) and not isinstance(grid, bool) and grid >= 2):
         raise ParameterError(f"grid must be an integer of at least 2 (the corners), got {grid!r}")
     check_design_table(case)
-    msd = estimated_msd(case, results)
-    box = msd_interval(results)
+    box = msd_box(case, estimate)
     if box is None:
         return None
     spec = case.design
-    dampers = _dampers(case, spec, msd)
+    dampers = _dampers(case, spec, box.msd)
 
-    def largest(frequency, damping_ratio):
+    def largest(msd):
         """{(code, model): largest utilisation over the outputs} with this MSD."""
-        checks = {code: _check(case, spec, code,
-                               MSDModel(frequency, damping_ratio, msd.mass_ratio), dampers)
-                  for code in spec.codes}
-        found = {}
+        checks = {code: _check(case, spec, code, msd, dampers) for code in spec.codes}
+        found: dict = {}
         for row in verdict_rows(checks):
             key = (row["code"], row["model"])
-            found[key] = max(found.get(key, -np.inf), row["utilisation"])
+            found[key] = max(found.get(key, float("-inf")), row["utilisation"])
         return found
 
-    at_point = largest(msd.frequency, msd.damping_ratio)
-    frequencies, damping_ratios = (np.linspace(*box[name], grid) for name in _SPANNED)
-    cells = [[largest(f, xi) for f in frequencies] for xi in damping_ratios]
-    rows = []
-    for key, utilisation in at_point.items():
-        values = np.array([[cell[key] for cell in row] for row in cells])   # [ξ, f]
-        low = min(values.min(), utilisation)
-        high = max(values.max(), utilisation)
-        # Where the high end is: the MSD the verdict at the conservative end is for.
-        i, j = np.unravel_index(values.argmax(), values.shape)
-        end = ((damping_ratios[i], frequencies[j]) if values.max() >= utilisation
-               else (msd.damping_ratio, msd.frequency))
-        rows.append({"code": key[0], "model": key[1], "utilisation": utilisation,
-                     "low": float(low), "high": float(high),
-                     "conservative_end": {"frequency": float(end[1]),
-                                          "damping_ratio": float(end[0])},
-                     "monotone": bool(_monotone(values, 0) and _monotone(values, 1)),
-                     "passes": bool(high <= 1.0),
-                     "verdict": ("passes" if high <= 1.0 else "FAILS" if low > 1.0
-                                 else "FAILS at the conservative end")})
-    return IntervalCheck(msd, box, int(grid), rows)
-
-
-def _monotone(values, axis):
-    """Whether every line of ``values`` along ``axis`` is monotone (to rounding)."""
-    import numpy as np
-
-    steps = np.diff(values, axis=axis)
-    tolerance = 1e-9 * np.abs(values).max()
-    lines = np.moveaxis(steps, axis, -1)
-    return bool(np.all((lines >= -tolerance).all(-1) | (lines <= tolerance).all(-1)))
+    rows = [{"code": row["key"][0], "model": row["key"][1],
+             **{k: v for k, v in row.items() if k != "key"}}
+            for row in check_over_box(largest, box, grid=grid)]
+    return IntervalCheck(box, int(grid), rows)

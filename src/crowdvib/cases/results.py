@@ -27,6 +27,7 @@ from ..errors import DataError
 from .schema import KINDS, SCHEMA, estimate, hsi
 
 if TYPE_CHECKING:
+    from ..design.interval import MSDBox
     from ..identification.result import HSIEstimate
     from ..models.pedestrian import MSDModel
     from .verdict import Finding
@@ -184,6 +185,37 @@ class Results:
         if not isinstance(ends, list) or len(ends) != 2 or None in ends:
             return None
         return ends[0], ends[1], found["level"]
+
+    def msd_box(self, msd: MSDModel | None = None) -> MSDBox | None:
+        """The box of f_h1 and ξ_h1 these results allow, μ_h1 held
+        (:class:`~crowdvib.design.interval.MSDBox`): a sensitivity study's statistical
+        interval widened by its modelling bound (``combined``), else the estimate's
+        statistical interval; None without an estimate or without an interval.
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The point the box is around (default the estimate, μ_h1 0.95 if it holds none).
+        """
+        from ..design.interval import SPANNED, MSDBox
+        from ..models.pedestrian import MSDModel
+
+        found = self.estimate or {}
+        if msd is None:
+            if not all(isinstance(found.get(k), (int, float)) for k in SPANNED):
+                return None
+            msd = MSDModel(found["frequency"], found["damping_ratio"],
+                           found.get("mass_ratio") or 0.95)
+        combined = self.data.get("combined")
+        rows = {name: combined[name] for name in SPANNED
+                if isinstance(combined, dict) and isinstance(combined.get(name), dict)}
+        if rows:
+            box = MSDBox.around(msd, {name: row.get("combined") for name, row in rows.items()},
+                                next(iter(rows.values())).get("level"), widened=True)
+            if box is not None:
+                return box
+        interval = found.get("interval") if isinstance(found.get("interval"), dict) else {}
+        return MSDBox.around(msd, interval, interval.get("level"))
 
     # ------------------------------------------------------------------------------ verdict
     def verdict(self) -> tuple[Finding, ...]:

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from .._plausibility import derived, warn_if_implausible, warn_notes
-from .._validation import check_non_negative, frozen_array
+from .._validation import FieldsFromDict, check_non_negative, frozen_array
 from ..errors import ParameterError, ResolutionWarning
 from ..models.crowd import JAM_DENSITY, Crowd
 from ..models.damper import as_dampers
@@ -53,7 +53,7 @@ _MAX_GRID = 200_000
 
 
 @dataclass(frozen=True, eq=False)
-class DesignCheck:
+class DesignCheck(FieldsFromDict):
     """Verdict of a design-code comfort check, for one or several models of the structure.
 
     Attributes

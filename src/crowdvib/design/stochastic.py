@@ -22,7 +22,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import check_positive, check_type, frozen_array
+from .._validation import FieldsFromDict, check_positive, check_type, frozen_array
 from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.damper import as_dampers
@@ -52,7 +52,7 @@ def davenport_peak_factor(rate: ArrayLike, duration: float) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
-class ResponsePrediction:
+class ResponsePrediction(FieldsFromDict):
     """RMS and expected peak accelerations of a stationary crowd stream, per model and output.
 
     Attributes

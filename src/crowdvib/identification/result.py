@@ -216,30 +216,35 @@ class HSIEstimate:
         """The estimate back from :meth:`to_dict` (a results.json's ``estimate`` and
         ``diagnostics``), holding what that dict holds.
 
-        ``to_dict(from_dict(d)) == d`` but for the correlation and standard errors, which go
-        through the covariance they are rebuilt into (equal to round-off); the bootstrap
-        replicates are not stored (``bootstrap_samples`` is None).
+        ``to_dict(from_dict(d)) == d`` (for a dict without ``covariance``, written before it was
+        stored, the correlation and standard errors go through the covariance they are rebuilt
+        into, equal to round-off); the bootstrap replicates are not stored
+        (``bootstrap_samples`` is None).
 
         Parameters
         ----------
         data : dict
             ``{"estimate": {...}, "method": ..., "cost": ..., ...}`` as :meth:`to_dict` writes.
         crowd : Crowd, optional
-            The crowd the step frequencies were fitted for (density, speed, masses); required
-            when ``data`` holds fitted step frequencies, which replace its own.
+            For a dict without its own ``crowd`` (written before crowdvib stored it): the crowd
+            the step frequencies were fitted for (density, speed, masses), required when
+            ``data`` holds fitted step frequencies, which replace its own.
 
         Raises
         ------
         ParameterError
-            Fitted step frequencies in ``data`` and no ``crowd``.
+            Fitted step frequencies in ``data``, no crowd in it and no ``crowd`` given.
         """
         from dataclasses import replace
 
+        from ..models.crowd import Crowd
         from ..models.pedestrian import MSDModel
 
         found, free = data["estimate"], tuple(data["free_parameters"])
         msd = MSDModel(found["frequency"], found["damping_ratio"], found["mass_ratio"])
-        if "step_frequency_mean" in found:
+        if isinstance(data.get("crowd"), dict):
+            crowd = Crowd.from_dict(data["crowd"])
+        elif "step_frequency_mean" in found:
             if crowd is None:
                 raise ParameterError("crowd is required: the estimate holds fitted step "
                                      "frequencies, which replace those of the crowd they were "
@@ -250,7 +255,10 @@ class HSIEstimate:
             crowd = None
         interval, errors = found.get("interval"), found.get("standard_error")
         covariance = None
-        if errors is not None and data.get("correlation") is not None:
+        if data.get("covariance") is not None:
+            covariance = np.asarray(data["covariance"], dtype=float)
+        elif errors is not None and data.get("correlation") is not None:
+            # a dict written before the covariance was stored: equal to round-off
             scale = np.array([errors[name] for name in free])
             covariance = np.asarray(data["correlation"], dtype=float) * np.outer(scale, scale)
         ratio = data.get("level_ratio")
@@ -293,6 +301,7 @@ class HSIEstimate:
             "estimate": estimate, "method": self.method, "crowd_model": self.crowd_model,
             "crowd_model_details": [dict(d) for d in self.crowd_model_details],
             "correlation": None if self.covariance is None else self.correlation.tolist(),
+            "covariance": None if self.covariance is None else self.covariance.tolist(),
             "interval_on_bound": list(self.interval_on_bound),
             "cost": self.cost, "cost_no_hsi": self.cost_no_hsi,
             "relative_cost": self.relative_cost, "n_evaluations": self.n_evaluations,
@@ -307,4 +316,5 @@ class HSIEstimate:
             "density": {"uncertainty": self.density_uncertainty,
                         "sensitivity": dict(self.density_sensitivity),
                         "variance_share": dict(self.density_share)},
+            **({} if self.crowd is None else {"crowd": self.crowd.to_dict()}),
         }

@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validation import check_positive
-from ..errors import ParameterError
+from .._validation import check_positive, fields_from_dict
+from ..errors import DataError, ParameterError
 from ..signals.spectrum import ResponsePSD
 from .diagnostics import _diagnose
 from .estimation import DEFAULT_STEP_FREQUENCY_BOUNDS, PSDObjective
@@ -69,10 +69,41 @@ class StepFrequencyEstimate:
     starts: tuple = field(default=())
     message: str = ""
 
+    @classmethod
+    def from_dict(cls, data: dict, crowd: Crowd | None = None) -> StepFrequencyEstimate:
+        """The estimate of :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : dict
+        crowd : Crowd, optional
+            The crowd the step frequencies were fitted for, for a dict without its own
+            ``crowd`` (written before crowdvib stored it); its step frequencies are replaced by
+            the fitted ones.
+
+        Raises
+        ------
+        DataError
+            ``data`` is not such a dict, or holds no crowd and none is given.
+        """
+        from ..models.crowd import Crowd
+
+        fitted = data.get("step_frequencies") if isinstance(data, dict) else None
+        if isinstance(data, dict) and isinstance(data.get("crowd"), dict):
+            crowd = Crowd.from_dict(data["crowd"])
+        elif crowd is not None and isinstance(fitted, dict):
+            crowd = replace(crowd, step_frequency_mean=fitted["mean"],
+                            step_frequency_std=fitted["std"])
+        else:
+            raise DataError("StepFrequencyEstimate.from_dict: the dict holds no crowd and none "
+                            "is given (crowd=)")
+        return fields_from_dict(cls, data, crowd=crowd)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict; the fitted distribution sits under ``"step_frequencies"``."""
         return {"step_frequencies": {"mean": self.crowd.step_frequency_mean,
                                      "std": self.crowd.step_frequency_std},
+                "crowd": self.crowd.to_dict(),
                 "cost": self.cost, "cost_initial": self.cost_initial,
                 "n_evaluations": self.n_evaluations, "success": self.success,
                 "active_bounds": list(self.active_bounds),

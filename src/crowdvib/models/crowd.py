@@ -7,13 +7,13 @@ one (average) body mass.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .._plausibility import derived, implausibility, warn_notes
-from .._validation import as_float_array, check_non_negative, check_positive
+from .._validation import as_float_array, check_non_negative, check_positive, fields_from_dict
 from ..errors import ParameterError
 from .loading import STANDARD_GRAVITY
 
@@ -220,6 +220,22 @@ class Crowd:
                         forward_fraction=forward_fraction, body_mass_std=body_mass_std)
         warn_notes(crowd.implausibilities(), stacklevel=2)
         return crowd
+
+    def to_dict(self) -> dict[str, float]:
+        """The crowd as a JSON-ready dict (keys as the parameters)."""
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Crowd:
+        """The crowd of :meth:`to_dict`.
+
+        Raises
+        ------
+        DataError
+            ``data`` is not a dict or lacks ``density``, ``walking_speed`` or
+            ``step_frequency_mean``.
+        """
+        return fields_from_dict(cls, data)
 
     def with_density(self, density: float) -> Crowd:
         """The same walkers at another density (speed and step frequencies unchanged).

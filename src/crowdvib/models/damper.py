@@ -16,7 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._plausibility import warn_if_implausible
-from .._validation import as_float_array, check_damping_ratio, check_non_negative, check_positive
+from .._validation import (FieldsFromDict, as_float_array, check_damping_ratio,
+                           check_non_negative, check_positive)
 from ..errors import ParameterError
 from .pedestrian import transmissibility
 
@@ -27,7 +28,7 @@ __all__ = ["TunedMassDamper", "as_dampers"]
 
 
 @dataclass(frozen=True)
-class TunedMassDamper:
+class TunedMassDamper(FieldsFromDict):
     """A tuned mass damper fixed to the deck.
 
     Parameters

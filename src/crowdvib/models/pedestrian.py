@@ -12,7 +12,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._plausibility import warn_if_implausible
-from .._validation import check_damping_ratio, check_open_unit, check_positive, check_scalar
+from .._validation import (FieldsFromDict, check_damping_ratio, check_open_unit,
+                           check_positive, check_scalar)
 
 __all__ = ["MSDModel", "transmissibility", "MSD_DAMPING_LIMIT"]
 
@@ -33,7 +34,7 @@ def transmissibility(frequency_ratio: ArrayLike, damping_ratio: float) -> np.nda
 
 
 @dataclass(frozen=True)
-class MSDModel:
+class MSDModel(FieldsFromDict):
     """Single-degree-of-freedom mass-spring-damper model of a walking person.
 
     Parameters

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike
 
 from .._estimators import PAPER_ERROR_LEVELS
 from .._validation import as_float_array, check_positive
-from ..errors import EstimationError, ParameterError
+from ..errors import DataError, EstimationError, ParameterError
 from ..models.structure import ModalModel
 
 if TYPE_CHECKING:
@@ -281,11 +281,48 @@ class ModeIdentification:
         ax.legend(loc="upper right")
         return ax.figure
 
+    @classmethod
+    def from_dict(cls, data: dict) -> ModeIdentification:
+        """The identification of :meth:`to_dict` (a ``crowdvib modes`` results.json holds it).
+
+        The stabilisation diagram's poles are not stored: ``poles`` is empty.
+
+        Raises
+        ------
+        DataError
+            ``data`` is not such a dict.
+        """
+        try:
+            modes = data["modes"]
+            column = {key: [mode[key] for mode in modes] for key in
+                      ("frequency", "frequency_std", "damping_ratio", "damping_std")}
+            shapes = np.array([mode["mode_shape"] for mode in modes], dtype=float).T
+            names = tuple(data["sensor_names"])
+            return cls(
+                frequencies=np.array(column["frequency"], dtype=float),
+                damping_ratios=np.array(column["damping_ratio"], dtype=float),
+                frequency_std=np.array(column["frequency_std"], dtype=float),
+                damping_std=np.array(column["damping_std"], dtype=float),
+                mode_shapes=shapes.reshape(len(names), len(modes)), sensor_names=names,
+                # NaN for a dict written before the sample rate was stored
+                sample_rate=data.get("sample_rate", float("nan")), poles={},
+                method=data["method"],
+                cross_check=(None if data.get("cross_check") is None
+                             else ModeCrossCheck.from_dict(data["cross_check"])),
+                setups=tuple(ModeIdentification.from_dict(setup)
+                             for setup in data.get("setups", ())),
+                settings=dict(data.get("settings", {})),
+                missed=tuple(dict(column) for column in data.get("missed", ())))
+        except (KeyError, TypeError, ValueError) as error:
+            raise DataError(f"ModeIdentification.from_dict: not a mode identification's dict "
+                            f"({type(error).__name__}: {error})") from None
+
     def to_dict(self) -> dict[str, Any]:
         """Per mode f, ξ and their standard deviations, the shapes, the method and, when run,
         the cross-check (JSON-ready)."""
         result: dict[str, Any] = {
             "method": self.method, "sensor_names": list(self.sensor_names),
+            "sample_rate": self.sample_rate,
             "modes": [{"frequency": float(self.frequencies[j]),
                        "frequency_std": float(self.frequency_std[j]),
                        "damping_ratio": float(self.damping_ratios[j]),
@@ -340,8 +377,34 @@ class ModeCrossCheck:
     agree: np.ndarray
     other: ModeIdentification
 
+    @classmethod
+    def from_dict(cls, data: dict) -> ModeCrossCheck:
+        """The cross-check of :meth:`to_dict` (null as NaN).
+
+        Raises
+        ------
+        DataError
+            ``data`` is not such a dict.
+        """
+        keys = ("frequency", "frequency_std", "damping_ratio", "damping_std",
+                "frequency_difference", "damping_difference", "frequency_z", "damping_z", "mac")
+        try:
+            modes = data["modes"]
+            column = {key: np.array([mode[key] for mode in modes], dtype=float) for key in keys}
+            return cls(method=data["method"], frequencies=column["frequency"],
+                       damping_ratios=column["damping_ratio"],
+                       **{key: column[key] for key in keys[1:] if key != "damping_ratio"},
+                       agree=np.array([mode["agree"] for mode in modes], dtype=bool),
+                       # None for a dict written before the second identification was stored
+                       other=(ModeIdentification.from_dict(data["other"]) if "other" in data
+                              else None))
+        except (KeyError, TypeError, ValueError) as error:
+            raise DataError(f"ModeCrossCheck.from_dict: not a cross-check's dict "
+                            f"({type(error).__name__}: {error})") from None
+
     def to_dict(self) -> dict[str, Any]:
-        """Per mode the second method's values, the differences, z and agreement."""
+        """Per mode the second method's values, the differences, z and agreement, and the
+        second method's own identification (``other``)."""
         def plain(v):
             return float(v) if np.isfinite(v) else None
 
@@ -355,7 +418,8 @@ class ModeCrossCheck:
                            "frequency_z": plain(self.frequency_z[j]),
                            "damping_z": plain(self.damping_z[j]),
                            "mac": plain(self.mac[j]), "agree": bool(self.agree[j])}
-                          for j in range(self.agree.size)]}
+                          for j in range(self.agree.size)],
+                "other": self.other.to_dict()}
 
 
 def compare_identifications(first: ModeIdentification,

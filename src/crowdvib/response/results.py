@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validation import frozen_array
+from .._validation import FieldsFromDict, frozen_array
 from ..errors import ParameterError
 from ..signals.spectrum import ResponsePSD, xarray_module
 from ..signals.welch import welch_psd
@@ -97,7 +97,7 @@ class FRF:
 
 
 @dataclass(frozen=True, eq=False)
-class EffectiveModalProperties:
+class EffectiveModalProperties(FieldsFromDict):
     """Modal properties of the occupied structure (smeared crowd of MSDs, docs: theory, The smeared crowd and the occupied bridge).
 
     Attributes
@@ -300,8 +300,9 @@ class Simulation:
                 f"{self.sample_rate:g} Hz, {self.n_pedestrians} pedestrians, "
                 f"{'MSD' if self.hsi else 'forces only'}, seed={self.seed})")
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready metadata (no time series; write those with the I/O functions)."""
+    def metadata(self) -> dict[str, Any]:
+        """JSON-ready metadata (no time series; write those with the I/O functions, which read
+        them back whole)."""
         return {"output_names": list(self.output_names), "sample_rate": self.sample_rate,
                 "n_samples": self.n_samples, "duration": self.duration, "seed": self.seed,
                 "time_step": self.time_step, "n_pedestrians": self.n_pedestrians,
@@ -410,8 +411,9 @@ class SimulationPSD:
                 f"{self.sample_rate:g} Hz, {self.psd.n_windows} windows of "
                 f"{self.psd.window_length:g} s, {self.n_pedestrians} pedestrians, seed={self.seed})")
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready summaries (no spectrum)."""
+    def metadata(self) -> dict[str, Any]:
+        """JSON-ready summaries (no spectrum: ``psd`` is a :class:`ResponsePSD`, whose
+        ``to_dict`` holds it)."""
         return {"output_names": list(self.psd.output_names), "sample_rate": self.sample_rate,
                 "duration": self.duration, "seed": self.seed, "time_step": self.time_step,
                 "n_pedestrians": self.n_pedestrians, "mean_on_deck": self.mean_on_deck,

@@ -49,14 +49,14 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
     from .._manifest import verified_file
     from ..cases import check_case, check_design_table, design_msd, estimated_msd
     from ..io.casefile import load_case
+    from ..cases.results import load_results
     from ..reporting.animation import mode_shape_table
-    from ..reporting.reading import read_results
 
     with caught_warnings() as caught:
         case = case if hasattr(case, "design") else load_case(case)
         check_design_table(case)
         msd_from = None if msd_from is None else Path(msd_from)
-        estimated = None if msd_from is None else read_results(
+        estimated = None if msd_from is None else load_results(
             verified_file(msd_from, "results.json", "--msd-from"))
         msd, msd_source = (design_msd(case) if estimated is None
                            else (estimated_msd(case, estimated, source=f"--msd-from {msd_from}"),
@@ -67,7 +67,7 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
             f"{'HSI from ' + msd_source if msd is not None else 'no HSI'}")
         with staged_output(out, force, command="check", inputs=inputs) as staging:
             # The estimate's interval carried into the checks (issue 27 §3): a range, not a point.
-            found = check_case(case, msd=msd, msd_source=msd_source, estimate_results=estimated)
+            found = check_case(case, msd=msd, msd_source=msd_source, estimate=estimated)
             figures = _figures(found.checks, staging, case.name)
             written = write_results(staging, {
                 **found.to_dict(), "figures": figures, **provenance(case.path),

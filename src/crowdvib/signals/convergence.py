@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import check_fraction, check_optional, check_positive
+from .._validation import FieldsFromDict, check_fraction, check_optional, check_positive
 from ..errors import DataError, ParameterError
 from .conditioning import _as_signals
 from .welch import LowPassFilter, channel_names, segment_periodograms, welch_segment_count
@@ -18,7 +18,7 @@ __all__ = ["PSDConvergence", "psd_convergence"]
 
 
 @dataclass(frozen=True, eq=False)
-class PSDConvergence:
+class PSDConvergence(FieldsFromDict):
     """Convergence of a Welch PSD with record length (paper Figure 15; docs: theory, Welch PSDs, filters and convergence).
 
     Attributes

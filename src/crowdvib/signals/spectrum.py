@@ -12,13 +12,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validation import as_float_array, frozen_array, name_indices
+from .._validation import as_float_array, fields_from_dict, frozen_array, name_indices
 from ..errors import DataError, ParameterError
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from .welch import LowPassFilter
+    from .lowpass import LowPassFilter
 
 __all__ = ["ResponsePSD"]
 
@@ -228,15 +228,37 @@ class ResponsePSD:
                 f"{f[0]:g}–{f[-1]:g} Hz{welch}, source={self.source!r})")
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict of the PSD and its metadata (``"cross"`` as its real and imaginary
-        parts, only when the PSD carries cross-spectra)."""
+        """JSON-ready dict of the PSD and its metadata (``"dispersion"`` and ``"cross"``, as its
+        real and imaginary parts, only when the PSD carries them)."""
         fields = {"frequency": self.frequency.tolist(), "psd": self.psd.tolist(),
                   "output_names": list(self.output_names), "window_length": self.window_length,
                   "n_windows": self.n_windows, "source": self.source, "unit": self.unit,
                   "lowpass": None if self.lowpass is None else self.lowpass.to_dict()}
+        if self.dispersion is not None:
+            fields["dispersion"] = self.dispersion.tolist()
         if self.cross is not None:
             fields["cross"] = {"real": self.cross.real.tolist(), "imag": self.cross.imag.tolist()}
         return fields
+
+    @classmethod
+    def from_dict(cls, data: dict) -> ResponsePSD:
+        """The PSD of :meth:`to_dict`.
+
+        Raises
+        ------
+        DataError
+            ``data`` is not a dict or lacks a field; ParameterError for values the constructor
+            refuses.
+        """
+        from .lowpass import LowPassFilter
+
+        cross = data.get("cross") if isinstance(data, dict) else None
+        return fields_from_dict(
+            cls, data,
+            lowpass=None if data.get("lowpass") is None else LowPassFilter.from_dict(
+                data["lowpass"]),
+            cross=None if cross is None else (np.asarray(cross["real"], dtype=float)
+                                              + 1j * np.asarray(cross["imag"], dtype=float)))
 
     def to_xarray(self) -> Any:
         """The PSDs as an ``xarray.DataArray`` of dims (output, frequency), units in its attributes.

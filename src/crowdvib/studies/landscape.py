@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._estimators import DEFAULT_METHOD
-from .._validation import as_float_array, check_positive
+from .._validation import as_float_array, check_positive, fields_from_dict
 from ..errors import ParameterError
 from ..models.pedestrian import MSDModel
 from ..identification.estimation import PSDObjective
@@ -91,6 +91,19 @@ class ObjectiveMap:
 
         return plot_objective_map(self, uncertainty=uncertainty, search_bounds=search_bounds,
                                   ax=ax, title=title)
+
+    @classmethod
+    def from_dict(cls, data):
+        """The map of :meth:`to_dict` (``grid_optimum`` is derived, not read).
+
+        Raises
+        ------
+        DataError
+            ``data`` is not a dict or lacks a field.
+        """
+        found = data.get("estimate") if isinstance(data, dict) else None
+        return fields_from_dict(cls, data,
+                                estimate=None if found is None else MSDModel.from_dict(found))
 
     def to_dict(self):
         """JSON-ready dict."""

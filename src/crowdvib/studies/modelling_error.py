@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .._estimators import DEFAULT_METHOD, PAPER_ERROR_LEVELS
-from .._validation import as_float_array, check_mapping, check_positive
+from .._validation import FieldsFromDict, as_float_array, check_mapping, check_positive
 from ..errors import BoundWarning, CrowdvibError, ParameterError
 from ..identification.estimation import estimate_hsi
 from ..runner.tasks import run_tasks
@@ -253,7 +253,7 @@ def _run_warm_started(function, tasks, first, warm_start, *, executor, store, pr
 
 
 @dataclass(frozen=True, eq=False)
-class SensitivityResult:
+class SensitivityResult(FieldsFromDict):
     """Estimation errors caused by modelling errors (paper Figures 11 and 19).
 
     Attributes

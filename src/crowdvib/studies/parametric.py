@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._plausibility import derived
-from .._validation import check_positive
+from .._validation import FieldsFromDict, check_positive
 from ..models.pedestrian import MSDModel
 from .modelling_error import ErrorCase, _EstimationTask, _estimate_task, error_cases
 from ..runner.tasks import run_tasks
@@ -56,7 +56,7 @@ def _parametric_task(task):
 
 
 @dataclass(frozen=True, eq=False)
-class ParametricResult:
+class ParametricResult(FieldsFromDict):
     """Ratio estimated/true of f_h1 and ξ_h1 across a family of structures (paper Figures 5 and 6).
 
     Attributes

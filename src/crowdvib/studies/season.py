@@ -22,6 +22,7 @@ import numpy as np
 
 from .._estimators import DEFAULT_JOINT_METHOD, METHOD_WORDS
 from .._plausibility import derived
+from .._validation import fields_from_dict
 from ..errors import CrowdvibError, DataWarning, StudyWarning
 from ..identification.estimation import estimate_hsi_joint
 from ..models.crowd import Crowd
@@ -210,9 +211,25 @@ class SeasonResult:
 
         return plot_season_trends(self.table(), joint=self.joint, axes=axes, title=title)
 
+    @classmethod
+    def from_dict(cls, data):
+        """The season of :meth:`to_dict` (``records`` is derived from the rows, not read).
+
+        Raises
+        ------
+        DataError
+            ``data`` is not a dict or lacks its rows.
+        """
+        from ..identification.result import HSIEstimate
+
+        joint = data.get("joint") if isinstance(data, dict) else None
+        return fields_from_dict(cls, data, joint=None if joint is None else
+                                HSIEstimate.from_dict(joint))
+
     def to_dict(self):
-        """JSON-ready: the table's rows, and the joint estimate (``HSIEstimate.to_dict``)."""
-        return {"records": self.table(),
+        """JSON-ready: the rows, the table made of them (``records``), and the joint estimate
+        (``HSIEstimate.to_dict``)."""
+        return {"rows": [dict(row) for row in self.rows], "records": self.table(),
                 "joint": None if self.joint is None else self.joint.to_dict(),
                 "joint_error": self.joint_error}
 
