@@ -180,6 +180,11 @@ class FieldsFromDict:
         """The instance of :meth:`to_dict`'s dict (keys it derives, such as properties, are
         not read).
 
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` wrote (as read back from JSON).
+
         Raises
         ------
         DataError

@@ -50,7 +50,27 @@ def _cli(out, argv, capsys):
     assert found.to_dict() == written
     assert Results.from_dict(found.to_dict()) == found
     assert type(found).from_dict(found.to_dict()) == found
+    _typed_parts(found)
     return written, found, printed
+
+
+def _typed_parts(found):
+    """Issue 34 §1: the results' parts are objects of the library, each back from its dict."""
+    parts = found.parts()
+    assert parts or found.kind == "simulate", found.kind      # a simulation without HSI: none
+    for name, part in parts.items():
+        items = (part.values() if isinstance(part, dict) else part if isinstance(part, tuple)
+                 else (part,))
+        for item in items:
+            written = _json(item.to_dict())
+            assert _json(type(item).from_dict(written).to_dict()) == written, (found.kind, name)
+
+
+def _json(data):
+    """What a results.json keeps of ``data`` (crowdvib's writer: NaN as null)."""
+    from crowdvib._files import json_default
+
+    return json.loads(json.dumps(data, default=json_default), parse_constant=lambda _: None)
 
 
 def _here(computed, out):
@@ -240,3 +260,29 @@ def test_a_missing_file_and_a_kind_of_another_class(tmp_path):
     assert isinstance(Results.from_dict(data), CheckResults)
     with pytest.raises(DataError, match="holds 'check' results, not 'estimate'"):
         EstimateResults.from_dict(data)
+
+
+def test_a_schema_1_folder_still_loads_reports_and_gives_its_parts(tmp_path):
+    # Issue 34 §1: folders written before schema 2 still load. The file is what crowdvib
+    # 6a9ea3b (schema 1) wrote for `crowdvib demo --spectral` (tests/cases/data/schema1_demo):
+    # its estimator's keys at the top level, which schema 2 keeps under `diagnostics`.
+    source = Path(__file__).parent / "data" / "schema1_demo" / "results.json"
+    old = json.loads(source.read_text(encoding="utf-8"))
+    assert old["schema"] == "crowdvib.results/1" and "relative_cost" in old
+    found = load_results(source)
+    assert isinstance(found, DemoResults) and found.data["schema"] == SCHEMA
+    assert found.data["diagnostics"]["relative_cost"] == old["relative_cost"]
+    assert "relative_cost" not in found.data and found.estimate == old["estimate"]
+    parts = found.parts()
+    assert parts["estimate"].msd.damping_ratio == old["estimate"]["damping_ratio"]
+    assert parts["estimate"].relative_cost == old["relative_cost"]
+    assert parts["truth"].frequency == 3.0
+    assert parts["box"].damping_ratio == tuple(old["estimate"]["interval"]["damping_ratio"])
+    assert not found.in_doubt
+    # and the report of the old folder reads its estimate where schema 2 puts it
+    folder = tmp_path / "old"
+    folder.mkdir()
+    (folder / "results.json").write_text(source.read_text(encoding="utf-8"), encoding="utf-8")
+    assert main(["report", str(folder)]) == 0
+    page = (folder / "report.html").read_text(encoding="utf-8")
+    assert f"{old['relative_cost']:.3g}" in page

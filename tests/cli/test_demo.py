@@ -19,7 +19,7 @@ def test_demo_simulates_and_recovers_the_msd(tmp_path, capsys):
     assert results["estimate"]["damping_ratio"] == pytest.approx(0.30, rel=0.20)
     assert results["estimate"]["mass_ratio"] == 0.95
     assert results["measured"]["n_windows"] == 119
-    assert results["relative_cost"] < 0.01
+    assert results["diagnostics"]["relative_cost"] < 0.01
     assert (out / "psd_fit.png").stat().st_size > 10_000
     printed = capsys.readouterr().out
     assert "f_h1 [Hz]" in printed and "95 % interval" in printed
@@ -33,7 +33,7 @@ def test_demo_simulates_and_recovers_the_msd(tmp_path, capsys):
     # inside both intervals of each; the paper's estimate is kept beside the default's.
     assert printed.count("truth inside") == 4
     paper = results["paper_estimator"]
-    assert (results["method"], paper["method"]) == ("likelihood", "least_squares")
+    assert (results["diagnostics"]["method"], paper["method"]) == ("likelihood", "least_squares")
     for name in ("frequency", "damping_ratio"):
         low, high = paper["estimate"]["interval"][name]
         assert low <= results["truth"][name] <= high

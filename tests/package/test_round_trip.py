@@ -195,7 +195,7 @@ def test_every_results_json_class_is_a_kind_that_load_results_rebuilds():
     # A Results subclass is the class of one results.json kind; a computation of crowdvib.cases
     # gives its Results (AsResults.results), which tests/cases/test_results_roundtrip.py
     # round-trips through the file for every command.
-    from crowdvib.cases.results import _CLASSES
+    from crowdvib.cases.resultfile import _CLASSES
     from crowdvib.cases.schema import KINDS
 
     for name in FILE_CLASSES:

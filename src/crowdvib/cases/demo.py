@@ -90,12 +90,15 @@ class CaseDemo(AsResults):
 
     def to_dict(self) -> dict:
         """The results ``crowdvib demo`` writes to results.json, without its figures and
-        provenance; the default estimate's keys at the top level."""
-        estimate, paper = self.estimates["default"], self.estimates["paper"]
+        provenance: the default estimate's as every estimate's (``estimate`` and
+        ``diagnostics``), the paper's estimator's under ``paper_estimator``."""
+        estimate, paper = self.estimates["default"], self.estimates["paper"].to_dict()
+        hsi = estimate.to_dict()
         # The software versions as every other command records them (issue 26 §2: one layout).
         return {**schema_header("demo"), "command": "demo", "crowdvib_version": __version__,
-                "versions": software_versions(), "seed": self.seed, "case": self.case.name, "truth": self.case.msd.to_dict(),
-                **estimate.to_dict(), "paper_estimator": paper.to_dict(),
+                "versions": software_versions(), "seed": self.seed, "case": self.case.name,
+                "truth": self.case.msd.to_dict(), "estimate": hsi.pop("estimate"),
+                "diagnostics": hsi, "paper_estimator": paper,
                 "occupied_structure": self.occupied.to_dict(),
                 "measured": {"source": self.measured.source, "duration_s": self.duration,
                              "window_length": self.case.window_length,

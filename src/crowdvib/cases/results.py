@@ -5,12 +5,13 @@ Each command writes one results.json in the versioned schema :data:`~crowdvib.ca
 ``kind`` (:class:`EstimateResults`, :class:`SensitivityResults`, :class:`CheckResults`,
 :class:`ModesResults`, :class:`SimulateResults`, :class:`MapResults`, :class:`DemoResults`).
 A result holds exactly what the file holds, so ``load_results(path).to_dict()`` equals the file
-and ``Results.from_dict(r.to_dict()) == r``; its methods give the typed objects back
-(:meth:`EstimateResults.hsi_estimate` → :class:`~crowdvib.identification.HSIEstimate`), its
-verdict (:meth:`Results.verdict`, the one the command line prints and report.html shows), a
+(of the current schema; an older one's is upgraded as read) and ``Results.from_dict(r.to_dict())
+== r``; its :meth:`~Results.parts` are the typed objects of the library, each with its
+``from_dict`` (:meth:`EstimateResults.hsi_estimate` →
+:class:`~crowdvib.identification.HSIEstimate`), its verdict (:meth:`Results.verdict`, the one the command line prints and report.html shows), a
 notebook view (``_repr_html_``) and tables for pandas (:meth:`Results.to_dataframe`).
 
-Also what every results.json shares: the case tables it keeps and the software versions.
+What every kind shares, the base class among it, is in :mod:`crowdvib.cases.resultfile`.
 Light on purpose: the command line imports it at start-up (``crowdvib --help``).
 """
 
@@ -18,19 +19,17 @@ from __future__ import annotations
 
 import json
 import sys
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any
 
-from .._version import __version__
 from ..errors import DataError
-from .schema import KINDS, SCHEMA, estimate, hsi
+from .resultfile import (DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES,
+                         AsResults, Results, provenance, results_of, software_versions)
+from .schema import hsi
 
 if TYPE_CHECKING:
-    from ..design.interval import MSDBox
     from ..identification.result import HSIEstimate
     from ..models.pedestrian import MSDModel
-    from .verdict import Finding
 
 __all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "software_versions",
            "provenance",
@@ -38,290 +37,6 @@ __all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "DESIGN_TABLES", "software_
            "SimulateResults", "MapResults", "DemoResults", "SeasonResults", "ComfortResults",
            "AsResults",
            "load_results", "results_of"]
-
-#: The case tables each kind of command reads; its results and report show no others.
-ESTIMATION_TABLES = ("structure", "crowd", "hsi", "measurement", "estimation", "expected")
-SIMULATION_TABLES = ("structure", "crowd", "hsi", "simulation", "expected")
-DESIGN_TABLES = ("structure", "crowd", "hsi", "design")
-
-
-def software_versions() -> dict:
-    """The versions of crowdvib, numpy, scipy and Python, as every results.json records them."""
-    import platform
-
-    import numpy as np
-    import scipy
-
-    return {"crowdvib": __version__, "numpy": np.__version__, "scipy": scipy.__version__,
-            "python": platform.python_version()}
-
-
-def provenance(case: str | Path | None = None) -> dict:
-    """Provenance keys for a ``results.json``, taken when the run starts.
-
-    Parameters
-    ----------
-    case : str or pathlib.Path, optional
-        The case file the run reads (None for an embedded example).
-
-    Returns
-    -------
-    dict
-        ``created`` (UTC, ISO 8601) and ``case_sha256`` (hex digest of the case file, or None):
-        recorded at run time they stay true when the case file is edited later.
-    """
-    import datetime
-
-    from .._files import sha256_file
-
-    created = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
-    path = None if case is None else Path(case)
-    return {"created": created,
-            "case_sha256": sha256_file(path) if path is not None and path.is_file() else None}
-
-
-#: The MSD's parameters (and the step frequencies fitted with it) in the order tables show them.
-_PARAMETERS = ("frequency", "damping_ratio", "mass_ratio", "step_frequency_mean",
-               "step_frequency_std")
-
-
-@dataclass(frozen=True, eq=False)
-class Results:
-    """What one results.json holds (schema :data:`~crowdvib.cases.schema.SCHEMA`).
-
-    Build one with :func:`load_results` (from a file), :meth:`from_dict` (from its dict) or
-    :func:`results_of` (from what a ``crowdvib.cases`` function returned). Two results are
-    equal when their dicts are (numbers compared exactly).
-
-    Attributes
-    ----------
-    data : dict
-        The results.json object (JSON types only). Read it through the methods; it is the
-        result's state, not to be changed in place.
-    """
-
-    #: The results.json ``kind`` of this class ("" for the base class, which any kind is).
-    kind: ClassVar[str] = ""
-    data: dict
-
-    # ---------------------------------------------------------------------------- round trip
-    @classmethod
-    def from_dict(cls, data: dict, *, source: str = "results") -> Results:
-        """The result of a results.json dict, of the class its ``kind`` names.
-
-        Parameters
-        ----------
-        data : dict
-            A results.json object: ``schema`` and ``kind`` required. Numbers may be numpy
-            scalars or arrays; they are stored as JSON numbers and lists, NaN as null (as the
-            commands write them).
-        source : str
-            What to call ``data`` in an error message (the file's path for :func:`load_results`).
-
-        Raises
-        ------
-        DataError
-            Not an object, a missing or unknown ``schema`` or ``kind``, or (on a subclass) a
-            ``kind`` of another class.
-        """
-        if not isinstance(data, dict):
-            raise DataError(f"{source} must hold a JSON object, got {type(data).__name__}")
-        schema, kind = data.get("schema"), data.get("kind")
-        if schema != SCHEMA:
-            why = ("no schema (written by a crowdvib before results.json had one)"
-                   if schema is None else f"schema {schema!r} (another crowdvib's)")
-            raise DataError(f"{source} holds {why}; crowdvib {__version__} reads {SCHEMA!r}: "
-                            "run the command again to write it")
-        if kind not in _CLASSES:
-            raise DataError(f"{source}: kind must be one of {list(KINDS)}, got {kind!r}")
-        if cls.kind and kind != cls.kind:
-            raise DataError(f"{source} holds {kind!r} results, not {cls.kind!r}")
-        return _CLASSES[kind](_json(data))
-
-    def to_dict(self) -> dict:
-        """The results.json object (a copy: JSON types only)."""
-        return json.loads(json.dumps(self.data))
-
-    def __eq__(self, other):
-        if not isinstance(other, Results):
-            return NotImplemented
-        return type(self) is type(other) and self.data == other.data
-
-    __hash__ = None
-
-    # ------------------------------------------------------------------------------ reading
-    @property
-    def command(self) -> str:
-        """The command that wrote it (``kind`` but for results of older names)."""
-        return self.data.get("command", self.data["kind"])
-
-    @property
-    def name(self) -> str:
-        """The case's name."""
-        from .schema import case_name
-
-        return case_name(self.data)
-
-    @property
-    def warnings(self) -> tuple[str, ...]:
-        """The warnings the run raised (``Category: message``), as the command caught them."""
-        return tuple(self.data.get("warnings") or ())
-
-    @property
-    def estimate(self) -> dict | None:
-        """The MSD estimate {frequency, damping_ratio, mass_ratio (, interval, …)}, or None."""
-        return estimate(self.data)
-
-    def interval(self, parameter: str) -> tuple[float, float, float] | None:
-        """(low, high, level) of an estimated parameter's confidence interval, or None.
-
-        Parameters
-        ----------
-        parameter : str
-            ``"frequency"``, ``"damping_ratio"`` or ``"mass_ratio"``.
-        """
-        found = (self.estimate or {}).get("interval")
-        ends = found.get(parameter) if isinstance(found, dict) else None
-        if not isinstance(ends, list) or len(ends) != 2 or None in ends:
-            return None
-        return ends[0], ends[1], found["level"]
-
-    def msd_box(self, msd: MSDModel | None = None) -> MSDBox | None:
-        """The box of f_h1 and ξ_h1 these results allow, μ_h1 held
-        (:class:`~crowdvib.design.interval.MSDBox`): a sensitivity study's statistical
-        interval widened by its modelling bound (``combined``), else the estimate's
-        statistical interval; None without an estimate or without an interval.
-
-        Parameters
-        ----------
-        msd : MSDModel, optional
-            The point the box is around (default the estimate, μ_h1 0.95 if it holds none).
-        """
-        from ..design.interval import SPANNED, MSDBox
-        from ..models.pedestrian import MSDModel
-
-        found = self.estimate or {}
-        if msd is None:
-            if not all(isinstance(found.get(k), (int, float)) for k in SPANNED):
-                return None
-            msd = MSDModel(found["frequency"], found["damping_ratio"],
-                           found.get("mass_ratio") or 0.95)
-        combined = self.data.get("combined")
-        rows = {name: combined[name] for name in SPANNED
-                if isinstance(combined, dict) and isinstance(combined.get(name), dict)}
-        if rows:
-            box = MSDBox.around(msd, {name: row.get("combined") for name, row in rows.items()},
-                                next(iter(rows.values())).get("level"), widened=True)
-            if box is not None:
-                return box
-        interval = found.get("interval") if isinstance(found.get("interval"), dict) else {}
-        return MSDBox.around(msd, interval, interval.get("level"))
-
-    # ------------------------------------------------------------------------------ verdict
-    def verdict(self) -> tuple[Finding, ...]:
-        """The verdict: a tuple of :class:`~crowdvib.cases.verdict.Finding` (severity ``"ok"``,
-        ``"doubt"`` or ``"fail"``, text, key), as the command line prints it and report.html
-        shows it."""
-        from .verdict import findings
-
-        return findings(self.data)
-
-    @property
-    def passes(self) -> bool:
-        """True when the verdict has no doubt and no failure."""
-        return all(finding.severity == "ok" for finding in self.verdict())
-
-    @property
-    def in_doubt(self) -> bool:
-        """True when the verdict doubts the result (:func:`~crowdvib.cases.verdict.in_doubt`):
-        the command line then exits with status 3 (1 with ``--strict``)."""
-        from .verdict import in_doubt
-
-        return in_doubt(self.verdict())
-
-    @property
-    def fails_design(self) -> bool:
-        """True when the bridge fails a design code at the result
-        (:func:`~crowdvib.cases.verdict.fails_design`): an answer, not a doubt; the command line
-        then exits with status 4 unless the result is also in doubt (3)."""
-        from .verdict import fails_design
-
-        return fails_design(self.verdict())
-
-    # ------------------------------------------------------------------------------- tables
-    def table(self) -> list[dict]:
-        """The result's main table as rows (dicts of one column each).
-
-        :meth:`to_dataframe` makes it a pandas DataFrame. Here: one row per estimated parameter (name, value,
-        interval, standard error, expected or true value); the kinds with a table of their own
-        override it."""
-        found = self.estimate or {}
-        reference = self.data.get("truth") or self.data.get("expected") or {}
-        errors = found.get("standard_error") if isinstance(found.get("standard_error"),
-                                                           dict) else {}
-        rows = []
-        for key in _PARAMETERS:
-            if key not in found:
-                continue
-            ends = self.interval(key)
-            rows.append({"parameter": key, "value": found[key],
-                         "low": None if ends is None else ends[0],
-                         "high": None if ends is None else ends[1],
-                         "level": None if ends is None else ends[2],
-                         "standard_error": errors.get(key), "reference": reference.get(key)})
-        return rows
-
-    def to_dataframe(self) -> Any:
-        """:meth:`table` as a pandas DataFrame (needs pandas: ``pip install 'crowdvib[notebook]'``
-        or ``pip install pandas``).
-
-        Raises
-        ------
-        ModuleNotFoundError
-            pandas is not installed; the message names the command that installs it.
-        """
-        try:
-            import pandas
-        except ModuleNotFoundError as error:
-            raise ModuleNotFoundError(
-                "to_dataframe needs pandas, which is not installed: pip install pandas (or pip "
-                "install 'crowdvib[notebook]')", name=error.name) from None
-        return pandas.DataFrame(self.table())
-
-    # ------------------------------------------------------------------------------ display
-    def _headline(self) -> list[tuple[str, str]]:
-        """(quantity, value) rows of the notebook view: the estimate with its intervals."""
-        from ..quantities import describe
-
-        rows = []
-        for row in Results.table(self):
-            text = f"{row['value']:.4g}"
-            if row["low"] is not None:
-                text += f" ({100 * row['level']:g} %: {row['low']:.4g} – {row['high']:.4g})"
-            rows.append((describe(row["parameter"]), text))
-        relative = hsi(self.data, "relative_cost")
-        if isinstance(relative, (int, float)):
-            rows.append(("J/J_noHSI (relative misfit)", f"{relative:.3g}"))
-        return rows
-
-    #: Whether the notebook view shows :meth:`table` (the kinds with a table of their own but
-    #: the map, whose grid is a figure's), and which of its columns (empty: all).
-    _view_table: ClassVar[bool] = False
-    _shown_columns: ClassVar[tuple[str, ...]] = ()
-
-    def _repr_html_(self) -> str:
-        """A small view for notebooks: the headline values, the kind's own table (its first
-        rows) and the verdict (:func:`crowdvib.cases.notebook.results_html`)."""
-        from .notebook import results_html
-
-        return results_html(self, self.table() if self._view_table else (), self._shown_columns)
-
-    def __repr__(self):
-        found = self.estimate or {}
-        shown = ", ".join(f"{k}={found[k]:.4g}" for k in _PARAMETERS[:3]
-                          if isinstance(found.get(k), (int, float)))
-        return (f"{type(self).__name__}({self.name!r}{', ' + shown if shown else ''}, "
-                f"verdict={'ok' if self.passes else 'check before use'})")
 
 
 class EstimateResults(Results):
@@ -350,6 +65,26 @@ class EstimateResults(Results):
         return HSIEstimate.from_dict({**diagnostics, "estimate": self.data["estimate"]},
                                      crowd=Crowd(**crowd) if isinstance(crowd, dict) else None)
 
+    def parts(self) -> dict[str, Any]:
+        """``estimate`` (:class:`~crowdvib.identification.HSIEstimate`), ``box`` (its
+        :class:`~crowdvib.design.MSDBox`), ``convergence``
+        (:class:`~crowdvib.signals.PSDConvergence`), ``step_frequencies``
+        (:class:`~crowdvib.identification.StepFrequencyEstimate`, when fitted from the low
+        band), ``crowd`` (the case's :class:`~crowdvib.models.Crowd`)."""
+        from ..identification.step_frequencies import StepFrequencyEstimate
+        from ..models.crowd import Crowd
+        from ..signals.convergence import PSDConvergence
+
+        crowd = (self.data.get("inputs") or {}).get("crowd")
+        found = {"estimate": self.hsi_estimate(), "box": self.msd_box(),
+                 "crowd": Crowd.from_dict(crowd) if isinstance(crowd, dict) else None}
+        convergence, step = hsi(self.data, "convergence"), hsi(self.data, "step_frequencies")
+        if isinstance(convergence, dict):
+            found["convergence"] = PSDConvergence.from_dict(convergence)
+        if isinstance(step, dict):
+            found["step_frequencies"] = StepFrequencyEstimate.from_dict(step, crowd=found["crowd"])
+        return {name: part for name, part in found.items() if part is not None}
+
     @property
     def msd(self) -> MSDModel:
         """The estimated :class:`~crowdvib.models.MSDModel`."""
@@ -375,12 +110,31 @@ class DemoResults(EstimateResults):
     kind = "demo"
 
     def hsi_estimate(self) -> HSIEstimate:
-        """The :class:`~crowdvib.identification.HSIEstimate` (its keys sit at the top level;
-        fitted step frequencies in the crowd of the paper's example, which the demo runs)."""
+        """The :class:`~crowdvib.identification.HSIEstimate` (for results written before it
+        stored its crowd, fitted step frequencies in the crowd of the paper's example, which
+        the demo runs)."""
         from ..identification.result import HSIEstimate
         from ..models.examples import paper_example
 
-        return HSIEstimate.from_dict(self.data, crowd=paper_example().crowd)
+        return HSIEstimate.from_dict({**self.data["diagnostics"],
+                                      "estimate": self.data["estimate"]},
+                                     crowd=paper_example().crowd)
+
+
+    def parts(self) -> dict[str, Any]:
+        """``estimate`` and ``box`` as for an estimate, ``paper_estimator`` (the paper's least
+        squares' :class:`~crowdvib.identification.HSIEstimate`), ``truth``
+        (:class:`~crowdvib.models.MSDModel`) and ``occupied_structure``
+        (:class:`~crowdvib.response.EffectiveModalProperties`)."""
+        from ..identification.result import HSIEstimate
+        from ..models.pedestrian import MSDModel
+        from ..response.results import EffectiveModalProperties
+
+        return {"estimate": self.hsi_estimate(), "box": self.msd_box(),
+                "paper_estimator": HSIEstimate.from_dict(self.data["paper_estimator"]),
+                "truth": MSDModel.from_dict(self.data["truth"]),
+                "occupied_structure": EffectiveModalProperties.from_dict(
+                    self.data["occupied_structure"])}
 
 
 class MapResults(EstimateResults):
@@ -404,6 +158,14 @@ class MapResults(EstimateResults):
         return HSIEstimate.from_dict({**self.data["diagnostics"],
                                       "estimate": self.data["estimate"]})
 
+    def parts(self) -> dict[str, Any]:
+        """``estimate`` (:class:`~crowdvib.identification.HSIEstimate`) and ``objective_map``
+        (:class:`~crowdvib.studies.ObjectiveMap`)."""
+        from ..studies.landscape import ObjectiveMap
+
+        return {"estimate": self.hsi_estimate(),
+                "objective_map": ObjectiveMap.from_dict(self.data["objective_map"])}
+
 
 class SensitivityResults(Results):
     """``crowdvib sensitivity``: the nominal estimate and the modelling-error study."""
@@ -419,6 +181,15 @@ class SensitivityResults(Results):
                                                 "delta_damping_ratio", "error")}
                 for case in study.get("cases", []) if isinstance(case, dict)]
 
+    def parts(self) -> dict[str, Any]:
+        """``study`` (:class:`~crowdvib.studies.SensitivityResult`), ``box`` (the
+        :class:`~crowdvib.design.MSDBox` of the interval widened by the modelling bound)."""
+        from ..studies.modelling_error import SensitivityResult
+
+        found = {"study": SensitivityResult.from_dict(self.data["sensitivity"]),
+                 "box": self.msd_box()}
+        return {name: part for name, part in found.items() if part is not None}
+
 
 class CheckResults(Results):
     """``crowdvib check``: the design codes' verdict rows (:func:`check_case`)."""
@@ -430,6 +201,27 @@ class CheckResults(Results):
         """The verdict rows: code, class, model, output, governing acceleration, limit,
         utilisation, comfort class, passes."""
         return [dict(row) for row in (self.data.get("design") or {}).get("verdict", [])]
+
+    def parts(self) -> dict[str, Any]:
+        """``checks`` (code → :class:`~crowdvib.design.DesignCheck`), ``msd``
+        (:class:`~crowdvib.models.MSDModel` of the HSI model), ``dampers`` (tuple of
+        :class:`~crowdvib.models.TunedMassDamper`), ``prediction``
+        (:class:`~crowdvib.design.ResponsePrediction`) when asked for."""
+        from ..design.check import DesignCheck
+        from ..design.stochastic import ResponsePrediction
+        from ..models.damper import TunedMassDamper
+        from ..models.pedestrian import MSDModel
+
+        design = self.data.get("design") or {}
+        msd, prediction = self.data.get("msd"), design.get("prediction")
+        found = {"checks": {code: DesignCheck.from_dict(check)
+                            for code, check in (design.get("checks") or {}).items()},
+                 "msd": MSDModel.from_dict(msd) if isinstance(msd, dict) else None,
+                 "dampers": tuple(TunedMassDamper.from_dict(d) for d in design.get("dampers")
+                                  or ()),
+                 "prediction": (ResponsePrediction.from_dict(prediction)
+                                if isinstance(prediction, dict) else None)}
+        return {name: part for name, part in found.items() if part is not None}
 
     def _headline(self) -> list[tuple[str, str]]:
         """The MSD of the HSI model, and where it comes from."""
@@ -491,6 +283,12 @@ class ModesResults(Results):
     def name(self) -> str:
         return str(self.data.get("name") or super().name)
 
+    def parts(self) -> dict[str, Any]:
+        """``modes``: the :class:`~crowdvib.oma.ModeIdentification`."""
+        from ..oma.modeid import ModeIdentification
+
+        return {"modes": ModeIdentification.from_dict(self.data)}
+
     def table(self) -> list[dict]:
         """One row per mode: frequency [Hz], damping ratio [-] and their standard deviations."""
         return [{key: mode.get(key) for key in ("frequency", "frequency_std", "damping_ratio",
@@ -503,6 +301,14 @@ class SimulateResults(Results):
 
     kind = "simulate"
     _view_table = True
+
+    def parts(self) -> dict[str, Any]:
+        """``msd``: the :class:`~crowdvib.models.MSDModel` simulated with (none: no HSI); the
+        record itself is in the folder's record files (:func:`crowdvib.io.read_record`)."""
+        from ..models.pedestrian import MSDModel
+
+        msd = self.data.get("msd")
+        return {"msd": MSDModel.from_dict(msd)} if isinstance(msd, dict) else {}
 
     def table(self) -> list[dict]:
         """One row per output: RMS, peak |a| and the largest running RMS [m/s²]."""
@@ -524,6 +330,16 @@ class SeasonResults(Results):
     def table(self) -> list[dict]:
         """One row per record or window (:meth:`crowdvib.studies.SeasonResult.table`)."""
         return [dict(row) for row in self.data.get("records") or [] if isinstance(row, dict)]
+
+    def parts(self) -> dict[str, Any]:
+        """``joint`` (the joint :class:`~crowdvib.identification.HSIEstimate`, when made) and
+        its ``box``; every record's row is in :meth:`table`."""
+        from ..identification.result import HSIEstimate
+
+        if not isinstance(self.data.get("diagnostics"), dict) or not self.estimate:
+            return {}
+        joint = HSIEstimate.from_dict({**self.data["diagnostics"], "estimate": self.estimate})
+        return {"joint": joint, "box": self.msd_box()}
 
     def to_dataframe(self) -> Any:
         """:meth:`table` as a pandas DataFrame (:func:`crowdvib.studies.season.season_dataframe`:
@@ -559,27 +375,25 @@ class ComfortResults(Results):
                  **{f"exceedance_{k}": v for k, v in (row.get("exceedance") or {}).items()}}
                 for row in rows if isinstance(row, dict)]
 
+    def parts(self) -> dict[str, Any]:
+        """``comfort`` (:class:`~crowdvib.comfort.ComfortYear`), ``traffic``
+        (:class:`~crowdvib.comfort.Traffic`), ``msd`` (:class:`~crowdvib.models.MSDModel`)
+        and ``box`` (:class:`~crowdvib.design.MSDBox`) when carried."""
+        from ..comfort.traffic import Traffic
+        from ..design.interval import MSDBox
+        from ..models.pedestrian import MSDModel
+
+        msd, box = self.data.get("msd"), self.data.get("msd_interval")
+        found = {"comfort": self.comfort_year(), "traffic": Traffic.from_dict(self.data["traffic"]),
+                 "msd": MSDModel.from_dict(msd) if isinstance(msd, dict) else None,
+                 "box": MSDBox.from_dict(box) if isinstance(box, dict) and "msd" in box else None}
+        return {name: part for name, part in found.items() if part is not None}
+
     def comfort_year(self):
         """The :class:`~crowdvib.comfort.ComfortYear` it holds."""
         from ..comfort import ComfortYear
 
         return ComfortYear.from_dict(self.data["comfort"])
-
-
-_CLASSES = {cls.kind: cls for cls in (EstimateResults, SensitivityResults, CheckResults,
-                                      ModesResults, SimulateResults, MapResults, DemoResults,
-                                      SeasonResults, ComfortResults)}
-
-
-def _json(data: dict) -> dict:
-    """``data`` as write_json stores it and json reads it back: numpy as Python numbers and
-    lists, tuples as lists, NaN and ±inf as null (``parse_constant``); a copy, in its order."""
-    from .._files import json_default
-
-    try:
-        return json.loads(json.dumps(data, default=json_default), parse_constant=lambda _: None)
-    except (TypeError, ValueError) as error:
-        raise DataError(f"results must hold JSON values only: {error}") from None
 
 
 def load_results(path: str | Path) -> Results:
@@ -628,33 +442,3 @@ def load_results(path: str | Path) -> Results:
     except RecursionError:
         raise DataError(f"{path} is not a crowdvib results.json: its JSON is nested too deeply "
                         "to be results") from None
-
-
-class AsResults:
-    """What a ``crowdvib.cases`` function returns (:class:`CaseEstimate`, :class:`CaseMap`,
-    :class:`CaseCheck`, :class:`CaseSimulation`, :class:`AmbientModes`): its results as the
-    command writes them, and their verdict."""
-
-    def results(self, **extra: Any) -> Results:
-        """The :class:`Results` of this computation (:func:`results_of`)."""
-        return results_of(self, **extra)
-
-    def verdict(self) -> tuple[Finding, ...]:
-        """The verdict on these results (:meth:`Results.verdict`), without the warnings the
-        command line catches during the run."""
-        return self.results().verdict()
-
-
-def results_of(found: Any, **extra: Any) -> Results:
-    """The result of what a ``crowdvib.cases`` function returned, as the command writes it
-    (without the figures, warnings and provenance the command adds; give them as ``extra``).
-
-    Parameters
-    ----------
-    found : CaseEstimate, CaseMap, CaseCheck, CaseSimulation or AmbientModes
-        Anything whose ``to_dict()`` is a results.json object.
-    **extra
-        Keys to add (e.g. ``warnings=[...]``).
-    """
-    return Results.from_dict({**found.to_dict(), **extra})
-

@@ -116,6 +116,11 @@ class MSDBox:
     def from_dict(cls, data: dict) -> MSDBox:
         """The box of :meth:`to_dict`.
 
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` wrote (as read back from JSON).
+
         Raises
         ------
         DataError

@@ -229,6 +229,11 @@ class Crowd:
     def from_dict(cls, data: dict) -> Crowd:
         """The crowd of :meth:`to_dict`.
 
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` wrote (as read back from JSON).
+
         Raises
         ------
         DataError

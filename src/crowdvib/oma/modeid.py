@@ -287,6 +287,11 @@ class ModeIdentification:
 
         The stabilisation diagram's poles are not stored: ``poles`` is empty.
 
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` wrote (as read back from JSON).
+
         Raises
         ------
         DataError
@@ -380,6 +385,11 @@ class ModeCrossCheck:
     @classmethod
     def from_dict(cls, data: dict) -> ModeCrossCheck:
         """The cross-check of :meth:`to_dict` (null as NaN).
+
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` wrote (as read back from JSON).
 
         Raises
         ------

@@ -7,14 +7,15 @@ live in the core (:mod:`crowdvib.cases.schema`), where the verdict reads them to
 
 import json
 
-from ..cases.schema import case_name, estimate, get, hsi, sensitivity, summary
+from ..cases.schema import case_name, estimate, get, hsi, sensitivity, summary, upgrade
 from ..errors import DataError
 
 __all__ = ["read_results", "get", "hsi", "sensitivity", "summary", "estimate", "case_name"]
 
 
 def read_results(path):
-    """The JSON object of a ``results.json`` → dict (DataError naming the file otherwise)."""
+    """The JSON object of a ``results.json`` → dict in the current schema
+    (:func:`~crowdvib.cases.schema.upgrade`; DataError naming the file otherwise)."""
     if not path.is_file():
         raise DataError(f"{path} does not exist: run a crowdvib command with --out "
                         f"{path.parent} first")
@@ -24,4 +25,4 @@ def read_results(path):
         raise DataError(f"{path} is not valid JSON: {error}") from None
     if not isinstance(results, dict):
         raise DataError(f"{path} must hold a JSON object, got {type(results).__name__}")
-    return results
+    return upgrade(results)

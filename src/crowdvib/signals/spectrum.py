@@ -244,6 +244,11 @@ class ResponsePSD:
     def from_dict(cls, data: dict) -> ResponsePSD:
         """The PSD of :meth:`to_dict`.
 
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` wrote (as read back from JSON).
+
         Raises
         ------
         DataError

@@ -96,6 +96,11 @@ class ObjectiveMap:
     def from_dict(cls, data):
         """The map of :meth:`to_dict` (``grid_optimum`` is derived, not read).
 
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` wrote (as read back from JSON).
+
         Raises
         ------
         DataError

@@ -215,6 +215,11 @@ class SeasonResult:
     def from_dict(cls, data):
         """The season of :meth:`to_dict` (``records`` is derived from the rows, not read).
 
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` wrote (as read back from JSON).
+
         Raises
         ------
         DataError
