@@ -6,11 +6,15 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from .._version import __version__
 from .results import AsResults, software_versions
 from .schema import schema_header
+
+if TYPE_CHECKING:
+    from ..models.structure import ModalModel
+    from ..oma.modeid import ModeIdentification
 
 __all__ = ["AmbientModes", "identify_ambient"]
 
@@ -36,12 +40,12 @@ class AmbientModes(AsResults):
         Wall-clock time of the identification [s].
     """
 
-    path: Any
+    path: str | Path
     name: str
     records: list
     options: dict
-    modes: Any
-    structure: Any
+    modes: ModeIdentification
+    structure: ModalModel | None
     seconds: float
 
     def to_dict(self) -> dict:
@@ -91,8 +95,8 @@ def identify_ambient(path, *, cross_check: bool = False,
     """
     import time
 
-    from ..oma.identify import identify_modes
     from ..io.ambient import read_ambient
+    from ..oma.identify import identify_modes
 
     name, records, options, spec = read_ambient(path)
     options["cross_check"] = options["cross_check"] or cross_check

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from .._version import __version__
 from ..errors import ParameterError
@@ -19,6 +19,10 @@ from .schema import schema_header
 
 if TYPE_CHECKING:
     from collections.abc import Callable
+
+    from ..models.examples import ExampleCase
+    from ..response.results import EffectiveModalProperties, Simulation
+    from ..signals.spectrum import ResponsePSD
 
 __all__ = ["CaseDemo", "demo_case", "DEMO_ESTIMATORS", "DEMO_SAMPLE_RATE", "DEMO_WARM_UP"]
 
@@ -43,7 +47,7 @@ class CaseDemo(AsResults):
 
     Attributes
     ----------
-    case : PaperExample
+    case : ExampleCase
         The paper's example (:func:`~crowdvib.models.examples.paper_example`), truth included.
     measured : ResponsePSD
         The "measured" PSD, 0–10 Hz.
@@ -62,15 +66,15 @@ class CaseDemo(AsResults):
         The occupied structure with the default estimate's MSD.
     """
 
-    case: Any
-    measured: Any
+    case: ExampleCase
+    measured: ResponsePSD
     n_windows: int
-    record: Any
+    record: Simulation | None
     duration: float
     seed: int
     estimates: dict
     seconds: dict
-    occupied: Any
+    occupied: EffectiveModalProperties
 
     def model_psds(self) -> dict:
         """The expected PSD of each estimate as its estimator modelled it (crowd model, fitted
@@ -134,8 +138,8 @@ def demo_case(*, duration: float = 3600.0, seed: int = 20230101, spectral: bool 
 
     from ..identification.estimation import estimate_hsi
     from ..models.examples import paper_example
-    from ..response.simulation import simulate
     from ..response.fluctuation import response_psd
+    from ..response.simulation import simulate
     from ..response.spectral import effective_modal_properties
     from ..signals import LowPassFilter, synthetic_welch_psd, welch_psd, welch_segment_count
 

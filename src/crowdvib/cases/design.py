@@ -9,11 +9,12 @@ from typing import TYPE_CHECKING, Any
 
 from .._version import __version__
 from ..errors import ParameterError, PlausibilityWarning
-from .results import AsResults, DESIGN_TABLES, software_versions
+from .results import DESIGN_TABLES, AsResults, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
     from ..design.interval import MSDBox
+    from ..design.stochastic import ResponsePrediction
     from ..io.casefile import Case
     from ..models.pedestrian import MSDModel
     from .results import Results
@@ -45,14 +46,14 @@ class CaseCheck(AsResults):
         The checks across the estimate's interval (``estimate`` of :func:`check_case`).
     """
 
-    case: Any
-    msd: Any
+    case: Case
+    msd: MSDModel | None
     msd_source: str | None
     checks: dict
     dampers: list
-    prediction: Any
+    prediction: ResponsePrediction | None
     seconds: float
-    spread: Any = None
+    spread: IntervalCheck | None = None
 
     @property
     def rows(self) -> list[dict]:
@@ -447,7 +448,7 @@ class IntervalCheck:
         ``conservative_end``, ``monotone``, ``passes``, ``verdict``).
     """
 
-    box: Any
+    box: MSDBox
     grid: int
     rows: list
 

@@ -15,11 +15,11 @@ length → step frequencies fitted below a cut-off (optional, the paper's Waalse
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from .._version import __version__
 from ..errors import ParameterError
-from .results import AsResults, ESTIMATION_TABLES, software_versions
+from .results import ESTIMATION_TABLES, AsResults, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
@@ -27,7 +27,15 @@ if TYPE_CHECKING:
 
     from numpy.typing import ArrayLike
 
+    from ..identification.result import HSIEstimate
+    from ..identification.step_frequencies import StepFrequencyEstimate
     from ..io.casefile import Case
+    from ..io.records import Record
+    from ..models.crowd import Crowd
+    from ..signals.convergence import PSDConvergence
+    from ..signals.lowpass import LowPassFilter
+    from ..signals.spectrum import ResponsePSD
+    from ..studies.landscape import ObjectiveMap
 
 
 __all__ = ["CaseMeasurement", "CaseRecordFit", "CaseEstimate", "measure_case", "case_crowd",
@@ -49,9 +57,9 @@ class CaseMeasurement:
         The zero-phase low-pass filter applied before Welch (None: none).
     """
 
-    record: Any
-    psd: Any
-    lowpass: Any
+    record: Record
+    psd: ResponsePSD
+    lowpass: LowPassFilter | None
 
 
 @dataclass(frozen=True)
@@ -69,10 +77,10 @@ class CaseRecordFit:
         The step frequencies fitted below the cut-off, if the case asks for them.
     """
 
-    case: Any
+    case: Case
     measurement: CaseMeasurement
-    crowd: Any
-    step_frequencies: Any
+    crowd: Crowd
+    step_frequencies: StepFrequencyEstimate | None
 
 
 @dataclass(frozen=True)
@@ -91,10 +99,10 @@ class CaseEstimate(AsResults):
         The PSD's convergence with the record length (single record only).
     """
 
-    case: Any
+    case: Case
     records: tuple[CaseRecordFit, ...]
-    estimate: Any
-    convergence: Any = None
+    estimate: HSIEstimate
+    convergence: PSDConvergence | None = None
 
     @property
     def joint(self) -> bool:
@@ -368,8 +376,8 @@ class CaseMap(AsResults):
     """
 
     record: CaseRecordFit
-    estimate: Any
-    landscape: Any
+    estimate: HSIEstimate
+    landscape: ObjectiveMap
     seconds: float
 
     def to_dict(self) -> dict:

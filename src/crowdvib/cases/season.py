@@ -17,11 +17,11 @@ import os
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from .._version import __version__
 from ..errors import DataError, ParameterError
-from .results import AsResults, ESTIMATION_TABLES, software_versions
+from .results import ESTIMATION_TABLES, AsResults, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
@@ -29,6 +29,7 @@ if TYPE_CHECKING:
 
     from ..io.casefile import Case
     from ..io.crowdtable import CrowdTable
+    from ..studies.season import SeasonResult
 
 __all__ = ["CaseSeason", "SeasonPlan", "plan_season", "season_case", "season_records"]
 
@@ -37,7 +38,7 @@ __all__ = ["CaseSeason", "SeasonPlan", "plan_season", "season_case", "season_rec
 class _Window:
     """One task of a season: the case as it reads one record (or window) with its crowd."""
 
-    case: Any
+    case: Case
     duration: float | None       # the crowd table's length of the record [s], checked
 
 
@@ -226,8 +227,8 @@ class SeasonPlan:
         How many record files the season found.
     """
 
-    case: Any
-    table: Any
+    case: Case
+    table: CrowdTable
     windows: list
     unmatched: tuple
     records: int
@@ -326,9 +327,9 @@ class CaseSeason(AsResults):
         Rows of a thinner crowd [persons/m²] were left out of the joint estimate.
     """
 
-    case: Any
-    table: Any
-    season: Any
+    case: Case
+    table: CrowdTable
+    season: SeasonResult
     unmatched: tuple = ()
     joint_min_density: float = 0.0
 

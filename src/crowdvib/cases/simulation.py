@@ -4,16 +4,19 @@ structure, with or without HSI (docs: :ref:`theory-crowd`, :ref:`theory-msd`).""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from .._version import __version__
-from .results import AsResults, SIMULATION_TABLES, software_versions
+from .results import SIMULATION_TABLES, AsResults, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
     from collections.abc import Callable
 
     from ..io.casefile import Case
+    from ..io.records import Record
+    from ..models.pedestrian import MSDModel
+    from ..response.results import Simulation
 
 
 __all__ = ["CaseSimulation", "simulation_msd", "simulate_case"]
@@ -36,10 +39,10 @@ class CaseSimulation(AsResults):
         The simulated length [s] and the simulation's sample rate [Hz].
     """
 
-    case: Any
-    simulation: Any
-    record: Any
-    msd: Any
+    case: Case
+    simulation: Simulation
+    record: Record
+    msd: MSDModel | None
     duration: float
     sample_rate: float
 

@@ -7,16 +7,19 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from .._version import __version__
-from .results import AsResults, ESTIMATION_TABLES, software_versions
+from .results import ESTIMATION_TABLES, AsResults, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
     from collections.abc import Callable
 
+    from ..identification.result import HSIEstimate
     from ..io.casefile import Case
+    from ..studies.modelling_error import SensitivityResult
+    from .estimate import CaseRecordFit
 
 __all__ = ["CaseStudy", "study_case", "identified_levels", "STUDY_STORES"]
 
@@ -41,11 +44,11 @@ class CaseStudy(AsResults):
         The record's estimate with the case's interval options.
     """
 
-    case: Any
-    record: Any
-    study: Any
+    case: Case
+    record: CaseRecordFit
+    study: SensitivityResult
     lengths: list | None
-    nominal: Any
+    nominal: HSIEstimate
 
     @property
     def combined(self) -> dict | None:
