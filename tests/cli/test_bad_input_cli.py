@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from crowdvib.cases.schema import schema_header
 from crowdvib.cli import main
 
 pytestmark = pytest.mark.badinput
@@ -232,7 +233,19 @@ def test_check_needs_a_design_table(tmp_path, capsys):
 
 
 def test_check_msd_from_without_estimate(tmp_path, capsys):
-    source = _results_dir(tmp_path, json.dumps({"command": "simulate"}))
+    source = _results_dir(tmp_path, json.dumps(schema_header("simulate")))
     assert main(["check", str(_design_case(tmp_path)), "--out", str(tmp_path / "o"),
                  "--msd-from", str(source)]) == 1
     assert "holds no MSD estimate" in capsys.readouterr().err
+
+
+def test_check_msd_from_a_results_json_without_its_schema_names_the_file(tmp_path, capsys):
+    # --msd-from reads the folder as load_results does (issue 34 §1): a results.json without
+    # the schema every crowdvib command writes is refused, naming the file and what to do.
+    source = _results_dir(tmp_path, json.dumps({"command": "estimate", "estimate": {
+        "frequency": 2.8, "damping_ratio": 0.35, "mass_ratio": 0.9}}))
+    assert main(["check", str(_design_case(tmp_path)), "--out", str(tmp_path / "o"),
+                 "--msd-from", str(source)]) == 1
+    err = capsys.readouterr().err
+    assert f"{source / 'results.json'} holds no schema" in err
+    assert "run the command again to write it" in err and not (tmp_path / "o").exists()

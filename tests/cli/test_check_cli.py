@@ -9,6 +9,7 @@ import pytest
 
 from crowdvib import MSDModel, load_case
 from crowdvib._manifest import write_manifest
+from crowdvib.cases.schema import schema_header
 from crowdvib.cli import main
 from crowdvib.design import design_check, predict_response
 
@@ -56,7 +57,7 @@ def test_check_takes_the_msd_of_another_run(tmp_path):
     source = tmp_path / "estimate"
     source.mkdir()
     estimate = {"frequency": 2.8, "damping_ratio": 0.35, "mass_ratio": 0.9}
-    (source / "results.json").write_text(json.dumps({"command": "estimate",
+    (source / "results.json").write_text(json.dumps({**schema_header("estimate"),
                                                      "estimate": estimate}))
     write_manifest(source, "estimate")      # as crowdvib estimate leaves it: verified before use
     out = tmp_path / "check"

@@ -10,6 +10,7 @@ import pytest
 from crowdvib import DataError, ParameterError, UnverifiedWarning, load_case
 from crowdvib._manifest import write_manifest
 from crowdvib.cases import identified_levels
+from crowdvib.cases.schema import schema_header
 from crowdvib.cli import main
 from crowdvib.reporting.report import REPORT_NAME
 from tests.conftest import paper_case_least_squares
@@ -111,7 +112,7 @@ def _estimate_folder(tmp_path, *, manifest=True):
     source = tmp_path / "estimate"
     source.mkdir()
     estimate = {"frequency": 2.8, "damping_ratio": 0.35, "mass_ratio": 0.9}
-    (source / "results.json").write_text(json.dumps({"command": "estimate",
+    (source / "results.json").write_text(json.dumps({**schema_header("estimate"),
                                                      "estimate": estimate}))
     if manifest:
         write_manifest(source, "estimate")
