@@ -9,11 +9,15 @@ targets are 2 s of CPU on the paper example and 20 s on the Eeklo-like case, on 
 
 One thread (BLAS and numba, set before numpy loads): on a shared machine the CPU time of this
 process (``time.process_time``) is the fairer figure; wall time and the load average are
-printed beside it. Best of ``repeat``. Usage:
-``python benchmarks/bench_estimate_speed.py [repeat] [--default-only] [--skip-eeklo]``.
+printed beside it, per row (before → after the row's runs). Best of ``repeat``. Usage:
+``python benchmarks/bench_estimate_speed.py [repeat] [--default-only] [--skip-eeklo]
+[--compare SRC]``; ``--compare SRC`` first runs the same with ``PYTHONPATH=SRC`` (e.g. the
+source of a worktree at the commit before) and prints its table as "before", then this tree's
+as "after": both on the same machine in one run (issue 39).
 """
 
 import os
+import subprocess
 import sys
 import time
 import warnings
@@ -92,27 +96,39 @@ def timed(measured, structure, crowd, options, repeat, **settings):
     return best, cpu
 
 
-def main(repeat=2, default_only=False, skip_eeklo=False):
+def main(repeat=2, default_only=False, skip_eeklo=False, label="after"):
     rows = []
-    for label, make in (("paper example", _paper), ("paper example, its record", _paper_record),
-                        ("eeklo_like (14 modes, 2 outputs)", _eeklo))[:2 if skip_eeklo else 3]:
+    for case, make in (("paper example", _paper), ("paper example, its record", _paper_record),
+                       ("eeklo_like (14 modes, 2 outputs)", _eeklo))[:2 if skip_eeklo else 3]:
         measured, structure, crowd, options = make()
-        for method, model, interval, free in _settings(label, default_only):
+        for method, model, interval, free in _settings(case, default_only):
             for u in DENSITY_UNCERTAINTIES if free else (0.0,):
+                load = os.getloadavg()[0]
                 seconds, cpu = timed(measured, structure, crowd, options, repeat, method=method,
                                      crowd_model=model, interval=interval,
                                      free_step_frequencies=free, density_uncertainty=u)
-                rows.append((label, method, model, interval, free, u, seconds, cpu))
-    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores, one thread")
+                rows.append((case, method, model, interval, free, u, seconds, cpu,
+                             f"{load:5.1f}→{os.getloadavg()[0]:4.1f}"))
+    print(f"\n{label}: {os.cpu_count()} cores, one thread, best of {repeat}")
     print(f"{'case':34s}{'method':15s}{'crowd':13s}{'interval':11s}{'steps':7s}{'u_rho':>6s}"
-          f"{'wall [s]':>10s}{'CPU [s]':>9s}{'target':>8s}")
-    for label, method, model, interval, free, u, seconds, cpu in rows:
-        target = f"{TARGETS[label]:8.1f}" if free else ""
-        print(f"{label:34s}{method:15s}{model:13s}{interval:11s}"
-              f"{'free' if free else 'fixed':7s}{u:6.2f}{seconds:10.2f}{cpu:9.2f}{target}")
+          f"{'CPU [s]':>9s}{'wall [s]':>10s}{'load':>12s}{'target':>8s}")
+    for case, method, model, interval, free, u, seconds, cpu, load in rows:
+        target = f"{TARGETS[case]:8.1f}" if free else ""
+        print(f"{case:34s}{method:15s}{model:13s}{interval:11s}"
+              f"{'free' if free else 'fixed':7s}{u:6.2f}{cpu:9.2f}{seconds:10.2f}{load:>12s}"
+              f"{target}", flush=True)
 
 
 if __name__ == "__main__":
-    arguments = [a for a in sys.argv[1:] if not a.startswith("--")]
-    main(int(arguments[0]) if arguments else 2, "--default-only" in sys.argv,
-         "--skip-eeklo" in sys.argv)
+    if "--compare" in sys.argv:
+        where = sys.argv.index("--compare")
+        source, rest = sys.argv[where + 1], sys.argv[1:where] + sys.argv[where + 2:]
+        subprocess.run([sys.executable, __file__, *rest, "--label", f"before ({source})"],
+                       env=dict(os.environ, PYTHONPATH=source), check=True)
+    else:
+        rest = sys.argv[1:]
+    name = rest[rest.index("--label") + 1] if "--label" in rest else "after"
+    arguments = [a for i, a in enumerate(rest)
+                 if not a.startswith("--") and (i == 0 or rest[i - 1] != "--label")]
+    main(int(arguments[0]) if arguments else 2, "--default-only" in rest, "--skip-eeklo" in rest,
+         name)

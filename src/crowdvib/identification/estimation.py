@@ -28,7 +28,8 @@ from .diagnostics import _check_identifiability, _check_level, _diagnose, _refus
 from ..response.varying import record_duration
 from .objective import PSDObjective
 from .result import HSIEstimate
-from .multistart import DEFAULT_STARTS, _merge_bounds, _multistart, _starting_points
+from .multistart import (DEFAULT_STARTS, FINAL_TOLERANCE, _merge_bounds, _multistart,
+                         _starting_points)
 from .sandwich import STEP_PARAMETERS, _covariance, _DensityTerm, _intervals
 
 if TYPE_CHECKING:
@@ -49,6 +50,14 @@ __all__ = ["estimate_hsi", "estimate_hsi_joint", "HSIEstimate", "PSDObjective", 
 DEFAULT_BOUNDS = {"frequency": (1e-3, 10.0), "damping_ratio": (1e-3, 1.0),
                   "mass_ratio": (1e-3, 0.999)}
 _PARAMETERS = ("frequency", "damping_ratio", "mass_ratio")
+#: ftol and xtol of the likelihood's first fit of free step frequencies, which only chooses the
+#: bins of the refit that follows from its optimum (estimate_hsi): the refit converges to
+#: scipy's own 1e-8 from a start within ~1e-5, so the end moves by the refit's tolerance
+#: (≤ 1e-6 relative on the paper example's record), while a start that crawls to a search
+#: bound stops hundreds of iterations earlier (the gain mistake of tests/package/
+#: test_plausibility.py, a record 20 times too strong: its first fit's model evaluations
+#: 2897 → 1535; issue 39).
+BIN_CHOICE_TOLERANCE = 1e-5
 #: Search bounds of (μ_fs, σ_fs) [Hz]: normal walking lies well inside 1–3 Hz, and a spread below
 #: 0.01 Hz or above 0.6 Hz is not a crowd (the paper's values are 0.13–0.19 Hz).
 DEFAULT_STEP_FREQUENCY_BOUNDS = {"step_frequency_mean": (1.0, 3.0),
@@ -238,8 +247,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         # move the optimum by a fraction of its interval (a third of the estimate's time).
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            first = _estimate([(objective(crowd), measured)], structure, given=(), **dict(
-                options, interval=None))
+            first = _estimate([(objective(crowd), measured)], structure, given=(),
+                              tolerance=BIN_CHOICE_TOLERANCE, **dict(options, interval=None))
         options["starts"] = [tuple(first.value(name) for name in first.free_parameters
                                    if name not in STEP_PARAMETERS)]
         second = _estimate([(objective(first.crowd), measured)], structure, interval=interval,
@@ -427,11 +436,12 @@ class _Parameters:
 
 def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, method,
               interval, level, n_boot=200, rng=None, free_step_frequencies=False, given=None,
-              density_uncertainty=DEFAULT_DENSITY_UNCERTAINTY):
+              density_uncertainty=DEFAULT_DENSITY_UNCERTAINTY, tolerance=FINAL_TOLERANCE):
     """The estimate from one or several (objective, measured PSD) records (estimate_hsi).
 
     ``given``: the records' objectives at the crowd the user gave, where a wrong level is
-    diagnosed (default the parts' own; empty: no diagnosis).
+    diagnosed (default the parts' own; empty: no diagnosis). ``tolerance``: the fits' (scipy's
+    ftol and xtol; :data:`BIN_CHOICE_TOLERANCE` for a fit that only chooses a refit's bins).
 
     A sequence of steps, each taking what the one before returned: the options and θ's
     parametrisation, the fit from every start, the objectives of the fitted crowd (when the
@@ -448,7 +458,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     points = _starting_points(starts, parameters.names, tail, parameters.lower, parameters.upper)
     for objective, _ in parts:
         _check_measured_level(objective)
-    best, runs = _fit(_Stacked(o for o, _ in parts), parameters, points)
+    best, runs = _fit(_Stacked(o for o, _ in parts), parameters, points, tolerance)
     given = [objective for objective, _ in parts] if given is None else given
     parts = _adopt_fitted_crowd(parts, parameters, best.x)
     stacked = _Stacked(o for o, _ in parts)
@@ -536,11 +546,11 @@ def _check_measured_level(objective):
             f"{list(objective.output_names)}")
 
 
-def _fit(target, parameters, points):
+def _fit(target, parameters, points, tolerance=FINAL_TOLERANCE):
     """The multistart fit of a misfit (one objective or a stack) → (best result, runs)."""
     records = len(getattr(target, "objectives", (target,)))
     return _multistart(lambda theta: parameters.misfit(target, theta), points,
-                       parameters.lower, parameters.upper, records=records)
+                       parameters.lower, parameters.upper, records=records, tolerance=tolerance)
 
 
 def _adopt_fitted_crowd(parts, parameters, theta):

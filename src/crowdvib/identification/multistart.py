@@ -44,11 +44,16 @@ def _merge_bounds(bounds, defaults):
     return limits
 
 
-def _multistart(residuals, points, lower, upper, *, records=1):
+#: scipy's own tolerances (ftol = xtol): every fit whose end is the answer.
+FINAL_TOLERANCE = 1e-8
+
+
+def _multistart(residuals, points, lower, upper, *, records=1, tolerance=FINAL_TOLERANCE):
     """Bounded trust-region least squares from every start → (best result, runs).
 
     ``runs`` holds (result, start, forward-model evaluations) per start: the calls of
-    ``residuals`` times the ``records`` each call evaluates.
+    ``residuals`` times the ``records`` each call evaluates. ``tolerance``: scipy's ftol and
+    xtol (its default, 1e-8, unless a fit that refines this one follows).
     """
     runs = []
     for start in points:
@@ -60,7 +65,7 @@ def _multistart(residuals, points, lower, upper, *, records=1):
 
         try:
             result = least_squares(counted, start, method="trf", bounds=(lower, upper),
-                                   x_scale="jac")
+                                   x_scale="jac", ftol=tolerance, xtol=tolerance)
         except ValueError as exc:  # non-finite residuals
             raise EstimationError(f"objective could not be evaluated from start {start}: {exc}")
         runs.append((result, start, calls[0] * records))

@@ -170,18 +170,20 @@ class CorrectedWelch:
         return self.psd_from(poles, *self.power_terms(poles, left, right))
 
     def power_terms(self, poles, left, right):
-        """(β, the unweighted power on the grid (n_grid, n_outputs)): what :meth:`psd` needs
-        of the poles, independent of the weight w (kept by a model across step frequencies)."""
+        """(β, the unweighted power on the grid (n_grid, n_outputs), the narrow poles' part of
+        the rule's error (:meth:`_pole_parts`)): what :meth:`psd` needs of the poles,
+        independent of the weight w (kept by a model across step frequencies)."""
         beta = power_coefficients(poles, left, right)
         resolvent = 1.0 / (2j * np.pi * self.grid[:, np.newaxis] - poles)   # (n_grid, 2N)
         # Only the real part is wanted: two real products (a complex product of this skinny
         # shape took 11 ms in OpenBLAS against 0.04 ms for the real ones, measured).
-        return beta, 2.0 * (resolvent.real @ beta.real.T - resolvent.imag @ beta.imag.T)
+        return (beta, 2.0 * (resolvent.real @ beta.real.T - resolvent.imag @ beta.imag.T),
+                self._pole_parts(poles))
 
-    def psd_from(self, poles, beta, power):
+    def psd_from(self, poles, beta, power, parts=None):
         """:meth:`psd` from its :meth:`power_terms` and this rule's weight."""
         expected = self.rule.apply(power.T * self.grid_weight)
-        chosen, errors = self._pole_errors(poles)
+        chosen, errors = self._pole_errors(poles, parts)
         if chosen.size:
             expected += 2.0 * (beta[:, chosen] @ errors).real
         return expected
@@ -208,23 +210,49 @@ class CorrectedWelch:
         # As in psd: real products (the complex product of this shape is ~100× slower).
         real, imag = resolvent.real, resolvent.imag
         return flat, ((real @ flat.real.T - imag @ flat.imag.T)
-                      + 1j * (real @ flat.imag.T + imag @ flat.real.T))
+                      + 1j * (real @ flat.imag.T + imag @ flat.real.T)), self._pole_parts(poles)
 
-    def cross_from(self, poles, flat, power):
+    def cross_from(self, poles, flat, power, parts=None):
         """:meth:`cross` from its :meth:`cross_terms` and this rule's weight."""
         size = round(np.sqrt(flat.shape[0]))
         expected = self.rule.apply(power.T * self.grid_weight)
-        chosen, errors = self._pole_errors(poles)
+        chosen, errors = self._pole_errors(poles, parts)
         if chosen.size:
             expected += flat[:, chosen] @ errors
         expected = expected.reshape(size, size, -1)
         return expected + np.conj(np.swapaxes(expected, 0, 1))
 
-    def _pole_errors(self, poles):
+    def _pole_errors(self, poles, parts=None):
         """(the narrow poles p, K∗u_p − rule(u_p) in Taylor form per unit β, (n_p, n_f)): the
         error of the coarse rule on the sharp part of each narrow peak at the output rows within
         its reach, zero beyond. Every (pole, row) pair at once: a loop over the poles cost more
-        than their arithmetic (a 14-mode bridge has 14 narrow poles per occupancy node)."""
+        than their arithmetic (a 14-mode bridge has 14 narrow poles per occupancy node).
+        ``parts``: :meth:`_pole_parts` of these poles, when the caller keeps them."""
+        frequency = self.rule.frequency
+        chosen, stencil, which, rows, r, errors_u, errors_1, errors_delta = (
+            self._pole_parts(poles) if parts is None else parts)
+        errors = np.zeros((chosen.size, frequency.size), dtype=complex)
+        if chosen.size == 0:
+            return chosen, errors
+        # Quadratic Taylor polynomials of w at the peaks, a0 + a1 Δ + a2 Δ² (Δ = ν − ν_p),
+        # from one evaluation of w at every stencil point.
+        w_minus, w_0, w_plus = self._weight(stencil).reshape(-1, 3).T
+        taylor = (w_0, (w_plus - w_minus) / (2 * TAYLOR_STEP),
+                  (w_plus - 2 * w_0 + w_minus) / (2 * TAYLOR_STEP**2))
+        # (a0 + a1Δ + a2Δ²) u = b_u u + b_c + b_l Δ, from 2πiΔ u = 1 + Re(λ) u.
+        q = 1.0 / (2j * np.pi)
+        a0, a1, a2 = (coefficient[which] for coefficient in taylor)
+        b_u = a0 + a1 * r * q + a2 * r**2 * q**2
+        b_c = a1 * q + a2 * r * q**2
+        b_l = a2 * q
+        errors[which, rows] = b_u * errors_u + b_c * errors_1 + b_l * errors_delta
+        return chosen, errors
+
+    def _pole_parts(self, poles):
+        """What :meth:`_pole_errors` needs of the poles alone, independent of the weight w
+        (kept with the pole terms across step frequencies, half a fit's Jacobian, issue 39):
+        the narrow poles, the Taylor stencil's frequencies, the (pole, row) pairs within reach,
+        Re λ per pair and the rule's errors on u, 1 and Δ there."""
         frequency = self.rule.frequency
         width = -poles.real / (2 * np.pi)
         centre = poles.imag / (2 * np.pi)
@@ -233,23 +261,11 @@ class CorrectedWelch:
         narrow = ((centre > 10 * TAYLOR_STEP) & (width < self._narrow)
                   & (centre > frequency[0] - self._reach) & (centre < frequency[-1] + self._reach))
         chosen = np.flatnonzero(narrow)
-        errors = np.zeros((chosen.size, frequency.size), dtype=complex)
         if chosen.size == 0:
-            return chosen, errors
-        # Quadratic Taylor polynomials of w at the peaks, a0 + a1 Δ + a2 Δ² (Δ = ν − ν_p),
-        # from one evaluation of w at every stencil point.
-        stencil = centre[chosen, np.newaxis] + TAYLOR_STEP * np.array([-1.0, 0.0, 1.0])
-        w_minus, w_0, w_plus = self._weight(stencil.ravel()).reshape(-1, 3).T
-        taylor = (w_0, (w_plus - w_minus) / (2 * TAYLOR_STEP),
-                  (w_plus - 2 * w_0 + w_minus) / (2 * TAYLOR_STEP**2))
+            return (chosen,) + (None,) * 7
+        stencil = (centre[chosen, np.newaxis] + TAYLOR_STEP * np.array([-1.0, 0.0, 1.0])).ravel()
         which, rows = np.nonzero(np.abs(frequency - centre[chosen, np.newaxis]) <= self._reach)
         pole, middle = poles[chosen][which], centre[chosen][which]
-        # (a0 + a1Δ + a2Δ²) u = b_u u + b_c + b_l Δ, from 2πiΔ u = 1 + Re(λ) u.
-        q, r = 1.0 / (2j * np.pi), pole.real
-        a0, a1, a2 = (coefficient[which] for coefficient in taylor)
-        b_u = a0 + a1 * r * q + a2 * r**2 * q**2
-        b_c = a1 * q + a2 * r * q**2
-        b_l = a2 * q
         weights = self.rule.weights[rows]
         nodes = self.grid[self.rule.index[rows]]
         rule_u = (weights / (2j * np.pi * nodes - pole[:, np.newaxis])).sum(axis=1)
@@ -257,6 +273,5 @@ class CorrectedWelch:
         rule_delta = (weights * (nodes - middle[:, np.newaxis])).sum(axis=1)
         exact_u = _pole_convolution(pole - 2j * np.pi * frequency[rows], self.rule.window_length)
         delta = frequency[rows] - middle
-        errors[which, rows] = (b_u * (exact_u - rule_u) + b_c * (1.0 - rule_1)
-                               + b_l * (delta - rule_delta))
-        return chosen, errors
+        return (chosen, stencil, which, rows, pole.real, exact_u - rule_u, 1.0 - rule_1,
+                delta - rule_delta)
