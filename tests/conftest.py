@@ -163,3 +163,23 @@ def paper_case_least_squares():
 
 
 _SESSION_CASE = None
+
+
+@pytest.fixture(scope="session")
+def demo_run(tmp_path_factory):
+    """``crowdvib demo`` as the README runs it (a simulated hour, both estimators), once per test
+    process → (exit status, its results folder, what it printed on stdout).
+
+    Several tests read this one run (its results, report and console text; none writes to the
+    folder) rather than each simulating and estimating the same seeded hour again.
+    """
+    import contextlib
+    import io
+
+    from crowdvib.cli import main
+
+    out = tmp_path_factory.mktemp("demo") / "demo"
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        status = main(["demo", "--out", str(out)])
+    return status, out, printed.getvalue()
