@@ -38,7 +38,12 @@ def _cli(out, argv, capsys):
     """Run a command into ``out``; its results.json as a dict, its result and its console text."""
     capsys.readouterr()
     status = main([*argv, "--out", str(out)])
-    printed = capsys.readouterr().out
+    return _written(status, out, capsys.readouterr().out)
+
+
+def _written(status, out, printed):
+    """A command's run (its exit status, results folder ``out`` and console text), checked and
+    read: its results.json as a dict, its result and its console text."""
     written = json.loads((out / "results.json").read_text(encoding="utf-8"))
     found = load_results(out / "results.json")
     # Exit status 3 exactly when the verdict doubts the result, else 4 when the bridge fails a
@@ -185,7 +190,7 @@ def test_a_notebook_session_gets_what_every_command_writes(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_the_study_and_the_demo_round_trip(tmp_path, capsys):
+def test_the_study_and_the_demo_round_trip(tmp_path, capsys, demo_run):
     # crowdvib sensitivity and crowdvib demo have no crowdvib.cases call: their results.json
     # round-trips through load_results, and the verdict of the study names its cases on a bound.
     _, found, printed = _cli(tmp_path / "study", [
@@ -194,11 +199,12 @@ def test_the_study_and_the_demo_round_trip(tmp_path, capsys):
     assert isinstance(found, SensitivityResults)
     assert [row["name"] for row in found.table()][0] == "nominal"
     _same_verdict(found, printed, tmp_path / "study")
-    written, found, printed = _cli(tmp_path / "demo", ["demo"], capsys)
+    _, demo, _ = demo_run                 # `crowdvib demo --out DEMO` (tests/conftest.py)
+    written, found, printed = _written(*demo_run)
     assert isinstance(found, DemoResults)
     # The demo's truth is the paper's MSD; its estimate is rebuilt as an HSIEstimate.
     assert found.hsi_estimate().msd.frequency == written["estimate"]["frequency"]
-    _same_verdict(found, printed, tmp_path / "demo")
+    _same_verdict(found, printed, demo)
 
 
 def test_a_result_stores_what_write_json_writes():

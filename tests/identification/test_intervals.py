@@ -15,6 +15,7 @@ import pytest
 from crowdvib import (BoundWarning, IdentifiabilityWarning, ParameterError, estimate_hsi,
                       response_psd, welch_psd)
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies
+from tests.conftest import OWN_RECORDS
 
 SAMPLE_RATE, WINDOW = 20.0, 60.0
 TRUTH = {"frequency": 3.0, "damping_ratio": 0.30}
@@ -66,7 +67,7 @@ def test_95_percent_intervals_cover_the_truth_in_92_to_98_percent(record_psd, me
     errors = []
     for seed in range(n_records):
         estimate = _estimate(measured(3600.0, seed), bridge, crowd, method=method,
-                             interval=interval)
+                             interval=interval, **OWN_RECORDS)
         for name, truth in TRUTH.items():
             low, high = estimate.interval(name)
             covered[name] += low <= truth <= high
@@ -87,7 +88,7 @@ def test_likelihood_is_more_precise_than_least_squares(record_psd):
     for seed in range(40):
         psd = measured(3600.0, 1000 + seed)
         for method, rows in results.items():
-            msd = _estimate(psd, bridge, crowd, method=method, interval=None).msd
+            msd = _estimate(psd, bridge, crowd, method=method, interval=None, **OWN_RECORDS).msd
             rows.append([msd.frequency, msd.damping_ratio])
     spread = {method: np.std(rows, axis=0) for method, rows in results.items()}
     assert np.all(spread["likelihood"] < spread["least_squares"])
@@ -102,7 +103,7 @@ def test_interval_width_falls_as_one_over_root_record_length(record_psd):
         rows = []
         for seed in range(6):
             estimate = _estimate(measured(duration, seed), bridge, crowd, method="likelihood",
-                                 interval="wald")
+                                 interval="wald", **OWN_RECORDS)
             rows.append([np.diff(estimate.interval(name))[0] for name in TRUTH])
         widths[duration] = np.mean(rows, axis=0)
     ratio = widths[900.0] / widths[14400.0]
