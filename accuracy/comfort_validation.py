@@ -21,8 +21,8 @@ for: a change of the spectral route is checked again without simulating). ``--ca
 another bridge: a case file's structure and crowd with the MSD it simulates with
 (:func:`crowdvib.cases.simulation.simulation_msd`, its ``[expected]`` truth), judged at
 ``--output`` (default its first output); the table then names the walkers expected on the
-walkway at each density, against the thin-crowd rule's 100
-(:data:`crowdvib.comfort.measure.THIN_CROWD_WALKERS`).
+walkway at each density, against the thin-crowd rule's
+(:func:`crowdvib.comfort.measure.thin_crowd_density`: 100 effective walkers).
 """
 
 import argparse
@@ -33,7 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
-from crowdvib.comfort.measure import THIN_CROWD_WALKERS, peak_quantile, window_law
+from crowdvib.comfort.measure import (THIN_CROWD_WALKERS, peak_quantile, thin_crowd_density,
+                                      window_law)
 from crowdvib.comfort.occupied import occupied_law, occupied_peak_quantile
 from crowdvib.comfort.simulated import (GAUSSIAN_TOLERANCE, SimulatedWindows, simulated_check,
                                         simulated_windows)
@@ -225,7 +226,7 @@ def main():
     parting = [row["density"] for row in rows if not row["gaussian"]]
     print(f"densities where the spectral route parts from the simulator (> "
           f"{100 * GAUSSIAN_TOLERANCE:g} %): {parting or 'none'}; thin-crowd rule: below "
-          f"{THIN_CROWD_WALKERS:g} walkers = {THIN_CROWD_WALKERS / structure.area:.3g} "
+          f"{THIN_CROWD_WALKERS:g} effective walkers = {thin_crowd_density(structure):.3g} "
           "persons/m² here")
     print(f"{args.windows} windows x {len(args.densities)} densities on {args.workers} "
           f"worker(s): wall {time.perf_counter() - wall:.0f} s, CPU of the simulation tasks "
