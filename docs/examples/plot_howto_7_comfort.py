@@ -77,9 +77,10 @@ run("crowdvib season bridge.toml records/crowd.csv --records records --out seaso
 # Each window stands for its hour of the week (52 hours a year); an hour of the week no window
 # measured takes the windows of the same hour on days of the same kind (``[comfort] unmeasured``
 # says otherwise). The MSD is the season's joint estimate, its interval the HSI band. Below a
-# thin crowd, fewer than 100 walkers on the walkway (0.67 persons/m² here), the no-HSI and HSI
-# rows take windows made by the simulator, where the spectral law reads the upper tail low
-# (``[comfort] simulate_below``; 0 switches it off; docs: theory, A year of comfort).
+# thin crowd, fewer than 100 effective walkers on the walkway (0.67 persons/m² here: a half-sine
+# mode, where each walker counts as one), the no-HSI and HSI rows take windows made by the
+# simulator, where the spectral law reads the upper tail low (``[comfort] simulate_below``; 0
+# switches it off; docs: theory, A year of comfort).
 status = run("crowdvib comfort bridge.toml --season season --out comfort --workers 1")
 print("exit status", status)
 

@@ -118,10 +118,45 @@ def test_the_hsi_band_from_a_simulated_record_covers_the_true_msd(paper_case, tm
     box = found.data["msd_interval"]
     assert box["frequency"][0] <= 3.0 <= box["frequency"][1]
     assert box["damping_ratio"][0] <= 0.3 <= box["damping_ratio"][1]
-    # The year at the true MSD: same traffic, same settings
-    read = load_case(paper_case)
+    _band_holds_the_truth(load_case(paper_case), season, year, paper.msd)
+    # the season's sampling band (its windows drawn again) is reported for every row
+    assert all(row["hours_band_sampling"] is not None for row in year.rows)
+
+
+def test_the_hsi_band_from_a_season_simulated_with_walkers_covers_the_true_msd(paper_case,
+                                                                             tmp_path):
+    # Issue 37's target: a season made by crowdvib's simulator (moving walkers, each with the
+    # paper's MSD, known: 3.0 Hz, 30 %; write_synthetic_season(simulate=True)) gives both the
+    # traffic (its windows by their hour of the week) and the MSD (the season's joint estimate
+    # and its 95 % interval, `crowdvib comfort --season` alone). The band over the interval's
+    # box must hold the year computed with the true MSD on the same traffic (docs: theory, A
+    # year of comfort, How the uncertainty is carried). Four 10-minute records keep it short.
+    paper = paper_example()
+    times = ["2026-06-01T08:00", "2026-06-01T12:00", "2026-06-01T18:00", "2026-06-06T12:00"]
+    write_synthetic_season(tmp_path / "records", paper.structure, paper.crowd, paper.msd,
+                           densities=[0.6, 0.3, 0.9, 0.45], duration=600.0, sample_rate=25.0,
+                           times=times, simulate=True, rng=37)
+    season = tmp_path / "season"
+    assert main(["season", str(paper_case), str(tmp_path / "records" / "crowd.csv"), "--out",
+                 str(season), "--records", str(tmp_path / "records"), "--workers", "1",
+                 "-q"]) == 0
+    out = tmp_path / "comfort"
+    assert main(["comfort", str(paper_case), "--season", str(season), "--out", str(out),
+                 "-q"]) == 0
+    found = load_results(out)
+    year = found.comfort_year()
+    assert found.data["msd_source"] == "the season's joint estimate"
+    box = found.data["msd_interval"]
+    assert box["frequency"][0] <= 3.0 <= box["frequency"][1]
+    assert box["damping_ratio"][0] <= 0.3 <= box["damping_ratio"][1]
+    _band_holds_the_truth(load_case(paper_case), season, year, paper.msd)
+
+
+def _band_holds_the_truth(case, season, year, msd):
+    """The year at the true ``msd`` (same traffic, same settings) lies in ``year``'s HSI band,
+    per class and per limit (docs: theory, A year of comfort, How the uncertainty is carried)."""
     traffic = Traffic.from_season(json.loads((season / "results.json").read_text()))
-    truth = comfort_year(read.structure, read.crowd, traffic, msd=paper.msd, n_densities=6,
+    truth = comfort_year(case.structure, case.crowd, traffic, msd=msd, n_densities=6,
                          n_resamples=0)
     band, true = year.row("hsi")["hours_band_hsi"], truth.row("hsi")["hours_per_class"]
     for name, value in true.items():
@@ -129,8 +164,6 @@ def test_the_hsi_band_from_a_simulated_record_covers_the_true_msd(paper_case, tm
     exceed = year.row("hsi")["exceedance_band_hsi"]
     for limit, value in truth.row("hsi")["exceedance"].items():
         assert exceed[limit][0] - 1e-9 <= value <= exceed[limit][1] + 1e-9
-    # the season's sampling band (its windows drawn again) is reported for every row
-    assert all(row["hours_band_sampling"] is not None for row in year.rows)
 
 
 def test_comfort_case_without_traffic_names_the_three_ways(paper_case):

@@ -82,3 +82,22 @@ def test_a_thin_crowd_reads_a_heavier_tail_than_its_average_psd(paper):
 def test_the_thin_crowd_is_a_hundred_walkers(paper):
     # the paper's walkway: 50 m × 3 m
     assert thin_crowd_density(paper.structure) == pytest.approx(100.0 / 150.0)
+
+
+def test_a_torsion_mode_needs_more_walkers_to_be_dense():
+    # κ = A ∫φ⁴ dA / (∫φ² dA)² (docs: theory, Where the Gaussian model holds): for
+    # φ = sin(πx/L)(2y/W − 1) it is 1.5 × W ∫(2y/W − 1)⁴ dy / (∫(2y/W − 1)² dy)² = 1.5 × 9/5 = 2.7
+    # (closed form), so the thin crowd's bound is 100 × 2.7/1.5 walkers over L W; the bending
+    # mode beside it (κ = 1.5) does not lower it: the largest κ of the model counts.
+    from crowdvib.comfort.measure import occupancy_shape_factor
+    from crowdvib.models.structure import ModalModel
+
+    length, width = 30.0, 4.0
+    x, y = np.linspace(0, length, 601), np.linspace(0, width, 81)
+    bending = np.broadcast_to(np.sin(np.pi * x / length), (y.size, x.size))
+    torsion = np.sin(np.pi * x / length)[None, :] * (2 * y / width - 1)[:, None]
+    bridge = ModalModel([2.0, 3.0], [0.005, 0.005], [3e4, 1e4], x,
+                        np.stack([bending, torsion], axis=-1), width, ["edge"],
+                        [[1.0, 1.0]], lanes=y)
+    assert occupancy_shape_factor(bridge) == pytest.approx(2.7, rel=2e-3)
+    assert thin_crowd_density(bridge) == pytest.approx(180.0 / (length * width), rel=2e-3)

@@ -217,7 +217,7 @@ _SIMULATED_DENSITIES = 3
 def simulate_below(case) -> float:
     """The density [persons/m²] below which simulated windows stand in for the spectral route:
     ``[comfort] simulate_below``, by default that of a thin crowd
-    (:func:`crowdvib.comfort.measure.thin_crowd_density`: fewer than 100 walkers expected on
+    (:func:`crowdvib.comfort.measure.thin_crowd_density`: fewer than 100 effective walkers on
     the walkway; docs: theory, A year of comfort); 0 switches it off."""
     from ..comfort.measure import thin_crowd_density
 

@@ -37,27 +37,48 @@ from ..errors import ParameterError
 
 __all__ = ["WindowLaw", "window_law", "PEAK_MODELS", "peak_cdf", "peak_quantile",
            "running_rms_quantile", "running_rms_cdf", "level_crossing_rate", "running_rms_rate",
-           "bisect_level", "GAUSSIAN_TOLERANCE", "THIN_CROWD_WALKERS", "thin_crowd_density"]
+           "bisect_level", "GAUSSIAN_TOLERANCE", "THIN_CROWD_WALKERS", "thin_crowd_density",
+           "occupancy_shape_factor"]
 
 #: The laws of the window's largest peak: clumped crossings (default) or Poisson crossings.
 PEAK_MODELS = ("vanmarcke", "davenport")
 #: Spectral and simulated quantiles within this (relative) count as agreeing: the response is
 #: Gaussian enough for the spectral route (the issue's target).
 GAUSSIAN_TOLERANCE = 0.05
-#: A crowd whose expected number of walkers on the walkway is below this is "thin": the
-#: occupancy λ = ψ/ψ̄ of a half-sine mode has the spread σ_λ = sqrt(1.5/N) (Campbell), and on the
-#: paper's bridge the spectral route's upper quantiles part from the simulator's by more than
-#: GAUSSIAN_TOLERANCE at N = 15–75 walkers (σ_λ ≥ 0.14) and agree within 2.4 % at N = 112 and 150
-#: (accuracy/comfort_validation.py; docs: theory, A year of comfort, Where the Gaussian model
-#: holds). The bound lies between, on the safe side; it is set on one bridge.
+#: A crowd whose effective number of walkers on the walkway is below this is "thin". The
+#: occupancy λ = ψ/ψ̄ of mode j has the spread σ_λ = sqrt(κ_j/N) for N walkers expected
+#: (Campbell), κ_j = A ∫φ_j⁴ dA / (∫φ_j² dA)² its shape factor: 1.5 for a half sine, more for a
+#: mode that moves part of the walkway (a torsion mode, one span of several). N_eff = 1.5 N/κ_j
+#: are the walkers of a half-sine mode with that spread. On the paper's bridge (κ = 1.5) the
+#: spectral route's upper quantiles part from the simulator's by more than GAUSSIAN_TOLERANCE at
+#: N = 15–75 (σ_λ ≥ 0.14) and agree within 2.4 % at N = 112 and 150 (σ_λ ≤ 0.12); on the
+#: Waalse-Krook-like bridge's torsion antinode (κ = 2.87) they part at N = 26–104 (σ_λ ≥ 0.17)
+#: and agree within 4.3 % at N = 172 (σ_λ = 0.13), where 100 walkers alone would have judged
+#: N = 104 spectrally (accuracy/comfort_validation.py; docs: theory, A year of comfort, Where
+#: the Gaussian model holds). 100 effective walkers (σ_λ = 0.12) lie between on both bridges.
 THIN_CROWD_WALKERS = 100.0
+#: κ of a half-sine mode shape over a walkway of uniform width: the shape of THIN_CROWD_WALKERS.
+HALF_SINE_SHAPE_FACTOR = 1.5
+
+
+def occupancy_shape_factor(structure) -> float:
+    """max_j κ_j = A ∫φ_j⁴ dA / (∫φ_j² dA)² over the modes of ``structure`` [-]: N σ_λ² of the
+    occupancy of its most unevenly loaded mode (Campbell;
+    :func:`crowdvib.response.fluctuation.occupancy_cumulants` at one person/m²)."""
+    from ..response.fluctuation import occupancy_cumulants
+
+    return float(max(occupancy_cumulants(structure, 1.0, mode, order=2)[1] * structure.area
+                     for mode in range(structure.n_modes)))
 
 
 def thin_crowd_density(structure) -> float:
-    """The density [persons/m²] below which a crowd on ``structure`` is thin:
-    :data:`THIN_CROWD_WALKERS` over the walkway's area (where the simulator stands in for the
-    spectral route by default, ``[comfort] simulate_below``)."""
-    return THIN_CROWD_WALKERS / structure.area
+    """The density [persons/m²] below which a crowd on ``structure`` is thin (where the simulator
+    stands in for the spectral route by default, ``[comfort] simulate_below``): fewer than
+    :data:`THIN_CROWD_WALKERS` effective walkers on the walkway, N κ_max/1.5 walkers expected
+    (:func:`occupancy_shape_factor`: every mode's occupancy spreads by at most that of 100
+    walkers on a half-sine mode; never fewer than 100 walkers), over the walkway's area."""
+    factor = max(occupancy_shape_factor(structure), HALF_SINE_SHAPE_FACTOR)
+    return THIN_CROWD_WALKERS * factor / HALF_SINE_SHAPE_FACTOR / structure.area
 
 
 @dataclass(frozen=True)

@@ -322,7 +322,7 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
     simulate_below : float
         [persons/m²]; 0: the spectral route everywhere. ``crowdvib comfort`` simulates by
         default below :func:`~crowdvib.comfort.measure.thin_crowd_density` (fewer than 100
-        walkers expected on the walkway); the year's settings name that density and the hours
+        effective walkers on the walkway); the year's settings name that density and the hours
         of the states below it left to the spectral route (``spectral_thin_hours``).
 
     Returns

@@ -16,8 +16,8 @@ the traffic CSV, parsed apart from the other tables; every key through
     resamples = 200                # resamples of a season's windows (its sampling band)
     unmeasured = "hour"            # or "zero": the hours of the week no window measured
     simulate_below = 0.15          # [persons/m²]: below, simulated windows stand in (0: none;
-                                   # default: a thin crowd, fewer than 100 walkers expected on
-                                   # the walkway)
+                                   # default: a thin crowd, fewer than 100 effective walkers
+                                   # on the walkway)
     simulated_windows = 100        # windows simulated per density there
 
     [traffic]                      # one of:

@@ -109,7 +109,8 @@ def _validity(settings):
     return html('<p class="muted">The spectral route takes the response of each crowd state '
                 "as stationary and Gaussian. For a thin crowd it is not: on the paper's bridge "
                 "the 99 % quantile of the simulator's 10-minute peaks runs 6–14 % above the "
-                "spectral one at 0.1–0.5 persons/m², fewer than 100 walkers on the walkway. "
+                "spectral one at 0.1–0.5 persons/m², fewer than 100 walkers on the walkway "
+                "(on a bridge whose mode moves part of the walkway, more). "
                 "Below that crowd the simulator stands in by default ([comfort] simulate_below; "
                 "0 switches it off; accuracy/comfort_validation.py; docs: theory, A year of "
                 "comfort).{}{}</p>", _simulated_note(settings), _thin_note(settings))
