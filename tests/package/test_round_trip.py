@@ -156,6 +156,17 @@ def _examples(name, request):
     if name.endswith(".MSDBox"):
         from crowdvib.design import MSDBox
         return MSDBox.from_estimate(request.getfixturevalue("hsi_estimate"))
+    if name.endswith(".Traffic"):
+        from crowdvib.comfort import Traffic
+        return Traffic.from_profile([0.0] * 7 + [0.3, 0.6, 0.2] * 5 + [0.1, 0.0])
+    if name.endswith(".ComfortYear"):
+        from crowdvib.comfort import Traffic, comfort_year
+        return comfort_year(structure, crowd, Traffic.from_table([0.2, 0.6], [500.0, 100.0]),
+                            msd=msd, n_densities=3)
+    if name.endswith(".SimulatedWindows"):
+        from crowdvib.comfort.simulated import SimulatedWindows
+        return SimulatedWindows((0.2, 0.5), (np.array([0.11, 0.13]), np.array([0.3, 0.35])),
+                                (np.array([0.05, 0.06]), np.array([0.12, 0.14])), cpu=3.5)
     if name.endswith(".SeasonResult"):
         from crowdvib.studies.season import SeasonResult
         row = {"name": "r1", "row": 1, "density": 0.5, "frequency": 3.0, "damping_ratio": 0.3,

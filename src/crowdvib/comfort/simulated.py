@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_count, check_positive
+from .._validation import check_count, check_positive, fields_from_dict
 from ..errors import ParameterError
 from ..runner.tasks import run_tasks
 from .measure import GAUSSIAN_TOLERANCE, peak_quantile, running_rms_quantile, window_law
@@ -81,8 +81,30 @@ class SimulatedWindows:
     cpu: float = 0.0
 
     def to_dict(self) -> dict:
+        """JSON-ready: the densities, each window's peak and largest running RMS, the CPU."""
         return {"densities": list(self.densities), "peak": [p.tolist() for p in self.peak],
-                "running_rms": [r.tolist() for r in self.running_rms]}
+                "running_rms": [r.tolist() for r in self.running_rms], "cpu": self.cpu}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> SimulatedWindows:
+        """The windows of :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : dict
+            What :meth:`to_dict` wrote (as read back from JSON).
+
+        Raises
+        ------
+        DataError
+            ``data`` is not a dict or lacks a field.
+        """
+        def arrays(rows):
+            return tuple(np.asarray(row, dtype=float) for row in rows)
+
+        found = data if isinstance(data, dict) else {}
+        return fields_from_dict(cls, data, peak=arrays(found.get("peak", ())),
+                                running_rms=arrays(found.get("running_rms", ())))
 
 
 def simulated_windows(structure, crowd, densities, *, msd=None, dampers=None, output=0,
