@@ -12,11 +12,12 @@ from .batch import simulate_many
 from .fluctuation import FluctuatingSpectralModel, response_psd
 from .results import FRF, EffectiveModalProperties, Simulation, SimulationPSD
 from .simulation import simulate, simulate_psd
-from .spectral import SpectralModel, effective_modal_properties, frf, modal_accelerance
+from .spectral import (ExpectedPSDModel, SpectralModel, effective_modal_properties, frf,
+                       modal_accelerance)
 from .traffic import Pedestrian, generate_traffic
 from .varying import VaryingCrowdModel, varying_response_psd
 
-__all__ = ["SpectralModel", "FluctuatingSpectralModel", "response_psd", "frf",
+__all__ = ["SpectralModel", "ExpectedPSDModel", "FluctuatingSpectralModel", "response_psd", "frf",
            "effective_modal_properties", "modal_accelerance", "simulate", "simulate_many",
            "Pedestrian", "generate_traffic", "FRF", "EffectiveModalProperties", "Simulation",
            "simulate_psd", "SimulationPSD", "VaryingCrowdModel", "varying_response_psd"]

@@ -37,7 +37,7 @@ from ..signals import ResponsePSD
 from ._crossing import crossing_spread
 from ._modulation import (OccupancyPath, drift_parameters, modulation_correction,
                           occupancy_rate_variance)
-from .spectral import SpectralModel, _check_models
+from .spectral import SpectralModel, _check_models, model_psd
 
 if TYPE_CHECKING:
     from .._typing import ForceModel
@@ -411,10 +411,7 @@ class FluctuatingSpectralModel:
         msd : MSDModel, optional
             The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
         """
-        return ResponsePSD(frequency=self.frequency, psd=self.psd_array(msd),
-                           output_names=self.output_names,
-                           window_length=self.welch_window_length, lowpass=self.lowpass,
-                           source="model")
+        return model_psd(self, msd)
 
 
 def _at_density(crowd, density):

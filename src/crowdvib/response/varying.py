@@ -208,7 +208,7 @@ class VaryingCrowdModel:
         """What the average is made of, for a report: the density levels and their range, the
         mean density, and for the fluctuating model the details of its heaviest level."""
         heaviest = self._models[int(np.argmax(self.probabilities))]
-        own = heaviest.details() if hasattr(heaviest, "details") else {}
+        own = heaviest.details()
         return dict(own, density_levels=int(self.levels.size),
                     density_range=(float(self.levels.min()), float(self.levels.max())),
                     mean_density=float(self.crowd.density))
@@ -226,8 +226,6 @@ class VaryingCrowdModel:
         other = copy.copy(self)
         other.crowd = crowd.with_density(self.crowd.density)
         other._models = [m.with_step_frequencies(crowd.with_density(m.crowd.density))
-                         if hasattr(m, "with_step_frequencies")
-                         else m._for_crowd(crowd.with_density(m.crowd.density))
                          for m in self._models]
         return other
 
