@@ -13,7 +13,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from .._terminal import terminal_safe
+from ..errors import terminal_safe
 from ..cases.results import ESTIMATION_TABLES, SIMULATION_TABLES
 from ..runs.folders import staged_output, write_results
 from ..runs.lines import warning_texts
@@ -61,7 +61,7 @@ def set_quiet(quiet):
 
 def say(message="", *, always=False, severity=None):
     """Print a line of the command's output; text from files in it reaches the terminal escaped
-    (:func:`crowdvib._terminal.terminal_safe`: a case's name may hold ESC or U+202E), a verdict
+    (:func:`crowdvib.errors.terminal_safe`: a case's name may hold ESC or U+202E), a verdict
     heading in its ``severity``'s colour on a terminal."""
     if always or not _QUIET[0]:
         text = terminal_safe(message)

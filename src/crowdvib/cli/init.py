@@ -10,7 +10,7 @@ draft is a doubt (issue 36 §2).
 import sys
 from pathlib import Path
 
-from .._terminal import terminal_safe
+from ..errors import terminal_safe
 from ..runs.lines import caught_warnings
 from .common import IN_DOUBT, positive_float, say, warning_texts
 

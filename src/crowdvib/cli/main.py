@@ -18,7 +18,7 @@ from pathlib import Path
 
 from .._version import __version__
 from .._files import os_error_text, require_file
-from .._terminal import terminal_safe
+from ..errors import terminal_safe
 from ..errors import CrowdvibError
 from . import (check, comfort, demo, estimate, init, landscape, modes, season, sensitivity,
                simulate)
@@ -158,7 +158,7 @@ def main(argv=None):
             # Before the command imports scipy and numba: a wrong path is answered at once.
             require_file(case, "case")
         if getattr(args, "workers", 0) is None:   # --workers' default, counted when it runs
-            from .._threads import default_workers
+            from .._resources import default_workers
 
             args.workers = default_workers()
         status = _COMMANDS[args.command][1].run(args)

@@ -32,7 +32,7 @@ from .multistart import DEFAULT_STARTS, _merge_bounds, _multistart, _starting_po
 from .sandwich import STEP_PARAMETERS, _covariance, _DensityTerm, _intervals
 
 if TYPE_CHECKING:
-    from .._typing import ForceModel, Seed
+    from .._validation import ForceModel, Seed
     from ..models.crowd import Crowd
     from ..models.structure import ModalModel
     from ..signals.spectrum import ResponsePSD

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._memory import MEMORY_SHARE as _MEMORY_SHARE, available_memory
+from .._resources import MEMORY_SHARE as _MEMORY_SHARE, available_memory
 from .._validation import check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import JAM_DENSITY, Crowd

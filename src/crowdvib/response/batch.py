@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._threads import thread_budget
+from .._resources import thread_budget
 from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.structure import ModalModel

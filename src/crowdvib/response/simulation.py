@@ -28,7 +28,7 @@ from .results import Simulation
 from .traffic import Pedestrian
 
 if TYPE_CHECKING:
-    from .._typing import ForceModel, Seed
+    from .._validation import ForceModel, Seed
     from ..models.crowd import Crowd
     from ..models.damper import TunedMassDamper
     from ..models.pedestrian import MSDModel

@@ -21,7 +21,7 @@ from .results import SimulationPSD
 from .simulation import _start
 
 if TYPE_CHECKING:
-    from .._typing import ForceModel, Seed
+    from .._validation import ForceModel, Seed
     from ..models.crowd import Crowd
     from ..models.damper import TunedMassDamper
     from ..models.pedestrian import MSDModel
