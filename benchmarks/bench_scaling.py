@@ -38,7 +38,8 @@ from crowdvib import Crowd, ModalModel, MSDModel, SpectralModel, simulate, simul
 from crowdvib.io.casefile import load_case
 from crowdvib.models.examples import paper_example
 from crowdvib.models.loading import ZivanovicForce
-from crowdvib.response.simulation import _prepare
+from crowdvib.response._integrator import prepare
+from crowdvib.response.simulation import checked_run
 from crowdvib.signals import LowPassFilter
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -155,8 +156,8 @@ def kernel_row(name, case, msd, seconds, reference_seconds, crowd=None):
         steps.append(walker_steps(record))
     ours = statistics.median(t / s for t, s in zip(timings, steps)) * 1e6
     ours_cpu = statistics.median(t / s for t, s in zip(cpu, steps)) * 1e6
-    integrator, n_samples, *_ = _prepare(case.structure, crowd, reference_seconds, None, msd,
-                                         None, 100.0, 7, False, False, 0.0)
+    spec = checked_run(case.structure, crowd, reference_seconds, msd=msd, rng=7)
+    integrator, n_samples = prepare(spec), spec.n_samples
     started = time.perf_counter()
     expected = simulate_rk4(integrator, n_samples * integrator.substeps)
     numpy_time = time.perf_counter() - started
@@ -174,8 +175,8 @@ def kernel_only(case, crowd, msd, seconds, repeat=7):
     over a prepared run) and the mean number on the deck; the fastest of ``repeat`` runs."""
     best, on_deck = np.inf, 0.0
     for seed in range(repeat):
-        run, n_samples, *_ = _prepare(case.structure, crowd, seconds, None, msd, None, 100.0,
-                                      seed, False, False, 0.0)
+        spec = checked_run(case.structure, crowd, seconds, msd=msd, rng=seed)
+        run, n_samples = prepare(spec), spec.n_samples
         run.advance(run.substeps)                           # the first window, outside the timing
         steps = (n_samples - 1) * run.substeps
         started = time.process_time()

@@ -1,5 +1,5 @@
 """The case-file key reference, generated from the parser itself (crowdvib/io/casefile.py and
-casedesign.py), and that of the ambient-test file of ``crowdvib modes`` (crowdvib/io/ambient.py).
+its table readers: casemodels.py, casemeasurement.py, casedesign.py, casecomfort.py), and that of the ambient-test file of ``crowdvib modes`` (crowdvib/io/ambient.py).
 
 Every key a case file may hold is read in the parser by a call such as
 ``table.number("window_length", 60.0, rule="positive")``. This extension reads those calls from
@@ -269,8 +269,9 @@ def _special(helper, node, prefixes, keys):
 
 
 #: The modules whose functions read the case-file keys.
-PARSER_MODULES = ("crowdvib.io.casefile", "crowdvib.io.casemeasurement",
-                  "crowdvib.io.casedesign", "crowdvib.io.casecomfort")
+PARSER_MODULES = ("crowdvib.io.casefile", "crowdvib.io.casemodels",
+                  "crowdvib.io.casemeasurement", "crowdvib.io.casedesign",
+                  "crowdvib.io.casecomfort")
 
 
 def parser_sources():

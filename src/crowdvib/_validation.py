@@ -1,13 +1,28 @@
-"""Checks at the public boundary, each raising :class:`ParameterError` with parameter, rule and value.
+"""Checks at the public boundary, each raising :class:`ParameterError` with parameter, rule and value,
+and the type aliases of the public API's hints (:data:`ForceModel`, :data:`Seed`: for type
+checkers only, nothing of them runs).
 
 Validation happens once, where data enter the library; the numerics behind it trust their inputs.
 """
 
+from __future__ import annotations
+
 from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
 from .errors import DataError, ParameterError
+
+if TYPE_CHECKING:
+    from .models.loading import ForceModel as _ForceProtocol
+    from .models.measured import MeasuredForce
+
+    #: A walking-force model: any models.loading.ForceModel (the harmonic models, a user's) or
+    #: measured forces replayed.
+    ForceModel = Union[_ForceProtocol, MeasuredForce]
+    #: A seed or a generator: every random draw of crowdvib flows from one.
+    Seed = Union[int, np.random.Generator, None]
 
 
 def check_type(name, value, kind):

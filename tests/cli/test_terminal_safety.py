@@ -1,11 +1,11 @@
 """Text from someone else's file reaches the terminal escaped (issue 35 §1): control sequences
 (``ESC ] 0 ; … BEL`` retitles the window, ``ESC [ 2 J`` clears it) and bidi overrides (U+202E)
 of a case file or a table are written as escapes, and of a foreign file only a short excerpt is
-quoted (crowdvib._terminal)."""
+quoted (crowdvib.errors.terminal_safe, excerpt)."""
 
 import pytest
 
-from crowdvib._terminal import excerpt, terminal_safe
+from crowdvib.errors import excerpt, terminal_safe
 from crowdvib.cli import main
 from tests.reporting.test_report_header import BEAM
 

@@ -1,7 +1,7 @@
 """A record file's declared sizes are checked against the file before anything is allocated
 (issue 35 §1): a 2.5 KB NPZ or MAT v7.3 (HDF5) file declaring 10.7 GB made crowdvib allocate
 10.7 GB. Each hostile file is built here, tiny, and refused at once by a DataError naming the
-file, the array, its declared shape and the rule (crowdvib._memory.check_declared_size)."""
+file, the array, its declared shape and the rule (crowdvib._resources.check_declared_size)."""
 
 import io
 import time
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from numpy.lib import format as npy
 
-import crowdvib._memory
+import crowdvib._resources
 from crowdvib import DataError, read_record
 
 #: 2 channels × 670 million samples of float64: 10.72 GB.
@@ -81,7 +81,7 @@ def test_an_npz_bomb_is_refused_by_the_memory_available(tmp_path, monkeypatch):
     path = tmp_path / "zeros.npz"
     np.savez_compressed(path, data=np.zeros((2, 500_000)), sample_rate=100.0)
     assert path.stat().st_size < 20_000
-    monkeypatch.setattr(crowdvib._memory, "available_memory", lambda: 4e6)
+    monkeypatch.setattr(crowdvib._resources, "available_memory", lambda: 4e6)
     _refused_at_once(path, "array 'data' declares shape \\(2, 500000\\) × 8 B = 8000000 bytes, "
                            "more than half the 0.004 GB of memory available")
 
@@ -89,9 +89,9 @@ def test_an_npz_bomb_is_refused_by_the_memory_available(tmp_path, monkeypatch):
 def test_the_deflate_bound_refuses_what_no_compressed_member_can_expand_to():
     with pytest.raises(DataError, match="more than its 100 compressed bytes can expand to "
                                         "\\(1032:1\\)"):
-        crowdvib._memory.check_declared_size("f.npz: ", "array 'x'", (200_000,), 8,
+        crowdvib._resources.check_declared_size("f.npz: ", "array 'x'", (200_000,), 8,
                                              compressed=100)
-    assert crowdvib._memory.check_declared_size("f.npz: ", "array 'x'", (1000,), 8,
+    assert crowdvib._resources.check_declared_size("f.npz: ", "array 'x'", (1000,), 8,
                                                 compressed=100, stored=8000) == 8000
 
 
@@ -129,7 +129,7 @@ def test_a_mat_v5_compressed_element_is_inflated_no_further_than_the_memory(tmp_
     path = tmp_path / "zeros.mat"
     savemat(path, {"data": np.zeros((2, 500_000)), "sample_rate": 100.0}, do_compression=True)
     assert path.stat().st_size < 50_000
-    monkeypatch.setattr(crowdvib._memory, "available_memory", lambda: 4e6)
+    monkeypatch.setattr(crowdvib._resources, "available_memory", lambda: 4e6)
     with pytest.raises(DataError, match="zeros.mat: a compressed element of \\d+ bytes expands "
                                         "past 2000000 bytes"):
         read_record(path, sample_rate=100.0)

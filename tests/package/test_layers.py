@@ -4,15 +4,16 @@ order, no private name or private module used across subpackages.
 Every ``import`` of every module under ``src/crowdvib`` counts, the ones inside functions
 included (they hide cycles, they do not remove them). Imports under ``if TYPE_CHECKING:`` are
 exempt from the cycle and layer rules, as they never run: they name a type for an annotation
-(``_typing``'s aliases of the ``models`` forces, a result's ``FigureAxes``) and can neither load
+(``_validation``'s aliases of the ``models`` forces, a result's ``FigureAxes``) and can neither load
 a module nor close a cycle; the privacy rule still applies to them.
 
 The layer order, lowest first; a module may import its own layer and the layers before it:
 
-1. base: ``errors``, ``_validation``, ``_plausibility``, ``_files``, ``_threads``, ``_typing``,
-   ``_version``, ``_figures`` (the top-level modules every layer may use; their names are public
-   to the package). ``_figures`` is what every figure shares: each layer draws its own results
-   (its ``plots`` module, behind their ``plot()``), ``reporting.plotting`` re-exports them all
+1. base: ``errors``, ``_validation``, ``_plausibility``, ``_files``, ``_resources``,
+   ``_version``, ``_figures``, ``quantities``, ``_estimators`` (the top-level modules every layer
+   may use; their names are public to the package). ``_figures`` is what every figure shares:
+   each layer draws its own results (its ``plots`` module, behind their ``plot()``),
+   ``reporting.plotting`` re-exports them all
 2. ``models``: the structure, the pedestrians, the crowd and their forces
 3. ``signals``: records, spectra, weighting, synthesis
 4. ``io``: files into the types of ``models`` and ``signals``, and nothing of the analysis (so
@@ -45,8 +46,8 @@ SRC = Path(__file__).resolve().parents[2] / "src"
 PACKAGE = "crowdvib"
 
 BASE = ("crowdvib.errors", "crowdvib._validation", "crowdvib._plausibility", "crowdvib._files",
-        "crowdvib._threads", "crowdvib._typing", "crowdvib._version", "crowdvib._figures",
-        "crowdvib.quantities", "crowdvib._estimators", "crowdvib._memory", "crowdvib._terminal")
+        "crowdvib._resources", "crowdvib._version", "crowdvib._figures", "crowdvib.quantities",
+        "crowdvib._estimators")
 #: Lowest first; each entry is the set of units (subpackages or top-level modules) of one layer.
 LAYERS = (BASE, ("crowdvib.models",), ("crowdvib.signals",), ("crowdvib.io",),
           ("crowdvib.oma",), ("crowdvib.response",), ("crowdvib.runner",),
@@ -186,11 +187,11 @@ def test_no_private_name_across_subpackages():
 
 def test_function_level_relative_and_type_only_imports_are_seen():
     # the walk reaches into functions and resolves ``..``: runs/modes.py imports the ambient
-    # pipeline inside run_modes() (it brings numpy and io, crowdvib --help must not); _typing's
+    # pipeline inside run_modes() (it brings numpy and io, crowdvib --help must not); _validation's
     # imports of the forces are under TYPE_CHECKING, so they do not run
     assert ("crowdvib.cases.ambient", "identify_ambient") in {
         (target, name) for target, name, _, runs in IMPORTS["crowdvib.runs.modes"] if runs}
-    typing_rows = {(target, runs) for target, _, _, runs in IMPORTS["crowdvib._typing"]}
+    typing_rows = {(target, runs) for target, _, _, runs in IMPORTS["crowdvib._validation"]}
     assert ("crowdvib.models.loading", False) in typing_rows
 
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from crowdvib import load_case, running_rms
 from crowdvib.cli import main
-from crowdvib.cli.common import ESTIMATION_TABLES, SIMULATION_TABLES
+from crowdvib.cases import ESTIMATION_TABLES, SIMULATION_TABLES
 from crowdvib.reporting.report import render_report
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"

@@ -7,7 +7,8 @@ from crowdvib import (Crowd, ModalModel, MSDModel, ParameterError, Pedestrian, S
                       YoungForce, simulate)
 from crowdvib.errors import PlausibilityWarning
 from crowdvib.response import generate_traffic
-from crowdvib.response.simulation import _prepare
+from crowdvib.response._integrator import prepare
+from crowdvib.response.simulation import checked_run
 
 
 @pytest.fixture
@@ -164,7 +165,8 @@ def test_free_msd_on_undamped_structure_conserves_energy():
     object.__setattr__(msd, "damping_ratio", 0.0)
     body = Pedestrian(0.0, 0.0, 2.0, 70.0, harmonics=(), position=25.0)
     # 1 kHz output: h = 1 ms, ωh ≈ 0.02 for the coupled modes near 2 and 3 Hz.
-    integrator, *_ = _prepare(bridge, None, 20.0, [body], msd, None, 1000.0, 0, False, False, 0.0)
+    integrator = prepare(checked_run(bridge, None, 20.0, pedestrians=[body], msd=msd,
+                                     sample_rate=1000.0, rng=0))
     integrator.advance(1)                     # the body steps on, at rest on a still deck
     integrator.zd[:] = 0.1                    # then the deck gets a kick
     start = _energy(integrator)

@@ -133,15 +133,15 @@ def test_walkers_on_the_deck_are_those_between_their_on_and_off_times():
     # own arrival and leaving times. The kernel decides who leaves by comparing t with the
     # earliest t_off on the deck, kept across kernel calls: a run in short chunks (0.37 s) and
     # a crowd with walkers in both directions (different leaving orders) exercise both.
-    from crowdvib.response.simulation import _prepare
+    from crowdvib.response._integrator import prepare
+    from crowdvib.response.simulation import checked_run
 
     crowd = Crowd(density=0.3, walking_speed=1.3, step_frequency_mean=1.9,
                   step_frequency_std=0.15, body_mass=70.0, forward_fraction=0.5)
     bridge = _two_lane_bridge(np.linspace(0.0, 40.0, 21))
     record = simulate(bridge, crowd, 60.0, msd=MSDModel(3.0, 0.3, 0.9), rng=4,
                       chunk_duration=0.37)
-    run = _prepare(bridge, crowd, 60.0, None, MSDModel(3.0, 0.3, 0.9), None, 100.0, 4, False,
-                   False, 0.0)[0]
+    run = prepare(checked_run(bridge, crowd, 60.0, msd=MSDModel(3.0, 0.3, 0.9), rng=4))
     t_on, t_off = run.walkers.t_on, run.walkers.t_off       # everybody of a short run
     times = np.arange(record.n_on_deck.size) / 100.0
     expected = [np.sum((t_on <= t) & (t < t_off)) for t in times]
@@ -158,13 +158,15 @@ def test_the_paper_path_agrees_with_the_general_kernel():
     # 1e-9 of the RMS (issue 28 §4; ~1e-14 measured against the code before the change).
     from crowdvib.models.examples import paper_example
     from crowdvib.response import _kernels
-    from crowdvib.response.simulation import _prepare
+    from crowdvib.response._integrator import prepare
+    from crowdvib.response.simulation import checked_run
 
     case = paper_example()
     records = []
     for kind in (None, (_kernels.MSD, _kernels.GENERAL)):
-        run, n_samples, *_ = _prepare(case.structure, case.crowd, 20.0, None, case.msd, None,
-                                      100.0, 3, True, False, 0.0)
+        spec = checked_run(case.structure, case.crowd, 20.0, msd=case.msd, rng=3,
+                           include_static_weight=True)
+        run, n_samples = prepare(spec), spec.n_samples
         if kind is not None:
             assert run.kernel is not _kernels.ENTRY_POINTS[kind]
             run.kernel = _kernels.ENTRY_POINTS[kind]

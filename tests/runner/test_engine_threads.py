@@ -4,7 +4,7 @@ import os
 
 import pytest
 
-from crowdvib._threads import (
+from crowdvib._resources import (
     BUDGET_VARIABLE,
     THREAD_VARIABLES,
     default_workers,

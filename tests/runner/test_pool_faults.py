@@ -156,7 +156,7 @@ def test_a_worker_compiles_numba_code_after_this_process_launched_numbas_threads
     import numba
 
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)        # launches this process's pool
-    from crowdvib._threads import thread_share
+    from crowdvib._resources import thread_share
 
     with ProcessPool(2, method=method) as pool:
         value, threads = pool.submit(_compile_in_worker, 41).result(timeout=120)

@@ -1,7 +1,9 @@
 """What every command shares: printing, progress bars, the verdict line and the argument types.
 
-The results folder's rules and writing are the library's (:mod:`crowdvib.runs.folders`); the
-commands that write a folder themselves (modes) find them here.
+Light on purpose: ``crowdvib --help`` and every command's ``--help`` import this module and
+nothing of the library's work (issue 34 §4); what a command runs with (tqdm's bars, the results
+of :mod:`crowdvib.cases`) is imported when it runs. The results folder's rules and writing are
+the library's (:mod:`crowdvib.runs.folders`).
 """
 
 import argparse
@@ -11,16 +13,10 @@ import warnings
 import weakref
 from pathlib import Path
 
-from tqdm import tqdm
+from ..errors import terminal_safe
 
-from .._terminal import terminal_safe
-from ..cases.results import ESTIMATION_TABLES, SIMULATION_TABLES
-from ..runs.folders import staged_output, write_results
-from ..runs.lines import warning_texts
-
-__all__ = ["ESTIMATION_TABLES", "SIMULATION_TABLES", "staged_output", "write_results",
-           "warning_texts", "say", "say_verdict", "say_warnings", "warnings_as_lines",
-           "progress_printer", "add_output_arguments"]
+__all__ = ["say", "say_verdict", "say_warnings", "warnings_as_lines", "progress_printer",
+           "add_output_arguments"]
 
 
 #: Exit status of a command that finished and wrote its results, but whose verdict doubts them
@@ -61,7 +57,7 @@ def set_quiet(quiet):
 
 def say(message="", *, always=False, severity=None):
     """Print a line of the command's output; text from files in it reaches the terminal escaped
-    (:func:`crowdvib._terminal.terminal_safe`: a case's name may hold ESC or U+202E), a verdict
+    (:func:`crowdvib.errors.terminal_safe`: a case's name may hold ESC or U+202E), a verdict
     heading in its ``severity``'s colour on a terminal."""
     if always or not _QUIET[0]:
         text = terminal_safe(message)
@@ -123,6 +119,8 @@ def progress_printer(label, unit="s", offset=0.0):
         if _QUIET[0]:
             return
         if bar is None:
+            from tqdm import tqdm
+
             terminal = sys.stderr.isatty()
             bar = tqdm(total=max(total - offset, 0.0), desc=f"  {label}", unit=f" {unit}",
                        file=sys.stderr, leave=True, dynamic_ncols=True,

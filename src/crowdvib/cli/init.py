@@ -10,9 +10,8 @@ draft is a doubt (issue 36 §2).
 import sys
 from pathlib import Path
 
-from .._terminal import terminal_safe
-from ..runs.lines import caught_warnings
-from .common import IN_DOUBT, positive_float, say, warning_texts
+from ..errors import terminal_safe
+from .common import IN_DOUBT, positive_float, say
 
 
 def add_arguments(parser):
@@ -35,6 +34,7 @@ def run(args):
     import shlex
 
     from ..io.draft import inspect_record, new_case_path, write_draft
+    from ..runs.lines import caught_warnings, warning_texts
 
     output = new_case_path(args.record, args.output)   # refused before the record is read
     args.output = output      # named by --strict's line

@@ -12,63 +12,47 @@ tracebacks; ``--strict`` makes a result in doubt a failure (issue 27 §2).
 """
 
 import argparse
+import importlib
 import logging
 import sys
 from pathlib import Path
 
 from .._version import __version__
 from .._files import os_error_text, require_file
-from .._terminal import terminal_safe
-from ..errors import CrowdvibError
-from . import (check, comfort, demo, estimate, init, landscape, modes, season, sensitivity,
-               simulate)
-from .common import IN_DOUBT, close_progress, forget_printed, say, set_quiet
+from ..errors import CrowdvibError, terminal_safe
+from .common import IN_DOUBT, close_progress, forget_printed, set_quiet
 
 __all__ = ["main", "build_parser"]
 
 
-class _Report:
-    """``crowdvib report DIR``: rebuild report.html of a results directory."""
-
-    @staticmethod
-    def add_arguments(parser):
-        parser.add_argument("directory", type=Path,
-                            help="results directory written by a crowdvib command (holds "
-                                 "results.json)")
-        parser.add_argument("--template", type=Path, default=None, metavar="FILE",
-                            help="Jinja2 page (.html or .j2) to lay out the report with; "
-                                 "default: the one results.json records, if it lies inside "
-                                 "DIRECTORY, else the built-in page")
-
-    @staticmethod
-    def run(args):
-        from ..reporting.report import write_report
-
-        if args.template is not None:
-            require_file(args.template, "report template")
-        say(f"wrote {write_report(args.directory, template=args.template)}")
-        return 0
-
-
-#: command → (one-line help, module with ``add_arguments(parser)`` and ``run(args) -> int``)
+#: command → (one-line help, the module of ``crowdvib.cli`` with its ``add_arguments(parser)``
+#: and ``run(args) -> int``). A command's module is imported only when that command is parsed or
+#: run: ``crowdvib --help`` lists the commands from this table alone (issue 34 §4).
 _COMMANDS = {
     "init": ("a case-file draft from a measured record: what it holds, placeholders for the rest",
-             init),
-    "demo": ("estimate the MSD parameters back on the paper's numerical example", demo),
-    "estimate": ("estimate the MSD parameters from a case file's measured records", estimate),
-    "simulate": ("simulate a case (default: the paper example) and write its record", simulate),
+             "init"),
+    "demo": ("estimate the MSD parameters back on the paper's numerical example", "demo"),
+    "estimate": ("estimate the MSD parameters from a case file's measured records", "estimate"),
+    "simulate": ("simulate a case (default: the paper example) and write its record",
+                 "simulate"),
     "report": ("write report.html, a self-contained HTML report, into a results directory",
-               _Report),
-    "map": ("evaluate the objective J(f_h1, ξ_h1) of a case's estimator on a grid", landscape),
+               "report"),
+    "map": ("evaluate the objective J(f_h1, ξ_h1) of a case's estimator on a grid", "landscape"),
     "sensitivity": ("estimation error from modelling errors and record length: nominal ± bound",
-                    sensitivity),
-    "check": ("design checks of a case's [design] table (codes, with and without HSI)", check),
+                    "sensitivity"),
+    "check": ("design checks of a case's [design] table (codes, with and without HSI)", "check"),
     "modes": ("the empty bridge's modes from an ambient record (operational modal analysis)",
-              modes),
-    "season": ("a season of records with a crowd table: each estimated, one MSD for all", season),
+              "modes"),
+    "season": ("a season of records with a crowd table: each estimated, one MSD for all",
+               "season"),
     "comfort": ("a year of comfort: hours per comfort class from a season or a traffic table",
-                comfort),
+                "comfort"),
 }
+
+
+def _command(name):
+    """The module of command ``name`` (imported now, if it was not)."""
+    return importlib.import_module(f".{_COMMANDS[name][1]}", __package__)
 
 
 #: One or two examples per command, as its --help ends them (issue 36 §3); the files are the
@@ -106,21 +90,38 @@ def _epilog(name):
     return (f"examples:\n{examples}\n\n" if examples else "") + textwrap.fill(EXIT_STATUS, 79)
 
 
-def build_parser():
-    """The argument parser with one sub-command per entry of ``_COMMANDS``."""
+def build_parser(commands=None):
+    """The argument parser with one sub-command per entry of ``_COMMANDS``.
+
+    Parameters
+    ----------
+    commands : collection of str, optional
+        The commands whose arguments are added (their modules imported); default all. The
+        others are listed, with their help, and take no arguments: :func:`main` builds only the
+        command it runs.
+    """
     parser = argparse.ArgumentParser(
         prog="crowdvib",
         description="Crowd-induced footbridge vibrations with human-structure interaction.")
     parser.add_argument("--version", action="version", version=f"crowdvib {__version__}")
     _add_verbosity(parser, {})
-    commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for name, (help_text, command) in _COMMANDS.items():
-        sub = commands.add_parser(name, help=help_text, description=help_text,
-                                  epilog=_epilog(name),
-                                  formatter_class=argparse.RawDescriptionHelpFormatter)
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, (help_text, _) in _COMMANDS.items():
+        sub = subparsers.add_parser(name, help=help_text, description=help_text,
+                                    epilog=_epilog(name),
+                                    formatter_class=argparse.RawDescriptionHelpFormatter)
         _add_verbosity(sub, {"default": argparse.SUPPRESS})
-        command.add_arguments(sub)
+        if commands is None or name in commands:
+            _command(name).add_arguments(sub)
     return parser
+
+
+def _named(argv):
+    """The command ``argv`` runs, as a one-element tuple (empty when it names none): its first
+    word that is a command's name. The options before the command (-v, -q, --strict,
+    --version, -h) take no value, so that word is the command whenever argparse accepts it."""
+    words = sys.argv[1:] if argv is None else argv
+    return tuple(word for word in words if word in _COMMANDS)[:1]
 
 
 #: The exit statuses, as every command's help ends.
@@ -144,7 +145,7 @@ def _add_verbosity(parser, suppress):
 
 def main(argv=None):
     """Run the command line; returns the exit code."""
-    parser = build_parser()
+    parser = build_parser(_named(argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exit_:
@@ -158,10 +159,10 @@ def main(argv=None):
             # Before the command imports scipy and numba: a wrong path is answered at once.
             require_file(case, "case")
         if getattr(args, "workers", 0) is None:   # --workers' default, counted when it runs
-            from .._threads import default_workers
+            from .._resources import default_workers
 
             args.workers = default_workers()
-        status = _COMMANDS[args.command][1].run(args)
+        status = _command(args.command).run(args)
     except KeyboardInterrupt:
         # What a command keeps is its business (sensitivity keeps its finished tasks and says
         # so); a staged one has removed its unfinished results by now.

@@ -33,7 +33,7 @@ from .multistart import (DEFAULT_STARTS, FINAL_TOLERANCE, _merge_bounds, _multis
 from .sandwich import STEP_PARAMETERS, _covariance, _DensityTerm, _intervals
 
 if TYPE_CHECKING:
-    from .._typing import ForceModel, Seed
+    from .._validation import ForceModel, Seed
     from ..models.crowd import Crowd
     from ..models.structure import ModalModel
     from ..signals.spectrum import ResponsePSD

@@ -20,7 +20,7 @@ from .multistart import _merge_bounds, _multistart, _starting_points
 from .sandwich import STEP_PARAMETERS
 
 if TYPE_CHECKING:
-    from .._typing import ForceModel
+    from .._validation import ForceModel
     from ..models.crowd import Crowd
     from ..models.structure import ModalModel
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._terminal import terminal_safe
+from ..errors import terminal_safe
 from ..errors import CrowdvibError, DataError, ParameterError
 
 # Time stamps whose step differs from the median step by more than this fraction are non-uniform;

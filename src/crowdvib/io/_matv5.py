@@ -18,7 +18,7 @@ import struct
 import zlib
 from pathlib import Path
 
-from .._memory import memory_limit
+from .._resources import memory_limit
 from ..errors import DataError
 from ._common import quote, where
 

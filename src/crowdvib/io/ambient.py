@@ -9,7 +9,7 @@ from ..errors import ParameterError
 
 from ._toml import Table, read_toml
 from .casemeasurement import header_row_of
-from .headers import unit_key
+from .units import unit_key
 from .records import RECORD_FORMATS, read_record
 
 __all__ = ["read_ambient"]

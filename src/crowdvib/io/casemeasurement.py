@@ -1,10 +1,15 @@
 """A case file's ``[measurement]`` table: how its records are read and processed (issue 36 §2
 added where the header row is, ``header_row``/``skip_rows``, and what to do with a dropout,
-``gaps``/``max_gap``)."""
+``gaps``/``max_gap``); or its ``[[measurement]]`` blocks, each with its own name and crowd, of
+a joint fit of one MSD."""
 
-from .casespecs import MeasurementSpec
+from ..errors import ParameterError
+from ._toml import Table
+from .casemodels import _crowd, _crowd_profile
+from .casespecs import MeasurementBlock, MeasurementSpec
 from .gaps import GAP_MODES
-from .records import RECORD_FORMATS, _unit_key
+from .records import RECORD_FORMATS
+from .units import _unit_key
 
 __all__ = ["measurement_spec", "header_row_of"]
 
@@ -66,3 +71,50 @@ def measurement_spec(table, path):
         header_row=header_row, gaps=gaps, max_gap=max_gap)
     table.finish()
     return spec
+
+
+# -------------------------------------------------------- several measurements (joint fit)
+def _measurement_block(table, path, crowd, number, structure):
+    """One ``[[measurement]]`` block: its name, its own crowd (default the case's, stationary),
+    with its counts or density profile if it has them, and the keys of ``[measurement]``."""
+    name = table.string("name", f"record {number}")
+    profile = None
+    if table.has("crowd"):
+        crowd_table = table.table("crowd")
+        profile = _crowd_profile(crowd_table, path, structure)
+        crowd = _crowd(crowd_table, path, profile)
+    measurement = measurement_spec(table, path)
+    _check_profile_frame(profile, measurement, path, f"measurement[{number}].crowd",
+                         "its [[measurement]] block")
+    return MeasurementBlock(name=name, measurement=measurement, crowd=crowd,
+                            crowd_profile=profile)
+
+
+def _check_profile_frame(profile, measurement, path, where, measured_by):
+    """A crowd profile is on its record's time, and the estimator places Welch windows at
+    overlap 0.5 over it: refuse a stationary time frame or another overlap."""
+    if profile is not None and (measurement.time_frame == "stationary"
+                                or measurement.overlap != 0.5):
+        raise ParameterError(
+            f"{path.name}: {where}.counts or {where}.density_profile must come with "
+            f"{measured_by} whose time_frame is the whole record or [start, end] (the profile "
+            "is on the record's time) and Welch windows at overlap 0.5 (as the estimator "
+            "places them), got " + ('time_frame = "stationary"'
+                                    if measurement.time_frame == "stationary"
+                                    else f"overlap = {measurement.overlap:g}"))
+
+
+def _measurements(root, path, crowd, structure):
+    """``[measurement]`` → (spec, ()); ``[[measurement]]`` blocks → (first spec, blocks)."""
+    blocks = root.raw("measurement", {})
+    if not isinstance(blocks, list):
+        return measurement_spec(root.table("measurement"), path), ()
+    if not blocks:
+        raise root.error("measurement", "must hold at least one [[measurement]] block", blocks)
+    records = tuple(_measurement_block(Table(block, f"measurement[{i}]", path), path, crowd, i,
+                                       structure)
+                    for i, block in enumerate(blocks, start=1))
+    names = [block.name for block in records]
+    if len(set(names)) != len(names):
+        raise root.error("measurement", "blocks must have distinct names", names)
+    return records[0].measurement, records

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from .._files import require_file
 from ..errors import DataError
-from .._terminal import excerpt
+from ..errors import excerpt
 from ._common import quote, quote_names, reading, where
 from .formats import FileFormat, read_table_cells, register_format
 

@@ -25,8 +25,9 @@ from ..models.loading import STANDARD_GRAVITY
 from ._common import quote_names
 from .formats import suffix_format
 from .gaps import describe_gaps, dropouts
-from .headers import UNITS, output_name
-from .records import _format_of, _read_record, _unit_key, check_record
+from .headers import output_name
+from .records import _format_of, _read_record, check_record
+from .units import UNITS, _unit_key
 
 __all__ = ["ChannelSummary", "RecordSummary", "inspect_record", "guess_units", "draft_case",
            "new_case_path", "write_draft", "PLACEHOLDER"]

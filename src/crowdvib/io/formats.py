@@ -37,7 +37,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._files import atomic_path
-from .._memory import check_declared_size
+from .._resources import check_declared_size
 from ..errors import DataError, ParameterError
 from ._common import (MAX_CHANNELS, quote, refuse_transposed, sample_rate_from_time, stated_rate,
                       where)

@@ -7,25 +7,18 @@ sample rate) above the header row, and the unit of each column in its header
 (``Acc Z midspan [mg]``, ``a (g)``). :func:`header_unit` reads such a unit, :func:`find_header`
 finds the header row below the metadata, :func:`output_name` makes a short output name of a
 header (``midspan``) for ``crowdvib init``'s draft. The units crowdvib reads, and their scale to
-m/s², are :data:`UNITS` (docs: theory, Conventions: g = 9.81 m/s²).
+m/s², are :data:`crowdvib.io.units.UNITS` (docs: theory, Conventions: g = 9.81 m/s²).
 """
 
 import csv
 import re
 
 from ..errors import DataError
-from ..models.loading import STANDARD_GRAVITY
 from ._common import quote, quote_names, where
+from .units import unit_key
 
-__all__ = ["UNITS", "unit_key", "unit_scale", "header_unit", "find_header", "output_name",
-           "DELIMITERS", "time_key"]
+__all__ = ["header_unit", "find_header", "output_name", "DELIMITERS", "time_key"]
 
-#: Record units crowdvib reads → their scale to m/s².
-UNITS = {"m/s2": 1.0, "g": STANDARD_GRAVITY, "mg": 1e-3 * STANDARD_GRAVITY, "mm/s2": 1e-3}
-#: How files and people write them (compared lower case, blanks dropped).
-_ALIASES = {"m/s2": "m/s2", "m/s^2": "m/s2", "m/s²": "m/s2", "ms-2": "m/s2", "ms^-2": "m/s2",
-            "mps2": "m/s2", "m/s/s": "m/s2", "g": "g", "g0": "g", "mg": "mg",
-            "mm/s2": "mm/s2", "mm/s^2": "mm/s2", "mm/s²": "mm/s2", "mms-2": "mm/s2"}
 #: Column separators tried in turn: crowdvib's ",", then ";" and tab (spreadsheets of locales
 #: whose decimal mark is a comma write ";" and "1,5").
 DELIMITERS = (",", ";", "\t")
@@ -45,16 +38,6 @@ _OTHER_TIME_UNITS = {"ms", "us", "µs", "ns", "min", "h", "hr", "hrs"}
 _CHECK_ROWS = 3
 #: Lines searched for the header row (a logger's preamble is a few tens of lines).
 _SEARCH_LINES = 200
-
-
-def unit_key(units):
-    """The key of :data:`UNITS` that ``units`` names ("m/s^2" → "m/s2"), or None."""
-    return _ALIASES.get(str(units).strip().lower().replace(" ", ""))
-
-
-def unit_scale(units):
-    """The factor that turns samples in ``units`` (a key of :data:`UNITS`) into m/s²."""
-    return UNITS[units]
 
 
 def header_unit(name):

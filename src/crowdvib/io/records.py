@@ -10,7 +10,8 @@ record unusable (NaN or infinite samples, non-uniform, decreasing or gapped time
 different length or sample rate, a sample rate too low for the analysis band) and warn with a
 :class:`DataWarning` for what is doubtful but usable (flat or clipped stretches).
 
-The file formats themselves (one reader and writer each, their layouts) are in
+The units of the samples (and their conversion to m/s²) are in :mod:`crowdvib.io.units`, the
+file formats themselves (one reader and writer each, their layouts) in
 :mod:`crowdvib.io.formats`; every reader runs inside one guard, so any file problem is a
 :class:`DataError` naming the file (issue 9).
 """
@@ -27,13 +28,12 @@ from typing import Any
 import numpy as np
 
 from .._validation import check_positive
-from ..errors import DataError, DataWarning, ParameterError, PlausibilityWarning
-from ..models.loading import STANDARD_GRAVITY
+from ..errors import DataError, DataWarning, ParameterError
 from .._files import require_file
 from ._common import (quote, quote_names, reading, refuse_transposed, same_rate,
                       sample_rate_from_time, where)
 from .formats import check_names, file_formats, suffix_format
-from .headers import UNITS, unit_key
+from .units import _check_declared_units, _unit_key, convert_units
 
 __all__ = ["Record", "read_record", "write_record", "check_record", "merge_records",
            "RECORD_FORMATS", "convert_units"]
@@ -56,65 +56,6 @@ def _refuse_absurd_samples(source, names, data, units=""):
         raise DataError(f"{where(source, names[channel])}samples must be below {MAX_SAMPLE:g} in "
                         f"magnitude, got {data[channel, index]:g}{units} at sample index "
                         f"{index}: a damaged cell or a wrong scale")
-
-
-def _check_declared_units(source, names, data, units):
-    """A record declared in ``units`` whose mean is the gravity offset in other units (DataError:
-    an accelerometer at rest shows 1 g, so a mean of 9.81 declared as g, or of 1000 declared as
-    g, is another unit's offset), or, declared in g or mg, whose RMS is above 1 g
-    (PlausibilityWarning: footbridge accelerations stay below 0.2 g)."""
-    scale = UNITS[units]
-    for name, row in zip(names, data):
-        mean = float(np.mean(row))
-        rms = float(np.std(row))
-        offset = next((other for other, other_scale in UNITS.items()
-                       if other != units and other != "mm/s2"
-                       and abs(abs(mean) * other_scale - STANDARD_GRAVITY)
-                       <= 0.15 * STANDARD_GRAVITY and rms * other_scale < 0.5 * STANDARD_GRAVITY
-                       and abs(abs(mean) * scale - STANDARD_GRAVITY) > 0.15 * STANDARD_GRAVITY),
-                      None)
-        if offset is not None:
-            raise DataError(f"{where(source, name)}units {units!r} must not hold a mean of "
-                            f"{mean:.3g} {units} (an accelerometer at rest shows 1 g): {mean:.3g} "
-                            f"is the gravity offset in {'m/s²' if offset == 'm/s2' else offset}; "
-                            f"declare units {offset!r}")
-        if units in ("g", "mg") and rms * scale > STANDARD_GRAVITY:
-            warnings.warn(f"{where(source, name)}RMS {rms:.3g} {units} is above 1 g, unusual for a "
-                          f"footbridge (below 0.2 g): m/s² declared as {units}? ({rms:.3g} m/s² "
-                          f"is {rms / STANDARD_GRAVITY:.3g} g)", PlausibilityWarning, stacklevel=4)
-
-
-def _unit_key(units, prefix):
-    key = unit_key(units)
-    if key is None:
-        raise ParameterError(f"{prefix}units must be 'm/s2', 'g', 'mg' or 'mm/s2', got "
-                             f"{quote(units)}")
-    return key
-
-
-def convert_units(data, units):
-    """Accelerations in ``units`` ("g", "mg", "m/s2" or "mm/s2") → m/s² (g = 9.81 m/s², docs:
-    theory, Conventions).
-
-    Parameters
-    ----------
-    data : array_like
-        Accelerations in ``units``.
-    units : str
-        ``"g"`` (g = 9.81 m/s²), ``"mg"``, ``"m/s2"`` or ``"mm/s2"``.
-
-    Returns
-    -------
-    ndarray
-        The accelerations [m/s²], as floats.
-
-    Examples
-    --------
-    >>> from crowdvib.io import convert_units
-    >>> convert_units([0.0, 0.01], "g")
-    array([0.    , 0.0981])
-    """
-    return np.asarray(data, dtype=float) * UNITS[_unit_key(units, "")]
 
 
 @dataclass(frozen=True, eq=False)

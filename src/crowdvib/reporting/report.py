@@ -27,7 +27,7 @@ from pathlib import Path
 
 from .._version import __version__
 from .._files import TEMPLATE_SUFFIXES, atomic_path, template_within
-from .._terminal import terminal_safe
+from ..errors import terminal_safe
 from .._manifest import foreign_files, read_manifest, record_file
 from ..cases.results import provenance   # re-exported: results.json's stamp
 from ..cases.schema import case_name

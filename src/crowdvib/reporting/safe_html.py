@@ -135,7 +135,7 @@ class _Checker(HTMLParser):
         self.name, self.out, self.policy, self.style = name, [], False, None
 
     def refuse(self, what, rule):
-        from .._terminal import terminal_safe
+        from ..errors import terminal_safe
 
         line = self.getpos()[0]
         raise ParameterError(f"report template {self.name}: its page (line {line}) holds "

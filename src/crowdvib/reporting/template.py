@@ -29,7 +29,7 @@ from pathlib import Path
 from markupsafe import Markup
 
 from .._files import child_path
-from .._terminal import terminal_safe
+from ..errors import terminal_safe
 from ..errors import CrowdvibError, DataError, ParameterError
 from .safe_html import checked_page
 from .sections import REPORT_FIELDS

@@ -4,14 +4,16 @@
 ``fluctuation`` (the expected PSD of a Poisson crowd whose occupancy fluctuates, and
 ``response_psd``, which makes either model's),
 ``varying`` (the expected Welch PSD of a record whose crowd's density changes),
-and ``simulation`` (time-domain Monte Carlo with moving pedestrians; its compiled kernel is
-``_kernels``); their results are in ``results``.
+``simulation`` (time-domain Monte Carlo with moving pedestrians: a run checked into ``_run``,
+stepped by ``_integrator`` with the compiled kernel of ``_kernels``) and ``simulation_psd``
+(the Welch PSD of a record too long to keep); their results are in ``results``.
 """
 
 from .batch import simulate_many
 from .fluctuation import FluctuatingSpectralModel, response_psd
 from .results import FRF, EffectiveModalProperties, Simulation, SimulationPSD
-from .simulation import simulate, simulate_psd
+from .simulation import simulate
+from .simulation_psd import simulate_psd
 from .spectral import (ExpectedPSDModel, SpectralModel, effective_modal_properties, frf,
                        modal_accelerance)
 from .traffic import Pedestrian, generate_traffic

@@ -7,19 +7,18 @@ anything but the read-only structure.
 """
 
 import concurrent.futures
-import inspect
 import numbers
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
-from .._threads import thread_budget
+from .._resources import thread_budget
 from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.structure import ModalModel
 from .results import Simulation
-from .simulation import _check_run, _with_profile, simulate
+from .simulation import checked_run, simulate
 
 __all__ = ["simulate_many"]
 
@@ -77,11 +76,7 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
         raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
 
     # Every record is kept: the batch must fit as a whole, which each run alone cannot see.
-    run = {**{name: p.default for name, p in inspect.signature(simulate).parameters.items()},
-           **options}
-    _check_run(structure, _with_profile(crowd, run["crowd_profile"])[0], duration,
-               run["pedestrians"], run["msd"], run["force"],
-               run["sample_rate"], run["record_modal_load"], run["warm_up"], records=len(seeds))
+    checked_run(structure, crowd, duration, records=len(seeds), rng=seeds[0], **options)
 
     def one(seed):
         return simulate(structure, crowd, duration, rng=seed, **options)

@@ -40,7 +40,7 @@ from ._modulation import (OccupancyPath, drift_parameters, modulation_correction
 from .spectral import SpectralModel, _check_models, model_psd
 
 if TYPE_CHECKING:
-    from .._typing import ForceModel
+    from .._validation import ForceModel
     from ..models.damper import TunedMassDamper
     from ..signals.welch import LowPassFilter
 

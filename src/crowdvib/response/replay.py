@@ -20,7 +20,8 @@ import numpy as np
 
 from .._validation import check_positive
 from ..errors import ParameterError
-from . import simulation as _simulation
+from ._run import Run
+from .simulation import _start
 
 __all__ = ["Replay", "crossing_replay", "busiest_stretch", "DEFAULT_REPLAY_LENGTH",
            "DEFAULT_FRAME_RATE"]
@@ -144,9 +145,13 @@ def crossing_replay(structure, crowd=None, duration=None, *, start=None,
     """
     length = check_positive("length", length, unit="s")
     frame_rate = check_positive("frame_rate", frame_rate, unit="Hz")
-    seed, integrator, n_samples, warm_up_samples, sample_rate, _ = _simulation._start(
-        structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, None, False,
-        None, False, warm_up, dampers, True, crowd_profile)
+    run = Run.checked(structure, crowd, duration, pedestrians=pedestrians, msd=msd, force=force,
+                      sample_rate=sample_rate, rng=rng, progress=None,
+                      include_static_weight=False, chunk_duration=None,
+                      record_modal_load=False, warm_up=warm_up, dampers=dampers,
+                      crowd_profile=crowd_profile)
+    integrator, _ = _start(run)       # stepped frame by frame below, not chunk by chunk
+    seed, sample_rate, n_samples = run.seed, run.sample_rate, run.n_samples
     if frame_rate > sample_rate:
         raise ParameterError(f"frame_rate must not exceed the sample rate {sample_rate:g} Hz, "
                              f"got {frame_rate:g} Hz")
@@ -163,7 +168,7 @@ def crossing_replay(structure, crowd=None, duration=None, *, start=None,
     substeps = integrator.substeps
     # To the first frame in one call (the state there is the record's: chunking changes no
     # bit), then frame by frame; sample i is the state at step i·substeps.
-    integrator.advance((warm_up_samples + first) * substeps)
+    integrator.advance((run.warm_up_samples + first) * substeps)
     z = np.empty((structure.n_modes, frames.size))
     trace = np.empty((structure.n_outputs, last - first))
     rows: dict[tuple, tuple] = {}

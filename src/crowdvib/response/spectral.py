@@ -44,7 +44,7 @@ from ._welch_model import DENSE_POINTS_PER_BIN, CorrectedWelch, WelchRule
 from .results import FRF, EffectiveModalProperties
 
 if TYPE_CHECKING:
-    from .._typing import ForceModel
+    from .._validation import ForceModel
     from ..models.damper import TunedMassDamper
     from ..signals.welch import LowPassFilter
 

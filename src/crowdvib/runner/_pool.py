@@ -44,7 +44,7 @@ import time
 import traceback
 import warnings
 
-from .._threads import BUDGET_VARIABLE, THREAD_VARIABLES, thread_share
+from .._resources import BUDGET_VARIABLE, THREAD_VARIABLES, thread_share
 from ..errors import ParameterError, PlausibilityWarning
 
 __all__ = ["ProcessPool", "WorkerDied"]

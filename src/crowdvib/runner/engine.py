@@ -37,7 +37,7 @@ import signal
 import threading
 import time
 
-from .._threads import default_workers
+from .._resources import default_workers
 from ..errors import CrowdvibError, ParameterError
 from ._pool import ProcessPool
 

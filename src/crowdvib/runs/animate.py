@@ -53,7 +53,7 @@ def check_video_path(path, out):
     :data:`VIDEO_SUFFIXES`, a folder that exists, and no file there yet (crowdvib does not
     overwrite a file it did not write). A video in the results folder ``out`` is one of its
     results (listed in its manifest, replaced with ``--force`` as they are)."""
-    from .._terminal import terminal_safe
+    from ..errors import terminal_safe
 
     path = Path(path)
     if path.suffix.lower() not in VIDEO_SUFFIXES:
