@@ -31,7 +31,7 @@ def test_counts_become_the_case_profile(tmp_path):
     assert case.crowd_profile.density == pytest.approx([0.2, 0.6])
     assert case.crowd.density == pytest.approx(0.2)          # the mean over [0, 600] s
     # Every command's inputs (results.json, the report) show it with the crowd.
-    assert case.to_dict(["crowd"])["crowd"]["profile"] == {
+    assert case.inputs(["crowd"])["crowd"]["profile"] == {
         "kind": "step", "time": [0.0, 600.0], "density": pytest.approx([0.2, 0.6])}
     # A density profile is linear by default; a time frame moves the record's t = 0.
     path = _case(tmp_path, 'density_profile = "d.csv"\ndensity = 0.5\n',

@@ -156,7 +156,7 @@ def test_example_cases_load(name):
     case = load_case(EXAMPLES / f"{name}.toml")
     assert case.measurement.files and all(f.is_file() for f in case.measurement.files)
     assert {"frequency", "damping_ratio", "mass_ratio"} <= set(case.expected)
-    assert case.to_dict()["name"] == case.name
+    assert case.inputs()["name"] == case.name
 
 
 def test_eeklo_like_mass_ratios_follow_the_paper():

@@ -143,15 +143,15 @@ def test_case_chooses_the_force(tmp_path, value, kind):
     # docs/casefiles.rst, top level: force = "zivanovic" | "young" | "measured" (issue 26 §3).
     case = _case(tmp_path, f'force = "{value}"')
     assert type(case.force) is kind
-    assert case.to_dict()["force"] == kind.__name__
-    assert "force" not in case.to_dict()["not_set"]
+    assert case.inputs()["force"] == kind.__name__
+    assert "force" not in case.inputs()["not_set"]
 
 
 def test_case_force_defaults_to_zivanovic(tmp_path):
     # Every command used Živanović before the key existed: the default keeps that (issue 26 §3).
     case = _case(tmp_path, "")
     assert case.force == ZivanovicForce()
-    assert case.to_dict()["not_set"]["force"] == "default"
+    assert case.inputs()["not_set"]["force"] == "default"
 
 
 @pytest.mark.parametrize("value, shown", [('"Young"', "'Young'"), ('"setra"', "'setra'"),

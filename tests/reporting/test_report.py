@@ -516,7 +516,7 @@ def test_inputs_carry_units():
     from crowdvib.reporting.report import render_report
 
     case = load_case(Path(__file__).resolve().parents[2] / "examples" / "eeklo_like.toml")
-    page = render_report({"command": "estimate", "inputs": case.to_dict()})
+    page = render_report({"command": "estimate", "inputs": case.inputs()})
     inputs = page[page.index('id="inputs"'):]
     for text in ("crowd density [persons/m²]", "walking speed [m/s]", "body mass [kg]",
                  "mean step frequency [Hz]", "natural frequencies [Hz]", "modal masses [kg]",

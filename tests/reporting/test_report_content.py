@@ -32,7 +32,7 @@ def test_defaults_are_marked_and_derived_values_say_so(tmp_path):
                          'outputs = { mid = 25.0 }\n[crowd]\ndensity = 0.5\n'
                          '[estimation]\nband = [0.0, 10.0]\n')
     case = load_case(case_file)
-    page = render_report({"command": "estimate", "inputs": case.to_dict(ESTIMATION_TABLES)})
+    page = render_report({"command": "estimate", "inputs": case.inputs(ESTIMATION_TABLES)})
     assert "default" not in _row(page, "crowd density [persons/m²]")
     assert "default" not in _row(page, "analysis band [Hz]")
     assert "derived" in _row(page, "walking speed [m/s]")
@@ -45,8 +45,8 @@ def test_defaults_are_marked_and_derived_values_say_so(tmp_path):
 
 def test_a_command_shows_only_the_tables_it_read():
     case = load_case(EXAMPLES / "paper_example.toml")
-    simulated = render_report({"command": "simulate", "inputs": case.to_dict(SIMULATION_TABLES)})
-    estimated = render_report({"command": "estimate", "inputs": case.to_dict(ESTIMATION_TABLES)})
+    simulated = render_report({"command": "simulate", "inputs": case.inputs(SIMULATION_TABLES)})
+    estimated = render_report({"command": "estimate", "inputs": case.inputs(ESTIMATION_TABLES)})
     assert "<h3>Simulation</h3>" in simulated and "<h3>Estimation</h3>" not in simulated
     assert "<h3>Measurement</h3>" not in simulated
     assert "<h3>Estimation</h3>" in estimated and "<h3>Simulation</h3>" not in estimated
@@ -132,7 +132,7 @@ def test_a_check_with_another_msd_does_not_list_hsi_and_a_field_estimate_no_empt
                          'outputs = { mid = 25.0 }\n[crowd]\ndensity = 0.5\n'
                          '[hsi]\nfrequency = 3.0\ndamping_ratio = 0.3\n'
                          '[estimation]\nband = [0.0, 10.0]\n')
-    inputs = load_case(case_file).to_dict(ESTIMATION_TABLES)
+    inputs = load_case(case_file).inputs(ESTIMATION_TABLES)
     assert inputs["not_set"].get("structure.name") == "default"
     msd = {"frequency": 3.1, "damping_ratio": 0.25, "mass_ratio": 0.95,
            "source": "the estimate in est"}

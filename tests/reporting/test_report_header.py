@@ -46,12 +46,12 @@ def test_report_table_keeps_text_and_dates_as_text(tmp_path):
     assert case.report == {"client": "City of <Ghent> & Co", "project": "Footbridge comfort",
                            "engineer": "A. N. Engineer", "measurement_date": "2024-05-01"}
     assert datetime.date.fromisoformat(case.report["measurement_date"]).year == 2024
-    inputs = case.to_dict(ESTIMATION_TABLES)        # kept whatever tables a command keeps
+    inputs = case.inputs(ESTIMATION_TABLES)        # kept whatever tables a command keeps
     assert inputs["report"] == case.report
     assert not any(key.startswith("report") for key in inputs["not_set"])
     spring = _case(tmp_path, BEAM + '[report]\nmeasurement_date = "spring 2024"\n')
     assert spring.report == {"measurement_date": "spring 2024"}
-    assert "report" not in _case(tmp_path, BEAM).to_dict()
+    assert "report" not in _case(tmp_path, BEAM).inputs()
 
 
 @pytest.mark.parametrize("line, message", [
@@ -69,7 +69,7 @@ def test_bad_report_keys_are_refused_by_name(tmp_path, line, message):
 
 def test_header_shows_the_report_table_escaped_and_not_as_an_input(tmp_path):
     case = _case(tmp_path, BEAM + REPORT)
-    page = render_report({"command": "estimate", "inputs": case.to_dict(ESTIMATION_TABLES)})
+    page = render_report({"command": "estimate", "inputs": case.inputs(ESTIMATION_TABLES)})
     header = page[page.index("<header>"):page.index("</header>")]
     assert ("<tr><th>Client</th><td>City of &lt;Ghent&gt; &amp; Co</td></tr>"
             "<tr><th>Project</th><td>Footbridge comfort</td></tr>"
@@ -79,7 +79,7 @@ def test_header_shows_the_report_table_escaped_and_not_as_an_input(tmp_path):
     inputs = inputs[:inputs.index("</section>")]
     assert "Footbridge comfort" not in inputs and "<Ghent>" not in page
     # Without a [report] table the header has no table.
-    plain = render_report({"command": "estimate", "inputs": _case(tmp_path, BEAM).to_dict()})
+    plain = render_report({"command": "estimate", "inputs": _case(tmp_path, BEAM).inputs()})
     assert "letterhead" not in plain[plain.index("<header>"):plain.index("</header>")]
 
 

@@ -61,7 +61,7 @@ class CaseComfort(AsResults):
         return {**schema_header("comfort"), "command": "comfort",
                 "crowdvib_version": __version__, "versions": software_versions(),
                 "seed": case.seed, "case": None if case.path is None else str(case.path),
-                "inputs": case.to_dict(COMFORT_TABLES), "traffic_from": self.traffic_from,
+                "inputs": case.inputs(COMFORT_TABLES), "traffic_from": self.traffic_from,
                 "msd": None if self.msd is None else self.msd.to_dict(),
                 "msd_source": self.msd_source, "msd_interval": self.msd_box,
                 "comfort": self.year.to_dict(), "traffic": self.traffic.to_dict(),

@@ -66,7 +66,7 @@ class CaseCheck(AsResults):
         msd = self.msd
         return {**schema_header("check"), "command": "check", "crowdvib_version": __version__,
                 "versions": software_versions(), "case": str(self.case.path),
-                "inputs": self.case.to_dict(DESIGN_TABLES),
+                "inputs": self.case.inputs(DESIGN_TABLES),
                 "msd": None if msd is None else {**msd.to_dict(), "source": self.msd_source},
                 "design": {"verdict": self.rows,
                            "checks": {code: check.to_dict() for code, check in self.checks.items()},

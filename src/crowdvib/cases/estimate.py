@@ -155,7 +155,7 @@ class CaseEstimate(AsResults):
         if self.joint:
             records = [_record_entry(part) for part in self.records]
             diagnostics["records"] = records
-            return {**head, "inputs": case.to_dict(), "records": records,
+            return {**head, "inputs": case.inputs(), "records": records,
                     "estimate": hsi["estimate"], "expected": dict(case.expected),
                     "diagnostics": diagnostics}
         measurement, step = self.records[0].measurement, self.records[0].step_frequencies
@@ -167,8 +167,8 @@ class CaseEstimate(AsResults):
         if step is not None:
             diagnostics["step_frequencies"] = step.to_dict()
         crowd = self.crowd
-        return {**head, "inputs": case.to_dict(ESTIMATION_TABLES),
-                "record": measurement.record.to_dict(), "crowd_used": {
+        return {**head, "inputs": case.inputs(ESTIMATION_TABLES),
+                "record": measurement.record.metadata(), "crowd_used": {
                     "step_frequency_mean": crowd.step_frequency_mean,
                     "step_frequency_std": crowd.step_frequency_std},
                 "estimate": hsi["estimate"], "expected": dict(case.expected),
@@ -178,7 +178,7 @@ class CaseEstimate(AsResults):
 def _record_entry(part: CaseRecordFit) -> dict:
     """One record of a joint fit as results.json lists it."""
     crowd, psd = part.crowd, part.measurement.psd
-    return {"name": part.case.name, "record": part.measurement.record.to_dict(),
+    return {"name": part.case.name, "record": part.measurement.record.metadata(),
             "crowd_used": {"density": crowd.density,
                            "step_frequency_mean": crowd.step_frequency_mean,
                            "step_frequency_std": crowd.step_frequency_std},
@@ -386,7 +386,7 @@ class CaseMap(AsResults):
         case, estimate = self.record.case, self.estimate
         return {**schema_header("map"), "command": "map", "crowdvib_version": __version__,
                 "versions": software_versions(), "seed": case.seed, "case": str(case.path),
-                "inputs": case.to_dict(ESTIMATION_TABLES), "estimate": estimate.msd.to_dict(),
+                "inputs": case.inputs(ESTIMATION_TABLES), "estimate": estimate.msd.to_dict(),
                 "expected": dict(case.expected),
                 "diagnostics": {k: v for k, v in estimate.to_dict().items() if k != "estimate"},
                 "objective_map": self.landscape.to_dict(),

@@ -341,7 +341,7 @@ class CaseSeason(AsResults):
         joint = season["joint"] or {}
         return {**schema_header("season"), "command": "season", "crowdvib_version": __version__,
                 "versions": software_versions(), "seed": case.seed, "case": str(case.path),
-                "crowd_table": str(self.table.path), "inputs": case.to_dict(ESTIMATION_TABLES),
+                "crowd_table": str(self.table.path), "inputs": case.inputs(ESTIMATION_TABLES),
                 "records": season["records"], "unmatched_records": list(self.unmatched),
                 "joint_min_density": self.joint_min_density,
                 "estimate": joint.get("estimate"), "joint_error": season["joint_error"],

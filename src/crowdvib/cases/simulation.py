@@ -54,10 +54,10 @@ class CaseSimulation(AsResults):
                 "crowdvib_version": __version__,
                 "versions": software_versions(), "seed": int(self.simulation.seed),
                 "case": None if case.path is None else str(case.path),
-                "inputs": case.to_dict(SIMULATION_TABLES),
+                "inputs": case.inputs(SIMULATION_TABLES),
                 "msd": None if msd is None else msd.to_dict(),
                 "duration": self.duration, "sample_rate": self.sample_rate,
-                "record": self.record.to_dict(),
+                "record": self.record.metadata(),
                 "response": self.simulation.summary(window=1.0)}
 
 

@@ -63,7 +63,7 @@ class CaseStudy(AsResults):
         return {
             **schema_header("sensitivity"), "command": "sensitivity",
             "crowdvib_version": __version__, "versions": software_versions(),
-            "seed": case.seed, "case": str(case.path), "inputs": case.to_dict(ESTIMATION_TABLES),
+            "seed": case.seed, "case": str(case.path), "inputs": case.inputs(ESTIMATION_TABLES),
             "estimate": {"frequency": study.nominal["frequency"],
                          "damping_ratio": study.nominal["damping_ratio"],
                          "mass_ratio": study.nominal["mass_ratio"],

@@ -182,8 +182,10 @@ class Case:
                         crowd=block.crowd, crowd_profile=block.crowd_profile, records=())
                 for block in self.records]
 
-    def to_dict(self, sections: Sequence[str] | None = None) -> dict[str, Any]:
-        """The inputs as a JSON-ready dict (models summarised, paths as strings).
+    def inputs(self, sections: Sequence[str] | None = None) -> dict[str, Any]:
+        """The inputs as a JSON-ready dict (models summarised, paths as strings), as every
+        results.json keeps them under ``inputs``; the case itself is its TOML file
+        (:func:`load_case`).
 
         ``sections`` keeps only those tables (e.g. a simulation has no use for ``estimation``);
         ``not_set`` lists the keys the file left to their defaults, for the report to mark.
@@ -460,7 +462,7 @@ def _case(path, data):
                 crowd_profile=crowd_profile, comfort=comfort, traffic=traffic)
 
 
-#: Case-file keys whose :meth:`Case.to_dict` name differs.
+#: Case-file keys whose :meth:`Case.inputs` name differs.
 _RENAMED = {"measurement.filter.cutoff": "measurement.lowpass_cutoff",
             "measurement.filter.order": "measurement.lowpass_order",
             "estimation.weights": "estimation.output_weights",
@@ -471,7 +473,7 @@ _DERIVED = {"crowd.walking_speed": "from the density (Weidmann 1993)",
 
 
 def _not_set(defaulted):
-    """The keys a file left out, as :meth:`Case.to_dict` names them → "default" or derivation."""
+    """The keys a file left out, as :meth:`Case.inputs` names them → "default" or derivation."""
     # A [report] key left out is not shown, not defaulted.
     return {_RENAMED.get(key, key): _DERIVED.get(key, "default") for key in sorted(defaulted)
             if key.split(".")[0] != "report"}

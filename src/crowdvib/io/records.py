@@ -235,8 +235,9 @@ class Record:
     def _where(self):
         return f"{Path(self.source).name}: " if self.source else ""
 
-    def to_dict(self) -> dict[str, Any]:
-        """Metadata as a JSON-ready dict (no samples)."""
+    def metadata(self) -> dict[str, Any]:
+        """Metadata as a JSON-ready dict (no samples: the record is its file,
+        :func:`write_record` and :func:`read_record`)."""
         found = {"source": self.source, "channel_names": list(self.channel_names),
                  "sample_rate": self.sample_rate, "n_samples": self.n_samples,
                  "start_time": self.start_time, "duration": self.duration}

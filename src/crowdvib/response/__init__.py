@@ -14,8 +14,8 @@ from .fluctuation import FluctuatingSpectralModel, response_psd
 from .results import FRF, EffectiveModalProperties, Simulation, SimulationPSD
 from .simulation import simulate
 from .simulation_psd import simulate_psd
-from .spectral import (ExpectedPSDModel, SpectralModel, effective_modal_properties, frf,
-                       modal_accelerance)
+from .expected import ExpectedPSDModel
+from .spectral import SpectralModel, effective_modal_properties, frf, modal_accelerance
 from .traffic import Pedestrian, generate_traffic
 from .varying import VaryingCrowdModel, varying_response_psd
 

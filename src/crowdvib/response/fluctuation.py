@@ -37,7 +37,8 @@ from ..signals import ResponsePSD
 from ._crossing import crossing_spread
 from ._modulation import (OccupancyPath, drift_parameters, modulation_correction,
                           occupancy_rate_variance)
-from .spectral import SpectralModel, _check_models, model_psd
+from .expected import model_psd
+from .spectral import SpectralModel, _check_models
 
 if TYPE_CHECKING:
     from .._validation import ForceModel

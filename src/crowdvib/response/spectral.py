@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -31,6 +31,7 @@ from ..models.loading import as_force_model
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ..signals import ResponsePSD
+from .expected import model_psd
 from ._attached import (
     attachments,
     crowd_attachment,
@@ -48,46 +49,8 @@ if TYPE_CHECKING:
     from ..models.damper import TunedMassDamper
     from ..signals.welch import LowPassFilter
 
-__all__ = ["SpectralModel", "ExpectedPSDModel", "frf", "effective_modal_properties",
-           "modal_accelerance"]
+__all__ = ["SpectralModel", "frf", "effective_modal_properties", "modal_accelerance"]
 
-
-@runtime_checkable
-class ExpectedPSDModel(Protocol):
-    """What every model of the expected response PSD offers (:class:`SpectralModel`, the
-    smeared crowd; :class:`~crowdvib.response.FluctuatingSpectralModel`, a Poisson crowd's
-    occupancy; :class:`~crowdvib.response.VaryingCrowdModel`, a crowd that changes): the
-    estimator, the studies and the averages over densities use them through this alone."""
-
-    frequency: np.ndarray
-    output_names: tuple
-    crowd: Crowd
-    welch_window_length: float | None
-    lowpass: LowPassFilter | None
-
-    def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
-        """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
-
-    def cross_psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
-        """Expected cross-spectral matrix, shape (n_outputs, n_outputs, n_frequencies)."""
-
-    def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
-        """The expected PSD as a :class:`~crowdvib.ResponsePSD`."""
-
-    def with_step_frequencies(self, crowd: Crowd) -> ExpectedPSDModel:
-        """The same model for walkers that differ only in their step frequencies."""
-
-    def details(self) -> dict[str, Any]:
-        """What the model is made of, for a report (empty for the smeared crowd)."""
-
-
-def model_psd(model: ExpectedPSDModel, msd: MSDModel | None) -> ResponsePSD:
-    """``model``'s expected PSD at ``msd`` as a :class:`~crowdvib.ResponsePSD` (what every
-    model's ``psd`` returns)."""
-    return ResponsePSD(frequency=model.frequency, psd=model.psd_array(msd),
-                       output_names=model.output_names,
-                       window_length=model.welch_window_length, lowpass=model.lowpass,
-                       source="model")
 
 def _check_models(structure, crowd, msd, *, crowd_required=False):
     """The model objects of a public entry point: a clear error for None, a dict or a string
