@@ -58,6 +58,12 @@ _PARAMETERS = ("frequency", "damping_ratio", "mass_ratio")
 #: test_plausibility.py, a record 20 times too strong: its first fit's model evaluations
 #: 2897 → 1535; issue 39).
 BIN_CHOICE_TOLERANCE = 1e-5
+#: ... and after this many trial points (scipy's max_nfev; the Jacobian's not counted): 6–7 on
+#: the paper example's records that fit, up to 294 for a start that crawls towards the
+#: damping's bound on a record in wrong units (tests/package/test_plausibility.py, in m/s²
+#: declared in g: 19.5 → 7.7 s of CPU, the same estimate and warnings); the refit, from the
+#: best start's end, has scipy's own budget (issue 39).
+BIN_CHOICE_STEPS = 50
 #: Search bounds of (μ_fs, σ_fs) [Hz]: normal walking lies well inside 1–3 Hz, and a spread below
 #: 0.01 Hz or above 0.6 Hz is not a crowd (the paper's values are 0.13–0.19 Hz).
 DEFAULT_STEP_FREQUENCY_BOUNDS = {"step_frequency_mean": (1.0, 3.0),
@@ -248,7 +254,8 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             first = _estimate([(objective(crowd), measured)], structure, given=(),
-                              tolerance=BIN_CHOICE_TOLERANCE, **dict(options, interval=None))
+                              tolerance=BIN_CHOICE_TOLERANCE, max_nfev=BIN_CHOICE_STEPS,
+                              **dict(options, interval=None))
         options["starts"] = [tuple(first.value(name) for name in first.free_parameters
                                    if name not in STEP_PARAMETERS)]
         second = _estimate([(objective(first.crowd), measured)], structure, interval=interval,
@@ -436,12 +443,14 @@ class _Parameters:
 
 def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, method,
               interval, level, n_boot=200, rng=None, free_step_frequencies=False, given=None,
-              density_uncertainty=DEFAULT_DENSITY_UNCERTAINTY, tolerance=FINAL_TOLERANCE):
+              density_uncertainty=DEFAULT_DENSITY_UNCERTAINTY, tolerance=FINAL_TOLERANCE,
+              max_nfev=None):
     """The estimate from one or several (objective, measured PSD) records (estimate_hsi).
 
     ``given``: the records' objectives at the crowd the user gave, where a wrong level is
     diagnosed (default the parts' own; empty: no diagnosis). ``tolerance``: the fits' (scipy's
-    ftol and xtol; :data:`BIN_CHOICE_TOLERANCE` for a fit that only chooses a refit's bins).
+    ftol and xtol; :data:`BIN_CHOICE_TOLERANCE` for a fit that only chooses a refit's bins) and
+    ``max_nfev`` their budget of steps (scipy's; :data:`BIN_CHOICE_STEPS` for that fit).
 
     A sequence of steps, each taking what the one before returned: the options and θ's
     parametrisation, the fit from every start, the objectives of the fitted crowd (when the
@@ -458,7 +467,7 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     points = _starting_points(starts, parameters.names, tail, parameters.lower, parameters.upper)
     for objective, _ in parts:
         _check_measured_level(objective)
-    best, runs = _fit(_Stacked(o for o, _ in parts), parameters, points, tolerance)
+    best, runs = _fit(_Stacked(o for o, _ in parts), parameters, points, tolerance, max_nfev)
     given = [objective for objective, _ in parts] if given is None else given
     parts = _adopt_fitted_crowd(parts, parameters, best.x)
     stacked = _Stacked(o for o, _ in parts)
@@ -546,11 +555,12 @@ def _check_measured_level(objective):
             f"{list(objective.output_names)}")
 
 
-def _fit(target, parameters, points, tolerance=FINAL_TOLERANCE):
+def _fit(target, parameters, points, tolerance=FINAL_TOLERANCE, max_nfev=None):
     """The multistart fit of a misfit (one objective or a stack) → (best result, runs)."""
     records = len(getattr(target, "objectives", (target,)))
     return _multistart(lambda theta: parameters.misfit(target, theta), points,
-                       parameters.lower, parameters.upper, records=records, tolerance=tolerance)
+                       parameters.lower, parameters.upper, records=records, tolerance=tolerance,
+                       max_nfev=max_nfev)
 
 
 def _adopt_fitted_crowd(parts, parameters, theta):

@@ -48,12 +48,14 @@ def _merge_bounds(bounds, defaults):
 FINAL_TOLERANCE = 1e-8
 
 
-def _multistart(residuals, points, lower, upper, *, records=1, tolerance=FINAL_TOLERANCE):
+def _multistart(residuals, points, lower, upper, *, records=1, tolerance=FINAL_TOLERANCE,
+                max_nfev=None):
     """Bounded trust-region least squares from every start → (best result, runs).
 
     ``runs`` holds (result, start, forward-model evaluations) per start: the calls of
     ``residuals`` times the ``records`` each call evaluates. ``tolerance``: scipy's ftol and
-    xtol (its default, 1e-8, unless a fit that refines this one follows).
+    xtol (its default, 1e-8, unless a fit that refines this one follows); ``max_nfev``: scipy's
+    (None: its default, 100 per parameter).
     """
     runs = []
     for start in points:
@@ -65,7 +67,8 @@ def _multistart(residuals, points, lower, upper, *, records=1, tolerance=FINAL_T
 
         try:
             result = least_squares(counted, start, method="trf", bounds=(lower, upper),
-                                   x_scale="jac", ftol=tolerance, xtol=tolerance)
+                                   x_scale="jac", ftol=tolerance, xtol=tolerance,
+                                   max_nfev=max_nfev)
         except ValueError as exc:  # non-finite residuals
             raise EstimationError(f"objective could not be evaluated from start {start}: {exc}")
         runs.append((result, start, calls[0] * records))
