@@ -9,12 +9,6 @@ PACKAGE = Path(__file__).resolve().parents[2] / "src" / "crowdvib"
 MAX_TOP_LEVEL = 12
 #: Issue 34 §4: modules of at most 600 lines, split by concept beyond that.
 MAX_LINES = 600
-#: Modules known to be over MAX_LINES, with the length they may not exceed while a rewrite is
-#: under way: cases/results.py is being retyped by issue 34 §1 (628 lines at 59cc5ee). An entry
-#: leaves this table when its module falls to MAX_LINES (the last test says so).
-OVER_LIMIT = {"cases/results.py": 628}
-
-
 def _lines(path):
     return len(path.read_text(encoding="utf-8").splitlines())
 
@@ -28,17 +22,7 @@ def test_at_most_twelve_top_level_modules():
 def test_no_module_over_600_lines():
     too_long = {path.relative_to(PACKAGE).as_posix(): _lines(path)
                 for path in sorted(PACKAGE.rglob("*.py")) if _lines(path) > MAX_LINES}
-    grown = {name: length for name, length in too_long.items()
-             if length > OVER_LIMIT.get(name, MAX_LINES)}
-    assert grown == {}
-
-
-def test_the_known_long_modules_are_still_long():
-    # an entry of OVER_LIMIT whose module is back under MAX_LINES (or gone) must be removed, so
-    # that the table never holds an allowance nobody needs
-    lengths = {name: _lines(PACKAGE / name) if (PACKAGE / name).exists() else 0
-               for name in OVER_LIMIT}
-    assert {name: n for name, n in lengths.items() if n <= MAX_LINES} == {}
+    assert too_long == {}
 
 
 def test_the_line_count_is_the_editors(tmp_path):
