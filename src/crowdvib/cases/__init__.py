@@ -40,7 +40,7 @@ _MODULES = {
                      "measure_case", "case_crowd", "estimate_options", "estimate_case",
                      "map_case"), "estimate"),
     **dict.fromkeys(("CaseCheck", "check_case", "check_design_table", "design_msd",
-                     "verdict_rows", "IntervalCheck", "estimated_msd", "msd_interval",
+                     "verdict_rows", "IntervalCheck", "estimated_msd", "msd_interval", "msd_box",
                      "check_over_interval", "damper_frf"), "design"),
     **dict.fromkeys(("CaseSimulation", "simulation_msd", "simulate_case"), "simulation"),
     **dict.fromkeys(("AmbientModes", "identify_ambient"), "ambient"),
