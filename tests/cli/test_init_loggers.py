@@ -166,7 +166,7 @@ def test_dropout_is_bridged_or_cut_and_stated(tmp_path, capsys, gaps):
     case = _filled(record, text.replace('gaps = "bridge"', f'gaps = "{gaps}"'))
     measured = load_measurement(case)
     (note,) = measured.notes
-    assert measured.to_dict()["notes"] == [note]
+    assert measured.metadata()["notes"] == [note]
     if gaps == "bridge":
         # Linear between samples 1999 and 2003 (then the mean removed).
         expected = signal.copy()

@@ -37,16 +37,40 @@ class ExpectedPSDModel(Protocol):
     lowpass: LowPassFilter | None
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
-        """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies)."""
+        """Expected PSD [(m/s²)²/Hz], shape (n_outputs, n_frequencies).
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
 
     def cross_psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
-        """Expected cross-spectral matrix, shape (n_outputs, n_outputs, n_frequencies)."""
+        """Expected cross-spectral matrix, shape (n_outputs, n_outputs, n_frequencies).
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
 
     def psd(self, msd: MSDModel | None = None) -> ResponsePSD:
-        """The expected PSD as a :class:`~crowdvib.ResponsePSD`."""
+        """The expected PSD as a :class:`~crowdvib.ResponsePSD`.
+
+        Parameters
+        ----------
+        msd : MSDModel, optional
+            The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
+        """
 
     def with_step_frequencies(self, crowd: Crowd) -> ExpectedPSDModel:
-        """The same model for walkers that differ only in their step frequencies."""
+        """The same model for walkers that differ only in their step frequencies.
+
+        Parameters
+        ----------
+        crowd : Crowd
+            The walkers with other step frequencies (same density, speed and body mass).
+        """
 
     def details(self) -> dict[str, Any]:
         """What the model is made of, for a report (empty for the smeared crowd)."""
