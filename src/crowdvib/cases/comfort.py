@@ -7,7 +7,7 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from .._version import __version__
 from ..errors import DataError, DataWarning, ParameterError
@@ -15,7 +15,10 @@ from .results import AsResults, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
+    from ..comfort.traffic import Traffic
+    from ..comfort.year import ComfortYear
     from ..io.casefile import Case
+    from ..models.pedestrian import MSDModel
 
 __all__ = ["CaseComfort", "comfort_case", "case_traffic", "comfort_dampers", "COMFORT_TABLES",
            "simulate_below"]
@@ -44,11 +47,11 @@ class CaseComfort(AsResults):
         CPU time of the year [s].
     """
 
-    case: Any
-    year: Any
-    traffic: Any
+    case: Case
+    year: ComfortYear
+    traffic: Traffic
     traffic_from: str
-    msd: Any
+    msd: MSDModel | None
     msd_source: str | None
     msd_box: dict | None
     dampers: list
