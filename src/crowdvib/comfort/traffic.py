@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import as_float_array, check_positive, fields_from_dict, frozen_array
+from .._validation import FieldsFromDict, as_float_array, check_positive, frozen_array
 from ..errors import DataError, ParameterError
 
 __all__ = ["Traffic", "HOURS_PER_YEAR", "WEEK_HOURS", "UNMEASURED_RULES"]
@@ -42,7 +42,7 @@ _WEEKEND = (5, 6)
 
 
 @dataclass(frozen=True, eq=False)
-class Traffic:
+class Traffic(FieldsFromDict):
     """A year's crowd: crowd states with the hours a year each stands for.
 
     Attributes
@@ -63,7 +63,7 @@ class Traffic:
         That rule (a season only).
     _windows : tuple or None
         A season's windows (density, hour of the week, length, year's hours), kept to resample
-        them; None otherwise.
+        them; None otherwise. Not in :meth:`to_dict` (``from_dict`` gives None).
     """
 
     density: np.ndarray
@@ -103,23 +103,6 @@ class Traffic:
                 "hours": self.hours.tolist(), "cell": self.cell.tolist(),
                 "group": self.group.tolist(), "filled": list(self.filled),
                 "unmeasured": self.unmeasured, "total_hours": self.total_hours}
-
-    @classmethod
-    def from_dict(cls, data: dict) -> Traffic:
-        """The traffic of :meth:`to_dict` (a season's windows, kept to resample them, are not
-        stored: ``total_hours`` and every state are).
-
-        Parameters
-        ----------
-        data : dict
-            What :meth:`to_dict` wrote (as read back from JSON).
-
-        Raises
-        ------
-        DataError
-            ``data`` is not a dict or lacks a field.
-        """
-        return fields_from_dict(cls, data)
 
     # ---------------------------------------------------------------------- constructors
     @classmethod

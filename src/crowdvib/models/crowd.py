@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._plausibility import derived, implausibility, warn_notes
-from .._validation import as_float_array, check_non_negative, check_positive, fields_from_dict
+from .._validation import FieldsFromDict, as_float_array, check_non_negative, check_positive
 from ..errors import ParameterError
 from .loading import STANDARD_GRAVITY
 
@@ -105,7 +105,7 @@ def bruno_venuti_step_frequency(speed: ArrayLike) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class Crowd:
+class Crowd(FieldsFromDict):
     """A stationary stream of pedestrians on the deck.
 
     Parameters
@@ -224,23 +224,6 @@ class Crowd:
     def to_dict(self) -> dict[str, float]:
         """The crowd as a JSON-ready dict (keys as the parameters)."""
         return asdict(self)
-
-    @classmethod
-    def from_dict(cls, data: dict) -> Crowd:
-        """The crowd of :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : dict
-            What :meth:`to_dict` wrote (as read back from JSON).
-
-        Raises
-        ------
-        DataError
-            ``data`` is not a dict or lacks ``density``, ``walking_speed`` or
-            ``step_frequency_mean``.
-        """
-        return fields_from_dict(cls, data)
 
     def with_density(self, density: float) -> Crowd:
         """The same walkers at another density (speed and step frequencies unchanged).
