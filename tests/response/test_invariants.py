@@ -63,11 +63,19 @@ def test_no_msd_or_vanishing_density_gives_the_empty_structure(bridge, crowd, ms
     # density → 0: the occupied FRF tends to the empty one (error ∝ d).
     faint = frf(bridge, F, crowd=crowd.with_density(1e-9), msd=msd)
     np.testing.assert_allclose(faint.values, empty.values, rtol=1e-5)
-    # and the PSD per unit density tends to the no-HSI PSD per unit density.
-    d = 1e-9
-    a = response_psd(bridge, crowd.with_density(d), F, msd=msd, crowd_model="smeared").psd
-    b = response_psd(bridge, crowd.with_density(d), F, msd=None, crowd_model="smeared").psd
-    np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-12 * b.max())
+    # and the PSD per unit density tends to the no-HSI PSD per unit density, the gap ∝ d. The gap
+    # is measured against the spectrum's peak: bin by bin it is not small where the outputs'
+    # modes cancel (an anti-resonance, PSD 1e-7 of the peak), where a relative gap of 1e-9 grows
+    # by the cancellation (hypothesis found 1.01e-5 there on Python 3.13's draws).
+    def gap(d):
+        a = response_psd(bridge, crowd.with_density(d), F, msd=msd, crowd_model="smeared").psd
+        b = response_psd(bridge, crowd.with_density(d), F, msd=None, crowd_model="smeared").psd
+        return np.max(np.abs(a - b)) / b.max()
+
+    small = gap(1e-9)
+    assert small < 1e-5
+    # ten times the density, ten times the gap (to the round-off of the smaller one)
+    assert gap(1e-8) == pytest.approx(10 * small, rel=0.05, abs=1e-12)
 
 
 @given(bridges(), crowds, msds)
