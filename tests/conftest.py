@@ -6,8 +6,17 @@ import shutil
 import tempfile
 from pathlib import Path
 
-import numpy as np
 import pytest
+
+try:
+    import crowdvib  # noqa: F401  (the package under test, installed by the README's command)
+except ModuleNotFoundError as error:     # bare pytest of another environment: say what to do
+    raise pytest.UsageError(
+        f"the tests need crowdvib and its test tools in this Python ({error}): run the README's "
+        "test command, pip install \".[test]\" && pytest, in the clone's virtual environment"
+    ) from None
+
+import numpy as np
 
 from crowdvib import Crowd, ModalModel, MSDModel
 

@@ -500,10 +500,9 @@ def check_over_interval(case: Case, estimate: Any, *, grid: int = 3) -> Interval
     IntervalCheck or None
         None if the estimate holds no interval.
     """
-    from ..design.interval import check_over_box
+    from ..design.interval import check_grid, check_over_box
 
-    if not (isinstance(grid, int) and not isinstance(grid, bool) and grid >= 2):
-        raise ParameterError(f"grid must be an integer of at least 2 (the corners), got {grid!r}")
+    grid = check_grid(grid)         # before the work: the box may mean loading results
     check_design_table(case)
     box = msd_box(case, estimate)
     if box is None:
@@ -523,4 +522,4 @@ def check_over_interval(case: Case, estimate: Any, *, grid: int = 3) -> Interval
     rows = [{"code": row["key"][0], "model": row["key"][1],
              **{k: v for k, v in row.items() if k != "key"}}
             for row in check_over_box(largest, box, grid=grid)]
-    return IntervalCheck(box, int(grid), rows)
+    return IntervalCheck(box, grid, rows)

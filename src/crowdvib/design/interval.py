@@ -19,14 +19,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._validation import check_count
-from ..errors import DataError
+from ..errors import DataError, ParameterError
 from ..models.pedestrian import MSDModel
 
 if TYPE_CHECKING:
     from ..identification.result import HSIEstimate
 
-__all__ = ["MSDBox", "check_over_box", "SPANNED"]
+__all__ = ["MSDBox", "check_over_box", "check_grid", "SPANNED"]
 
 #: The MSD parameters the box spans (μ_h1 is held at its estimate, as the paper does).
 SPANNED = ("frequency", "damping_ratio")
@@ -143,6 +142,20 @@ def _pair(value):
     return (low, high) if math.isfinite(low) and math.isfinite(high) else None
 
 
+def check_grid(grid: int) -> int:
+    """``grid`` (points per side of the box) if it is an integer of at least 2, the corners;
+    else a ParameterError naming the rule and the value.
+
+    Parameters
+    ----------
+    grid : int
+        Points per parameter.
+    """
+    if not (isinstance(grid, (int, np.integer)) and not isinstance(grid, bool) and grid >= 2):
+        raise ParameterError(f"grid must be an integer of at least 2 (the corners), got {grid!r}")
+    return int(grid)
+
+
 def check_over_box(utilisations: Callable[[MSDModel], Mapping[tuple, float]], box: MSDBox, *,
                    grid: int = 3) -> list[dict]:
     """The checks of ``utilisations`` at the point estimate and on a ``grid × grid`` grid over
@@ -167,7 +180,7 @@ def check_over_box(utilisations: Callable[[MSDModel], Mapping[tuple, float]], bo
         ``verdict`` (``"passes"``, ``"FAILS"`` or ``"FAILS at the conservative end"``: the
         interval decides).
     """
-    grid = check_count("grid", grid, minimum=2)
+    grid = check_grid(grid)
     msd = box.msd
     at_point = utilisations(msd)
     frequencies, damping_ratios = box.grid(grid)
