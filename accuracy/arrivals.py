@@ -28,7 +28,7 @@ from intervals import (BRIDGE, MSD, _table, estimates_of, mean_psd, paper_crowd,
                              print_mean_estimates)
 from crowdvib import LowPassFilter, simulate, welch_psd
 from crowdvib.runner import study_executor
-from crowdvib.response.traffic import Pedestrian
+from crowdvib.response.time_domain.traffic import Pedestrian
 
 ESTIMATORS = [(method, model, False) for model in ("smeared", "fluctuating")
               for method in ("least_squares", "likelihood")]

@@ -43,7 +43,7 @@ from crowdvib.cases.simulation import simulation_msd
 from crowdvib.design.stochastic import frequency_grid
 from crowdvib.io.casefile import load_case
 from crowdvib.models.examples import paper_example
-from crowdvib.response.fluctuation import spectral_model
+from crowdvib.response.frequency_domain.fluctuation import spectral_model
 from crowdvib.runner import study_executor
 
 DENSITIES = (0.1, 0.25, 0.5, 0.75, 1.0)
@@ -75,15 +75,15 @@ def own_step_frequency(structure, crowd, msd, density, output=0, seed=37, n_draw
     α_kc (the simulator's draws: :meth:`ForceModel.sample`). Walker k adds φ²(x_k) g_k to the
     mean square, g_k = Σ_c α_kc²/2 c(r_c f_k) with c(f) the response per unit load at f:
     G(f)/s(f) of the average crowd smoothed by the crossing kernel (a Gaussian of σ_K,
-    :mod:`crowdvib.response._crossing`). With λ = Σ φ²/ψ̄ and u = Σ φ² g/(ψ̄ E[g]) a state's
+    :mod:`crowdvib.response.frequency_domain._crossing`). With λ = Σ φ²/ψ̄ and u = Σ φ² g/(ψ̄ E[g]) a state's
     response is the occupancy state λ's (:func:`crowdvib.comfort.occupied.occupied_law`) with
     σ² = (σ_λ²/λ) u, and the window crosses a level at the states' mean rate.
     """
     from crowdvib.comfort.measure import WindowLaw
     from crowdvib.comfort.occupied import OccupiedLaw
     from crowdvib.models.loading import as_force_model
-    from crowdvib.response.fluctuation import FluctuatingSpectralModel
-    from crowdvib.response.spectral import SpectralModel
+    from crowdvib.response.frequency_domain.fluctuation import FluctuatingSpectralModel
+    from crowdvib.response.frequency_domain.spectral import SpectralModel
 
     here = crowd.with_density(density)
     grid = frequency_grid(structure, here, msd, [])

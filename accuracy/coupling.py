@@ -25,7 +25,7 @@ import warnings
 import numpy as np
 
 from crowdvib import BoundWarning, Crowd, ModalModel, MSDModel, estimate_hsi, simulate, welch_psd
-from crowdvib.response.fluctuation import FluctuatingSpectralModel
+from crowdvib.response.frequency_domain.fluctuation import FluctuatingSpectralModel
 
 TRUTH = MSDModel(3.0, 0.30, 0.95)
 #: name → (modal mass [kg], density [P/m²], body mass [kg]); κ from 0.42 to 1.96.

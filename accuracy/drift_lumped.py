@@ -33,9 +33,9 @@ from coupling import case as coupling_case          # the 20 m bridge's cases
 from intervals import BRIDGE, paper_crowd           # the paper example's
 
 from crowdvib import MSDModel
-from crowdvib.response._modulation import (OccupancyPath, _OccupiedMode, modulation_correction,
+from crowdvib.response.frequency_domain._modulation import (OccupancyPath, _OccupiedMode, modulation_correction,
                                            occupancy_rate_variance)
-from crowdvib.response.fluctuation import FluctuatingSpectralModel, occupancy_cumulants
+from crowdvib.response.frequency_domain.fluctuation import FluctuatingSpectralModel, occupancy_cumulants
 
 MSD = MSDModel(3.0, 0.30, 0.95)
 STEP, OCCUPANCY_STEP, WINDOW = 0.01, 0.05, 200.0          # [s]

@@ -21,7 +21,7 @@ from intervals import BRIDGE, paper_crowd     # the calibration's bridge and cro
 
 from crowdvib import simulate
 from crowdvib.models.loading import as_force_model
-from crowdvib.response._crossing import crossing_spread, smoothed_load_spectrum
+from crowdvib.response.frequency_domain._crossing import crossing_spread, smoothed_load_spectrum
 
 BANDS = ((1.5, 1.7), (1.7, 1.8), (1.8, 1.85), (1.85, 1.9), (1.9, 1.95), (1.95, 2.0), (2.0, 2.05),
          (2.05, 2.1), (2.1, 2.2), (2.2, 2.4))

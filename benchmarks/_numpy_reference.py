@@ -66,7 +66,7 @@ def welch_expectation(structure, crowd, msd, frequency, outputs, force, window_l
 def simulate_rk4(integrator, n_steps):
     """The coupled time-domain model by plain numpy, one RK4 step at a time (docs: theory, Equations of motion).
 
-    ``integrator`` is crowdvib's prepared run (``response._integrator.prepare``), used only for
+    ``integrator`` is crowdvib's prepared run (``response.time_domain._integrator.prepare``), used only for
     its walkers and parameters, so both implementations see the same crowd. Every stage
     interpolates the mode shapes (``np.interp``), evaluates the forces with ``np.sin`` and solves
     M(t) z̈ = Σ φ (p + contact) − C ż − K z with ``np.linalg.solve``; a walker enters at rest on

@@ -38,8 +38,8 @@ from crowdvib import Crowd, ModalModel, MSDModel, SpectralModel, simulate, simul
 from crowdvib.io.casefile import load_case
 from crowdvib.models.examples import paper_example
 from crowdvib.models.loading import ZivanovicForce
-from crowdvib.response._integrator import prepare
-from crowdvib.response.simulation import checked_run
+from crowdvib.response.time_domain._integrator import prepare
+from crowdvib.response.time_domain.simulation import checked_run
 from crowdvib.signals import LowPassFilter
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"

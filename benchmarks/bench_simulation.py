@@ -18,9 +18,9 @@ import tracemalloc
 
 from bench_spectral import fourteen_mode_bridge
 
-import crowdvib.response._integrator
+import crowdvib.response.time_domain._integrator
 from crowdvib import Crowd, MSDModel, simulate
-from crowdvib.response._integrator import kernel_for
+from crowdvib.response.time_domain._integrator import kernel_for
 from crowdvib.models.examples import paper_example
 
 
@@ -76,10 +76,10 @@ def main():
                      + (", target <= 2 ms/s" if msd is not None else "")))
 
     # For scale: the force components sampled at 10 steps per period too (a finer step).
-    default = crowdvib.response._integrator.FORCE_STEPS_PER_PERIOD
-    crowdvib.response._integrator.FORCE_STEPS_PER_PERIOD = 10
+    default = crowdvib.response.time_domain._integrator.FORCE_STEPS_PER_PERIOD
+    crowdvib.response.time_domain._integrator.FORCE_STEPS_PER_PERIOD = 10
     ms, record = wall_per_second(case.structure, case.crowd, case.msd, 300.0)
-    crowdvib.response._integrator.FORCE_STEPS_PER_PERIOD = default
+    crowdvib.response.time_domain._integrator.FORCE_STEPS_PER_PERIOD = default
     results["paper_hsi_force_10_steps_per_period_ms_per_s"] = ms
     rows.append(("paper example, HSI, forces at 10 steps/period", f"{ms:.2f} ms/s",
                  f"h = {1e3 * record.time_step:.2f} ms (not the default)"))

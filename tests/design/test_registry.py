@@ -9,7 +9,7 @@ from crowdvib.design import (DesignCheck, DesignCode, code_names, design_check, 
                              unregister_code)
 from crowdvib.design.check import structure_models
 from crowdvib.models.crowd import Crowd
-from crowdvib.response.spectral import effective_modal_properties
+from crowdvib.response.frequency_domain.spectral import effective_modal_properties
 
 FORCE = 280.0                                            # N, one walker's first harmonic
 

@@ -14,7 +14,7 @@ import pytest
 
 from crowdvib import (BoundWarning, Crowd, ModalModel, MSDModel, estimate_hsi, simulate,
                       welch_psd)
-from crowdvib.response.fluctuation import FluctuatingSpectralModel
+from crowdvib.response.frequency_domain.fluctuation import FluctuatingSpectralModel
 
 TRUTH = MSDModel(3.0, 0.30, 0.95)
 

@@ -82,7 +82,7 @@ def test_the_bootstraps_exact_model_weighs_the_record_as_its_welch_windows(ramp_
     # theory, Parametric bootstrap): with a profile that exact PSD must average the densities as
     # the Welch windows weigh the record's times (less at its ends), the law of the Welch model
     # itself, not uniformly over the record.
-    from crowdvib.response.varying import VaryingCrowdModel
+    from crowdvib.response.frequency_domain.varying import VaryingCrowdModel
 
     bridge, walkers, profile, measured = ramp_record
     objective = PSDObjective(measured, bridge, walkers, band=(1.0, 4.0), crowd_profile=profile,

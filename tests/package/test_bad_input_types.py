@@ -13,7 +13,7 @@ import pytest
 from crowdvib import (Crowd, ModalModel, MSDModel, ParameterError, effective_modal_properties,
                       estimate_hsi, frf, response_psd, simulate, simulate_many)
 from crowdvib.design import tune_damper
-from crowdvib.response.spectral import modal_accelerance
+from crowdvib.response.frequency_domain.spectral import modal_accelerance
 
 pytestmark = pytest.mark.badinput
 

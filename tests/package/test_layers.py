@@ -20,7 +20,8 @@ The layer order, lowest first; a module may import its own layer and the layers 
    ``[design]`` is checked by the design layer that uses it, not by ``io`` importing ``design``)
 5. ``oma``: the empty bridge's modes from ambient records, the workflow's first step (its
    cross-check states its errors at the studies' paper levels, which live in ``_estimators``)
-6. ``response``: simulation and spectral response
+6. ``response``: the forward models, in two families that never import each other:
+   ``response.frequency_domain`` (the spectral models) and ``response.time_domain`` (the simulator)
 7. ``runner``: the studies' task runner (task files, the executor, crowdvib's worker pool)
 8. ``identification``: the inverse problem, the MSD from a measured PSD
 9. ``studies``: the objective landscape, the modelling-error, parametric and Monte Carlo studies
@@ -183,6 +184,23 @@ def test_imports_go_down_the_layers():
 
 def test_no_private_name_across_subpackages():
     assert _private_crossings(IMPORTS) == []
+
+
+def test_the_two_forward_model_families_never_import_each_other():
+    # issue 34 §4: response/ is cut along its seam, the spectral models
+    # (response.frequency_domain) and the simulator (response.time_domain); only the package's
+    # __init__ re-exports both. Every import counts here, the type-only ones too.
+    families = ("crowdvib.response.frequency_domain", "crowdvib.response.time_domain")
+
+    def family(module):
+        return next((f for f in families if module == f or module.startswith(f + ".")), None)
+
+    crossing = [f"{importer}:{line} imports {target}" for importer, rows in IMPORTS.items()
+                for target, _, line, _ in rows
+                if family(importer) and family(target) and family(importer) != family(target)]
+    assert crossing == []
+    # and the cut is real: each family holds modules (a rename cannot empty the test)
+    assert all(sum(family(name) == f for name in MODULES) >= 8 for f in families)
 
 
 def test_function_level_relative_and_type_only_imports_are_seen():

@@ -28,7 +28,7 @@ def _results(**extra):
 def _replay_results(names=("midspan",)):
     from crowdvib.models.examples import paper_example
     from crowdvib.reporting.replay_view import replay_table
-    from crowdvib.response.replay import crossing_replay
+    from crowdvib.response.time_domain.replay import crossing_replay
 
     case = paper_example()
     replay = crossing_replay(case.structure, case.crowd, 60.0, msd=case.msd, rng=3,
@@ -99,7 +99,7 @@ def test_each_mode_is_labelled_empty_and_occupied():
     # The smeared crowd and the occupied bridge) beside the empty ones: the paper example's
     # crowd of MSDs lowers f_1 and adds damping to the empty 0.5 %.
     from crowdvib.models.examples import paper_example
-    from crowdvib.response.spectral import effective_modal_properties
+    from crowdvib.response.frequency_domain.spectral import effective_modal_properties
 
     case = paper_example()
     table = mode_shape_table(case.structure, case.crowd, case.msd)
@@ -223,7 +223,7 @@ def test_without_hsi_no_msd_motion_is_written():
     # data none either, and the caption says the walkers bob at their step frequency.
     from crowdvib.models.examples import paper_example
     from crowdvib.reporting.replay_view import replay_table
-    from crowdvib.response.replay import crossing_replay
+    from crowdvib.response.time_domain.replay import crossing_replay
 
     case = paper_example()
     replay = crossing_replay(case.structure, case.crowd, 20.0, rng=3, start=5.0, length=5.0)

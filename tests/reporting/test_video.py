@@ -14,7 +14,7 @@ from crowdvib.reporting.video import write_replay_video
 @pytest.fixture(scope="module")
 def replay():
     from crowdvib.models.examples import paper_example
-    from crowdvib.response.replay import crossing_replay
+    from crowdvib.response.time_domain.replay import crossing_replay
 
     case = paper_example()
     return crossing_replay(case.structure, case.crowd, 60.0, msd=case.msd, rng=5,

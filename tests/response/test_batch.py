@@ -5,7 +5,7 @@ import pytest
 
 from crowdvib import Pedestrian, simulate, simulate_many
 from crowdvib.models.examples import paper_example
-from crowdvib.response import _kernels
+from crowdvib.response.time_domain import _kernels
 
 
 def _same(a, b):

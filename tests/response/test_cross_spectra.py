@@ -12,7 +12,7 @@ from scipy import signal
 from crowdvib import (DataError, FluctuatingSpectralModel, ModalModel, MSDModel,
                       ParameterError, ResponsePSD, SpectralModel, welch_psd)
 from crowdvib.io.casefile import load_case
-from crowdvib.response._welch_model import cross_power_coefficients, power_coefficients
+from crowdvib.response.frequency_domain._welch_model import cross_power_coefficients, power_coefficients
 from crowdvib.signals.synthesis import gaussian_cross_record, record_frequencies
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"

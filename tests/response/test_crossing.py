@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from crowdvib import Crowd, ParameterError, ZivanovicForce
-from crowdvib.response._crossing import crossing_spread, smoothed_load_spectrum
-from crowdvib.response.fluctuation import FluctuatingSpectralModel
-from crowdvib.response.spectral import SpectralModel
+from crowdvib.response.frequency_domain._crossing import crossing_spread, smoothed_load_spectrum
+from crowdvib.response.frequency_domain.fluctuation import FluctuatingSpectralModel
+from crowdvib.response.frequency_domain.spectral import SpectralModel
 
 
 def sine_kernel(delta, crossing_time):

@@ -11,8 +11,8 @@ is an independent reference.
 import numpy as np
 
 from crowdvib import Crowd, ModalModel, simulate, welch_psd
-from crowdvib.response._crossing import crossing_spread
-from crowdvib.response.spectral import SpectralModel
+from crowdvib.response.frequency_domain._crossing import crossing_spread
+from crowdvib.response.frequency_domain.spectral import SpectralModel
 
 
 def test_simulated_walkers_follow_the_smoothed_load_not_the_narrow_band_one():

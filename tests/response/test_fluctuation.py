@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from crowdvib import Crowd, ModalModel, ParameterError
-from crowdvib.response.fluctuation import (FluctuatingSpectralModel, occupancy_cumulants,
+from crowdvib.response.frequency_domain.fluctuation import (FluctuatingSpectralModel, occupancy_cumulants,
                                            occupancy_quadrature, spectral_model)
-from crowdvib.response.spectral import SpectralModel
+from crowdvib.response.frequency_domain.spectral import SpectralModel
 
 
 def test_occupancy_cumulants_of_a_sine_mode_are_campbells(paper_bridge):
@@ -47,7 +47,7 @@ def test_quadrature_matches_a_monte_carlo_compound_poisson_occupancy(paper_bridg
 def test_gauss_rule_of_a_normal_law_is_gauss_hermite():
     # A finely discretised standard normal must give Gauss–Hermite: nodes 0, ±√3, weights
     # 2/3, 1/6 (Abramowitz & Stegun 25.4.46).
-    from crowdvib.response import fluctuation
+    from crowdvib.response.frequency_domain import fluctuation
 
     grid = np.linspace(-12, 12, 20001)
     nodes, weights = fluctuation._gauss_rule(grid, np.exp(-grid**2 / 2) / np.sum(
@@ -92,7 +92,7 @@ def test_unknown_crowd_model_is_refused(paper_bridge, paper_crowd, welch_grid):
 
 def test_occupancy_law_has_campbells_mean_and_variance(paper_bridge):
     # The FFT-inverted characteristic function against the cumulants κ_1 = 1, κ_2 = 3/(2n).
-    from crowdvib.response.fluctuation import occupancy_law
+    from crowdvib.response.frequency_domain.fluctuation import occupancy_law
 
     values, probabilities = occupancy_law(paper_bridge, 0.25, 0)
     assert probabilities @ values == pytest.approx(1.0, abs=1e-9)
@@ -124,7 +124,7 @@ def test_occupancy_law_is_the_direct_inversion(paper_bridge):
     # The exponent is taken for t ≥ 0 and conjugated for t < 0 (ψ real), which halves the cost
     # and only rearranges the arithmetic: the direct inversion of Campbell's characteristic
     # function over the whole FFT grid (the computation before, commit 0e6e805) to 1e-15.
-    from crowdvib.response.fluctuation import _LAW_POINTS, occupancy_law
+    from crowdvib.response.frequency_domain.fluctuation import _LAW_POINTS, occupancy_law
     for density in (0.25, 1.0):
         values, probabilities = occupancy_law(paper_bridge, density, 0)
         area = density * paper_bridge._area_weights.ravel()
@@ -141,7 +141,7 @@ def test_one_mode_crowd_factor_is_the_eigen_decompositions():
     # psd_factor skips eigh for a 1 × 1 Ψ (the fluctuating estimate asks thousands of times):
     # the same B with Ψ = B Bᵀ as from eigh (the computation before, commit 0e6e805), empty
     # where Ψ carries no crowd.
-    from crowdvib.response._attached import psd_factor
+    from crowdvib.response.frequency_domain._attached import psd_factor
     for value in (37.5, 5e-7, 0.0):
         psi = np.array([[value]])
         values, vectors = np.linalg.eigh(psi)
@@ -157,7 +157,7 @@ def test_a_kept_occupancy_law_is_the_law_computed_afresh():
     # a structure that differs in its frequencies, damping and masses only gets the same law,
     # and it equals the computation without the cache (the reference: _occupancy_law).
     from crowdvib import ModalModel
-    from crowdvib.response import fluctuation
+    from crowdvib.response.frequency_domain import fluctuation
 
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
     other = bridge.replace(frequencies=bridge.frequencies * 1.05,

@@ -10,11 +10,11 @@ import pytest
 from crowdvib import (Crowd, ModalModel, MSDModel, TunedMassDamper,
                       effective_modal_properties)
 from crowdvib.errors import ParameterError, PlausibilityWarning
-import crowdvib.response._modulation as module
-from crowdvib.response._modulation import (OccupancyPath, _OccupiedMode, drift_spectrum,
+import crowdvib.response.frequency_domain._modulation as module
+from crowdvib.response.frequency_domain._modulation import (OccupancyPath, _OccupiedMode, drift_spectrum,
                                            modulation_correction, occupancy_rate_variance)
-from crowdvib.response.fluctuation import FluctuatingSpectralModel, occupancy_cumulants
-from crowdvib.response.spectral import SpectralModel
+from crowdvib.response.frequency_domain.fluctuation import FluctuatingSpectralModel, occupancy_cumulants
+from crowdvib.response.frequency_domain.spectral import SpectralModel
 
 GRID = np.arange(601) / 60.0
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from crowdvib import ParameterError, simulate
-from crowdvib.response.replay import busiest_stretch, crossing_replay
-from crowdvib.response.traffic import generate_traffic
+from crowdvib.response.time_domain.replay import busiest_stretch, crossing_replay
+from crowdvib.response.time_domain.traffic import generate_traffic
 
 DURATION, WARM_UP, RATE, SEED = 120.0, 30.0, 100.0, 11
 

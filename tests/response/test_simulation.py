@@ -1,4 +1,4 @@
-"""Unit tests of the time-domain simulator (crowdvib.response.simulation, docs: theory, The coupled time-domain model)."""
+"""Unit tests of the time-domain simulator (crowdvib.response.time_domain.simulation, docs: theory, The coupled time-domain model)."""
 
 import numpy as np
 import pytest
@@ -7,8 +7,8 @@ from crowdvib import (Crowd, ModalModel, MSDModel, ParameterError, Pedestrian, S
                       YoungForce, simulate)
 from crowdvib.errors import PlausibilityWarning
 from crowdvib.response import generate_traffic
-from crowdvib.response._integrator import prepare
-from crowdvib.response.simulation import checked_run
+from crowdvib.response.time_domain._integrator import prepare
+from crowdvib.response.time_domain.simulation import checked_run
 
 
 @pytest.fixture

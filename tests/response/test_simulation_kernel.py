@@ -10,7 +10,7 @@ from scipy.integrate import solve_ivp
 
 from crowdvib import Crowd, ModalModel, MSDModel, Pedestrian, simulate
 from crowdvib.errors import PlausibilityWarning
-from crowdvib.response import _slots
+from crowdvib.response.time_domain import _slots
 
 
 def test_standing_msd_on_two_modes_matches_an_ode_solver():
@@ -133,8 +133,8 @@ def test_walkers_on_the_deck_are_those_between_their_on_and_off_times():
     # own arrival and leaving times. The kernel decides who leaves by comparing t with the
     # earliest t_off on the deck, kept across kernel calls: a run in short chunks (0.37 s) and
     # a crowd with walkers in both directions (different leaving orders) exercise both.
-    from crowdvib.response._integrator import prepare
-    from crowdvib.response.simulation import checked_run
+    from crowdvib.response.time_domain._integrator import prepare
+    from crowdvib.response.time_domain.simulation import checked_run
 
     crowd = Crowd(density=0.3, walking_speed=1.3, step_frequency_mean=1.9,
                   step_frequency_std=0.15, body_mass=70.0, forward_fraction=0.5)
@@ -157,9 +157,9 @@ def test_the_paper_path_agrees_with_the_general_kernel():
     # vector partial sums over the walkers differently, so the records agree to rounding: within
     # 1e-9 of the RMS (issue 28 §4; ~1e-14 measured against the code before the change).
     from crowdvib.models.examples import paper_example
-    from crowdvib.response import _kernels
-    from crowdvib.response._integrator import prepare
-    from crowdvib.response.simulation import checked_run
+    from crowdvib.response.time_domain import _kernels
+    from crowdvib.response.time_domain._integrator import prepare
+    from crowdvib.response.time_domain.simulation import checked_run
 
     case = paper_example()
     records = []

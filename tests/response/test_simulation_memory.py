@@ -10,7 +10,7 @@ import pytest
 
 from crowdvib import ParameterError, Simulation, simulate, simulate_psd, welch_psd
 from crowdvib.models.examples import paper_example
-from crowdvib.response import traffic
+from crowdvib.response.time_domain import traffic
 
 
 @pytest.fixture(scope="module")

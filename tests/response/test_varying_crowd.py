@@ -1,5 +1,5 @@
 """A crowd that changes within a record: the simulator's non-homogeneous stream and the expected
-Welch PSD Ḡ = Σ_i p_i G(f; d_i) (crowdvib.response.varying; docs: theory, A crowd that changes;
+Welch PSD Ḡ = Σ_i p_i G(f; d_i) (crowdvib.response.frequency_domain.varying; docs: theory, A crowd that changes;
 issue 28 §1)."""
 
 import numpy as np
@@ -9,7 +9,7 @@ from scipy import stats
 from crowdvib import (Crowd, CrowdProfile, ModalModel, MSDModel, ParameterError,
                       PlausibilityWarning, SpectralModel,
                       VaryingCrowdModel, simulate, simulate_many, simulate_psd, welch_psd)
-from crowdvib.response.varying import density_law
+from crowdvib.response.frequency_domain.varying import density_law
 from crowdvib.signals.welch import welch_degrees_of_freedom
 
 HOUR, WINDOW, RATE = 3600.0, 60.0, 50.0

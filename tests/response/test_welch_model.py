@@ -1,4 +1,4 @@
-"""The Welch expectation from a coarse rule with exact pole corrections (response._welch_model)."""
+"""The Welch expectation from a coarse rule with exact pole corrections (response.frequency_domain._welch_model)."""
 
 from pathlib import Path
 
@@ -8,7 +8,7 @@ import pytest
 from crowdvib import MSDModel, SpectralModel
 from crowdvib.io.casefile import load_case
 from crowdvib.models.examples import paper_example
-from crowdvib.response._welch_model import hann_pole_convolution, power_coefficients
+from crowdvib.response.frequency_domain._welch_model import hann_pole_convolution, power_coefficients
 from crowdvib.signals import LowPassFilter, welch_kernel
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -76,7 +76,7 @@ def test_corrected_rule_resolves_a_peak_narrower_than_its_grid():
     # (1/240 Hz) cannot resolve the peak alone. Reference: the dense rule at 64 points per bin
     # with the kernel kept to ±40 bins (the correction convolves the peak with the whole kernel).
     from crowdvib.models.structure import ModalModel
-    from crowdvib.response._welch_model import WelchRule
+    from crowdvib.response.frequency_domain._welch_model import WelchRule
     paper = paper_example()
     structure = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.001, 50e3)
     grid = np.arange(60, 180) / 60.0

@@ -126,7 +126,7 @@ def comfort_dampers(case: Case, msd) -> list:
         The identified MSD (the damper is tuned to the occupied mode with it).
     """
     from ..design import tune_damper
-    from ..response.fluctuation import dominant_mode
+    from ..response.frequency_domain.fluctuation import dominant_mode
     from .design import _dampers
 
     if case.design is not None and case.design.damper is not None:

@@ -21,7 +21,8 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from ..models.examples import ExampleCase
-    from ..response.results import EffectiveModalProperties, Simulation
+    from ..response.frequency_domain.results import EffectiveModalProperties
+    from ..response.time_domain.results import Simulation
     from ..signals.spectrum import ResponsePSD
 
 __all__ = ["CaseDemo", "demo_case", "DEMO_ESTIMATORS", "DEMO_SAMPLE_RATE", "DEMO_WARM_UP"]
@@ -79,7 +80,7 @@ class CaseDemo(AsResults):
     def model_psds(self) -> dict:
         """The expected PSD of each estimate as its estimator modelled it (crowd model, fitted
         crowd), and without HSI: label → ResponsePSD, as the demo's figure shows them."""
-        from ..response.fluctuation import spectral_model
+        from ..response.frequency_domain.fluctuation import spectral_model
 
         structure, crowd, window = self.case.structure, self.case.crowd, self.case.window_length
         curves = {}
@@ -138,9 +139,9 @@ def demo_case(*, duration: float = 3600.0, seed: int = 20230101, spectral: bool 
 
     from ..identification.estimation import estimate_hsi
     from ..models.examples import paper_example
-    from ..response.fluctuation import response_psd
-    from ..response.simulation import simulate
-    from ..response.spectral import effective_modal_properties
+    from ..response.frequency_domain.fluctuation import response_psd
+    from ..response.time_domain.simulation import simulate
+    from ..response.frequency_domain.spectral import effective_modal_properties
     from ..signals import LowPassFilter, synthetic_welch_psd, welch_psd, welch_segment_count
 
     case = paper_example()

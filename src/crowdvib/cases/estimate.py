@@ -128,7 +128,7 @@ class CaseEstimate(AsResults):
         (ResponsePSD, ResponsePSD)
             The model PSD with the estimated MSD, and without HSI.
         """
-        from ..response.varying import record_model
+        from ..response.frequency_domain.varying import record_model
 
         crowd = self.crowd if part is None else part.crowd
         part = self.records[0] if part is None else part

@@ -128,7 +128,7 @@ class DemoResults(EstimateResults):
         (:class:`~crowdvib.response.EffectiveModalProperties`)."""
         from ..identification.result import HSIEstimate
         from ..models.pedestrian import MSDModel
-        from ..response.results import EffectiveModalProperties
+        from ..response.frequency_domain.results import EffectiveModalProperties
 
         return {"estimate": self.hsi_estimate(), "box": self.msd_box(),
                 "paper_estimator": HSIEstimate.from_dict(self.data["paper_estimator"]),

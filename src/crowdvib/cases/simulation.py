@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from ..io.casefile import Case
     from ..io.records import Record
     from ..models.pedestrian import MSDModel
-    from ..response.results import Simulation
+    from ..response.time_domain.results import Simulation
 
 
 __all__ = ["CaseSimulation", "simulation_msd", "simulate_case"]
@@ -108,7 +108,7 @@ def simulate_case(case: Case, *, duration: float | None = None,
     CaseSimulation
     """
     from ..io.records import Record
-    from ..response.simulation import simulate
+    from ..response.time_domain.simulation import simulate
     from ..signals import resample
 
     spec = case.simulation

@@ -64,8 +64,8 @@ HALF_SINE_SHAPE_FACTOR = 1.5
 def occupancy_shape_factor(structure) -> float:
     """max_j κ_j = A ∫φ_j⁴ dA / (∫φ_j² dA)² over the modes of ``structure`` [-]: N σ_λ² of the
     occupancy of its most unevenly loaded mode (Campbell;
-    :func:`crowdvib.response.fluctuation.occupancy_cumulants` at one person/m²)."""
-    from ..response.fluctuation import occupancy_cumulants
+    :func:`crowdvib.response.frequency_domain.fluctuation.occupancy_cumulants` at one person/m²)."""
+    from ..response.frequency_domain.fluctuation import occupancy_cumulants
 
     return float(max(occupancy_cumulants(structure, 1.0, mode, order=2)[1] * structure.area
                      for mode in range(structure.n_modes)))

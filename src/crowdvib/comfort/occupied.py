@@ -7,7 +7,7 @@ the time scale of a crossing (38 s on the paper's bridge), and with them the cro
 forgets in a few seconds, so within a ten-minute window the response passes through occupancy
 states λ = ψ/ψ̄, each a stationary Gaussian response of the smeared crowd of density λ d (the
 quasi-static states of :class:`crowdvib.response.FluctuatingSpectralModel`, whose occupancy law
-:func:`crowdvib.response.fluctuation.occupancy_law` is used here as it is). A level a is
+:func:`crowdvib.response.frequency_domain.fluctuation.occupancy_law` is used here as it is). A level a is
 crossed at the rate of the state the response is in, so over the window
 
     ν(a) = E_λ[ν_λ(a)] = Σ_j p_j ν(a; σ_j, ν0_j, δ_j),      P(peak ≤ a) = exp(−T ν(a)),
@@ -33,8 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_count
-from ..response.fluctuation import FluctuatingSpectralModel, occupancy_law
-from ..response.spectral import SpectralModel
+from ..response.frequency_domain.fluctuation import FluctuatingSpectralModel, occupancy_law
+from ..response.frequency_domain.spectral import SpectralModel
 from .measure import (WindowLaw, bisect_level, level_crossing_rate, running_rms_rate,
                       window_law)
 

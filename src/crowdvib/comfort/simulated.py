@@ -48,7 +48,7 @@ def _windows(task):
     """The peaks and largest running RMS of a task's windows (JSON-ready)."""
     import time
 
-    from ..response.simulation import simulate
+    from ..response.time_domain.simulation import simulate
     from ..signals.weighting import running_rms
 
     started = time.process_time()
@@ -198,7 +198,7 @@ def simulated_check(structure, crowd, densities, *, msd=None, dampers=None, outp
         interval: the windows cannot tell them apart), and the spectral ``rms``.
     """
     from ..design.stochastic import frequency_grid
-    from ..response.fluctuation import spectral_model
+    from ..response.frequency_domain.fluctuation import spectral_model
 
     if simulated is None:
         simulated = simulated_windows(structure, crowd, densities, msd=msd, dampers=dampers,

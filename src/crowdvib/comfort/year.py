@@ -38,7 +38,7 @@ from ..models.crowd import Crowd
 from ..models.damper import as_dampers
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
-from ..response.fluctuation import spectral_model
+from ..response.frequency_domain.fluctuation import spectral_model
 from .measure import (PEAK_MODELS, WindowLaw, peak_cdf, peak_quantile, running_rms_quantile,
                       thin_crowd_density, window_law)
 from .traffic import WEEK_HOURS, Traffic
@@ -156,7 +156,7 @@ def response_table(structure: ModalModel, crowd: Crowd, densities: np.ndarray, *
 
     One spectral model of the empty bridge per density and damper gives no HSI (``msd=None``)
     and the HSI of every MSD of ``msds``; one of the added-mass bridge gives added mass
-    (:func:`crowdvib.response.fluctuation.spectral_model`, the PSD of
+    (:func:`crowdvib.response.frequency_domain.fluctuation.spectral_model`, the PSD of
     :func:`crowdvib.response_psd`).
 
     Parameters

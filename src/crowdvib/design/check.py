@@ -31,7 +31,7 @@ from ..models.crowd import JAM_DENSITY, Crowd
 from ..models.damper import as_dampers
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
-from ..response.spectral import effective_modal_properties, modal_accelerance
+from ..response.frequency_domain.spectral import effective_modal_properties, modal_accelerance
 from .codes import (HARMONIC_FORCES, REDUCTION_FACTOR_CORNERS, UNVERIFIED_DEFAULTS, class_density,
                     comfort_class, comfort_limit, equivalent_pedestrians, reduction_factor)
 from .registry import DesignCode, design_code, register_code

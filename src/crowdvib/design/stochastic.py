@@ -1,7 +1,7 @@
 """Stochastic design prediction: RMS and expected peak acceleration of a crowd stream.
 
 Not a code check: the response of a stationary stream of a given density follows from
-crowdvib's own crowd model (the spectral model of :mod:`crowdvib.response.spectral`, with and
+crowdvib's own crowd model (the spectral model of :mod:`crowdvib.response.frequency_domain.spectral`, with and
 without HSI), and its statistics from the response PSD G(f) (docs: theory, Stochastic design
 prediction):
 
@@ -28,7 +28,7 @@ from ..models.crowd import Crowd
 from ..models.damper import as_dampers
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
-from ..response.spectral import SpectralModel, effective_modal_properties
+from ..response.frequency_domain.spectral import SpectralModel, effective_modal_properties
 from .check import structure_models
 
 __all__ = ["ResponsePrediction", "predict_response", "davenport_peak_factor", "frequency_grid"]

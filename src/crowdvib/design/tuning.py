@@ -19,7 +19,7 @@ from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.damper import TunedMassDamper
 from ..models.structure import ModalModel
-from ..response.spectral import effective_modal_properties
+from ..response.frequency_domain.spectral import effective_modal_properties
 
 if TYPE_CHECKING:
     from ..models.pedestrian import MSDModel

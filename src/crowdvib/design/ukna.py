@@ -35,7 +35,7 @@ from ..errors import ParameterError, ResolutionWarning
 from ..models.crowd import Crowd
 from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
-from ..response.spectral import effective_modal_properties
+from ..response.frequency_domain.spectral import effective_modal_properties
 from ..signals.weighting import running_rms, weight_wb
 from .check import DesignCheck, structure_models
 from .codes import (UKNA_CLASSES, UKNA_CROWD_FACTOR, UKNA_CROWD_MAX_DENSITY,

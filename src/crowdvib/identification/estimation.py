@@ -25,7 +25,7 @@ from ..errors import ParameterError
 from ..models.pedestrian import MSDModel
 from ..models.profile import CrowdProfile
 from .diagnostics import _check_identifiability, _check_level, _diagnose, _refuse_gross_level
-from ..response.varying import record_duration
+from ..response.frequency_domain.varying import record_duration
 from .objective import PSDObjective
 from .result import HSIEstimate
 from .multistart import (DEFAULT_STARTS, FINAL_TOLERANCE, _merge_bounds, _multistart,

@@ -25,8 +25,8 @@ from ..errors import ParameterError
 from ..models.crowd import Crowd
 from ..models.profile import CrowdProfile
 from ..models.structure import ModalModel
-from ..response.fluctuation import spectral_model
-from ..response.varying import record_model
+from ..response.frequency_domain.fluctuation import spectral_model
+from ..response.frequency_domain.varying import record_model
 from ..signals.spectrum import ResponsePSD
 from ..signals.welch import welch_bin_correlation, welch_degrees_of_freedom
 from .uncertainty import occupancy_shift, score_variance

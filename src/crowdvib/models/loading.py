@@ -61,10 +61,10 @@ class _ReplayedForce:
 class ForceModel(Protocol):
     """What the package calls on a walking-force model (docs: theory, The walking force: your own model).
 
-    * the spectral model (:class:`~crowdvib.response.spectral.SpectralModel`, hence
-      :func:`~crowdvib.response.fluctuation.response_psd` and the estimator
+    * the spectral model (:class:`~crowdvib.response.frequency_domain.spectral.SpectralModel`, hence
+      :func:`~crowdvib.response.frequency_domain.fluctuation.response_psd` and the estimator
       :func:`~crowdvib.identification.estimation.estimate_hsi`) calls ``load_spectrum`` only;
-    * the simulator (:func:`~crowdvib.response.simulation.simulate`) calls ``ratios`` and
+    * the simulator (:func:`~crowdvib.response.time_domain.simulation.simulate`) calls ``ratios`` and
       ``sample``: walker k's force is m_k g Σ_c α_kc sin(2π r_c f_s,k t + θ_kc).
 
     Any object with these three members works (no base class needed); subclassing

@@ -61,7 +61,7 @@ def mode_shape_table(structure, crowd=None, msd=None):
     msd : MSDModel, optional
         The crowd's MSD (the estimated one, the design's, the simulated one): the occupied
         structure's frequencies and damping ratios
-        (:func:`~crowdvib.response.spectral.effective_modal_properties`) go with the shapes.
+        (:func:`~crowdvib.response.frequency_domain.spectral.effective_modal_properties`) go with the shapes.
 
     Returns
     -------
@@ -76,7 +76,7 @@ def mode_shape_table(structure, crowd=None, msd=None):
     shapes = np.asarray(structure.mode_shapes)[:, keep, :]
     occupied = {}
     if crowd is not None and msd is not None and crowd.density > 0:
-        from ..response.spectral import effective_modal_properties
+        from ..response.frequency_domain.spectral import effective_modal_properties
 
         found = effective_modal_properties(structure, crowd, msd)
         occupied = {"occupied": {"frequencies": [float(f) for f in found.frequencies],

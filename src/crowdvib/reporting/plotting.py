@@ -13,7 +13,8 @@ from .._figures import FigureAxes, figure_bytes, save_figure
 from ..identification.plots import plot_psd_residuals
 from ..studies.plots import (plot_estimation_errors, plot_objective_map, plot_parametric_ratios,
                              plot_season_trends)
-from ..response.plots import plot_frf, plot_hsi_effect, plot_load_psd, plot_time_history
+from ..response.frequency_domain.plots import plot_frf, plot_hsi_effect, plot_load_psd
+from ..response.time_domain.plots import plot_time_history
 from ..signals.plots import plot_psd_comparison, plot_psd_convergence
 
 __all__ = ["FigureAxes", "plot_psd_comparison", "plot_psd_residuals", "plot_psd_convergence",

@@ -2,7 +2,7 @@
 elevation with its deflection (exaggerated, the scale stated) and the walkers riding on it,
 and the acceleration at each output with the comfort classes' bounds and a cursor.
 
-:func:`replay_table` turns a :class:`~crowdvib.response.replay.Replay` into what results.json
+:func:`replay_table` turns a :class:`~crowdvib.response.time_domain.replay.Replay` into what results.json
 keeps (``replay``): frames decimated, walkers as their arrival, speed and lane (positions are
 computed where drawn: x = x_k + v_k (t − t_k)), the traces as a min/max envelope and, with
 HSI, each walker's MSD motion relative to the deck, u − φᵀz, quantised to one character a

@@ -1,7 +1,7 @@
 """The crossing replay as a video file for slides (issue 38): GIF through Pillow, MP4 through
 ffmpeg where it is installed, with matplotlib's animation writers.
 
-The frames are the replay's (:class:`~crowdvib.response.replay.Replay`), every n-th one for the
+The frames are the replay's (:class:`~crowdvib.response.time_domain.replay.Replay`), every n-th one for the
 video's frame rate; the picture is the report's: the deck in plan with its walkers, the deck's
 deflection (exaggerated, the scale in the title) with the walkers on it (with HSI each one
 lifted by its MSD's displacement relative to the deck, at the same scale), and the
@@ -28,7 +28,7 @@ def write_replay_video(replay, structure, path, *, fps=VIDEO_FRAME_RATE, dpi=80)
     Parameters
     ----------
     replay : Replay
-        From :func:`~crowdvib.response.replay.crossing_replay`.
+        From :func:`~crowdvib.response.time_domain.replay.crossing_replay`.
     structure : ModalModel
         The model it was simulated on.
     path : str or pathlib.Path

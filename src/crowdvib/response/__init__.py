@@ -1,23 +1,19 @@
-"""The forward models: what the bridge does under its crowd.
+"""The forward models: what the bridge does under its crowd, in two families that never import
+each other.
 
-``spectral`` (frequency domain: FRFs, occupied modal properties, the acceleration PSD with HSI),
-``fluctuation`` (the expected PSD of a Poisson crowd whose occupancy fluctuates, and
-``response_psd``, which makes either model's),
-``varying`` (the expected Welch PSD of a record whose crowd's density changes),
-``simulation`` (time-domain Monte Carlo with moving pedestrians: a run checked into ``_run``,
-stepped by ``_integrator`` with the compiled kernel of ``_kernels``) and ``simulation_psd``
-(the Welch PSD of a record too long to keep); their results are in ``results``.
+:mod:`~crowdvib.response.frequency_domain` (the spectral models: FRFs, occupied modal
+properties, the expected acceleration PSD of a smeared, fluctuating or varying crowd) and
+:mod:`~crowdvib.response.time_domain` (the Monte Carlo simulator with moving pedestrians, which
+checks the spectral models and makes realistic records). Their public names are re-exported
+here.
 """
 
-from .batch import simulate_many
-from .fluctuation import FluctuatingSpectralModel, response_psd
-from .results import FRF, EffectiveModalProperties, Simulation, SimulationPSD
-from .simulation import simulate
-from .simulation_psd import simulate_psd
-from .expected import ExpectedPSDModel
-from .spectral import SpectralModel, effective_modal_properties, frf, modal_accelerance
-from .traffic import Pedestrian, generate_traffic
-from .varying import VaryingCrowdModel, varying_response_psd
+from .frequency_domain import (FRF, EffectiveModalProperties, ExpectedPSDModel,
+                               FluctuatingSpectralModel, SpectralModel, VaryingCrowdModel,
+                               effective_modal_properties, frf, modal_accelerance, response_psd,
+                               varying_response_psd)
+from .time_domain import (Pedestrian, Simulation, SimulationPSD, generate_traffic, simulate,
+                          simulate_many, simulate_psd)
 
 __all__ = ["SpectralModel", "ExpectedPSDModel", "FluctuatingSpectralModel", "response_psd", "frf",
            "effective_modal_properties", "modal_accelerance", "simulate", "simulate_many",

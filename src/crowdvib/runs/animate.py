@@ -23,7 +23,7 @@ def simulation_replay(found, *, start=None, length=None):
     -------
     Replay
     """
-    from ..response.replay import DEFAULT_REPLAY_LENGTH, crossing_replay
+    from ..response.time_domain.replay import DEFAULT_REPLAY_LENGTH, crossing_replay
 
     case = found.case
     return crossing_replay(case.structure, case.crowd, found.duration, msd=found.msd,
@@ -38,7 +38,7 @@ def demo_replay(found):
     """The crossing replay of ``crowdvib demo``'s simulated record (None for ``--spectral``,
     which simulates nothing)."""
     from ..cases.demo import DEMO_SAMPLE_RATE, DEMO_WARM_UP
-    from ..response.replay import crossing_replay
+    from ..response.time_domain.replay import crossing_replay
 
     if found.record is None:
         return None

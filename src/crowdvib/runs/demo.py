@@ -44,7 +44,7 @@ def run_demo(out: str | Path = "crowdvib-demo", *, duration: float = 3600.0,
     from ..cases.demo import (DEMO_ESTIMATORS, DEMO_SAMPLE_RATE, DEMO_WARM_UP, demo_case,
                               require_demo_duration)
     from ..models.examples import paper_example
-    from ..response.simulation import kernel_needs_compiling
+    from ..response.time_domain.simulation import kernel_needs_compiling
     from .simulate import COMPILING
 
     case = paper_example()

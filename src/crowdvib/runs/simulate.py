@@ -80,7 +80,7 @@ def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, 
     from ..cases.simulation import simulate_case, simulation_msd
     from ..io.records import RECORD_FORMATS, write_record
     from ..reporting.plotting import plot_psd_comparison, save_figure
-    from ..response.simulation import kernel_needs_compiling
+    from ..response.time_domain.simulation import kernel_needs_compiling
     from ..signals import welch_psd
 
     spec = case.simulation

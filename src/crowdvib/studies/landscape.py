@@ -132,7 +132,7 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
     the surface on which an estimate with fitted step frequencies is the minimum, pass the
     crowd it ends with (``HSIEstimate.crowd``), as ``crowdvib map`` does.
 
-    The forward model's θ-independent parts are built once (:class:`~crowdvib.response.spectral.SpectralModel`),
+    The forward model's θ-independent parts are built once (:class:`~crowdvib.response.frequency_domain.spectral.SpectralModel`),
     so each grid point costs one PSD evaluation vectorised over frequency.
 
     Parameters

@@ -24,9 +24,9 @@ from .._files import json_default
 from ..errors import CrowdvibError, ParameterError
 from ..models.crowd import Crowd
 from ..models.structure import ModalModel
-from ..response.batch import check_seeds, simulate_many
-from ..response.results import Simulation
-from ..response.traffic import check_duration
+from ..response.time_domain.batch import check_seeds, simulate_many
+from ..response.time_domain.results import Simulation
+from ..response.time_domain.traffic import check_duration
 from ..runner.tasks import TaskStore, run_tasks
 
 __all__ = ["monte_carlo", "record_statistics"]

@@ -40,7 +40,7 @@ def _paper_family_structure(frequency, damping_ratio, mass_ratio, crowd):
 
 
 def _parametric_task(task):
-    from ..response.fluctuation import response_psd
+    from ..response.frequency_domain.fluctuation import response_psd
 
     structure = _paper_family_structure(task.structure_frequency, task.structure_damping,
                                         task.mass_ratio, task.crowd)

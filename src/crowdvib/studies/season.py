@@ -435,8 +435,8 @@ def write_synthetic_season(folder, structure, crowd, msd, *, densities, duration
     from pathlib import Path
 
     from ..io.records import Record, write_record
-    from ..response.simulation import simulate as simulate_record
-    from ..response.fluctuation import response_psd
+    from ..response.time_domain.simulation import simulate as simulate_record
+    from ..response.frequency_domain.fluctuation import response_psd
     from ..signals.synthesis import gaussian_record, record_frequencies
 
     folder = Path(folder)

@@ -34,7 +34,7 @@ from types import SimpleNamespace
 import numpy as np
 from numba import njit
 
-from ..models.structure import ModalModel
+from ...models.structure import ModalModel
 from ._attached import reduced_matrices
 from ._crossing import lane_slope_energy
 

@@ -21,8 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..models.structure import ModalModel
+from ...errors import ParameterError
+from ...models.structure import ModalModel
 
 
 def crossing_spread(structure: ModalModel, walking_speed: float, mode: int) -> float:

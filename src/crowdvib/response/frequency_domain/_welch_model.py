@@ -22,7 +22,7 @@ import copy
 import numpy as np
 from scipy import sparse
 
-from ..signals import welch_kernel
+from ...signals import welch_kernel
 
 # Welch kernel support: ±8 bins of 1/T hold all but ~1e-5 of the Hann kernel's area.
 KERNEL_HALF_WIDTH_BINS = 8

@@ -24,14 +24,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._estimators import DEFAULT_CROWD_MODEL
-from .._validation import check_positive, check_type
-from ..errors import ParameterError
-from ..models.crowd import Crowd
-from ..models.pedestrian import MSDModel
-from ..models.profile import CrowdProfile
-from ..models.structure import ModalModel
-from ..signals import ResponsePSD
+from ..._estimators import DEFAULT_CROWD_MODEL
+from ..._validation import check_positive, check_type
+from ...errors import ParameterError
+from ...models.crowd import Crowd
+from ...models.pedestrian import MSDModel
+from ...models.profile import CrowdProfile
+from ...models.structure import ModalModel
+from ...signals import ResponsePSD
 from .fluctuation import FluctuatingSpectralModel, _gauss_rule, _mixture, spectral_model
 
 __all__ = ["VaryingCrowdModel", "varying_response_psd", "density_law", "record_model",

@@ -13,10 +13,10 @@ from typing import Any
 
 import numpy as np
 
-from .._resources import thread_budget
-from ..errors import ParameterError
-from ..models.crowd import Crowd
-from ..models.structure import ModalModel
+from ..._resources import thread_budget
+from ...errors import ParameterError
+from ...models.crowd import Crowd
+from ...models.structure import ModalModel
 from .results import Simulation
 from .simulation import checked_run, simulate
 

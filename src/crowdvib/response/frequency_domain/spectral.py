@@ -23,14 +23,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
-from .._validation import (check_frequency_grid, check_names, check_non_negative, check_optional,
+from ..._validation import (check_frequency_grid, check_names, check_non_negative, check_optional,
                            check_positive, check_type)
-from ..errors import ParameterError
-from ..models.crowd import Crowd
-from ..models.loading import as_force_model
-from ..models.pedestrian import MSDModel
-from ..models.structure import ModalModel
-from ..signals import ResponsePSD
+from ...errors import ParameterError
+from ...models.crowd import Crowd
+from ...models.loading import as_force_model
+from ...models.pedestrian import MSDModel
+from ...models.structure import ModalModel
+from ...signals import ResponsePSD
 from .expected import model_psd
 from ._attached import (
     attachments,
@@ -45,9 +45,9 @@ from ._welch_model import DENSE_POINTS_PER_BIN, CorrectedWelch, WelchRule
 from .results import FRF, EffectiveModalProperties
 
 if TYPE_CHECKING:
-    from .._validation import ForceModel
-    from ..models.damper import TunedMassDamper
-    from ..signals.welch import LowPassFilter
+    from ..._validation import ForceModel
+    from ...models.damper import TunedMassDamper
+    from ...signals.welch import LowPassFilter
 
 __all__ = ["SpectralModel", "frf", "effective_modal_properties", "modal_accelerance"]
 
@@ -134,7 +134,7 @@ class SpectralModel:
                              else check_names("outputs", outputs))
         shapes = structure.output_shapes[structure.output_index(self.output_names)]
         self.welch_window_length = welch_window_length
-        from ..signals.welch import LowPassFilter
+        from ...signals.welch import LowPassFilter
 
         self.lowpass = check_optional("lowpass", lowpass, LowPassFilter)
         self.crossing_spread = check_non_negative("crossing_spread", crossing_spread, unit="Hz")

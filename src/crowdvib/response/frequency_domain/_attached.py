@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..models.damper import as_dampers
-from ..models.pedestrian import transmissibility
+from ...models.damper import as_dampers
+from ...models.pedestrian import transmissibility
 
 
 @dataclass(frozen=True, eq=False)

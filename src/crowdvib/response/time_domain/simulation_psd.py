@@ -12,21 +12,21 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._validation import check_positive
-from ..errors import ParameterError
-from ..signals.spectrum import ResponsePSD
-from ..signals.welch import DISPERSION_LAGS, dispersion_ratio, segment_periodograms
+from ..._validation import check_positive
+from ...errors import ParameterError
+from ...signals.spectrum import ResponsePSD
+from ...signals.welch import DISPERSION_LAGS, dispersion_ratio, segment_periodograms
 from ._run import Run
 from .results import SimulationPSD
 from .simulation import _start
 
 if TYPE_CHECKING:
-    from .._validation import ForceModel, Seed
-    from ..models.crowd import Crowd
-    from ..models.damper import TunedMassDamper
-    from ..models.pedestrian import MSDModel
-    from ..models.profile import CrowdProfile
-    from ..models.structure import ModalModel
+    from ..._validation import ForceModel, Seed
+    from ...models.crowd import Crowd
+    from ...models.damper import TunedMassDamper
+    from ...models.pedestrian import MSDModel
+    from ...models.profile import CrowdProfile
+    from ...models.structure import ModalModel
     from .traffic import Pedestrian
 
 __all__ = ["simulate_psd"]

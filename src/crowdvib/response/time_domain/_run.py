@@ -17,19 +17,19 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._resources import MEMORY_SHARE as _MEMORY_SHARE, available_memory
-from .._validation import check_positive, check_type
-from ..errors import ParameterError
-from ..models.crowd import JAM_DENSITY, Crowd
-from ..models.damper import as_dampers
-from ..models.loading import as_force_model
-from ..models.pedestrian import MSDModel
-from ..models.profile import CrowdProfile
+from ..._resources import MEMORY_SHARE as _MEMORY_SHARE, available_memory
+from ..._validation import check_positive, check_type
+from ...errors import ParameterError
+from ...models.crowd import JAM_DENSITY, Crowd
+from ...models.damper import as_dampers
+from ...models.loading import as_force_model
+from ...models.pedestrian import MSDModel
+from ...models.profile import CrowdProfile
 from .traffic import STREAM_BLOCK, Pedestrian, _check_structure, _seed_from, check_duration
 
 if TYPE_CHECKING:
-    from ..models.damper import TunedMassDamper
-    from ..models.structure import ModalModel
+    from ...models.damper import TunedMassDamper
+    from ...models.structure import ModalModel
 
 #: Default simulated seconds per kernel call (progress granularity; results do not depend on it).
 DEFAULT_CHUNK_DURATION = 60.0

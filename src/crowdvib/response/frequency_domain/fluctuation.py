@@ -26,14 +26,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._estimators import DEFAULT_CROWD_MODEL
-from .._validation import check_type
-from ..errors import ParameterError
-from ..models.crowd import Crowd
-from ..models.loading import as_force_model
-from ..models.pedestrian import MSDModel
-from ..models.structure import ModalModel
-from ..signals import ResponsePSD
+from ..._estimators import DEFAULT_CROWD_MODEL
+from ..._validation import check_type
+from ...errors import ParameterError
+from ...models.crowd import Crowd
+from ...models.loading import as_force_model
+from ...models.pedestrian import MSDModel
+from ...models.structure import ModalModel
+from ...signals import ResponsePSD
 from ._crossing import crossing_spread
 from ._modulation import (OccupancyPath, drift_parameters, modulation_correction,
                           occupancy_rate_variance)
@@ -41,9 +41,9 @@ from .expected import model_psd
 from .spectral import SpectralModel, _check_models
 
 if TYPE_CHECKING:
-    from .._validation import ForceModel
-    from ..models.damper import TunedMassDamper
-    from ..signals.welch import LowPassFilter
+    from ..._validation import ForceModel
+    from ...models.damper import TunedMassDamper
+    from ...signals.welch import LowPassFilter
 
 __all__ = ["FluctuatingSpectralModel", "occupancy_quadrature", "occupancy_cumulants",
            "occupancy_law", "dominant_mode", "spectral_model", "CROWD_MODELS", "response_psd"]

@@ -13,12 +13,12 @@ from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from ..signals import ResponsePSD
+from ...signals import ResponsePSD
 
 if TYPE_CHECKING:
-    from ..models.crowd import Crowd
-    from ..models.pedestrian import MSDModel
-    from ..signals.lowpass import LowPassFilter
+    from ...models.crowd import Crowd
+    from ...models.pedestrian import MSDModel
+    from ...signals.lowpass import LowPassFilter
 
 __all__ = ["ExpectedPSDModel", "model_psd"]
 

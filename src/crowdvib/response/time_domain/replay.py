@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_positive
-from ..errors import ParameterError
+from ..._validation import check_positive
+from ...errors import ParameterError
 from ._run import Run
 from .simulation import _start
 

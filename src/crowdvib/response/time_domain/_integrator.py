@@ -14,9 +14,9 @@ import math
 import numpy as np
 
 from . import _kernels, _slots
-from .._plausibility import warn_notes
-from ..models.loading import STANDARD_GRAVITY
-from ..models.measured import REPLAY_HARMONICS, ReplayDraws
+from ..._plausibility import warn_notes
+from ...models.loading import STANDARD_GRAVITY
+from ...models.measured import REPLAY_HARMONICS, ReplayDraws
 from .traffic import _Stream, _Walkers
 
 #: Internal RK4 steps per period of the highest natural frequency of the states (structural

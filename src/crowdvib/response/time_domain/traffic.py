@@ -10,12 +10,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import as_float_array, check_non_negative, check_positive, check_type
-from ..errors import ParameterError
-from ..models.crowd import Crowd
-from ..models.loading import STANDARD_GRAVITY, as_force_model, positive_normal
-from ..models.measured import MeasuredForce, ReplayDraws
-from ..models.structure import ModalModel
+from ..._validation import as_float_array, check_non_negative, check_positive, check_type
+from ...errors import ParameterError
+from ...models.crowd import Crowd
+from ...models.loading import STANDARD_GRAVITY, as_force_model, positive_normal
+from ...models.measured import MeasuredForce, ReplayDraws
+from ...models.structure import ModalModel
 
 __all__ = ["Pedestrian", "generate_traffic"]
 

@@ -28,12 +28,12 @@ from .results import Simulation
 from .traffic import Pedestrian
 
 if TYPE_CHECKING:
-    from .._validation import ForceModel, Seed
-    from ..models.crowd import Crowd
-    from ..models.damper import TunedMassDamper
-    from ..models.pedestrian import MSDModel
-    from ..models.profile import CrowdProfile
-    from ..models.structure import ModalModel
+    from ..._validation import ForceModel, Seed
+    from ...models.crowd import Crowd
+    from ...models.damper import TunedMassDamper
+    from ...models.pedestrian import MSDModel
+    from ...models.profile import CrowdProfile
+    from ...models.structure import ModalModel
 
 __all__ = ["simulate"]
 
