@@ -9,6 +9,8 @@ import matplotlib, and only when a plot is asked for; no figure function calls `
 from dataclasses import dataclass
 
 import numpy as np
+from ._files import atomic_path
+from .errors import ParameterError
 
 __all__ = ["FigureAxes", "save_figure", "figure_bytes", "pyplot", "axes_or_new", "in_band", "panels",
            "positive_or_nan", "DARK", "LIGHT"]
@@ -63,7 +65,6 @@ def panels(axes, nrows, ncols, figsize, **options):
     if axes is not None:
         axes = tuple(np.ravel(axes))
         if len(axes) != nrows * ncols:
-            from .errors import ParameterError
 
             raise ParameterError(f"axes must hold {nrows * ncols} panels, got {len(axes)}")
         return FigureAxes(axes[0].figure, axes)
@@ -94,7 +95,6 @@ def save_figure(ax, path):
     """
     import matplotlib.pyplot as plt
 
-    from ._files import atomic_path
 
     figure = ax.figure
     with atomic_path(path) as temporary:

@@ -26,6 +26,7 @@ from pathlib import Path
 from ._version import __version__
 from ._files import MANIFEST_NAME, sha256_file, write_json
 from .errors import DataError, ParameterError, UnverifiedWarning
+from .runner.tasks import read_task_file
 
 __all__ = ["MANIFEST_NAME", "read_manifest", "write_manifest", "only_stores", "foreign_files",
            "record_file", "remove_owned", "verified_file"]
@@ -106,7 +107,6 @@ _TASK_NAME = re.compile(r"[0-9a-f]{16}\.json")
 def _owned_store_file(directory, relative, stores, resume=False):
     """None if ``relative`` is not in a store, else whether crowdvib may replace it: it provably
     wrote it, or (``resume``) it is named as a task file, which a resumed study recomputes."""
-    from .runner.tasks import read_task_file
 
     if not _in_store(relative, stores):
         return None

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 from .._version import __version__
 from ..errors import ParameterError, PlausibilityWarning
@@ -13,11 +13,18 @@ from .results import DESIGN_TABLES, AsResults, software_versions
 from .schema import schema_header
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping
+
     from ..design.interval import MSDBox
     from ..design.stochastic import ResponsePrediction
+    from ..identification.result import HSIEstimate
     from ..io.casefile import Case
     from ..models.pedestrian import MSDModel
     from .results import Results
+
+    #: What a design check takes the identified MSD from: an estimate made in Python, a loaded
+    #: results folder, a box of f_h1 and ξ_h1, or a results.json object.
+    EstimateLike: TypeAlias = HSIEstimate | Results | MSDBox | Mapping[str, Any]
 
 
 __all__ = ["CaseCheck", "IntervalCheck", "check_design_table", "design_msd", "check_case",
@@ -149,7 +156,7 @@ def design_msd(case):
 
 
 def check_case(case: Case, *, msd: MSDModel | None = None, msd_source: str | None = None,
-               estimate: Any = None, grid: int = 3) -> CaseCheck:
+               estimate: EstimateLike | None = None, grid: int = 3) -> CaseCheck:
     """Run ``crowdvib check``'s design checks on a case, without writing anything.
 
     Parameters
@@ -409,7 +416,7 @@ def msd_interval(results: Results | dict) -> dict | None:
     return None if box is None else box.to_dict()
 
 
-def msd_box(case: Case, estimate: Any) -> MSDBox | None:
+def msd_box(case: Case, estimate: EstimateLike) -> MSDBox | None:
     """The box of f_h1 and ξ_h1 of ``estimate`` (see :func:`check_over_interval`), around the
     estimated MSD (:func:`estimated_msd`: μ_h1 the case's if the results hold none); None
     without an interval.
@@ -472,7 +479,8 @@ class IntervalCheck:
                 for row in self.rows if row["model"] == "HSI"}
 
 
-def check_over_interval(case: Case, estimate: Any, *, grid: int = 3) -> IntervalCheck | None:
+def check_over_interval(case: Case, estimate: EstimateLike, *,
+                        grid: int = 3) -> IntervalCheck | None:
     """The design checks of :func:`check_case` with the estimated MSD, across its interval.
 
     Each code is checked with the MSD at the ``grid × grid`` points of the box of f_h1 and ξ_h1

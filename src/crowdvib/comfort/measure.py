@@ -34,6 +34,7 @@ from scipy import special, stats
 
 from .._validation import check_positive
 from ..errors import ParameterError
+from ..response.frequency_domain.fluctuation import occupancy_cumulants
 
 __all__ = ["WindowLaw", "window_law", "PEAK_MODELS", "peak_cdf", "peak_quantile",
            "running_rms_quantile", "running_rms_cdf", "level_crossing_rate", "running_rms_rate",
@@ -65,7 +66,6 @@ def occupancy_shape_factor(structure) -> float:
     """max_j κ_j = A ∫φ_j⁴ dA / (∫φ_j² dA)² over the modes of ``structure`` [-]: N σ_λ² of the
     occupancy of its most unevenly loaded mode (Campbell;
     :func:`crowdvib.response.frequency_domain.fluctuation.occupancy_cumulants` at one person/m²)."""
-    from ..response.frequency_domain.fluctuation import occupancy_cumulants
 
     return float(max(occupancy_cumulants(structure, 1.0, mode, order=2)[1] * structure.area
                      for mode in range(structure.n_modes)))

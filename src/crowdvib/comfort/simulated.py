@@ -22,6 +22,10 @@ from ..errors import ParameterError
 from ..runner.tasks import run_tasks
 from .measure import GAUSSIAN_TOLERANCE, peak_quantile, running_rms_quantile, window_law
 from .year import QUANTILES
+from ..response.time_domain.simulation import simulate
+from ..signals.weighting import running_rms
+from ..design.stochastic import frequency_grid
+from ..response.frequency_domain.fluctuation import spectral_model
 
 __all__ = ["SimulatedWindows", "simulated_windows", "simulated_check", "GAUSSIAN_TOLERANCE"]
 
@@ -48,8 +52,6 @@ def _windows(task):
     """The peaks and largest running RMS of a task's windows (JSON-ready)."""
     import time
 
-    from ..response.time_domain.simulation import simulate
-    from ..signals.weighting import running_rms
 
     started = time.process_time()
     found = simulate(task.structure, task.crowd, task.duration * task.count, msd=task.msd,
@@ -197,8 +199,6 @@ def simulated_check(structure, crowd, densities, *, msd=None, dampers=None, outp
         spectral quantile within :data:`GAUSSIAN_TOLERANCE` of the simulated one or inside its
         interval: the windows cannot tell them apart), and the spectral ``rms``.
     """
-    from ..design.stochastic import frequency_grid
-    from ..response.frequency_domain.fluctuation import spectral_model
 
     if simulated is None:
         simulated = simulated_windows(structure, crowd, densities, msd=msd, dampers=dampers,

@@ -42,6 +42,7 @@ from ..response.frequency_domain.fluctuation import spectral_model
 from .measure import (PEAK_MODELS, WindowLaw, peak_cdf, peak_quantile, running_rms_quantile,
                       thin_crowd_density, window_law)
 from .traffic import WEEK_HOURS, Traffic
+from . import plots
 
 __all__ = ["ComfortYear", "comfort_year", "MODEL_LABELS", "CLASS_NAMES", "CLASS_BOUNDS",
            "LIMITS", "QUANTILES", "response_table", "loudest_output"]
@@ -134,7 +135,6 @@ class ComfortYear:
         **options
             The keywords of the figure's function (``axes``, ``title``, …).
         """
-        from . import plots
 
         functions = {"hours": plots.plot_class_hours, "exceedance": plots.plot_exceedance,
                      "week": plots.plot_week, "peaks": plots.plot_peaks}

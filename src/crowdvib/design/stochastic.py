@@ -30,6 +30,7 @@ from ..models.pedestrian import MSDModel
 from ..models.structure import ModalModel
 from ..response.frequency_domain.spectral import SpectralModel, effective_modal_properties
 from .check import structure_models
+from ..signals.weighting import wb_response
 
 __all__ = ["ResponsePrediction", "predict_response", "davenport_peak_factor", "frequency_grid"]
 
@@ -187,7 +188,6 @@ def predict_response(structure: ModalModel, crowd: Crowd, *, msd: MSDModel | Non
         columns["rms"].append(np.sqrt(m0))
         columns["crossing_rate"].append(np.sqrt(m2 / m0))
         if weighting == "Wb":
-            from ..signals.weighting import wb_response
 
             weighted = np.trapezoid(psd * np.abs(wb_response(f)) ** 2, f, axis=-1)
             columns["weighted_rms"].append(np.sqrt(weighted))

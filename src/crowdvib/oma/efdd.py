@@ -25,6 +25,7 @@ from scipy.signal import find_peaks
 from scipy.signal.windows import hann
 
 from ..errors import EstimationError
+from .modeid import ModeIdentification
 
 __all__ = ["efdd_modes", "default_segment_length", "DECAY_LEVEL", "MAX_LAG_SHARE",
            "PEAK_PROMINENCE", "MAC_THRESHOLD", "N_GROUPS"]
@@ -183,7 +184,6 @@ def efdd_modes(data, sample_rate, names, low, high, *, n_modes=None, frequencies
     prominent peaks of s₁ in [low, high]. With ``drop_failed`` a mode whose correlation
     function cannot be fitted is left out instead of raising.
     """
-    from .modeid import ModeIdentification
 
     length = default_segment_length(data.shape[1]) if segment_length is None else segment_length
     if 2 * length > data.shape[1]:

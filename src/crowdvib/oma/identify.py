@@ -37,6 +37,7 @@ from .efdd import MAC_THRESHOLD, efdd_modes
 from .modeid import (PAIRING_TOLERANCE, ModeIdentification, compare_identifications,
                      identified_error_levels, information_bound)
 from .multisetup import _names, _signals, identify_setups
+from ..signals.synthesis import gaussian_record, record_frequencies
 
 __all__ = ["ModeIdentification", "ambient_response", "identified_error_levels", "identify_modes",
            "METHODS"]
@@ -503,7 +504,6 @@ def ambient_response(structure: ModalModel, duration: float, sample_rate: float,
     --------
     identify_modes : the modes identified from such records.
     """
-    from ..signals.synthesis import gaussian_record, record_frequencies
 
     omega = 2 * np.pi * record_frequencies(duration, sample_rate)
     natural = 2 * np.pi * structure.frequencies[:, np.newaxis]

@@ -31,6 +31,8 @@ from markupsafe import Markup
 from .frames import INK, MAX_STATIONS, MUTED, frame, path_data, significant
 from .html import html, join, number
 from .safe_html import CSP_META, csp_meta, policy_with_scripts
+from .replay_view import replay_animation
+from ..response.frequency_domain.spectral import effective_modal_properties
 
 __all__ = ["mode_shape_table", "mode_shape_animation", "report_animations", "Animations",
            "SCRIPT", "SCRIPT_HASH"]
@@ -76,7 +78,6 @@ def mode_shape_table(structure, crowd=None, msd=None):
     shapes = np.asarray(structure.mode_shapes)[:, keep, :]
     occupied = {}
     if crowd is not None and msd is not None and crowd.density > 0:
-        from ..response.frequency_domain.spectral import effective_modal_properties
 
         found = effective_modal_properties(structure, crowd, msd)
         occupied = {"occupied": {"frequencies": [float(f) for f in found.frequencies],
@@ -209,7 +210,6 @@ def _valid_table(table):
 def report_animations(results):
     """Every picture a results dict holds: its modal model's shapes (``mode_shapes``), an OMA's
     identified shapes (``modes``) and a crossing replay (``replay``)."""
-    from .replay_view import replay_animation
 
     pictures = []
     table = results.get("mode_shapes")

@@ -13,6 +13,14 @@ from .._files import child_path
 from .html import Markup, html, label
 from .paths import relative_path
 from .reading import get, hsi, sensitivity, summary
+from .plotting import figure_bytes, plot_psd_convergence
+from ..signals import PSDConvergence
+from ..models.pedestrian import MSDModel
+from .plotting import plot_objective_map
+from ..studies.landscape import ObjectiveMap
+from .plotting import plot_estimation_errors
+from .plotting import plot_parametric_ratios
+from .design_plots import plot_damper_frf
 
 __all__ = ["collect_figures", "caption"]
 
@@ -120,8 +128,6 @@ def caption(name):
 
 
 def _draw_convergence(results, level):
-    from .plotting import figure_bytes, plot_psd_convergence
-    from ..signals import PSDConvergence
 
     data = hsi(results, "convergence")
     if not isinstance(data, dict) or "error" not in data:
@@ -135,9 +141,6 @@ def _draw_convergence(results, level):
 
 
 def _draw_map(results):
-    from ..models.pedestrian import MSDModel
-    from .plotting import figure_bytes, plot_objective_map
-    from ..studies.landscape import ObjectiveMap
 
     data = get(results, ("objective_map",), ("map",))
     if not isinstance(data, dict) or "cost" not in data:
@@ -160,7 +163,6 @@ def _draw_map(results):
 
 
 def _draw_errors(results):
-    from .plotting import figure_bytes, plot_estimation_errors
 
     study = sensitivity(results)
     if study is None or not any(isinstance(c, dict) and "delta_frequency" in c
@@ -170,7 +172,6 @@ def _draw_errors(results):
 
 
 def _draw_parametric(results):
-    from .plotting import figure_bytes, plot_parametric_ratios
 
     data = get(results, ("parametric",))
     if data is None and isinstance(results.get("rows"), list):
@@ -182,8 +183,6 @@ def _draw_parametric(results):
 
 
 def _draw_damper_frf(results):
-    from .design_plots import plot_damper_frf
-    from .plotting import figure_bytes
 
     data = get(results, ("design", "frf"))
     if not isinstance(data, dict) or not isinstance(data.get("with_damper"), list):

@@ -44,6 +44,8 @@ from .paths import case_folder, without_machine_paths
 from .reading import read_results
 from .season_section import season_body
 from .sections import SECTIONS
+from .html import CSS
+from .template import BLOCKS, render_template
 
 __all__ = ["write_report", "render_report", "case_template", "provenance", "REPORT_NAME",
            "SECTIONS", "CONVERGENCE_LEVEL", "RELATIVE_COST_LEVEL"]
@@ -152,8 +154,6 @@ def render_report(results, directory=None, *, template=None):
     generator = f"crowdvib {__version__}"
     if template is None:
         return animations.finish(str(page(title, generator, body)))
-    from .html import CSS
-    from .template import BLOCKS, render_template
 
     return animations.finish(render_template(template, dict(zip(BLOCKS, body)), title=title,
                                              generator=generator, css=CSS,

@@ -27,6 +27,7 @@ from html.parser import HTMLParser
 from markupsafe import escape
 
 from ..errors import ParameterError
+from ..errors import terminal_safe
 
 __all__ = ["CSP", "CSP_META", "csp_meta", "policy_with_scripts", "checked_page"]
 
@@ -135,7 +136,6 @@ class _Checker(HTMLParser):
         self.name, self.out, self.policy, self.style = name, [], False, None
 
     def refuse(self, what, rule):
-        from ..errors import terminal_safe
 
         line = self.getpos()[0]
         raise ParameterError(f"report template {self.name}: its page (line {line}) holds "

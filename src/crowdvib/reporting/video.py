@@ -14,6 +14,7 @@ import numpy as np
 
 from ..design.codes import COMFORT_CLASSES
 from ..errors import DataError, ParameterError
+from .._files import atomic_path
 
 __all__ = ["write_replay_video", "VIDEO_FRAME_RATE"]
 
@@ -56,7 +57,6 @@ def write_replay_video(replay, structure, path, *, fps=VIDEO_FRAME_RATE, dpi=80)
     from matplotlib import animation
     import matplotlib.pyplot as plt
 
-    from .._files import atomic_path
 
     path = Path(path)
     suffix = path.suffix.lower()

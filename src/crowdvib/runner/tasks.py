@@ -30,6 +30,7 @@ import numpy as np
 
 from .._files import canonical_json, write_json
 from ..errors import CrowdvibError, ParameterError, StudyWarning
+from .._version import __version__
 
 __all__ = ["TaskStore", "run_tasks", "fingerprint"]
 
@@ -58,7 +59,6 @@ def fingerprint(function, payload, *, memo=None):
         Input path (``"crowd.density"``, ``"options.band"``, ``"measured.psd"`` …) → 16 hex
         digits, to name what differs between two tasks of the same name.
     """
-    from .._version import __version__
 
     memo = {} if memo is None else memo
     parts = {path: hashlib.sha256(_token(value, memo).encode()).hexdigest()[:16]

@@ -7,6 +7,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..response.time_domain.replay import DEFAULT_REPLAY_LENGTH, crossing_replay
+from ..cases.demo import DEMO_SAMPLE_RATE, DEMO_WARM_UP
+from ..errors import terminal_safe
 
 __all__ = ["simulation_replay", "demo_replay", "check_video_path", "in_results",
            "VIDEO_SUFFIXES"]
@@ -23,7 +26,6 @@ def simulation_replay(found, *, start=None, length=None):
     -------
     Replay
     """
-    from ..response.time_domain.replay import DEFAULT_REPLAY_LENGTH, crossing_replay
 
     case = found.case
     return crossing_replay(case.structure, case.crowd, found.duration, msd=found.msd,
@@ -37,8 +39,6 @@ def simulation_replay(found, *, start=None, length=None):
 def demo_replay(found):
     """The crossing replay of ``crowdvib demo``'s simulated record (None for ``--spectral``,
     which simulates nothing)."""
-    from ..cases.demo import DEMO_SAMPLE_RATE, DEMO_WARM_UP
-    from ..response.time_domain.replay import crossing_replay
 
     if found.record is None:
         return None
@@ -53,7 +53,6 @@ def check_video_path(path, out):
     :data:`VIDEO_SUFFIXES`, a folder that exists, and no file there yet (crowdvib does not
     overwrite a file it did not write). A video in the results folder ``out`` is one of its
     results (listed in its manifest, replaced with ``--force`` as they are)."""
-    from ..errors import terminal_safe
 
     path = Path(path)
     if path.suffix.lower() not in VIDEO_SUFFIXES:

@@ -9,6 +9,13 @@ from typing import TYPE_CHECKING
 from ..cases.results import provenance
 from .folders import case_inputs, staged_output, write_results
 from .lines import Say, caught_warnings, silent, warning_texts
+from .._manifest import verified_file
+from ..cases import check_case, check_design_table, design_msd, estimated_msd
+from ..io.casefile import load_case
+from ..cases.results import load_results
+from ..reporting.animation import mode_shape_table
+from .._figures import save_figure
+from ..reporting.design_plots import plot_mode_accelerations, plot_utilisation
 
 if TYPE_CHECKING:
     from ..cases.results import Results
@@ -46,11 +53,6 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
     Results
         As written, the run's warnings in it (each once).
     """
-    from .._manifest import verified_file
-    from ..cases import check_case, check_design_table, design_msd, estimated_msd
-    from ..io.casefile import load_case
-    from ..cases.results import load_results
-    from ..reporting.animation import mode_shape_table
 
     with caught_warnings() as caught:
         case = case if hasattr(case, "design") else load_case(case)
@@ -127,8 +129,6 @@ def _table_lines(rows):
 
 
 def _figures(checks, staging, name):
-    from .._figures import save_figure
-    from ..reporting.design_plots import plot_mode_accelerations, plot_utilisation
 
     return [save_figure(plot_utilisation(checks, title=f"{name}: design checks"),
                         staging / "design_utilisation.png").name,

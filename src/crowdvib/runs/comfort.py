@@ -10,6 +10,15 @@ from typing import TYPE_CHECKING
 from ..cases.results import provenance
 from .folders import case_inputs, staged_output, write_results
 from .lines import Say, caught_warnings, silent, warning_texts
+from .._manifest import verified_file
+from ..cases import comfort_case
+from ..cases.comfort import simulate_below
+from ..errors import ParameterError
+from ..io.casefile import load_case
+from ..reporting.animation import mode_shape_table
+from ..reporting.reading import read_results
+from ..runner import study_executor
+from .._figures import save_figure
 
 if TYPE_CHECKING:
     from ..cases.results import Results
@@ -57,14 +66,6 @@ def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path 
     Results
         A :class:`~crowdvib.cases.ComfortResults`, as written.
     """
-    from .._manifest import verified_file
-    from ..cases import comfort_case
-    from ..cases.comfort import simulate_below
-    from ..errors import ParameterError
-    from ..io.casefile import load_case
-    from ..reporting.animation import mode_shape_table
-    from ..reporting.reading import read_results
-    from ..runner import study_executor
 
     if season is not None and traffic is not None:
         raise ParameterError("give --season or --traffic, not both")
@@ -125,7 +126,6 @@ def comfort_lines(year: dict) -> list[str]:
 
 
 def _figures(year, staging, name):
-    from .._figures import save_figure
 
     return [save_figure(year.plot(kind, title=None), staging / file).name
             for file, kind in COMFORT_FIGURES.items()]

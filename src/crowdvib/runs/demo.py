@@ -10,6 +10,14 @@ from ..cases.results import provenance
 from ..reporting.text import interval_of
 from .folders import check_output, staged_output, write_results
 from .lines import Progress, Say, silent
+from ..cases.demo import DEMO_ESTIMATORS, DEMO_SAMPLE_RATE, DEMO_WARM_UP, demo_case, require_demo_duration
+from ..models.examples import paper_example
+from ..response.time_domain.simulation import kernel_needs_compiling
+from .simulate import COMPILING
+from ..reporting.animation import mode_shape_table
+from ..reporting.replay_view import replay_table
+from .animate import demo_replay
+from ..reporting.plotting import plot_psd_comparison, save_figure
 
 if TYPE_CHECKING:
     from ..cases.results import Results
@@ -41,11 +49,6 @@ def run_demo(out: str | Path = "crowdvib-demo", *, duration: float = 3600.0,
     -------
     Results
     """
-    from ..cases.demo import (DEMO_ESTIMATORS, DEMO_SAMPLE_RATE, DEMO_WARM_UP, demo_case,
-                              require_demo_duration)
-    from ..models.examples import paper_example
-    from ..response.time_domain.simulation import kernel_needs_compiling
-    from .simulate import COMPILING
 
     case = paper_example()
     require_demo_duration(duration, case.window_length)
@@ -114,9 +117,6 @@ def _say_estimate(estimate, truth, say):
 
 def _moving(found):
     """The modal model's shapes and, for a simulated record, the crossing replay (issue 38)."""
-    from ..reporting.animation import mode_shape_table
-    from ..reporting.replay_view import replay_table
-    from .animate import demo_replay
 
     structure = found.case.structure
     replay = demo_replay(found)
@@ -126,7 +126,6 @@ def _moving(found):
 
 def _figure(found, spectral, out):
     """The measured PSD against each estimate's and the no-HSI model: psd_fit.png."""
-    from ..reporting.plotting import plot_psd_comparison, save_figure
 
     label = "measured (synthetic)" if spectral else "measured (simulated)"
     ax = plot_psd_comparison({label: found.measured, **found.model_psds()},

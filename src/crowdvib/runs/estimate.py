@@ -10,6 +10,13 @@ from ..cases.results import provenance
 from ..reporting.text import interval_of, with_interval
 from .folders import case_inputs, staged_output, write_results
 from .lines import Progress, Say, as_case, caught_warnings, silent, warning_texts
+from ..cases import estimate_case
+from ..reporting.animation import mode_shape_table
+from ..cases import map_case
+from ..reporting.plotting import plot_objective_map, save_figure
+from .._files import unique_filenames
+from ..reporting.plotting import plot_psd_comparison, plot_psd_convergence
+from ..reporting.plotting import plot_psd_residuals
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -42,8 +49,6 @@ def run_estimate(case: Case | str | Path, out: str | Path, *, force: bool = Fals
     Results
         As written; the run's warnings are recorded in it (``.warnings``), not shown again.
     """
-    from ..cases import estimate_case
-    from ..reporting.animation import mode_shape_table
 
     with caught_warnings() as caught:
         case = as_case(case)
@@ -90,8 +95,6 @@ def run_map(case: Case | str | Path, out: str | Path, *, frequencies: ArrayLike,
     Results
         As written; the run's warnings are recorded in it, not shown again.
     """
-    from ..cases import map_case
-    from ..reporting.plotting import plot_objective_map, save_figure
 
     with caught_warnings() as caught:
         case = as_case(case)
@@ -209,8 +212,6 @@ def _say_estimate(estimate, say):
 
 def _figures(fit, out):
     """The measured, fitted and no-HSI PSD of each output and the convergence figure."""
-    from .._files import unique_filenames
-    from ..reporting.plotting import plot_psd_comparison, plot_psd_convergence, save_figure
 
     case, est, measured = fit.case, fit.case.estimation, fit.records[0].measurement.psd
     outputs = fit.records[0].measurement.record.channel_names
@@ -232,8 +233,6 @@ def _figures(fit, out):
 
 def _joint_figures(fit, out):
     """Per record and output of a joint fit: the PSDs and the residuals of the joint fit."""
-    from .._files import unique_filenames
-    from ..reporting.plotting import plot_psd_comparison, plot_psd_residuals, save_figure
 
     case, est = fit.case, fit.case.estimation
     labels = [f"{part.case.name} {name}" for part in fit.records

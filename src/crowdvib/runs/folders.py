@@ -16,6 +16,13 @@ import sys
 from pathlib import Path
 
 from .._files import folder_lock, output_error
+from ..errors import ParameterError
+from .._manifest import MANIFEST_NAME, foreign_files, only_stores, read_manifest
+from .._manifest import remove_owned, write_manifest
+from .._files import write_json
+from ..cases.results import Results
+from ..reporting.paths import without_machine_paths
+from ..reporting.report import case_template, write_report
 
 __all__ = ["case_inputs", "check_clash", "check_output", "prepare_output", "finish_output",
            "staged_output", "write_results"]
@@ -64,7 +71,6 @@ def check_clash(out, inputs=()):
     inputs : sequence of (str, path)
         Labelled files the run reads, e.g. :func:`case_inputs`.
     """
-    from ..errors import ParameterError
 
     target = Path(out).resolve()
     for label, path in [("the working directory", Path.cwd()), *inputs]:
@@ -100,8 +106,6 @@ def check_output(out, *, force, resume=None, inputs=(), command="", stores=()):
         write, existing results without --force/--resume, or files crowdvib did not write
         inside crowdvib's results.
     """
-    from .._manifest import MANIFEST_NAME, foreign_files, only_stores, read_manifest
-    from ..errors import ParameterError
 
     out = Path(out)
     check_clash(out, inputs)
@@ -158,7 +162,6 @@ def prepare_output(out, *, force, resume=False, inputs=(), command, stores=()):
     -------
     pathlib.Path
     """
-    from .._manifest import read_manifest, remove_owned, write_manifest
 
     out = Path(out)
     manifest = check_output(out, force=force, resume=resume, inputs=inputs, command=command,
@@ -187,7 +190,6 @@ def finish_output(out, *, command, stores=()):
     stores : sequence of str
         Its task-store subfolders.
     """
-    from .._manifest import write_manifest
 
     write_manifest(out, command, stores=stores, complete=True)
 
@@ -218,7 +220,6 @@ def staged_output(out, force, *, command, inputs=()):
     import shutil
     import tempfile
 
-    from .._manifest import write_manifest
 
     out = Path(out)
     check_clash(out, inputs)
@@ -247,7 +248,6 @@ def _publish(staging, out, *, force, inputs, command):
     """Swap the finished staging directory in for ``out``, deleting only crowdvib's old files."""
     import os
 
-    from .._manifest import remove_owned
 
     # Checked again: files may have appeared in --out while the run was working.
     check_output(out, force=force, inputs=inputs, command=command)
@@ -285,10 +285,6 @@ def write_results(directory, results):
     -------
     Results
     """
-    from .._files import write_json
-    from ..cases.results import Results
-    from ..reporting.paths import without_machine_paths
-    from ..reporting.report import case_template, write_report
 
     found = Results.from_dict(results)
     # The report is written from the paths as the run saw them (the case's template, its

@@ -5,6 +5,8 @@ import contextlib
 import warnings
 from collections.abc import Callable
 from pathlib import Path
+from ..errors import CrowdvibWarning, StudyWarning
+from ..io.casefile import load_case
 
 __all__ = ["Say", "Progress", "silent", "warning_texts", "caught_warnings", "as_case",
            "recorded_warnings"]
@@ -44,7 +46,6 @@ def as_case(case):
     names, read (a run reads it inside its record of warnings: a doubtful value of the case
     file is in its results and report, issue 27 §4)."""
     if isinstance(case, (str, Path)):
-        from ..io.casefile import load_case
 
         return load_case(case)
     return case
@@ -56,7 +57,6 @@ def recorded_warnings():
     lists them) while every warning is still shown when it happens, by ``warnings.showwarning``
     (the command line: one line each). A :class:`~crowdvib.errors.StudyWarning` (stored tasks
     redone) is shown, not recorded: it doubts no result."""
-    from ..errors import CrowdvibWarning, StudyWarning
 
     with warnings.catch_warnings():
         caught, show = [], warnings.showwarning

@@ -18,6 +18,10 @@ from typing import TYPE_CHECKING
 
 from .folders import staged_output, write_results
 from .lines import Progress, Say, caught_warnings, silent, warning_texts
+from ..cases.ambient import identify_ambient
+from ..io.modalfiles import write_modal_model
+from ..reporting.animation import mode_shape_table
+from ..reporting.plotting import save_figure
 
 if TYPE_CHECKING:
     from ..cases.results import Results
@@ -51,9 +55,6 @@ def run_modes(ambient: str | Path, out: str | Path, *, cross_check: bool = False
     Results
         As written; the run's warnings are recorded in it (``.warnings``).
     """
-    from ..cases.ambient import identify_ambient
-    from ..io.modalfiles import write_modal_model
-    from ..reporting.animation import mode_shape_table
 
     with staged_output(out, force, command="modes",
                        inputs=[("the ambient file", Path(ambient))]) as staging:
@@ -113,7 +114,6 @@ def _write_csv(path, header, rows):
 
 def _figures(modes, staging):
     """Stabilisation diagram / singular values of every setup and method."""
-    from ..reporting.plotting import save_figure
 
     setups = modes.setups or (modes,)
     names = []

@@ -12,6 +12,14 @@ from ..cases.results import Results, provenance
 from ..errors import CrowdvibError
 from .folders import case_inputs, check_clash, finish_output, prepare_output
 from .lines import Say, caught_warnings, silent, warning_texts
+from .._files import folder_lock
+from ..cases import plan_season
+from ..io.crowdtable import read_crowd_table
+from .._files import write_json
+from .._manifest import record_file
+from ..reporting.plotting import save_figure
+from ..reporting.report import case_template, write_report
+from ..runner import TaskStore, study_executor
 
 if TYPE_CHECKING:
     from collections.abc import Callable, Sequence
@@ -57,9 +65,6 @@ def run_season(case: Case, crowd_table: str | Path, out: str | Path, *,
     Results
         A :class:`~crowdvib.cases.SeasonResults`; ``to_dataframe()`` is the table.
     """
-    from .._files import folder_lock
-    from ..cases import plan_season
-    from ..io.crowdtable import read_crowd_table
 
     # Every input is read and checked (the table, its rows against the records) before anything
     # is written: an input error leaves no results folder to refuse a corrected run.
@@ -83,11 +88,6 @@ def run_season(case: Case, crowd_table: str | Path, out: str | Path, *,
 
 def _season(plan, out, inputs, planned, *, workers, scheduler, hung_after, joint,
             joint_min_density, batch_size, resume, force, say, progress):
-    from .._files import write_json
-    from .._manifest import record_file
-    from ..reporting.plotting import save_figure
-    from ..reporting.report import case_template, write_report
-    from ..runner import TaskStore, study_executor
 
     case, table = plan.case, plan.table
     stamp = provenance(case.path)

@@ -9,6 +9,17 @@ from typing import TYPE_CHECKING
 from ..cases.results import Results, provenance
 from .folders import case_inputs, check_clash, finish_output, prepare_output
 from .lines import Progress, Say, as_case, recorded_warnings, silent
+from .._files import folder_lock
+from ..cases import identified_levels
+from ..cases.study import STUDY_STORES
+from ..runner import TaskStore
+from .._files import write_json
+from .._manifest import record_file
+from ..cases import CaseRecordFit, case_crowd, measure_case, study_case
+from ..reporting.plotting import plot_estimation_errors, save_figure
+from ..reporting.report import case_template, write_report
+from ..runner import study_executor
+from .estimate import crowd_line, measurement_line
 
 if TYPE_CHECKING:
     from ..io.casefile import Case
@@ -59,8 +70,6 @@ def run_sensitivity(case: Case | str | Path, out: str | Path, *, workers: int = 
         As written, with the run's warnings (:func:`~crowdvib.runs.lines.recorded_warnings`:
         each also shown when it happens).
     """
-    from .._files import folder_lock
-    from ..cases import identified_levels
 
     with recorded_warnings() as caught:
         case = as_case(case)
@@ -77,8 +86,6 @@ def run_sensitivity(case: Case | str | Path, out: str | Path, *, workers: int = 
 
 def finished_tasks(out: str | Path) -> int:
     """How many finished tasks a study's folder keeps (what a resumed run will not repeat)."""
-    from ..cases.study import STUDY_STORES
-    from ..runner import TaskStore
 
     return sum(len(TaskStore(Path(out) / name).keys()) for name in STUDY_STORES
                if (Path(out) / name).is_dir())
@@ -86,14 +93,6 @@ def finished_tasks(out: str | Path) -> int:
 
 def _study(case, out, levels, modes_from, *, resume, force, workers, scheduler, hung_after,
            joint, record_length, say, progress, caught):
-    from .._files import write_json
-    from .._manifest import record_file
-    from ..cases import CaseRecordFit, case_crowd, measure_case, study_case
-    from ..cases.study import STUDY_STORES
-    from ..reporting.plotting import plot_estimation_errors, save_figure
-    from ..reporting.report import case_template, write_report
-    from ..runner import TaskStore, study_executor
-    from .estimate import crowd_line, measurement_line
 
     stamp = provenance(case.path)
     prepare_output(out, force=force, resume=resume, inputs=case_inputs(case),

@@ -11,6 +11,18 @@ from ..cases.results import provenance
 from .animate import check_video_path, in_results
 from .folders import case_inputs, staged_output, write_results
 from .lines import Progress, Say, as_case, recorded_warnings, silent
+from ..io.casefile import paper_example_case
+from ..cases.simulation import simulate_case, simulation_msd
+from ..io.records import RECORD_FORMATS, write_record
+from ..reporting.plotting import plot_psd_comparison, save_figure
+from ..response.time_domain.simulation import kernel_needs_compiling
+from ..signals import welch_psd
+from ..reporting.video import write_replay_video
+from ..reporting.animation import mode_shape_table
+from ..reporting.replay_view import replay_table
+from .animate import simulation_replay
+from .._files import unique_filenames
+from ..reporting.plotting import plot_time_history
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -66,7 +78,6 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
         As written, with the run's warnings (:func:`~crowdvib.runs.lines.recorded_warnings`:
         each also shown when it happens).
     """
-    from ..io.casefile import paper_example_case
 
     animate = None if animate is None else check_video_path(animate, out)
     with recorded_warnings() as caught:
@@ -77,11 +88,6 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
 
 def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, progress,
               caught, animate=None, stretch=(None, None)):
-    from ..cases.simulation import simulate_case, simulation_msd
-    from ..io.records import RECORD_FORMATS, write_record
-    from ..reporting.plotting import plot_psd_comparison, save_figure
-    from ..response.time_domain.simulation import kernel_needs_compiling
-    from ..signals import welch_psd
 
     spec = case.simulation
     formats = spec.formats if formats is None else formats
@@ -133,7 +139,6 @@ def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, 
 
 def _video(replay, case, path, shown, say):
     """The replay as the video ``path`` (``shown`` in the line said)."""
-    from ..reporting.video import write_replay_video
 
     started = time.perf_counter()
     count = write_replay_video(replay, case.structure, path)
@@ -144,9 +149,6 @@ def _video(replay, case, path, shown, say):
 def _replay(found, results, start, length):
     """The modal model's shapes and the crossing replay of ``length`` s from ``start`` (default
     the busiest 30 s) into ``results`` (issue 38); the replay returned, for a video."""
-    from ..reporting.animation import mode_shape_table
-    from ..reporting.replay_view import replay_table
-    from .animate import simulation_replay
 
     replay = simulation_replay(found, start=start, length=length)
     results["mode_shapes"] = mode_shape_table(found.case.structure, found.case.crowd, found.msd)
@@ -161,8 +163,6 @@ COMPILING = "  compiling the simulation kernel (first run of this kind only, som
 
 
 def _time_histories(case, simulation, staging):
-    from .._files import unique_filenames
-    from ..reporting.plotting import plot_time_history, save_figure
 
     names = unique_filenames(simulation.output_names, prefix="time_history_", suffix=".png",
                              taken=("psd.png",))

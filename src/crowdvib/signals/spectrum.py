@@ -14,6 +14,8 @@ import numpy as np
 
 from .._validation import as_float_array, fields_from_dict, frozen_array, name_indices
 from ..errors import DataError, ParameterError
+from .plots import plot_psd_comparison
+from .lowpass import LowPassFilter
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -215,7 +217,6 @@ class ResponsePSD:
         -------
         matplotlib.axes.Axes
         """
-        from .plots import plot_psd_comparison
 
         return plot_psd_comparison({label or self.source: self}, output=output, band=band,
                                    ax=ax, title=title)
@@ -255,7 +256,6 @@ class ResponsePSD:
             ``data`` is not a dict or lacks a field; ParameterError for values the constructor
             refuses.
         """
-        from .lowpass import LowPassFilter
 
         cross = data.get("cross") if isinstance(data, dict) else None
         return fields_from_dict(
