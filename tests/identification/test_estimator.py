@@ -5,6 +5,7 @@ without asking (docs: theory, Calibration; ``crowdvib._estimators``). Every entr
 takes an estimator's choice must default it the same way, so that a landscape, a study or a
 case file describes the estimate ``estimate_hsi`` makes by default (issue 33 §3 found
 ``objective_map`` defaulting to least squares while ``estimate_hsi`` used the likelihood).
+The studies and the case pipelines take the value itself (issue 34 §2), so they hold no copy.
 """
 
 import dataclasses

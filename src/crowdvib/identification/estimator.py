@@ -6,9 +6,13 @@ parameters are free. Its defaults are the estimator a user gets without asking
 (:mod:`crowdvib._estimators`, docs: theory, Calibration); ``estimate_hsi(...)`` is the same
 call with the choices spelled out. A study, a case file (its ``[estimation]`` table) or a
 notebook holds one value, changes it with :meth:`Estimator.replace`, and fits it with
-:meth:`Estimator.fit` (one record) or :meth:`Estimator.fit_joint` (several). That the
-defaults of every entry point agree with this one is tested
-(tests/identification/test_estimator.py).
+:meth:`Estimator.fit` (one record) or :meth:`Estimator.fit_joint` (several). The studies
+(:func:`~crowdvib.studies.modelling_error_study`, :func:`~crowdvib.studies.record_length_study`,
+:func:`~crowdvib.studies.objective_map`, :func:`~crowdvib.studies.season_study`) take it
+as ``estimator=``, and every command of a case file fits with the one
+:func:`crowdvib.cases.case_estimator` makes of its ``[estimation]`` table. That the defaults of
+every entry point agree with this one, and that no other entry point spells the choices out
+again, is tested (tests/identification/test_estimator.py).
 """
 
 from __future__ import annotations
