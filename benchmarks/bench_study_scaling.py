@@ -52,7 +52,7 @@ def _repeat_estimation(case, repeats, barrier, queue):
 
     from threadpoolctl import threadpool_limits
 
-    from crowdvib.cases import case_crowd, estimate_options, measure_case
+    from crowdvib.cases import case_crowd, case_estimator, measure_case
     from crowdvib.identification import estimate_hsi
     from crowdvib.io.casefile import load_case
 
@@ -61,7 +61,7 @@ def _repeat_estimation(case, repeats, barrier, queue):
         measurement = measure_case(case)
     record, measured = measurement.record, measurement.psd
     crowd, _ = case_crowd(case, record)
-    options = estimate_options(case, point_only=True)
+    options = case_estimator(case).options(point_only=True)
     with threadpool_limits(limits=1), warnings.catch_warnings():
         warnings.simplefilter("ignore")
         estimate_hsi(measured, case.structure, crowd, interval=None, **options)   # warm-up

@@ -23,7 +23,7 @@ import pstats  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from crowdvib.cases import case_crowd, estimate_options, measure_case  # noqa: E402
+from crowdvib.cases import case_crowd, case_estimator, measure_case  # noqa: E402
 from crowdvib.io.casefile import load_case  # noqa: E402
 from crowdvib.studies import modelling_error as me  # noqa: E402
 
@@ -35,11 +35,8 @@ def task_of(which, name):
     case = load_case(EXAMPLES / FILES[which])
     measurement = measure_case(case)
     crowd = case_crowd(case, measurement.record)[0]
-    options = estimate_options(case, point_only=True)
     # The options tuple exactly as modelling_error_study builds it.
-    keys = ("outputs", "output_weights", "frequency_weights", "starts", "bounds", "mass_ratio",
-            "force", "match_welch", "method", "crowd_model", "free_step_frequencies")
-    settings = (("band", tuple(options["band"])),) + tuple((k, options.get(k)) for k in keys)
+    settings = me._task_options(case_estimator(case), case.record_crowd_profile())
     cases = {c.name: c for c in me.error_cases()}
     return me._EstimationTask(measurement.psd, case.structure, crowd, cases[name], settings)
 

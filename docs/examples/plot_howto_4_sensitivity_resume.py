@@ -43,7 +43,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 
 from crowdvib import load_case
-from crowdvib.cases import measure_case
+from crowdvib.cases import case_estimator, measure_case
 from crowdvib.cli import main
 from crowdvib.runner import TaskStore
 from crowdvib.studies import modelling_error_study
@@ -125,7 +125,8 @@ axes.set_axis_off()
 case = load_case(folder / "paper_example.toml")
 measured = measure_case(case).psd
 levels = {"frequencies": (0.01,), "damping_ratios": (0.1,)}
-options = dict(band=case.estimation.band, levels=levels, joint=False, method="least_squares",
+# The case's own estimator (its [estimation] table as one value), least squares as stated there.
+options = dict(estimator=case_estimator(case), levels=levels, joint=False,
                store=TaskStore(folder / "python_study"))
 
 

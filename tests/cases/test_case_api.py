@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from crowdvib._files import json_default
-from crowdvib.cases import CaseEstimate, estimate_case, estimate_options, map_case
+from crowdvib.cases import CaseEstimate, case_estimator, estimate_case, map_case
 from crowdvib.cli import main
 from crowdvib.errors import ParameterError
 from crowdvib.io.casefile import load_case
@@ -94,16 +94,16 @@ def test_map_case_gives_what_crowdvib_map_writes(tmp_path):
     _assert_same(_as_json(found.to_dict(), tmp_path), written)
 
 
-def test_study_options_leave_out_the_intervals():
-    # The sensitivity study compares point estimates (cli sensitivity): no interval options
-    # (the density's uncertainty is one), and no pre-fit check of the level, which the study's
-    # nominal estimate makes once.
+def test_a_study_task_holds_the_point_estimates_choices_only():
+    # The sensitivity study compares point estimates (cli sensitivity): its tasks hold no
+    # interval choice (the density's uncertainty is one), and no pre-fit check of the level,
+    # which the study's nominal estimate makes once.
     case = load_case(EXAMPLES / "paper_example.toml")
-    full, point = estimate_options(case), estimate_options(case, point_only=True)
-    assert set(full) - set(point) == {"interval", "level", "n_boot", "rng",
-                                      "density_uncertainty", "check_level"}
-    assert full["rng"] == case.seed and point["band"] == case.estimation.band
-
+    estimator = case_estimator(case)
+    full, point = estimator.options(), estimator.options(point_only=True)
+    assert set(full) - set(point) == {"interval", "level", "n_boot", "density_uncertainty",
+                                      "check_level"}
+    assert point["band"] == case.estimation.band and point["mass_ratio"] == case.msd.mass_ratio
 
 
 def test_check_case_gives_what_crowdvib_check_writes(tmp_path):

@@ -11,6 +11,7 @@ import pytest
 from crowdvib import (Crowd, DataError, LowPassFilter, MeasuredForce, ModalModel, MSDModel,
                       ParameterError, ZivanovicForce, detrend, estimate_hsi, frf, identify_modes,
                       psd_convergence, resample, response_psd, simulate, simulate_many, welch_psd)
+from crowdvib.identification import Estimator
 from crowdvib.studies import objective_map
 from crowdvib.signals import select_time_frame, synthetic_welch_psd
 
@@ -92,7 +93,7 @@ CASES = [
      DataError, r"time frame \[100.0, 101.0\] s holds 0 sample\(s\) of a record of 60 s"),
     ("objective_map: NaN in the grid",
      lambda b, c, m, p: objective_map(p, b, c, frequencies=[np.nan], damping_ratios=[0.3],
-                                      band=(0, 10)),
+                                      estimator=Estimator(band=(0, 10))),
      ParameterError, r"frequencies must be finite, got nan"),
     ("estimate_hsi: measured of the wrong type",
      lambda b, c, m, p: estimate_hsi(np.zeros(3), b, c, band=(0, 10)),

@@ -22,6 +22,7 @@ from crowdvib.cases.results import load_results
 from crowdvib.cli import main
 from crowdvib.design import TunedMassDamper
 from crowdvib.errors import DataWarning
+from crowdvib.identification import Estimator
 from crowdvib.io import load_case
 from crowdvib.io.crowdtable import read_crowd_table
 from crowdvib.io.csvtables import read_csv_table
@@ -235,7 +236,7 @@ def test_a_season_whose_densities_are_all_zero_warns(paper_bridge):
                for i in range(3)]
     with pytest.warns(DataWarning, match=r"no row of the season was estimated: all 3 row\(s\) "
                       r"were skipped \(no crowd on the deck"):
-        season_study(windows, _skip, paper_bridge, band=(0.0, 10.0))
+        season_study(windows, _skip, paper_bridge, estimator=Estimator(band=(0.0, 10.0)))
 
 
 def test_crowd_tables_read_semicolons_and_decimal_commas(tmp_path):
@@ -260,6 +261,8 @@ def model_psd(paper_bridge, paper_crowd, paper_msd, welch_grid):
                         welch_window_length=60.0)
 
 
+#: The default estimator over 0–10 Hz, as the studies take it.
+BAND = Estimator(band=(0, 10))
 FOREIGN = [
     ("estimate_hsi: outputs an int", lambda b, c, p: estimate_hsi(p, b, c, band=(0, 10),
                                                                   outputs=3),
@@ -306,22 +309,26 @@ FOREIGN = [
     ("response_psd: lowpass a cut-off",
      lambda b, c, p: response_psd(b, c, p.frequency, lowpass=10.0),
      r"lowpass must be a LowPassFilter or None, got float"),
+    ("modelling_error_study: the estimator's options as a dict",
+     lambda b, c, p: modelling_error_study(p, b, c, estimator={"band": (0, 10)}),
+     r"estimator must be a crowdvib.identification.Estimator .* got dict"),
     ("modelling_error_study: levels a list",
-     lambda b, c, p: modelling_error_study(p, b, c, band=(0, 10), levels=[0.1]),
+     lambda b, c, p: modelling_error_study(p, b, c, estimator=BAND, levels=[0.1]),
      r"levels must be a dict of parameter → error fractions or None, got list"),
     ("modelling_error_study: levels a string",
-     lambda b, c, p: modelling_error_study(p, b, c, band=(0, 10), levels="paper"),
+     lambda b, c, p: modelling_error_study(p, b, c, estimator=BAND, levels="paper"),
      r"levels must be a dict .* got str 'paper'"),
     ("modelling_error_study: store an int",
-     lambda b, c, p: modelling_error_study(p, b, c, band=(0, 10), store=3, method="least_squares"),
+     lambda b, c, p: modelling_error_study(p, b, c, estimator=BAND.replace(method="least_squares"),
+                                           store=3),
      r"store must be a folder \(str or path\), a TaskStore or None, got int 3"),
     ("objective_map: estimate a string",
      lambda b, c, p: objective_map(p, b, c, frequencies=[2, 3], damping_ratios=[0.2, 0.3],
-                                   band=(0, 10), estimate="x"),
+                                   estimator=BAND, estimate="x"),
      r"estimate must be an MSDModel, an HSIEstimate or None, got str"),
     ("objective_map: outputs an int",
      lambda b, c, p: objective_map(p, b, c, frequencies=[2, 3], damping_ratios=[0.2, 0.3],
-                                   band=(0, 10), outputs=3),
+                                   estimator=BAND.replace(outputs=3)),
      r"outputs must be a sequence of str, got int 3"),
 ]
 

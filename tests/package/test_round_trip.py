@@ -136,10 +136,11 @@ def _examples(name, request):
         return compare_identifications(other, replace(other, frequencies=other.frequencies
                                                       * 1.01))
     if name.endswith(".ObjectiveMap"):
+        from crowdvib.identification import Estimator
         from crowdvib.studies.landscape import objective_map
         return objective_map(request.getfixturevalue("measured"), structure, crowd,
                              frequencies=[2.5, 3.0, 3.5], damping_ratios=[0.2, 0.3],
-                             band=(1.0, 8.0), estimate=msd)
+                             estimator=Estimator(band=(1.0, 8.0)), estimate=msd)
     if name.endswith(".SensitivityResult"):
         from crowdvib.studies.modelling_error import SensitivityResult
         cases = [{"name": f"frequencies{sign}{level}", "kind": "individual",

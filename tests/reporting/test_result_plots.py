@@ -8,6 +8,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from crowdvib import frf, response_psd, simulate  # noqa: E402
+from crowdvib.identification import Estimator  # noqa: E402
 from crowdvib.studies import objective_map  # noqa: E402
 
 
@@ -21,7 +22,8 @@ def test_result_plot_methods(paper_bridge, paper_crowd, paper_msd, welch_grid):
     ax = empty.plot(occupied)
     assert len(ax.get_lines()) == 2 and "[Hz]" in ax.get_xlabel()
     landscape = objective_map(psd, paper_bridge, paper_crowd, frequencies=[2.5, 3.0, 3.5],
-                              damping_ratios=[0.2, 0.3, 0.4], band=(0.0, 10.0))
+                              damping_ratios=[0.2, 0.3, 0.4],
+                              estimator=Estimator(band=(0.0, 10.0)))
     ax = landscape.plot()
     assert "[Hz]" in ax.get_xlabel()
     record = simulate(paper_bridge, paper_crowd, 20.0, msd=paper_msd, rng=1)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from crowdvib import estimate_hsi, response_psd
-from crowdvib.identification import PSDObjective
+from crowdvib.identification import Estimator, PSDObjective
 from crowdvib.studies import objective_map
 
 
@@ -20,9 +20,11 @@ def test_the_landscapes_default_to_the_estimators_objective():
     # table (None → the method's own), so objective_map and PSDObjective must state None.
     method = _default(estimate_hsi, "method")
     assert method == "likelihood"
-    for function in (objective_map, PSDObjective):
+    for function in (Estimator, PSDObjective):
         assert _default(function, "method") == method, function.__name__
         assert _default(function, "crowd_model") is None, function.__name__
+    # objective_map maps the misfit of the Estimator it is given: it has no choice of its own.
+    assert "method" not in inspect.signature(objective_map).parameters
 
 
 @pytest.fixture
@@ -39,9 +41,11 @@ def test_default_landscape_is_zero_at_the_truth_of_the_default_psd(fluctuating_p
     # (x = 1), i.e. at the MSD that made the noise-free PSD, and is positive elsewhere; the
     # paper's least squares with the smeared crowd does not vanish there.
     bridge, crowd, truth, measured = fluctuating_psd
-    grid = dict(frequencies=[2.9, 3.0, 3.1], damping_ratios=[0.25, 0.30, 0.35], band=(0.0, 10.0))
-    landscape = objective_map(measured, bridge, crowd, **grid)
+    grid = dict(frequencies=[2.9, 3.0, 3.1], damping_ratios=[0.25, 0.30, 0.35])
+    default = Estimator(band=(0.0, 10.0))
+    landscape = objective_map(measured, bridge, crowd, **grid, estimator=default)
     assert landscape.cost[1, 1] == pytest.approx(0.0, abs=1e-12)
     assert np.all(np.delete(landscape.cost.ravel(), 4) > 1e-6)
-    squares = objective_map(measured, bridge, crowd, **grid, method="least_squares")
+    squares = objective_map(measured, bridge, crowd, **grid,
+                            estimator=default.replace(method="least_squares"))
     assert squares.cost[1, 1] > 1e-6

@@ -15,9 +15,13 @@ import pytest
 
 from crowdvib import estimate_hsi, response_psd
 from crowdvib.errors import CrowdvibError
+from crowdvib.identification import Estimator
 from crowdvib.runner import TaskStore, run_tasks, study_executor
 from crowdvib.studies import modelling_error_study, objective_map, parametric_study
 
+#: The default estimator over the paper example's band, and the paper's (least squares, Eq. 6).
+BAND = Estimator(band=(0.0, 10.0))
+PAPER = BAND.replace(method="least_squares")
 SMALL_LEVELS = {"frequencies": (0.01,), "damping_ratios": (0.1,), "modal_masses": (0.02,),
                 "step_frequency_mean": (0.02,), "step_frequency_std": (0.02,)}
 
@@ -40,8 +44,7 @@ def test_objective_map_minimum_is_the_estimate_and_steeper_along_frequency(
     grid_f = np.linspace(1.0, 6.0, 51)          # paper Fig. 4 ranges: 1–6 Hz, 0.1–0.8
     grid_xi = np.linspace(0.1, 0.8, 36)
     landscape = objective_map(measured, paper_bridge, paper_crowd, frequencies=grid_f,
-                              damping_ratios=grid_xi, band=(0.0, 10.0), estimate=estimate,
-                              method="least_squares")
+                              damping_ratios=grid_xi, estimate=estimate, estimator=PAPER)
     best = landscape.optimum
     assert abs(best.frequency - estimate.msd.frequency) <= grid_f[1] - grid_f[0]
     assert abs(best.damping_ratio - estimate.msd.damping_ratio) <= grid_xi[1] - grid_xi[0]
@@ -52,20 +55,19 @@ def test_objective_map_minimum_is_the_estimate_and_steeper_along_frequency(
     exact = response_psd(paper_bridge, paper_crowd, measured.frequency,
                          msd=estimate.msd.__class__(3.0, 0.3), crowd_model="smeared")
     samples = objective_map(exact, paper_bridge, paper_crowd, frequencies=[2.5, 3.5],
-                            damping_ratios=[0.3], band=(0.0, 10.0), method="least_squares")
+                            damping_ratios=[0.3], estimator=PAPER)
     np.testing.assert_allclose(samples.cost[0], [0.37, 0.65], atol=0.02)
 
 
 def test_modelling_error_study_serial_equals_process_pool(measured, paper_bridge, paper_crowd):
     # The paper's study with the paper's estimator, on the smeared model's noise-free PSD.
-    serial = modelling_error_study(measured, paper_bridge, paper_crowd, band=(0.0, 10.0),
-                                   levels=SMALL_LEVELS, joint=False, method="least_squares")
+    serial = modelling_error_study(measured, paper_bridge, paper_crowd, estimator=PAPER,
+                                   levels=SMALL_LEVELS, joint=False)
     assert len(serial.cases) == 1 + 5 * 2
     assert serial.nominal["frequency"] == pytest.approx(3.0, rel=1e-4)
     with concurrent.futures.ProcessPoolExecutor(2, mp_context=_CONTEXT) as pool:
-        parallel = modelling_error_study(measured, paper_bridge, paper_crowd, band=(0.0, 10.0),
-                                         levels=SMALL_LEVELS, joint=False, executor=pool,
-                                         method="least_squares")
+        parallel = modelling_error_study(measured, paper_bridge, paper_crowd, estimator=PAPER,
+                                         levels=SMALL_LEVELS, joint=False, executor=pool)
     assert parallel.to_dict() == serial.to_dict()
     # A +1 % error on the structural frequency moves f_h1 by more than a 2 % error on σ_fs
     # (paper: the estimate is most sensitive to ε_f and ε_μfs).
@@ -79,7 +81,7 @@ def test_modelling_error_study_serial_equals_process_pool(measured, paper_bridge
 def test_dask_local_cluster_equals_serial(measured, paper_bridge, paper_crowd):
     distributed = pytest.importorskip("distributed")
     levels = {"frequencies": (0.01,), "step_frequency_mean": (0.02,)}
-    serial = modelling_error_study(measured, paper_bridge, paper_crowd, band=(0.0, 10.0),
+    serial = modelling_error_study(measured, paper_bridge, paper_crowd, estimator=BAND,
                                    levels=levels, joint=True)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   host="127.0.0.1", dashboard_address=None,
@@ -87,7 +89,7 @@ def test_dask_local_cluster_equals_serial(measured, paper_bridge, paper_crowd):
             distributed.Client(cluster) as client:
         assert len(client.scheduler_info()["workers"]) == 2
         on_cluster = modelling_error_study(measured, paper_bridge, paper_crowd,
-                                           band=(0.0, 10.0), levels=levels, joint=True,
+                                           estimator=BAND, levels=levels, joint=True,
                                            executor=client.get_executor())
     assert on_cluster.to_dict() == serial.to_dict()
 
@@ -259,23 +261,23 @@ def test_objective_map_reports_progress(paper_bridge, paper_crowd, paper_msd, we
                             crowd_model="smeared")
     calls = []
     objective_map(measured, paper_bridge, paper_crowd, frequencies=[2.5, 3.0, 3.5],
-                  damping_ratios=[0.2, 0.3], band=(0.0, 10.0),
+                  damping_ratios=[0.2, 0.3], estimator=BAND,
                   progress=lambda done, total: calls.append((done, total)))
     assert calls == [(3, 6), (6, 6)]
 
 
 def _paper_example_study_inputs():
-    """The paper example's case, measurement, crowd and point-estimate options, as
-    crowdvib sensitivity gives them to its studies (crowdvib.cases.study_case)."""
+    """The paper example's case, measurement, crowd and estimator, as crowdvib sensitivity
+    gives them to its studies (crowdvib.cases.study_case)."""
     from pathlib import Path
 
-    from crowdvib.cases import case_crowd, estimate_options, measure_case
+    from crowdvib.cases import case_crowd, case_estimator, measure_case
     from crowdvib.io.casefile import load_case
 
     case = load_case(Path(__file__).resolve().parents[2] / "examples" / "paper_example.toml")
     measurement = measure_case(case)
     return (case, measurement, case_crowd(case, measurement.record)[0],
-            estimate_options(case, point_only=True))
+            case_estimator(case))
 
 
 @pytest.mark.slow
@@ -289,11 +291,11 @@ def test_warm_started_study_equals_the_full_multistart_on_the_paper_example():
     # sensitivity's table); each case's estimate is asked to agree to 1e-4 (relative).
     import warnings
 
-    case, measurement, crowd, options = _paper_example_study_inputs()
+    case, measurement, crowd, estimator = _paper_example_study_inputs()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         warm, cold = (modelling_error_study(measurement.psd, case.structure, crowd,
-                                            joint=False, warm_start=start, **options)
+                                            joint=False, warm_start=start, estimator=estimator)
                       for start in (True, False))
     assert [c["name"] for c in warm.cases] == [c["name"] for c in cold.cases]
     for mine, reference in zip(warm.cases, cold.cases):
@@ -315,7 +317,7 @@ def test_a_study_of_a_record_no_msd_explains_stops_at_its_nominal(measured, pape
     wrong = dataclasses.replace(measured, psd=measured.psd * 9.80665**2)
     with pytest.raises(CrowdvibError, match="nominal estimation failed.*measured PSD level "
                                             "must be one the model reaches"):
-        modelling_error_study(wrong, paper_bridge, paper_crowd, band=(0.0, 10.0),
+        modelling_error_study(wrong, paper_bridge, paper_crowd, estimator=BAND,
                               levels=SMALL_LEVELS, joint=False)
 
 
@@ -332,16 +334,15 @@ def test_warm_started_record_lengths_equal_the_full_multistart_on_the_paper_exam
 
     from crowdvib.studies import record_length_study
 
-    case, measurement, crowd, options = _paper_example_study_inputs()
-    options.pop("band")
+    case, measurement, crowd, estimator = _paper_example_study_inputs()
     data = measurement.record
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         warm, cold = (record_length_study(
             data.data, data.sample_rate, case.structure, crowd,
-            window_length=case.measurement.window_length, band=case.estimation.band,
-            output_names=data.channel_names, lowpass=measurement.lowpass, warm_start=start,
-            **options) for start in (True, False))
+            window_length=case.measurement.window_length, estimator=estimator,
+            output_names=data.channel_names, lowpass=measurement.lowpass, warm_start=start)
+            for start in (True, False))
     assert [r["duration"] for r in warm] == [r["duration"] for r in cold]
     assert len(warm) > 2                                    # shorter records were estimated
     for mine, reference in zip(warm, cold):

@@ -5,7 +5,8 @@ command only prints them and writes them (results.json, figures, report). A Pyth
 a :class:`~crowdvib.io.casefile.Case` thus gets what the command gets:
 
 - :func:`estimate_case` (``crowdvib estimate``), from :func:`measure_case`, :func:`case_crowd`
-  and :func:`estimate_options`;
+  and :func:`case_estimator` (the case's estimator, one
+  :class:`~crowdvib.identification.Estimator` every command fits with);
 - :func:`map_case` (``crowdvib map``);
 - :func:`check_case` (``crowdvib check``);
 - :func:`simulate_case` (``crowdvib simulate``);
@@ -37,7 +38,7 @@ from .schema import KINDS, SCHEMA
 #: Public name → the module of this package that defines it.
 _MODULES = {
     **dict.fromkeys(("CaseMeasurement", "CaseRecordFit", "CaseEstimate", "CaseMap",
-                     "measure_case", "case_crowd", "estimate_options", "estimate_case",
+                     "measure_case", "case_crowd", "case_estimator", "estimate_case",
                      "map_case"), "estimate"),
     **dict.fromkeys(("CaseCheck", "check_case", "check_design_table", "design_msd",
                      "verdict_rows", "IntervalCheck", "estimated_msd", "msd_interval", "msd_box",

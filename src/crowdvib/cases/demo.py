@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 
 __all__ = ["CaseDemo", "demo_case", "DEMO_ESTIMATORS", "DEMO_SAMPLE_RATE", "DEMO_WARM_UP"]
 
-#: (key, title, options of estimate_hsi): the default and the paper's least squares.
+#: (key, title, choices of the Estimator): the default and the paper's least squares.
 DEMO_ESTIMATORS: tuple[tuple[str, str, dict], ...] = (
     ("default", "default estimator: Whittle likelihood, fluctuating crowd, step frequencies "
                 "fitted", {}),
@@ -137,7 +137,7 @@ def demo_case(*, duration: float = 3600.0, seed: int = 20230101, spectral: bool 
     """
     import numpy as np
 
-    from ..identification.estimation import estimate_hsi
+    from ..identification.estimator import Estimator
     from ..models.examples import paper_example
     from ..response.frequency_domain.fluctuation import response_psd
     from ..response.time_domain.simulation import simulate
@@ -166,8 +166,8 @@ def demo_case(*, duration: float = 3600.0, seed: int = 20230101, spectral: bool 
     estimates = {}
     for name, _, options in DEMO_ESTIMATORS:
         started = time.perf_counter()
-        estimates[name] = estimate_hsi(measured, structure, crowd, band=case.band, rng=seed,
-                                       **options)
+        estimates[name] = Estimator(band=case.band, **options).fit(measured, structure, crowd,
+                                                                   rng=seed)
         seconds[name] = time.perf_counter() - started
     occupied = effective_modal_properties(structure, crowd, estimates["default"].msd)
     return CaseDemo(case, measured, n_windows, record, duration, seed, estimates, seconds,

@@ -27,6 +27,7 @@ if TYPE_CHECKING:
 
     from numpy.typing import ArrayLike
 
+    from ..identification.estimator import Estimator
     from ..identification.result import HSIEstimate
     from ..identification.step_frequencies import StepFrequencyEstimate
     from ..io.casefile import Case
@@ -39,7 +40,7 @@ if TYPE_CHECKING:
 
 
 __all__ = ["CaseMeasurement", "CaseRecordFit", "CaseEstimate", "measure_case", "case_crowd",
-           "estimate_options", "estimate_case", "CaseMap", "map_case"]
+           "case_estimator", "estimate_case", "CaseMap", "map_case"]
 
 
 @dataclass(frozen=True)
@@ -271,39 +272,39 @@ def case_crowd(case, record):
     return (fitted.crowd if sf.use_fitted else case.crowd), fitted
 
 
-def estimate_options(case, *, point_only: bool = False) -> dict:
-    """Keyword arguments of :func:`~crowdvib.identification.estimate_hsi` from a case.
+def case_estimator(case: Case) -> Estimator:
+    """The estimator of a case: its ``[estimation]`` table as one value.
 
     Parameters
     ----------
     case : Case
         Its ``[estimation]`` table (the estimator's choices it does not state are filled in by
-        :meth:`~crowdvib.io.casespecs.EstimationSpec.resolved`), its MSD's mass ratio, its
-        walking-force model and its seed.
-    point_only : bool
-        Leave out the interval options (``interval``, ``level``, ``n_boot``, ``rng``,
-        ``density_uncertainty``) and ``check_level``: for the studies, which compare point
-        estimates (their nominal estimate, made with every option, checks the level once).
+        :meth:`~crowdvib.io.casespecs.EstimationSpec.resolved` when the case is read), its
+        MSD's mass ratio and its walking-force model. The step frequencies are free with the
+        MSD when ``free_parameters`` frees them (one record; a joint fit holds each record's
+        crowd), μ_h1 when it frees ``mass_ratio``.
 
     Returns
     -------
-    dict
+    Estimator
+        What every command of the case fits with (``crowdvib estimate``, ``map``,
+        ``sensitivity``, ``season``); a case file that states nothing gives
+        :class:`~crowdvib.identification.Estimator`'s defaults with the paper's band.
     """
+    from ..identification.estimator import Estimator
+
     est = case.estimation
-    options = dict(band=est.band, outputs=est.outputs, output_weights=est.output_weights,
-                   starts=est.starts, bounds=est.bounds, mass_ratio=case.msd.mass_ratio,
-                   force=case.force, match_welch=est.match_welch, method=est.method,
-                   crowd_model=est.crowd_model)
-    if not case.records:        # a joint fit holds each record's crowd
-        options["free_step_frequencies"] = "step_frequency_mean" in est.free_parameters
-        if case.crowd_profile is not None:     # every command fits the crowd that was counted
-            options["crowd_profile"] = case.record_crowd_profile()
-    if not point_only:
-        options.update(interval=None if est.interval == "none" else est.interval,
-                       level=est.level, n_boot=est.n_boot, rng=case.seed,
-                       density_uncertainty=est.density_uncertainty,
-                       check_level=est.check_level)
-    return options
+    free = est.free_parameters
+    return Estimator(
+        band=est.band, method=est.method,
+        interval=None if est.interval == "none" else est.interval, level=est.level,
+        crowd_model=est.crowd_model,
+        free_step_frequencies=None if case.records else "step_frequency_mean" in free,
+        mass_ratio=case.msd.mass_ratio, free_mass_ratio="mass_ratio" in free,
+        bounds=est.bounds, starts=est.starts, outputs=est.outputs,
+        output_weights=est.output_weights, force=case.force, match_welch=est.match_welch,
+        n_boot=est.n_boot, density_uncertainty=est.density_uncertainty,
+        check_level=est.check_level)
 
 
 def estimate_case(case: Case) -> CaseEstimate:
@@ -328,22 +329,20 @@ def estimate_case(case: Case) -> CaseEstimate:
     >>> fit = estimate_case(load_case("examples/paper_example.toml"))  # doctest: +SKIP
     >>> fit.estimate.msd.frequency                                     # doctest: +SKIP
     """
-    from ..identification.estimation import estimate_hsi, estimate_hsi_joint
     from ..signals import psd_convergence
 
     est = case.estimation
-    options = estimate_options(case)
-    free_mass = "mass_ratio" in est.free_parameters
+    estimator = case_estimator(case)
     parts = []
     for block in case.blocks():
         measurement = measure_case(block)
         crowd, step = case_crowd(block, measurement.record)
         parts.append(CaseRecordFit(block, measurement, crowd, step))
     if case.records:
-        estimate = estimate_hsi_joint([p.measurement.psd for p in parts], case.structure,
-                                      [p.crowd for p in parts], free_mass_ratio=free_mass,
-                                      crowd_profiles=[p.case.record_crowd_profile()
-                                                      for p in parts], **options)
+        estimate = estimator.fit_joint([p.measurement.psd for p in parts], case.structure,
+                                       [p.crowd for p in parts],
+                                       crowd_profiles=[p.case.record_crowd_profile()
+                                                       for p in parts], rng=case.seed)
         return CaseEstimate(case, tuple(parts), estimate)
     (part,) = parts
     record, spec = part.measurement.record, case.measurement
@@ -352,9 +351,9 @@ def estimate_case(case: Case) -> CaseEstimate:
                                   norm=est.convergence_norm, overlap=spec.overlap,
                                   output_names=record.channel_names,
                                   lowpass=part.measurement.lowpass)
-    options["outputs"] = record.channel_names
-    estimate = estimate_hsi(part.measurement.psd, case.structure, part.crowd,
-                            free_mass_ratio=free_mass, **options)
+    estimate = estimator.replace(outputs=record.channel_names).fit(
+        part.measurement.psd, case.structure, part.crowd,
+        crowd_profile=case.record_crowd_profile(), rng=case.seed)
     return CaseEstimate(case, (part,), estimate, convergence)
 
 
@@ -415,22 +414,20 @@ def map_case(case: Case, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
     """
     import time
 
-    from ..identification.estimation import estimate_hsi
     from ..studies.landscape import objective_map
 
     measurement = measure_case(case)
     crowd, step = case_crowd(case, measurement.record)
-    options = estimate_options(case)
-    estimate = estimate_hsi(measurement.psd, case.structure, crowd, **options)
-    for key in ("starts", "bounds", "interval", "level", "n_boot", "rng",
-                "free_step_frequencies", "density_uncertainty", "check_level"):
-        options.pop(key, None)
+    estimator, profile = case_estimator(case), case.record_crowd_profile()
+    estimate = estimator.fit(measurement.psd, case.structure, crowd, crowd_profile=profile,
+                             rng=case.seed)
     started = time.perf_counter()
     # The landscape of the misfit at the crowd the estimate ends with (its fitted step
     # frequencies, when they were free): the surface on which the estimate is the minimum.
     landscape = objective_map(measurement.psd, case.structure, estimate.crowd or crowd,
                               frequencies=frequencies,
                               damping_ratios=damping_ratios, estimate=estimate,
-                              progress=progress, max_seconds=max_seconds, **options)
+                              estimator=estimator, progress=progress, max_seconds=max_seconds,
+                              crowd_profile=profile)
     return CaseMap(CaseRecordFit(case, measurement, crowd, step), estimate, landscape,
                    time.perf_counter() - started)

@@ -251,23 +251,20 @@ class SeasonPlan:
         CaseSeason
         """
         from ..studies.season import season_study
-        from .estimate import estimate_options
+        from .estimate import case_estimator
 
         case = self.case
-        options = estimate_options(case)
         # The joint fit is the rows' estimator (the case's method and crowd model), each row's
         # crowd held as its own fit left it: the likelihood's step frequencies fitted per
         # record. The paper's least squares jointly missed the truth of a synthetic season
         # (docs: theory, A season of records). Its interval is Wald's: over tens of records the
         # likelihood is quadratic (the profile's ends moved < 0.1 %) and the profile would
         # triple its cost.
-        options.pop("free_step_frequencies", None)
-        if options.get("interval") == "profile":
-            options["interval"] = "wald"
-        band = options.pop("band")
-        options["free_mass_ratio"] = "mass_ratio" in case.estimation.free_parameters
-        season = season_study(self.windows, _estimate_window, case.structure, band=band,
-                              joint=joint, joint_options=options,
+        estimator = case_estimator(case).replace(free_step_frequencies=None)
+        if estimator.interval == "profile":
+            estimator = estimator.replace(interval="wald")
+        season = season_study(self.windows, _estimate_window, case.structure,
+                              estimator=estimator, joint=joint, rng=case.seed,
                               joint_min_density=joint_min_density, executor=executor,
                               store=store, progress=progress, batch_size=batch_size, say=say)
         return CaseSeason(case, self.table, season, self.unmatched, joint_min_density)

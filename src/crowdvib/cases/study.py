@@ -110,7 +110,7 @@ def study_case(case: Case, *, record=None, levels: dict | None = None, joint: bo
     """
     from ..runner import TaskStore
     from ..studies import modelling_error_study, record_length_study
-    from .estimate import CaseRecordFit, case_crowd, estimate_options, measure_case
+    from .estimate import CaseRecordFit, case_crowd, case_estimator, measure_case
 
     if record is None:
         measurement = measure_case(case)
@@ -121,24 +121,25 @@ def study_case(case: Case, *, record=None, levels: dict | None = None, joint: bo
 
     stage = progress or (lambda name: None)
     measured, data, crowd = record.measurement.psd, record.measurement.record, record.crowd
-    options = estimate_options(case, point_only=True)    # the study compares point estimates
+    estimator, profile = case_estimator(case), case.record_crowd_profile()
     # The record's own estimate with its interval, beside the studies on a worker (it was the
     # longest step left in this process, measured in issue 14).
-    nominal_task = (measured, case.structure, crowd, estimate_options(case))
+    nominal_task = (estimator, measured, case.structure, crowd, profile, case.seed)
     pending = (executor.submit(_estimate_with_warnings, *nominal_task)
                if executor is not None else None)
-    study = modelling_error_study(measured, case.structure, crowd, levels=levels, joint=joint,
-                                  executor=executor, store=store("tasks"),
-                                  progress=stage("estimations"), **options)
+    # The studies compare point estimates: they leave out the estimator's interval choices.
+    study = modelling_error_study(measured, case.structure, crowd, estimator=estimator,
+                                  levels=levels, joint=joint, executor=executor,
+                                  store=store("tasks"), progress=stage("estimations"),
+                                  crowd_profile=profile)
     lengths = None
     if record_length:
-        options.pop("band")
         lengths = record_length_study(
             data.data, data.sample_rate, case.structure, crowd,
-            window_length=case.measurement.window_length, band=case.estimation.band,
+            window_length=case.measurement.window_length, estimator=estimator,
             output_names=data.channel_names, lowpass=record.measurement.lowpass,
             executor=executor, store=store("record_length"),
-            progress=stage("record lengths"), **options)
+            progress=stage("record lengths"), crowd_profile=profile)
     nominal, caught = (pending.result() if pending is not None
                        else _estimate_with_warnings(*nominal_task))
     for category, message in caught:
@@ -146,15 +147,15 @@ def study_case(case: Case, *, record=None, levels: dict | None = None, joint: bo
     return CaseStudy(case, record, study, lengths, nominal)
 
 
-def _estimate_with_warnings(measured, structure, crowd, options):
+def _estimate_with_warnings(estimator, measured, structure, crowd, crowd_profile, rng):
     """The record's estimate and the crowdvib warnings it gave ``(category, message)``, for
     the calling process to raise (a worker's warnings would not reach the user)."""
     from ..errors import CrowdvibWarning
-    from ..identification import estimate_hsi
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CrowdvibWarning)
-        estimate = estimate_hsi(measured, structure, crowd, **options)
+        estimate = estimator.fit(measured, structure, crowd, crowd_profile=crowd_profile,
+                                 rng=rng)
     return estimate, [(w.category, str(w.message)) for w in caught
                       if issubclass(w.category, CrowdvibWarning)]
 

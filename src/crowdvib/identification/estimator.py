@@ -6,9 +6,13 @@ parameters are free. Its defaults are the estimator a user gets without asking
 (:mod:`crowdvib._estimators`, docs: theory, Calibration); ``estimate_hsi(...)`` is the same
 call with the choices spelled out. A study, a case file (its ``[estimation]`` table) or a
 notebook holds one value, changes it with :meth:`Estimator.replace`, and fits it with
-:meth:`Estimator.fit` (one record) or :meth:`Estimator.fit_joint` (several). That the
-defaults of every entry point agree with this one is tested
-(tests/identification/test_estimator.py).
+:meth:`Estimator.fit` (one record) or :meth:`Estimator.fit_joint` (several). The studies
+(:func:`~crowdvib.studies.modelling_error_study`, :func:`~crowdvib.studies.record_length_study`,
+:func:`~crowdvib.studies.objective_map`, :func:`~crowdvib.studies.season_study`) take it
+as ``estimator=``, and every command of a case file fits with the one
+:func:`crowdvib.cases.case_estimator` makes of its ``[estimation]`` table. That the defaults of
+every entry point agree with this one, and that no other entry point spells the choices out
+again, is tested (tests/identification/test_estimator.py).
 """
 
 from __future__ import annotations
@@ -26,9 +30,16 @@ if TYPE_CHECKING:
     from ..models.profile import CrowdProfile
     from ..models.structure import ModalModel
     from ..signals.spectrum import ResponsePSD
+    from .objective import PSDObjective
     from .result import HSIEstimate
 
 __all__ = ["Estimator"]
+
+#: The choices that shape only the interval, or the check before the fit, not the point estimate.
+_INTERVAL_CHOICES = ("interval", "level", "n_boot", "density_uncertainty", "check_level")
+#: The choices of the misfit itself (:class:`~crowdvib.identification.PSDObjective`).
+_OBJECTIVE_CHOICES = ("band", "force", "outputs", "output_weights", "frequency_weights",
+                      "match_welch", "method", "crowd_model")
 
 
 @dataclass(frozen=True)
@@ -112,9 +123,47 @@ class Estimator:
         """
         return dataclasses.replace(self, **changes)
 
-    def options(self) -> dict[str, Any]:
-        """The choices as keyword arguments of :func:`~crowdvib.estimate_hsi`."""
-        return {item.name: getattr(self, item.name) for item in dataclasses.fields(self)}
+    def options(self, *, point_only: bool = False) -> dict[str, Any]:
+        """The choices as keyword arguments of :func:`~crowdvib.estimate_hsi`.
+
+        Parameters
+        ----------
+        point_only : bool
+            Only the choices that shape the point estimate: without ``interval``, ``level``,
+            ``n_boot``, ``density_uncertainty`` and ``check_level`` (a study's tasks compare
+            point estimates, and their keys then change only with what moves them).
+
+        Raises
+        ------
+        ParameterError
+            ``band`` is not given.
+        """
+        from ..errors import ParameterError
+
+        if self.band is None:
+            raise ParameterError("band must be given: the analysis band [Hz] of the estimator "
+                                 "(Estimator(band=(lower, upper)))")
+        return {item.name: getattr(self, item.name) for item in dataclasses.fields(self)
+                if not (point_only and item.name in _INTERVAL_CHOICES)}
+
+    def objective(self, measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
+                  crowd_profile: CrowdProfile | None = None) -> PSDObjective:
+        """The misfit these choices minimise, at the crowd as given.
+
+        Parameters
+        ----------
+        measured, structure, crowd, crowd_profile
+            As :meth:`fit`.
+
+        Returns
+        -------
+        PSDObjective
+        """
+        from .objective import PSDObjective
+
+        given = self.options()
+        return PSDObjective(measured, structure, crowd, crowd_profile=crowd_profile,
+                            **{name: given[name] for name in _OBJECTIVE_CHOICES})
 
     def fit(self, measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
             crowd_profile: CrowdProfile | None = None, rng: Seed = None) -> HSIEstimate:
@@ -133,7 +182,7 @@ class Estimator:
         from .estimation import estimate_hsi
 
         return estimate_hsi(measured, structure, crowd, crowd_profile=crowd_profile, rng=rng,
-                            **self._given())
+                            **self.options())
 
     def fit_joint(self, measurements: Sequence[ResponsePSD], structure: ModalModel,
                   crowds: Sequence[Crowd], *,
@@ -151,16 +200,23 @@ class Estimator:
         """
         from .estimation import estimate_hsi_joint
 
-        given = self._given()
-        given.pop("free_step_frequencies", None)
+        from ..errors import ParameterError
+
+        given = self.options()
+        if given.pop("free_step_frequencies") is True:
+            raise ParameterError("free_step_frequencies must not be True for a joint fit: it "
+                                 "holds each record's crowd as given (Estimator.replace("
+                                 "free_step_frequencies=None))")
         return estimate_hsi_joint(measurements, structure, crowds, crowd_profiles=crowd_profiles,
                                   rng=rng, **given)
 
-    def _given(self) -> dict[str, Any]:
-        """The options, ``band`` required."""
-        from ..errors import ParameterError
 
-        if self.band is None:
-            raise ParameterError("band must be given: the analysis band [Hz] of the estimator "
-                                 "(Estimator(band=(lower, upper)))")
-        return self.options()
+def check_estimator(estimator: Any) -> Estimator:
+    """``estimator`` if it is an :class:`Estimator`, else a ParameterError naming the rule
+    (the studies take their estimator as one value)."""
+    from ..errors import ParameterError
+
+    if not isinstance(estimator, Estimator):
+        raise ParameterError(f"estimator must be a crowdvib.identification.Estimator (e.g. "
+                             f"Estimator(band=(0.0, 10.0))), got {type(estimator).__name__}")
+    return estimator

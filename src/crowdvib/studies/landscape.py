@@ -7,11 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._estimators import DEFAULT_METHOD
 from .._validation import as_float_array, check_positive, fields_from_dict
 from ..errors import ParameterError
+from ..identification.estimator import check_estimator
 from ..models.pedestrian import MSDModel
-from ..identification.estimation import PSDObjective
 
 __all__ = ["ObjectiveMap", "objective_map"]
 
@@ -120,15 +119,14 @@ class ObjectiveMap:
                 "estimate": None if self.estimate is None else self.estimate.to_dict()}
 
 
-def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, band,
-                  outputs=None, output_weights=None, frequency_weights=None, mass_ratio=0.95,
-                  force=None, match_welch=True, estimate=None, method=DEFAULT_METHOD,
-                  crowd_model=None, progress=None, max_seconds=None, crowd_profile=None):
+def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, estimator,
+                  estimate=None, progress=None, max_seconds=None, crowd_profile=None):
     """The objective on a (f_h1, ξ_h1) grid → :class:`ObjectiveMap` (paper Figures 4 and 10).
 
-    The misfit of ``method``: by default the one :func:`crowdvib.estimate_hsi` minimises by
-    default (the Whittle deviance with the fluctuating crowd), or the paper's J of Eq. (6)
-    with ``method="least_squares"`` (paper Figures 4 and 10). The crowd is held as given: for
+    The misfit of the estimator's ``method``: by default the one :func:`crowdvib.estimate_hsi`
+    minimises by default (the Whittle deviance with the fluctuating crowd), or the paper's J
+    of Eq. (6) with ``Estimator(method="least_squares")`` (paper Figures 4 and 10). The crowd
+    is held as given: for
     the surface on which an estimate with fitted step frequencies is the minimum, pass the
     crowd it ends with (``HSIEstimate.crowd``), as ``crowdvib map`` does.
 
@@ -137,17 +135,16 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
 
     Parameters
     ----------
-    measured, structure, crowd, band, outputs, output_weights, frequency_weights, force, match_welch
-    crowd_model, crowd_profile
+    measured, structure, crowd, crowd_profile
         As in :func:`crowdvib.estimate_hsi`.
-    method
-        As in :func:`crowdvib.estimate_hsi`, with its default (the likelihood).
+    estimator : Estimator
+        The estimator whose misfit is mapped (:class:`~crowdvib.identification.Estimator`, its
+        ``band`` given): its band, outputs, weights, force model, ``match_welch``, method and
+        crowd model; μ_h1 is held at its ``mass_ratio``.
     frequencies : array_like
         Grid of f_h1 [Hz], > 0 (the paper: 1–6 Hz).
     damping_ratios : array_like
         Grid of ξ_h1 [-], fractions (the paper: 0.1–0.8).
-    mass_ratio : float
-        μ_h1 held fixed.
     estimate : MSDModel or HSIEstimate, optional
         An optimiser's solution to carry along and mark on plots.
     progress : callable, optional
@@ -179,11 +176,8 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, ba
         MSDModel(damping_ratio=value)          # validates each ξ with the model's own rule
     shape = (damping_ratios.size, frequencies.size)
     _check_memory(shape)
-    objective = PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
-                             output_weights=output_weights, frequency_weights=frequency_weights,
-                             match_welch=match_welch, method=method,
-                             crowd_model=crowd_model,
-                             crowd_profile=crowd_profile)
+    objective = check_estimator(estimator).objective(measured, structure, crowd, crowd_profile=crowd_profile)
+    mass_ratio = estimator.mass_ratio
     cost = np.empty(shape)
     started = time.perf_counter()
     cost[0, 0] = objective.cost(MSDModel(frequencies[0], damping_ratios[0], mass_ratio))

@@ -18,10 +18,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .._estimators import DEFAULT_METHOD, PAPER_ERROR_LEVELS
+from .._estimators import PAPER_ERROR_LEVELS
 from .._validation import FieldsFromDict, as_float_array, check_mapping, check_positive
 from ..errors import BoundWarning, CrowdvibError, ParameterError
 from ..identification.estimation import estimate_hsi
+from ..identification.estimator import check_estimator
 from ..runner.tasks import run_tasks
 
 __all__ = ["ErrorCase", "SensitivityResult", "modelling_error_study", "record_length_study",
@@ -373,11 +374,8 @@ class SensitivityResult(FieldsFromDict):
                 "summary": self.summary()}
 
 
-def modelling_error_study(measured, structure, crowd, *, band, levels=None, joint=True,
-                          executor=None, store=None, progress=None, outputs=None,
-                          output_weights=None, frequency_weights=None, starts=None, bounds=None,
-                          mass_ratio=0.95, force=None, match_welch=True, method=DEFAULT_METHOD,
-                          crowd_model=None, free_step_frequencies=None, crowd_profile=None,
+def modelling_error_study(measured, structure, crowd, *, estimator, levels=None, joint=True,
+                          executor=None, store=None, progress=None, crowd_profile=None,
                           warm_start=True):
     """Estimation error caused by plausible modelling errors (paper Figures 11 and 19).
 
@@ -386,8 +384,14 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
 
     Parameters
     ----------
-    measured, structure, crowd, band
+    measured, structure, crowd, crowd_profile
         As in :func:`crowdvib.estimate_hsi`.
+    estimator : Estimator
+        The estimator whose point estimate the study repeats
+        (:class:`~crowdvib.identification.Estimator`, its ``band`` given; its interval choices
+        are not used). Its defaults are :func:`crowdvib.estimate_hsi`'s: the likelihood with
+        the fluctuating crowd and the step frequencies fitted, whose ε_μfs and ε_σfs cases then
+        only move the fit's start.
     levels : dict, optional
         Parameter → relative error levels (fractions); default the paper's
         ``PAPER_ERROR_LEVELS`` (ε_f 1/5 %, ε_ξ 10/30 %, ε_m 2/5 %, ε_μfs = ε_σfs 2/5 %).
@@ -400,11 +404,6 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
         store resumes, recomputing only the tasks whose inputs changed.
     progress : callable, optional
         ``progress(done, total)``.
-    outputs, output_weights, frequency_weights, starts, bounds, mass_ratio, force, match_welch
-    method, crowd_model, free_step_frequencies, crowd_profile
-        Passed to :func:`crowdvib.estimate_hsi` (its defaults: the likelihood with the
-        fluctuating crowd and the step frequencies fitted, whose ε_μfs and ε_σfs cases then
-        only move the fit's start).
     warm_start : bool
         Estimate the nominal case first and start each error case from the optima of its
         multistart instead of the estimator's starts (default; a third of the cost or less,
@@ -429,13 +428,7 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
 
     The theory pages cite them (docs: theory, References).
     """
-    options = (("band", tuple(band)), ("outputs", outputs), ("output_weights", output_weights),
-               ("frequency_weights", frequency_weights), ("starts", starts), ("bounds", bounds),
-               ("mass_ratio", mass_ratio), ("force", force), ("match_welch", match_welch),
-               ("method", method), ("crowd_model", crowd_model),
-               ("free_step_frequencies", free_step_frequencies))
-    if crowd_profile is not None:       # only then: a stationary study keeps its task keys
-        options += (("crowd_profile", crowd_profile),)
+    options = _task_options(estimator, crowd_profile)
     cases = error_cases(levels, joint=joint)
     tasks = [(case.name, _EstimationTask(measured, structure, crowd, case, options))
              for case in cases]
@@ -455,6 +448,17 @@ def modelling_error_study(measured, structure, crowd, *, band, levels=None, join
         rows.append(row)
     return SensitivityResult(nominal=nominal, cases=tuple(rows),
                              levels=dict(PAPER_ERROR_LEVELS if levels is None else levels))
+
+
+def _task_options(estimator, crowd_profile):
+    """A study's estimator as its tasks hold it: the choices of its point estimate as (name,
+    value) pairs (each part of a task's key), and the crowd profile when there is one."""
+    chosen = check_estimator(estimator).options(point_only=True)
+    options = tuple((name, tuple(value) if name == "band" else value)
+                    for name, value in chosen.items())
+    if crowd_profile is not None:       # only then: a stationary study keeps its task keys
+        options += (("crowd_profile", crowd_profile),)
+    return options
 
 
 # ------------------------------------------------------------------------------ record length
@@ -487,9 +491,9 @@ def _window_count_task(task):
     return result
 
 
-def record_length_study(signals, sample_rate, structure, crowd, *, window_length, band,
+def record_length_study(signals, sample_rate, structure, crowd, *, window_length, estimator,
                         durations=None, output_names=None, lowpass=None, executor=None,
-                        store=None, progress=None, warm_start=True, **options):
+                        store=None, progress=None, warm_start=True, crowd_profile=None):
     """Estimation error from PSD convergence: re-estimate on the first k·T seconds of the record.
 
     The paper does this for Waalse Krook (8 windows of 60 s): the estimate from fewer windows,
@@ -501,10 +505,12 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
         Accelerations [m/s²] (already cut, detrended, resampled).
     sample_rate : float
         [Hz].
-    structure, crowd, band
+    structure, crowd, crowd_profile
         As in :func:`crowdvib.estimate_hsi`.
     window_length : float
         Welch segment T [s].
+    estimator : Estimator
+        As in :func:`modelling_error_study`.
     durations : sequence of float, optional
         Record lengths [s] to use; default k·T for up to eight k from 2 to n_T (and the whole
         record).
@@ -518,9 +524,6 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
         optima of its multistart, with the modelling-error study's fallback to the full
         multistart (default; the same estimates: docs: theory, Modelling-error study, Warm
         starts). False: every record length from the estimator's own starts.
-    **options
-        Further keyword arguments of :func:`crowdvib.estimate_hsi` (outputs, output_weights,
-        starts, bounds, mass_ratio).
 
     Returns
     -------
@@ -544,7 +547,7 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
         durations = [k * window_length for k in counts if k <= count]
     durations = sorted(set(float(d) for d in durations if d <= total) | {total})
     names = tuple(output_names or structure.output_names)
-    settings = (("band", tuple(band)),) + tuple(sorted(options.items()))
+    settings = _task_options(estimator, crowd_profile)
     # Each task holds only the samples it uses: its key then changes only if they do, and no
     # worker is sent the whole record for a short part of it.
     tasks = [(f"duration={d:.6g}",

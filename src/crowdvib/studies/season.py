@@ -20,11 +20,11 @@ import warnings
 
 import numpy as np
 
-from .._estimators import DEFAULT_JOINT_METHOD, METHOD_WORDS
+from .._estimators import METHOD_WORDS
 from .._plausibility import derived
 from .._validation import fields_from_dict
 from ..errors import CrowdvibError, DataWarning, StudyWarning
-from ..identification.estimation import estimate_hsi_joint
+from ..identification.estimator import check_estimator
 from ..models.crowd import Crowd
 from ..runner.tasks import run_tasks
 from ..signals.spectrum import ResponsePSD
@@ -305,9 +305,9 @@ def _table_row(row):
     return flat
 
 
-def season_study(windows, function, structure, *, band, joint=True, joint_options=None,
+def season_study(windows, function, structure, *, estimator, joint=True,
                  joint_min_density=0.0, executor=None, store=None, progress=None,
-                 batch_size=None, say=None):
+                 batch_size=None, say=None, rng=None):
     """Estimate every record of a season with its interval, then one MSD for all of them.
 
     Parameters
@@ -320,16 +320,15 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
         A module-level function payload → :func:`season_row` (run where the tasks run).
     structure : ModalModel
         The empty bridge, for the joint estimate.
-    band : (float, float)
-        Analysis band [Hz] of the joint estimate (that of the records' estimates).
+    estimator : Estimator
+        The estimator of the joint estimate (:class:`~crowdvib.identification.Estimator`, its
+        ``band`` that of the records' estimates; fitted with
+        :meth:`~crowdvib.identification.Estimator.fit_joint`, so its method is the one it
+        states; :func:`crowdvib.cases.season_case` gives the case's estimator with Wald
+        intervals). Without ``starts``, one start at the records' median estimate.
     joint : bool
         Make the joint estimate (:func:`crowdvib.estimate_hsi_joint`) of every record
         estimated, each with the crowd its row holds.
-    joint_options : dict, optional
-        Keywords of :func:`crowdvib.estimate_hsi_joint` (its defaults: the paper's least
-        squares with the smeared crowd, profile intervals; :func:`crowdvib.cases.season_case`
-        gives the case's estimator with Wald intervals). Without ``starts``, one start at the
-        records' median estimate.
     joint_min_density : float
         Rows of a lower density [persons/m²] are left out of the joint estimate (column
         ``in_joint``). The paper's least squares weigh every record alike, and a record of a
@@ -343,11 +342,15 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
         per submission.
     say : callable, optional
         Called with a line before the joint estimate (a long step without progress).
+    rng : None, int or numpy.random.Generator
+        Seed of the joint estimate's bootstrap replicates (``interval="bootstrap"``).
 
     Returns
     -------
     SeasonResult
     """
+    if joint:
+        check_estimator(estimator).options()     # its band given, before any row is estimated
     windows = list(windows)
     tasks = [(name, payload) for name, payload, _ in windows if payload is not None]
     if windows and not tasks:        # issue 35 §3: ended with "no warnings"
@@ -371,15 +374,14 @@ def season_study(windows, function, structure, *, band, joint=True, joint_option
     if joint and done:
         with derived():               # each record's crowd was judged when its row was read
             crowds = [Crowd(**row["crowd"]) for row in done]
-        options = dict(joint_options or {})
-        if options.get("starts") is None:
-            options["starts"] = [_median_start(done)]
+        if estimator.starts is None:
+            estimator = estimator.replace(starts=[_median_start(done)])
         if say is not None:
             say(f"  joint estimate: one MSD for the {len(done)} row(s) estimated, each with "
-                f"its crowd ({METHOD_WORDS[options.get('method') or DEFAULT_JOINT_METHOD]}) …")
+                f"its crowd ({METHOD_WORDS[estimator.method]}) …")
         try:
-            estimate = estimate_hsi_joint([_psd(row["psd"]) for row in done], structure, crowds,
-                                          band=band, **options)
+            estimate = estimator.fit_joint([_psd(row["psd"]) for row in done], structure,
+                                           crowds, rng=rng)
         except CrowdvibError as error:
             failed = f"{type(error).__name__}: {error}"
             warnings.warn(f"the joint estimate of the season failed ({failed}); the records' "
