@@ -82,10 +82,11 @@ def solve_occupied(diagonal, added, psi, rhs):
     return out
 
 
-#: State matrices of at least this size get their eigen-decomposition by perturbation from a
-#: nearby one when they can (:func:`eigen_decomposition`); below it numpy's eig costs no more
-#: than the perturbation's products (a one-mode bridge's 4 × 4: 40 µs against 95 µs).
-PERTURBED_SIZE = 16
+#: State matrices of at least this many entries (all of a stack together) get their
+#: eigen-decomposition by perturbation from a nearby one when they can
+#: (:func:`eigen_decomposition`); below it numpy's eig costs no more than the perturbation's
+#: products (a one-mode bridge's 4 × 4: 40 µs against 95 µs).
+PERTURBED_ENTRIES = 256
 #: A state matrix within this relative distance (Frobenius) of a kept one is a perturbation of
 #: it: a finite-difference column of the optimiser's Jacobian (a relative step of ~1.5e-8 in
 #: f_h1 or ξ_h1).
@@ -101,47 +102,50 @@ _KEPT = 8
 
 
 def eigen_decomposition(state, kept=None, rows=slice(None), columns=slice(None)):
-    """(λ, V[rows], V⁻¹[:, columns]) of a real state matrix A, V's columns its eigenvectors
-    (numpy's eig).
+    """(λ, V[rows], V⁻¹[:, columns]) of a real state matrix A, or of a stack of them (…, n, n),
+    V's columns the eigenvectors (numpy's eig).
 
     ``kept``: a list of recent (A, λ, V, V⁻¹) computed by eig, shared by the caller's models.
-    A state within _NEARBY of one of them, A + ΔA, is decomposed by first-order perturbation:
-    G = V⁻¹ ΔA V, λ' = λ + diag G, V' = V (I + C), V'⁻¹ = (I − C) V⁻¹ with
-    C_qp = G_qp / (λ_p − λ_q) (q ≠ p), taken when ‖C‖ ≤ _ROTATION; otherwise by eig (and kept).
-    Only the rows and columns asked for are formed. Raises numpy.linalg.LinAlgError when V is
-    singular.
+    A state within _NEARBY of one of them (each matrix of a stack), A + ΔA, is decomposed by
+    first-order perturbation: G = V⁻¹ ΔA V, λ' = λ + diag G, V' = V (I + C),
+    V'⁻¹ = (I − C) V⁻¹ with C_qp = G_qp / (λ_p − λ_q) (q ≠ p), taken when every ‖C‖ ≤
+    _ROTATION; otherwise by eig (and kept). Only the rows and columns asked for are formed.
+    Raises numpy.linalg.LinAlgError when V is singular.
     """
-    if kept is not None and state.shape[0] >= PERTURBED_SIZE:
-        scale = np.linalg.norm(state)
-        for base, poles, vectors, inverse in kept:
+    kept = kept if state.size >= PERTURBED_ENTRIES else None
+    if kept is not None:
+        scale = np.linalg.norm(state, axis=(-2, -1))
+        for base, poles, vectors, inverse in reversed(kept):      # the newest first
             if base.shape == state.shape:
                 change = state - base
-                if np.linalg.norm(change) <= _NEARBY * scale:
+                if np.all(np.linalg.norm(change, axis=(-2, -1)) <= _NEARBY * scale):
                     update = _perturbed(change, poles, vectors, inverse, rows, columns)
                     if update is not None:
                         return update
                     break
     poles, vectors = np.linalg.eig(state)
     inverse = np.linalg.inv(vectors)
-    if kept is not None and state.shape[0] >= PERTURBED_SIZE:
+    if kept is not None:
         if len(kept) >= _KEPT:
             kept.pop(0)                                   # the oldest
         kept.append((state, poles, vectors, inverse))
-    return poles, vectors[rows], inverse[:, columns]
+    return poles, vectors[..., rows, :], inverse[..., :, columns]
 
 
 def _perturbed(change, poles, vectors, inverse, rows, columns):
     """The first-order update of (λ, V[rows], V⁻¹[:, columns]) for A + ΔA, or None when its
     rotation is too large for the first order to hold."""
-    changed = np.flatnonzero(np.any(change != 0.0, axis=1))     # the rows ΔA moves
-    moved = change[changed] @ vectors                               # real @ complex
-    mixed = inverse[:, changed] @ moved
-    gaps = poles[np.newaxis, :] - poles[:, np.newaxis]
-    np.fill_diagonal(gaps, 1.0)
+    others = tuple(axis for axis in range(change.ndim) if axis != change.ndim - 2)
+    changed = np.flatnonzero(np.any(change != 0.0, axis=others))   # the rows ΔA moves
+    moved = change[..., changed, :] @ vectors                      # real @ complex
+    mixed = inverse[..., :, changed] @ moved
+    diagonal = np.arange(poles.shape[-1])
+    gaps = poles[..., np.newaxis, :] - poles[..., :, np.newaxis]
+    gaps[..., diagonal, diagonal] = 1.0
     rotation = mixed / gaps
-    np.fill_diagonal(rotation, 0.0)
-    if not np.linalg.norm(rotation) <= _ROTATION:
+    rotation[..., diagonal, diagonal] = 0.0
+    if not np.all(np.linalg.norm(rotation, axis=(-2, -1)) <= _ROTATION):
         return None
-    part, inverse_part = vectors[rows], inverse[:, columns]
-    return (poles + np.diag(mixed), part + part @ rotation,
+    part, inverse_part = vectors[..., rows, :], inverse[..., :, columns]
+    return (poles + mixed[..., diagonal, diagonal], part + part @ rotation,
             inverse_part - rotation @ inverse_part)
