@@ -105,7 +105,8 @@ def eigen_decomposition(state, kept=None, rows=slice(None), columns=slice(None))
     """(λ, V[rows], V⁻¹[:, columns]) of a real state matrix A, or of a stack of them (…, n, n),
     V's columns the eigenvectors (numpy's eig).
 
-    ``kept``: a list of recent (A, λ, V, V⁻¹) computed by eig, shared by the caller's models.
+    ``kept``: a list of recent (A, ‖A‖, λ, V, V⁻¹) computed by eig, shared by the caller's
+    models.
     A state within _NEARBY of one of them (each matrix of a stack), A + ΔA, is decomposed by
     first-order perturbation: G = V⁻¹ ΔA V, λ' = λ + diag G, V' = V (I + C),
     V'⁻¹ = (I − C) V⁻¹ with C_qp = G_qp / (λ_p − λ_q) (q ≠ p), taken when every ‖C‖ ≤
@@ -115,20 +116,23 @@ def eigen_decomposition(state, kept=None, rows=slice(None), columns=slice(None))
     kept = kept if state.size >= PERTURBED_ENTRIES else None
     if kept is not None:
         scale = np.linalg.norm(state, axis=(-2, -1))
-        for base, poles, vectors, inverse in reversed(kept):      # the newest first
-            if base.shape == state.shape:
-                change = state - base
-                if np.all(np.linalg.norm(change, axis=(-2, -1)) <= _NEARBY * scale):
-                    update = _perturbed(change, poles, vectors, inverse, rows, columns)
-                    if update is not None:
-                        return update
-                    break
+        for base, size, poles, vectors, inverse in reversed(kept):      # the newest first
+            # |‖A‖ − ‖B‖| ≤ ‖A − B‖: a kept matrix of another norm is not near (no difference
+            # formed for it: an estimate's other MSDs differ by far more than _NEARBY)
+            if base.shape != state.shape or np.any(np.abs(size - scale) > _NEARBY * scale):
+                continue
+            change = state - base
+            if np.all(np.linalg.norm(change, axis=(-2, -1)) <= _NEARBY * scale):
+                update = _perturbed(change, poles, vectors, inverse, rows, columns)
+                if update is not None:
+                    return update
+                break
     poles, vectors = np.linalg.eig(state)
     inverse = np.linalg.inv(vectors)
     if kept is not None:
         if len(kept) >= _KEPT:
             kept.pop(0)                                   # the oldest
-        kept.append((state, poles, vectors, inverse))
+        kept.append((state, scale, poles, vectors, inverse))
     return poles, vectors[..., rows, :], inverse[..., :, columns]
 
 
