@@ -139,3 +139,41 @@ def test_example_bridges_are_plausible():
     root = Path(__file__).resolve().parents[2] / "examples"
     for name in ("paper_example", "eeklo_like", "waalse_krook_like"):
         assert load_case(root / f"{name}.toml").structure.implausibilities() == []
+
+
+@pytest.mark.parametrize("factor, evaluations", [(1.0, 1), (STANDARD_GRAVITY**2, 61)])
+def test_level_check_stops_once_it_cannot_refuse(measured, paper_bridge, paper_crowd,
+                                                  monkeypatch, factor, evaluations):
+    # Issue 39: the grid of the check before the fit (no HSI, then 10 × 6 MSDs) stops once
+    # every output has met a measured/model ratio within GROSS_LEVEL_RATIO of 1 from both
+    # sides, after which no point can make it refuse. The record in the right units does so at
+    # no HSI (ratio ~1, test_consistent_record_passes_silently): one evaluation. A record in g
+    # read as m/s² (ratio ~96 over the whole grid, test_bad_input_issue35) is refused after all
+    # 61, its message quoting the whole grid's span.
+    from crowdvib.identification import diagnostics
+
+    calls = []
+    original = diagnostics._level_span
+
+    def counted(objective, *args):
+        ratio = objective.level_ratio
+
+        def level_ratio(msd):
+            calls.append(msd)
+            return ratio(msd)
+
+        object.__setattr__(objective, "level_ratio", level_ratio)
+        try:
+            return original(objective, *args)
+        finally:
+            object.__delattr__(objective, "level_ratio")
+
+    monkeypatch.setattr(diagnostics, "_level_span", counted)
+    if factor == 1.0:
+        estimate_hsi(measured, paper_bridge, paper_crowd, band=(0.0, 10.0), interval=None)
+    else:
+        with pytest.raises(ParameterError, match="measured PSD level must be one the model "
+                                                 "reaches"):
+            estimate_hsi(_scaled(measured, factor), paper_bridge, paper_crowd, band=(0.0, 10.0),
+                         interval=None)
+    assert len(calls) == evaluations

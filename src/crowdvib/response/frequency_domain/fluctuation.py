@@ -291,6 +291,9 @@ class FluctuatingSpectralModel:
         # the models of with_step_frequencies share it (a fit of μ_fs and σ_fs asks for the
         # same MSD again and again).
         self._drifts: dict = {}
+        # The eigen-decompositions of its poles' tracks last computed (shared likewise): a
+        # Jacobian's f_h1 and ξ_h1 columns update them (_linalg.eigen_decomposition).
+        self._tracks: list = []
         if crowd.density == 0 or n_nodes == 1:
             self.nodes, self.weights, self._models = np.ones(1), np.ones(1), [self._base]
             return
@@ -395,7 +398,7 @@ class FluctuatingSpectralModel:
                 self._drifts.clear()
             self._drifts[key] = modulation_correction(
                 self.structure, self._base._attached(msd), self._base._shapes, self.mode,
-                self.nodes, self.weights, self._path, grid, cross)
+                self.nodes, self.weights, self._path, grid, cross, self._tracks)
         delta = self._drifts[key] * self._base._grid_weight
         if rule is None:
             return delta

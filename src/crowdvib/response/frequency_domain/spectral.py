@@ -40,7 +40,7 @@ from ._attached import (
     reduced_matrices,
 )
 from ._crossing import smoothed_load_spectrum
-from ._linalg import solve_occupied
+from ._linalg import eigen_decomposition, solve_occupied
 from ._welch_model import DENSE_POINTS_PER_BIN, CorrectedWelch, WelchRule
 from .results import FRF, EffectiveModalProperties
 
@@ -145,6 +145,9 @@ class SpectralModel:
         self._dense = None
         # (MSD, cross, density, body mass) → the poles' terms of the Welch rule (_expected).
         self._expansions: dict = {}
+        # Recent eigen-decompositions of its state matrices, shared likewise: the Jacobian's
+        # f_h1 and ξ_h1 columns update them by perturbation (_linalg.eigen_decomposition).
+        self._decompositions: list = []
         if welch_window_length is None:
             self._welch = None
             self._grid = self._model_grid(self.frequency)
@@ -233,7 +236,7 @@ class SpectralModel:
             grid = self._welch.grid
             probe = grid[np.unique(np.linspace(0, grid.size - 1, 5).astype(int))]
             expansion = _pole_residue(self.structure, attached, self._load_factor,
-                                      self._shapes, probe)
+                                      self._shapes, probe, self._decompositions)
             # A nearly defective state matrix, or an undamped pole (ξ = 0 and no HSI: the
             # closed form needs Re λ < 0): the dense rule instead (terms empty).
             terms = ()
@@ -328,23 +331,24 @@ _EXPANSION_MEMORY = 128
 _MODAL_CHECK_TOLERANCE = 1e-7
 
 
-def _pole_residue(structure, attached, factor, shapes, probe):
+def _pole_residue(structure, attached, factor, shapes, probe, kept=None):
     """Poles λ, left (n_out, 2N) and right (2N, rank) with Φ_o H(ω) B = Σ_p left_p right_p /
     (iω − λ_p), or None if the expansion misses a direct solve at the ``probe`` frequencies.
 
     With A = V Λ V⁻¹ the state matrix of (M_r, C_r, K_r), z(ω) = Σ_p V_zp (V⁻¹ F)_p / (iω − λ_p):
-    one small eigen-decomposition per MSD model replaces one LU solve per frequency.
+    one small eigen-decomposition per MSD model replaces one LU solve per frequency. ``kept``:
+    recent decompositions to update by perturbation (:func:`._linalg.eigen_decomposition`).
     """
     mass, damping, stiffness = reduced_matrices(structure, attached)
     state, inverse_mass = _state_matrix(mass, damping, stiffness)
-    poles, vectors = np.linalg.eig(state)
     size, n_modes = mass.shape[0], structure.n_modes
     try:
-        inverse_vectors = np.linalg.inv(vectors)
+        poles, vectors, inverse_vectors = eigen_decomposition(
+            state, kept, rows=slice(None, n_modes), columns=slice(size, None))
     except np.linalg.LinAlgError:
         return None
-    left = shapes @ vectors[:n_modes]                                  # (n_out, 2N)
-    right = inverse_vectors[:, size:] @ inverse_mass[:, :n_modes] @ factor   # (2N, rank)
+    left = shapes @ vectors                                             # (n_out, 2N)
+    right = inverse_vectors @ inverse_mass[:, :n_modes] @ factor        # (2N, rank)
     resolvent = 1.0 / (2j * np.pi * probe[:, np.newaxis] - poles)
     expanded = np.stack([(resolvent * row) @ right for row in left], axis=1)
     diagonal = _dynamic_stiffness_diagonal(structure, 2 * np.pi * probe)
