@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 
 from crowdvib import Crowd, ModalModel, MSDModel
-import crowdvib.response._linalg as linalg
-from crowdvib.response._attached import attachments, reduced_matrices
-from crowdvib.response._modulation import OccupancyPath, modulation_correction
-from crowdvib.response.fluctuation import FluctuatingSpectralModel, occupancy_cumulants
-from crowdvib.response.spectral import _state_matrix
+import crowdvib.response.frequency_domain._linalg as linalg
+from crowdvib.response.frequency_domain._attached import attachments, reduced_matrices
+from crowdvib.response.frequency_domain._modulation import OccupancyPath, modulation_correction
+from crowdvib.response.frequency_domain.fluctuation import FluctuatingSpectralModel, occupancy_cumulants
+from crowdvib.response.frequency_domain.spectral import _state_matrix
 
 #: scipy's finite-difference step (2-point: √ε relative) in f_h1 and ξ_h1.
 STEP = 1.49e-8
