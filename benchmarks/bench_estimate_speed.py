@@ -29,7 +29,15 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
     os.environ.setdefault(_variable, "1")
 
 from crowdvib import BoundWarning, estimate_hsi, response_psd, welch_psd  # noqa: E402
-from crowdvib.cases import case_estimator, measure_case  # noqa: E402
+from crowdvib.cases import measure_case  # noqa: E402
+
+try:        # a tree before issue 34 §2 (--compare): the case's options were a dict
+    from crowdvib.cases import case_estimator  # noqa: E402
+
+    def _case_options(case):
+        return case_estimator(case).options()
+except ImportError:
+    from crowdvib.cases import estimate_options as _case_options  # noqa: E402
 from crowdvib.io.casefile import load_case  # noqa: E402
 from crowdvib.models.examples import paper_example  # noqa: E402
 from crowdvib.signals.synthesis import gaussian_record, record_frequencies  # noqa: E402
@@ -59,7 +67,7 @@ def _paper_record():
     """The paper example's time-domain record (examples/paper_example.toml: filtered at 10 Hz)."""
     case = load_case(EXAMPLES / "paper_example.toml")
     measurement = measure_case(case)
-    options = case_estimator(case).options()
+    options = _case_options(case)
     options = {k: options[k] for k in ("band", "starts", "bounds")}
     return measurement.psd, case.structure, case.crowd, options
 
@@ -68,7 +76,7 @@ def _eeklo():
     case = load_case(EXAMPLES / "eeklo_like.toml")
     measurement = measure_case(case)
     record, measured = measurement.record, measurement.psd
-    options = case_estimator(case).options()
+    options = _case_options(case)
     options = {k: options[k] for k in ("band", "output_weights", "starts", "bounds")}
     return measured, case.structure, case.crowd, dict(options, outputs=record.channel_names)
 
