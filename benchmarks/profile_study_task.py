@@ -36,7 +36,7 @@ def task_of(which, name):
     measurement = measure_case(case)
     crowd = case_crowd(case, measurement.record)[0]
     # The options tuple exactly as modelling_error_study builds it.
-    settings = me._task_options(case_estimator(case), case.record_crowd_profile())
+    settings = me._task_options(case_estimator(case))
     cases = {c.name: c for c in me.error_cases()}
     return me._EstimationTask(measurement.psd, case.structure, crowd, cases[name], settings)
 

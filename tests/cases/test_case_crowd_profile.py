@@ -27,9 +27,10 @@ def test_counts_become_the_case_profile(tmp_path):
     # density = count/(L·B), L·B = 150 m², held over each interval; the walkers' reference
     # density (speed, step frequency) defaults to the profile's mean over its table.
     case = load_case(_case(tmp_path, 'counts = "counts.csv"\n'))
-    assert case.crowd_profile.kind == "step"
-    assert case.crowd_profile.density == pytest.approx([0.2, 0.6])
-    assert case.crowd.density == pytest.approx(0.2)          # the mean over [0, 600] s
+    assert case.crowd.profile.kind == "step"
+    assert case.crowd.profile.density == pytest.approx([0.2, 0.6])
+    assert case.reference_density == pytest.approx(0.2)      # the mean over [0, 600] s
+    assert case.stationary_crowd().density == pytest.approx(0.2)
     # Every command's inputs (results.json, the report) show it with the crowd.
     assert case.inputs(["crowd"])["crowd"]["profile"] == {
         "kind": "step", "time": [0.0, 600.0], "density": pytest.approx([0.2, 0.6])}
@@ -38,8 +39,9 @@ def test_counts_become_the_case_profile(tmp_path):
                  '[measurement]\ntime_frame = [100.0, 700.0]\n',
                  ("d.csv", "time,density\n0,0.2\n3600,1.0\n"))
     case = load_case(path)
-    assert case.crowd_profile.kind == "linear" and case.crowd.density == 0.5
-    assert case.record_crowd_profile().density_at(0.0) == pytest.approx(0.2 + 0.8 * 100 / 3600)
+    assert case.crowd.profile.kind == "linear" and case.reference_density == 0.5
+    assert case.inputs(["crowd"])["crowd"]["density"] == 0.5
+    assert case.record_crowd().profile.density_at(0.0) == pytest.approx(0.2 + 0.8 * 100 / 3600)
 
 
 @pytest.mark.parametrize("crowd, measurement, message", [
@@ -86,8 +88,8 @@ def _ramp_case(tmp_path):
     on 0.5–10 Hz (as tests/identification/test_varying_crowd_estimate.py) → the case's path."""
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
     profile = CrowdProfile([0.0, 3600.0], [0.2, 1.0])
-    record = simulate(bridge, Crowd.from_density(0.6), 3600.0, msd=MSDModel(), rng=1,
-                      sample_rate=50.0, crowd_profile=profile, warm_up=60.0)
+    record = simulate(bridge, Crowd.from_density(0.6).with_density(profile), 3600.0,
+                      msd=MSDModel(), rng=1, sample_rate=50.0, warm_up=60.0)
     write_record(Record(record.acceleration, 50.0, record.output_names), tmp_path / "ramp.npz")
     minutes = np.arange(60) * 60.0
     counts = np.array([profile.mean(t, t + 60.0) for t in minutes]) * bridge.area
@@ -129,9 +131,9 @@ def test_map_and_sensitivity_fit_the_crowd_that_was_counted(tmp_path):
     assert (study.study.nominal["frequency"], study.study.nominal["damping_ratio"]) == truth_fit
     # The map's costs are the counted crowd's objective (the reference: PSDObjective with the
     # case's profile, as the estimator builds it).
-    objective = PSDObjective(fit.records[0].measurement.psd, case.structure, fit.crowd,
-                             band=(0.5, 10.0), method="least_squares",
-                             crowd_profile=case.record_crowd_profile())
+    objective = PSDObjective(fit.records[0].measurement.psd, case.structure,
+                             fit.crowd.with_density(case.record_crowd().density),
+                             band=(0.5, 10.0), method="least_squares")
     assert mapped.landscape.cost[1, 1] == pytest.approx(objective.cost(MSDModel(3.0, 0.3, 0.95)),
                                                         rel=1e-12)
 

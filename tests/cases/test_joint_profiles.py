@@ -45,8 +45,8 @@ def season(tmp_path_factory):
     folder = tmp_path_factory.mktemp("joint_profiles")
     for seed, (name, counts) in enumerate(COUNTS.items(), start=1):
         profile = CrowdProfile.from_counts(MINUTES, counts, BRIDGE.area)
-        record = simulate(BRIDGE, Crowd.from_density(0.6), HOUR, msd=TRUTH, rng=seed,
-                          sample_rate=RATE, crowd_profile=profile, warm_up=60.0)
+        record = simulate(BRIDGE, Crowd.from_density(0.6).with_density(profile), HOUR, msd=TRUTH,
+                          rng=seed, sample_rate=RATE, warm_up=60.0)
         write_record(Record(record.acceleration, RATE, ("midspan",)), folder / f"{name}.npz")
         lines = ["time,count"] + [f"{t:g},{c:g}" for t, c in zip(MINUTES, counts)]
         (folder / f"{name}.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
@@ -67,15 +67,15 @@ def test_joint_fit_with_each_records_counts_recovers_the_truth(season):
         with_counts = estimate_case(load_case(counted))
         at_the_mean = estimate_case(load_case(mean))
     case = with_counts.case
-    assert [b.crowd_profile.density_at(30.0) for b in case.records] == pytest.approx(
+    assert [b.crowd.profile.density_at(30.0) for b in case.records] == pytest.approx(
         [COUNTS["growing"][0] / 150.0, COUNTS["thinning"][0] / 150.0])
-    # The case's joint fit is estimate_hsi_joint with the blocks' profiles (the reference).
+    # The case's joint fit is estimate_hsi_joint with the blocks' crowds, each carrying its
+    # profile (the reference).
     parts = with_counts.records
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         reference = estimate_hsi_joint([p.measurement.psd for p in parts], BRIDGE,
-                                       [p.crowd for p in parts], band=(0.5, 10.0),
-                                       crowd_profiles=[b.crowd_profile for b in case.records])
+                                       [b.crowd for b in case.records], band=(0.5, 10.0))
     estimate = with_counts.estimate
     assert estimate.msd.frequency == pytest.approx(reference.msd.frequency, rel=1e-9)
     assert estimate.msd.damping_ratio == pytest.approx(reference.msd.damping_ratio, rel=1e-9)
@@ -88,11 +88,12 @@ def test_joint_fit_with_each_records_counts_recovers_the_truth(season):
     assert estimate.relative_cost < 0.5 * at_the_mean.estimate.relative_cost
 
 
-def test_a_profile_for_every_record_or_none():
-    with pytest.raises(ParameterError, match=r"crowd_profiles must give one profile \(or None\) "
-                                             r"per record, got 1 for 2 record\(s\)"):
-        estimate_hsi_joint([None, None], BRIDGE, [Crowd.from_density(0.5)] * 2, band=(0.5, 10.0),
-                           crowd_profiles=[None])
+def test_a_crowd_for_every_record():
+    # Each record's crowd carries its own density (a number or a profile): one crowd per record.
+    with pytest.raises(ParameterError, match=r"measurements and crowds must pair up one record "
+                                             r"with one crowd, got 2 measurement\(s\) and 1 "
+                                             r"crowd\(s\)"):
+        estimate_hsi_joint([None, None], BRIDGE, [Crowd.from_density(0.5)], band=(0.5, 10.0))
 
 
 def test_a_block_profile_needs_the_records_time(tmp_path):

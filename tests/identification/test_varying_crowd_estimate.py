@@ -1,4 +1,4 @@
-"""estimate_hsi(crowd_profile=): the MSD from a record whose crowd changes (docs: theory, A crowd
+"""estimate_hsi with a crowd whose density is a profile: the MSD from a record whose crowd changes (docs: theory, A crowd
 that changes; issue 28 §1 "the estimate with the counts recovers the truth where assuming the
 mean density is biased")."""
 
@@ -21,8 +21,8 @@ def ramp_record():
     bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
     walkers = Crowd.from_density(0.6)
     profile = CrowdProfile([0.0, HOUR], [0.2, 1.0])
-    record = simulate(bridge, walkers, HOUR, msd=TRUTH, rng=1, sample_rate=50.0,
-                      crowd_profile=profile, warm_up=60.0)
+    record = simulate(bridge, walkers.with_density(profile), HOUR, msd=TRUTH, rng=1,
+                      sample_rate=50.0, warm_up=60.0)
     measured = welch_psd(record.acceleration, 50.0, window_length=60.0,
                          output_names=record.output_names)
     return bridge, walkers, profile, measured
@@ -36,8 +36,8 @@ def test_profile_recovers_the_truth_where_the_mean_density_is_biased(ramp_record
     bridge, walkers, profile, measured = ramp_record
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")        # the mean-density fit may warn of its misfit
-        with_profile = estimate_hsi(measured, bridge, walkers, band=(0.5, 10.0),
-                                    method="least_squares", crowd_profile=profile)
+        with_profile = estimate_hsi(measured, bridge, walkers.with_density(profile),
+                                    band=(0.5, 10.0), method="least_squares")
         mean_density = estimate_hsi(measured, bridge, walkers, band=(0.5, 10.0),
                                     method="least_squares")
     low, high = with_profile.intervals["frequency"]
@@ -52,14 +52,13 @@ def test_profile_recovers_the_truth_where_the_mean_density_is_biased(ramp_record
 
 
 def test_a_constant_profile_is_the_stationary_estimate(ramp_record):
-    # One level at the profile's density: the same objective as the stationary crowd's (the
-    # crowd's own density is not used with a profile).
+    # One level at the profile's density: the same objective as the stationary crowd's.
     bridge, walkers, _, measured = ramp_record
     band = (1.0, 4.0)
     stationary = PSDObjective(measured, bridge, walkers, band=band, method="least_squares")
-    profiled = PSDObjective(measured, bridge, walkers.with_density(0.9), band=band,
-                            method="least_squares",
-                            crowd_profile=CrowdProfile.constant(walkers.density))
+    profiled = PSDObjective(measured, bridge,
+                            walkers.with_density(CrowdProfile.constant(walkers.density)),
+                            band=band, method="least_squares")
     assert profiled.cost(TRUTH) == pytest.approx(stationary.cost(TRUTH), rel=1e-10)
 
 
@@ -68,13 +67,13 @@ def test_profile_needs_a_welch_estimate(ramp_record):
     frequency = np.arange(1, 301) / 60.0
     model = response_psd(bridge, walkers, frequency, msd=TRUTH,
                          crowd_model="smeared")     # no n_windows
-    with pytest.raises(ParameterError, match=r"crowd_profile needs a Welch estimate"):
-        estimate_hsi(model, bridge, walkers, band=(1.0, 4.0), method="least_squares",
-                     crowd_profile=profile)
-    with pytest.raises(ParameterError, match=r"crowd_profile must be"):
-        PSDObjective(welch_psd(np.ones((1, 6000)) + np.sin(np.arange(6000)), 50.0,
-                               window_length=20.0), bridge, walkers, band=(1.0, 4.0),
-                     crowd_profile={"time": [0], "density": [0.5]})
+    with pytest.raises(ParameterError, match=r"a crowd whose density is a profile needs a Welch "
+                                             r"estimate"):
+        estimate_hsi(model, bridge, walkers.with_density(profile), band=(1.0, 4.0),
+                     method="least_squares")
+    with pytest.raises(ParameterError, match=r"density must be a number \[persons/m²\] or a "
+                                             r"CrowdProfile, got \{'time'"):
+        walkers.with_density({"time": [0], "density": [0.5]})
 
 
 def test_the_bootstraps_exact_model_weighs_the_record_as_its_welch_windows(ramp_record):
@@ -85,7 +84,7 @@ def test_the_bootstraps_exact_model_weighs_the_record_as_its_welch_windows(ramp_
     from crowdvib.response.frequency_domain.varying import VaryingCrowdModel
 
     bridge, walkers, profile, measured = ramp_record
-    objective = PSDObjective(measured, bridge, walkers, band=(1.0, 4.0), crowd_profile=profile,
+    objective = PSDObjective(measured, bridge, walkers.with_density(profile), band=(1.0, 4.0),
                              method="least_squares")
     exact = objective.exact_model(np.linspace(0.0, 5.0, 51))
     assert exact.welch_window_length is None
@@ -96,7 +95,7 @@ def test_the_bootstraps_exact_model_weighs_the_record_as_its_welch_windows(ramp_
     # The same law (each chooses its own number of nodes: the exact PSD is smoother).
     np.testing.assert_allclose(moments(exact), moments(objective.model), rtol=1e-9)
     # Uniform weights would give another law on this ramp: the record's ends count fully.
-    uniform = VaryingCrowdModel(bridge, walkers, profile, np.linspace(0.0, 5.0, 51),
+    uniform = VaryingCrowdModel(bridge, walkers.with_density(profile), np.linspace(0.0, 5.0, 51),
                                 duration=exact.duration, levels=exact.levels.size,
                                 crowd_model="smeared")
     assert abs(moments(uniform)[1] / moments(exact)[1] - 1) > 1e-4

@@ -83,7 +83,7 @@ def test_times_in_minutes_are_doubted():
     # likely in minutes or hours (common rules: PlausibilityWarning naming the value, the mix-up
     # and the value it would then be).
     assert CrowdProfile([0, 30, 60], [0.2, 0.5, 1.0]).implausibilities(3600.0) == [
-        "crowd_profile times end at 60 s of a 3600 s record: in minutes? (they would span "
+        "crowd profile times end at 60 s of a 3600 s record: in minutes? (they would span "
         "3600 s)"]
     assert "in hours?" in CrowdProfile([0, 1], [0.2, 1.0]).implausibilities(3600.0)[0]
     assert RAMP.implausibilities(3600.0) == [] and DAY.implausibilities(600.0) == []

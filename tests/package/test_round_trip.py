@@ -90,6 +90,9 @@ def _examples(name, request):
         return msd
     if name.endswith(".Crowd"):
         return replace(crowd, body_mass_std=7.0, forward_fraction=0.6)
+    if name.endswith(".CrowdProfile"):
+        from crowdvib.models import CrowdProfile
+        return CrowdProfile([0.0, 600.0, 1200.0], [0.3, 0.9, 0.1], "step")
     if name.endswith(".TunedMassDamper"):
         from crowdvib.models.damper import TunedMassDamper
         return TunedMassDamper(mass=500.0, frequency=2.9, damping_ratio=0.08, position=25.0)
@@ -201,6 +204,23 @@ def test_every_public_result_class_comes_back_from_its_dict(name, request):
     back = cls.from_dict(written)
     assert type(back) is cls
     assert _json(back.to_dict()) == written
+
+
+def test_a_crowd_whose_density_is_a_profile_comes_back_equal(example):
+    # issue 34 §3: the density is one value, a number or a profile; the dict keeps the profile's
+    # table exactly (JSON floats are the doubles' shortest repr) and the crowd compares (and
+    # hashes) by value.
+    from crowdvib.models import Crowd, CrowdProfile
+
+    profile = CrowdProfile([-60.0, 0.0, 1800.0 / 7], [0.2, 1.0 / 3, 0.45], "linear")
+    crowd = replace(example[1], density=profile, body_mass_std=7.0)
+    back = Crowd.from_dict(_json(crowd.to_dict()))
+    assert back == crowd and hash(back) == hash(crowd)
+    assert isinstance(back.density, CrowdProfile) and back.density.kind == "linear"
+    assert np.array_equal(back.profile.time, profile.time)
+    assert np.array_equal(back.profile.density, profile.density)
+    # A number stays a number (the stationary crowd's dict is unchanged: density a float).
+    assert _json(example[1].to_dict())["density"] == example[1].density
 
 
 def test_every_results_json_class_is_a_kind_that_load_results_rebuilds():

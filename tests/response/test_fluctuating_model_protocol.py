@@ -16,7 +16,8 @@ def test_every_spectral_model_is_an_expected_psd_model_and_changes_its_step_freq
     profile = CrowdProfile.from_counts([0.0, 600.0], [40, 80], paper_bridge.area)
     models = [SpectralModel(paper_bridge, paper_crowd, grid),
               FluctuatingSpectralModel(paper_bridge, paper_crowd, grid),
-              VaryingCrowdModel(paper_bridge, paper_crowd, profile, grid, duration=1200.0)]
+              VaryingCrowdModel(paper_bridge, paper_crowd.with_density(profile), grid,
+                                duration=1200.0)]
     for model in models:
         assert isinstance(model, ExpectedPSDModel)
         assert isinstance(model.details(), dict)

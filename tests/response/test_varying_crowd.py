@@ -31,22 +31,20 @@ def test_constant_profile_gives_the_stationary_record(bridge, walkers):
     # A constant profile is the stationary crowd of its density: the same seed, the same record.
     stationary = simulate(bridge, walkers.with_density(0.5), 120.0, msd=MSDModel(), rng=3,
                           sample_rate=RATE)
-    profiled = simulate(bridge, walkers, 120.0, msd=MSDModel(), rng=3, sample_rate=RATE,
-                        crowd_profile=CrowdProfile.constant(0.5))
+    profiled = simulate(bridge, walkers.with_density(CrowdProfile.constant(0.5)), 120.0,
+                        msd=MSDModel(), rng=3, sample_rate=RATE)
     assert np.array_equal(stationary.acceleration, profiled.acceleration)
 
 
 def test_profiled_record_is_reproducible(bridge, walkers):
     # Same seed → same record; simulate_psd's Welch PSD of it equals welch_psd of the record.
-    profile = PROFILES["day"].scaled(1.0)
-    first = simulate(bridge, walkers, 300.0, rng=8, sample_rate=RATE, crowd_profile=profile)
-    again = simulate(bridge, walkers, 300.0, rng=8, sample_rate=RATE, crowd_profile=profile)
+    crowd = walkers.with_density(PROFILES["day"].scaled(1.0))
+    first = simulate(bridge, crowd, 300.0, rng=8, sample_rate=RATE)
+    again = simulate(bridge, crowd, 300.0, rng=8, sample_rate=RATE)
     assert np.array_equal(first.acceleration, again.acceleration)
-    (batch,) = simulate_many(bridge, walkers, 300.0, seeds=[8], sample_rate=RATE,
-                             crowd_profile=profile)
+    (batch,) = simulate_many(bridge, crowd, 300.0, seeds=[8], sample_rate=RATE)
     assert np.array_equal(first.acceleration, batch.acceleration)
-    summary = simulate_psd(bridge, walkers, 300.0, rng=8, sample_rate=RATE, window_length=30.0,
-                           crowd_profile=profile)
+    summary = simulate_psd(bridge, crowd, 300.0, rng=8, sample_rate=RATE, window_length=30.0)
     assert summary.psd.psd == pytest.approx(
         welch_psd(first.acceleration, RATE, window_length=30.0).psd, rel=1e-9, abs=1e-20)
 
@@ -56,7 +54,7 @@ def test_deck_follows_the_profile(bridge, walkers):
     # (CrowdProfile.deck_density). Over a block B ≫ τ the time-average of a Poisson occupancy of
     # mean m has variance m τ/B (autocovariance m (1 − |s|/τ)): 4 standard deviations.
     profile = CrowdProfile([0.0, 600.0, 1200.0], [0.5, 0.0, 0.8], "step")
-    record = simulate(bridge, walkers, 1800.0, rng=2, sample_rate=10.0, crowd_profile=profile)
+    record = simulate(bridge, walkers.with_density(profile), 1800.0, rng=2, sample_rate=10.0)
     tau = bridge.length / walkers.walking_speed
     t = np.arange(record.n_on_deck.size) / 10.0
     expected = profile.deck_density(t, tau) * bridge.area
@@ -71,8 +69,8 @@ def test_deck_follows_the_profile(bridge, walkers):
 def test_constant_profile_model_is_the_spectral_model(bridge, walkers):
     # One level at the profile's density: Ḡ is the stationary model itself.
     frequency = np.arange(60, 181) / WINDOW
-    model = VaryingCrowdModel(bridge, walkers, CrowdProfile.constant(0.4), frequency,
-                              duration=HOUR, welch_window_length=WINDOW, crowd_model="smeared")
+    model = VaryingCrowdModel(bridge, walkers.with_density(CrowdProfile.constant(0.4)),
+                              frequency, duration=HOUR, welch_window_length=WINDOW, crowd_model="smeared")
     assert model.levels == pytest.approx([0.4]) and model.crowd.density == pytest.approx(0.4)
     assert model.psd_array(MSDModel()) == pytest.approx(SpectralModel(
         bridge, walkers.with_density(0.4), frequency,
@@ -85,9 +83,10 @@ def test_levels_are_a_gauss_rule_of_the_density_law(bridge, walkers):
     # windows' Hann²). A ramp's deck mean over [0, 3600] s is 0.6 less the half-crossing lag
     # 0.8/3600 · τ/2, the ends weighed less by Hann².
     ramp = PROFILES["ramp"]
-    model = VaryingCrowdModel(bridge, walkers, ramp, np.arange(60, 181) / WINDOW,
+    model = VaryingCrowdModel(bridge, walkers.with_density(ramp), np.arange(60, 181) / WINDOW,
                               duration=HOUR, welch_window_length=WINDOW, crowd_model="smeared")
-    density, weight = density_law(bridge, walkers, ramp, HOUR, welch_window_length=WINDOW)
+    density, weight = density_law(bridge, walkers.with_density(ramp), HOUR,
+                                  welch_window_length=WINDOW)
     assert model.levels.size >= 3 and model.probabilities.sum() == pytest.approx(1.0)
     for power in (1, 2, 3):
         assert model.probabilities @ model.levels**power == pytest.approx(
@@ -100,8 +99,8 @@ def test_levels_are_a_gauss_rule_of_the_density_law(bridge, walkers):
 @pytest.fixture(scope="module")
 def records(bridge, walkers):
     """Three seeded hours of each profile at 50 Hz, as Welch PSDs of 60 s windows."""
-    return {name: [welch_psd(simulate(bridge, walkers, HOUR, msd=MSDModel(), rng=seed,
-                                      sample_rate=RATE, crowd_profile=profile,
+    return {name: [welch_psd(simulate(bridge, walkers.with_density(profile), HOUR, msd=MSDModel(),
+                                      rng=seed, sample_rate=RATE,
                                       warm_up=60.0).acceleration, RATE,
                              window_length=WINDOW) for seed in range(3)]
             for name, profile in PROFILES.items()}
@@ -121,32 +120,37 @@ def test_expected_psd_matches_the_simulator(bridge, walkers, records, name, crow
     nu = len(psds) * welch_degrees_of_freedom(psds[0].n_windows)
     options = dict(duration=HOUR, welch_window_length=WINDOW, crowd_model=crowd_model,
                    **({"n_nodes": 3} if crowd_model == "fluctuating" else {}))
-    model = VaryingCrowdModel(bridge, walkers, PROFILES[name], frequency[band], **options)
+    crowd = walkers.with_density(PROFILES[name])
+    model = VaryingCrowdModel(bridge, crowd, frequency[band], **options)
     expected, ratio = model.psd_array(MSDModel())[0], model.variance_ratio(MSDModel())[0]
     near = expected > 0.1 * expected.max()
     half = near.sum() / 2
     bound = stats.chi2.ppf(0.999, half) / half
     z2 = ((measured / expected - 1) ** 2 * nu / (2 * ratio))[near]
     assert z2.mean() < bound
-    mean_density = VaryingCrowdModel(bridge, walkers, PROFILES[name], frequency[band],
+    mean_density = VaryingCrowdModel(bridge, crowd, frequency[band],
                                      levels=1, **options).psd_array(MSDModel())[0]
     assert ((measured / mean_density - 1) ** 2 * nu / 2)[near].mean() > 10 * bound
 
 
 def test_bad_varying_model(bridge, walkers):
+    ramp = walkers.with_density(PROFILES["ramp"])
     with pytest.raises(ParameterError, match=r"levels must be an integer from 1 to 40, got 0"):
-        VaryingCrowdModel(bridge, walkers, PROFILES["ramp"], [1.0, 2.0], duration=HOUR, levels=0)
+        VaryingCrowdModel(bridge, ramp, [1.0, 2.0], duration=HOUR, levels=0)
     with pytest.raises(ParameterError, match=r"duration must hold one Welch window: 30 s"):
-        VaryingCrowdModel(bridge, walkers, PROFILES["ramp"], [1.0, 2.0], duration=30.0,
+        VaryingCrowdModel(bridge, ramp, [1.0, 2.0], duration=30.0,
                           welch_window_length=WINDOW)
-    with pytest.raises(ParameterError, match=r"crowd must be given with crowd_profile"):
-        simulate(bridge, None, 10.0, pedestrians=[], crowd_profile=PROFILES["ramp"])
-    with pytest.raises(ParameterError, match=r"crowd_profile must be"):
-        simulate(bridge, walkers, 10.0, crowd_profile=[0.2, 0.4])
+    # The model of a crowd that changes needs a profile, and a density is a number or one.
+    with pytest.raises(ParameterError, match=r"crowd.density must be a CrowdProfile .* got the "
+                                             r"number 0.6"):
+        VaryingCrowdModel(bridge, walkers, [1.0, 2.0], duration=HOUR)
+    with pytest.raises(ParameterError, match=r"density must be a number \[persons/m²\] or a "
+                                             r"CrowdProfile, got \[0.2, 0.4\]"):
+        walkers.with_density([0.2, 0.4])
 
 
 def test_profile_in_minutes_warns_at_the_call(bridge, walkers):
     with pytest.warns(PlausibilityWarning, match=r"in minutes\? \(they would span 300 s\)") as caught:
-        simulate(bridge, walkers, 300.0, rng=1, sample_rate=RATE,
-                 crowd_profile=CrowdProfile([0.0, 5.0], [0.2, 0.8]))
+        simulate(bridge, walkers.with_density(CrowdProfile([0.0, 5.0], [0.2, 0.8])), 300.0, rng=1,
+                 sample_rate=RATE)
     assert caught[0].filename == __file__

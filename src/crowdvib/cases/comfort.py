@@ -137,8 +137,8 @@ def comfort_dampers(case: Case, msd) -> list:
     import numpy as np
 
     grid = np.linspace(0.0, 1.5 * case.structure.frequencies.max(), 2001)
-    mode = dominant_mode(case.structure, case.crowd, grid)
-    crowd = case.crowd if msd is not None else None
+    mode = dominant_mode(case.structure, case.stationary_crowd(), grid)
+    crowd = case.stationary_crowd() if msd is not None else None
     return [tune_damper(case.structure, mode, ratio, crowd=crowd, msd=msd)]
 
 
@@ -205,7 +205,7 @@ def comfort_case(case: Case, *, season: dict | None = None, traffic=None,
     if below > 0:
         options.update(simulate_below=below,
                        simulated=_simulated(case, found, msd, dampers, below, executor))
-    year = comfort_year(case.structure, case.crowd, found, msd=msd, msd_box=box,
+    year = comfort_year(case.structure, case.stationary_crowd(), found, msd=msd, msd_box=box,
                         dampers=dampers, force=case.force,
                         rng=case.seed if rng is None else rng, **options)
     return CaseComfort(case, year, found, where, msd, msd_source, box, dampers,
@@ -248,7 +248,7 @@ def _simulated(case, traffic, msd, dampers, bound, executor):
     densities = np.unique(np.geomspace(below.min(), below.max(), _SIMULATED_DENSITIES)) \
         if below.max() > below.min() else below[:1]
     output = (case.structure.output_index([spec.output])[0] if spec.output is not None
-              else loudest_output(case.structure, case.crowd, traffic.density.max()))
+              else loudest_output(case.structure, case.stationary_crowd(), traffic.density.max()))
     found = {}
     for model, model_msd in (("empty", None), ("hsi", msd)):
         if model == "hsi" and msd is None:
@@ -257,7 +257,7 @@ def _simulated(case, traffic, msd, dampers, bound, executor):
             if damper and not dampers:
                 continue
             found[(model, damper)] = simulated_windows(
-                case.structure, case.crowd, densities, msd=model_msd, dampers=tmds,
+                case.structure, case.stationary_crowd(), densities, msd=model_msd, dampers=tmds,
                 output=output, n_windows=spec.simulated_windows, duration=spec.duration,
                 rms_window=spec.rms_window, seed=case.seed or 0, executor=executor)
     return found

@@ -199,7 +199,8 @@ def check_case(case: Case, *, msd: MSDModel | None = None, msd_source: str | Non
     if spec.prediction:
         from ..design.stochastic import predict_response
 
-        crowd = case.crowd if spec.density is None else case.crowd.with_density(spec.density)
+        crowd = (case.stationary_crowd() if spec.density is None
+                 else case.crowd.with_density(spec.density))
         prediction = predict_response(case.structure, crowd, msd=msd, dampers=dampers,
                                       duration=spec.duration, weighting=spec.weighting,
                                       force=case.force)
@@ -229,7 +230,7 @@ def _dampers(case, spec, msd):
             raise ParameterError(f"{case.path.name}: design.damper.mode must be at most the "
                                  f"number of modes ({case.structure.n_modes}), got "
                                  f"{damper['mode']}")
-        crowd = case.crowd if msd is not None else None
+        crowd = case.stationary_crowd() if msd is not None else None
         return [tune_damper(case.structure, damper["mode"] - 1, damper["mass_ratio"],
                             crowd=crowd, msd=msd)]
     return [TunedMassDamper(**damper)]
@@ -242,7 +243,7 @@ def _check(case, spec, code, msd, dampers):
     traffic_class = spec.classes.get(code)
     density = spec.density
     if traffic_class is None and density is None:
-        density = case.crowd.density            # no class: the case's own crowd
+        density = case.stationary_crowd().density      # no class: the case's own crowd
     # Each code gets the [design] options it takes (EN 1990 has one limit, no comfort class).
     given = {"site_factors": spec.site_factors, "weighting": spec.weighting,
              "gamma_figure": spec.gamma_figure, "neq_damping": spec.neq_damping,
@@ -252,7 +253,8 @@ def _check(case, spec, code, msd, dampers):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         check = design_check(case.structure, code, traffic_class=traffic_class,
-                             density=density, crowd=case.crowd, msd=msd, dampers=dampers,
+                             density=density, crowd=case.stationary_crowd(), msd=msd,
+                             dampers=dampers,
                              **options)
     # design_check names the structure's implausible values again, "structure of the design
     # check: …": the case file's structure was named once, where it was read (issue 36 §3:

@@ -73,7 +73,8 @@ class CaseRecordFit:
         The case (for a joint fit, the ``[[measurement]]`` block as a case of its own).
     measurement : CaseMeasurement
     crowd : Crowd
-        The crowd the estimator was given (the case file's, or the fitted step frequencies).
+        The crowd the estimator was given (the case file's, or the fitted step frequencies),
+        its density the case's profile on the record's time when its crowd was counted.
     step_frequencies : StepFrequencyEstimate or None
         The step frequencies fitted below the cut-off, if the case asks for them.
     """
@@ -134,8 +135,7 @@ class CaseEstimate(AsResults):
         crowd = self.crowd if part is None else part.crowd
         part = self.records[0] if part is None else part
         est, measured = self.case.estimation, part.measurement.psd
-        model = record_model(self.case.structure, crowd, measured.frequency,
-                             crowd_profile=part.case.record_crowd_profile(),
+        model = record_model(self.case.structure, on_record(crowd, part.case), measured.frequency,
                              record_windows=(measured.window_length, measured.n_windows),
                              force=self.case.force,
                              outputs=part.measurement.record.channel_names,
@@ -180,7 +180,7 @@ def _record_entry(part: CaseRecordFit) -> dict:
     """One record of a joint fit as results.json lists it."""
     crowd, psd = part.crowd, part.measurement.psd
     return {"name": part.case.name, "record": part.measurement.record.metadata(),
-            "crowd_used": {"density": crowd.density,
+            "crowd_used": {"density": part.case.stationary_crowd().density,
                            "step_frequency_mean": crowd.step_frequency_mean,
                            "step_frequency_std": crowd.step_frequency_std},
             "n_windows": psd.n_windows,
@@ -241,7 +241,8 @@ def case_crowd(case, record):
     With ``[estimation.step_frequencies]`` the step-frequency distribution is first fitted on
     the record low-passed at its cut-off, without HSI (the paper's Waalse Krook procedure; docs:
     theory, *Step frequencies from the record*), and used when ``use_fitted``; otherwise the
-    case file's crowd.
+    case file's crowd. A counted crowd (a profile) keeps its profile, on the record's time
+    (:func:`on_record`): every command fits the crowd that was counted.
 
     Parameters
     ----------
@@ -259,17 +260,38 @@ def case_crowd(case, record):
 
     spec, est = case.measurement, case.estimation
     if est.step_frequencies is None:
-        return case.crowd, None
+        return case.record_crowd(), None
     sf = est.step_frequencies
     low = LowPassFilter(sf.cutoff, spec.lowpass_order, record.sample_rate)
     measured_low = welch_psd(record.data, record.sample_rate, window_length=spec.window_length,
                              overlap=spec.overlap, output_names=record.channel_names,
                              lowpass=low)
-    fitted = estimate_step_frequencies(measured_low, case.structure, case.crowd, cutoff=sf.cutoff,
+    fitted = estimate_step_frequencies(measured_low, case.structure, case.stationary_crowd(),
+                                       cutoff=sf.cutoff,
                                        band=sf.band, starts=sf.starts, bounds=sf.bounds,
                                        outputs=sf.outputs, force=case.force,
                                        match_welch=est.match_welch)
-    return (fitted.crowd if sf.use_fitted else case.crowd), fitted
+    return on_record(fitted.crowd if sf.use_fitted else case.crowd, case), fitted
+
+
+def on_record(crowd, case):
+    """``crowd``'s walkers at the density of ``case``'s record: the case's profile on the
+    record's time (:meth:`~crowdvib.io.casefile.Case.record_crowd`) when its crowd was counted,
+    else ``crowd`` as it is.
+
+    Parameters
+    ----------
+    crowd : Crowd
+        The walkers (the case file's, or with fitted step frequencies).
+    case : Case
+        The case (for a joint fit, its ``[[measurement]]`` block as a case).
+
+    Returns
+    -------
+    Crowd
+    """
+    profile = case.record_crowd().profile
+    return crowd if profile is None else crowd.with_density(profile)
 
 
 def case_estimator(case: Case) -> Estimator:
@@ -340,9 +362,7 @@ def estimate_case(case: Case) -> CaseEstimate:
         parts.append(CaseRecordFit(block, measurement, crowd, step))
     if case.records:
         estimate = estimator.fit_joint([p.measurement.psd for p in parts], case.structure,
-                                       [p.crowd for p in parts],
-                                       crowd_profiles=[p.case.record_crowd_profile()
-                                                       for p in parts], rng=case.seed)
+                                       [p.crowd for p in parts], rng=case.seed)
         return CaseEstimate(case, tuple(parts), estimate)
     (part,) = parts
     record, spec = part.measurement.record, case.measurement
@@ -352,8 +372,7 @@ def estimate_case(case: Case) -> CaseEstimate:
                                   output_names=record.channel_names,
                                   lowpass=part.measurement.lowpass)
     estimate = estimator.replace(outputs=record.channel_names).fit(
-        part.measurement.psd, case.structure, part.crowd,
-        crowd_profile=case.record_crowd_profile(), rng=case.seed)
+        part.measurement.psd, case.structure, part.crowd, rng=case.seed)
     return CaseEstimate(case, (part,), estimate, convergence)
 
 
@@ -418,16 +437,15 @@ def map_case(case: Case, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
 
     measurement = measure_case(case)
     crowd, step = case_crowd(case, measurement.record)
-    estimator, profile = case_estimator(case), case.record_crowd_profile()
-    estimate = estimator.fit(measurement.psd, case.structure, crowd, crowd_profile=profile,
-                             rng=case.seed)
+    estimator = case_estimator(case)
+    estimate = estimator.fit(measurement.psd, case.structure, crowd, rng=case.seed)
     started = time.perf_counter()
     # The landscape of the misfit at the crowd the estimate ends with (its fitted step
     # frequencies, when they were free): the surface on which the estimate is the minimum.
-    landscape = objective_map(measurement.psd, case.structure, estimate.crowd or crowd,
+    landscape = objective_map(measurement.psd, case.structure,
+                              on_record(estimate.crowd or crowd, case),
                               frequencies=frequencies,
                               damping_ratios=damping_ratios, estimate=estimate,
-                              estimator=estimator, progress=progress, max_seconds=max_seconds,
-                              crowd_profile=profile)
+                              estimator=estimator, progress=progress, max_seconds=max_seconds)
     return CaseMap(CaseRecordFit(case, measurement, crowd, step), estimate, landscape,
                    time.perf_counter() - started)

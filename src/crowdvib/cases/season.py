@@ -294,7 +294,7 @@ def plan_season(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
     """
     from ..io.crowdtable import CrowdTable, read_crowd_table
 
-    if case.crowd_profile is not None:
+    if case.crowd.profile is not None:
         raise ParameterError(f"{case.path.name}: crowd.counts or crowd.density_profile must not "
                              "be given for a season: the crowd table gives each record's crowd "
                              "(its count or density per record or per window)")

@@ -118,7 +118,7 @@ def simulate_case(case: Case, *, duration: float | None = None,
     msd = simulation_msd(case) if (spec.hsi if hsi is None else hsi) else None
     simulation = simulate(case.structure, case.crowd, duration, msd=msd, force=case.force,
                           sample_rate=sample_rate, rng=seed, warm_up=spec.warm_up,
-                          progress=progress, crowd_profile=case.crowd_profile)
+                          progress=progress)
     data, rate = simulation.acceleration, sample_rate
     if spec.record_sample_rate is not None:
         data, rate = resample(data, rate, spec.record_sample_rate)

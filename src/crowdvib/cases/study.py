@@ -121,17 +121,16 @@ def study_case(case: Case, *, record=None, levels: dict | None = None, joint: bo
 
     stage = progress or (lambda name: None)
     measured, data, crowd = record.measurement.psd, record.measurement.record, record.crowd
-    estimator, profile = case_estimator(case), case.record_crowd_profile()
+    estimator = case_estimator(case)      # a counted crowd carries its profile (case_crowd)
     # The record's own estimate with its interval, beside the studies on a worker (it was the
     # longest step left in this process, measured in issue 14).
-    nominal_task = (estimator, measured, case.structure, crowd, profile, case.seed)
+    nominal_task = (estimator, measured, case.structure, crowd, case.seed)
     pending = (executor.submit(_estimate_with_warnings, *nominal_task)
                if executor is not None else None)
     # The studies compare point estimates: they leave out the estimator's interval choices.
     study = modelling_error_study(measured, case.structure, crowd, estimator=estimator,
                                   levels=levels, joint=joint, executor=executor,
-                                  store=store("tasks"), progress=stage("estimations"),
-                                  crowd_profile=profile)
+                                  store=store("tasks"), progress=stage("estimations"))
     lengths = None
     if record_length:
         lengths = record_length_study(
@@ -139,7 +138,7 @@ def study_case(case: Case, *, record=None, levels: dict | None = None, joint: bo
             window_length=case.measurement.window_length, estimator=estimator,
             output_names=data.channel_names, lowpass=record.measurement.lowpass,
             executor=executor, store=store("record_length"),
-            progress=stage("record lengths"), crowd_profile=profile)
+            progress=stage("record lengths"))
     nominal, caught = (pending.result() if pending is not None
                        else _estimate_with_warnings(*nominal_task))
     for category, message in caught:
@@ -147,15 +146,14 @@ def study_case(case: Case, *, record=None, levels: dict | None = None, joint: bo
     return CaseStudy(case, record, study, lengths, nominal)
 
 
-def _estimate_with_warnings(estimator, measured, structure, crowd, crowd_profile, rng):
+def _estimate_with_warnings(estimator, measured, structure, crowd, rng):
     """The record's estimate and the crowdvib warnings it gave ``(category, message)``, for
     the calling process to raise (a worker's warnings would not reach the user)."""
     from ..errors import CrowdvibWarning
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CrowdvibWarning)
-        estimate = estimator.fit(measured, structure, crowd, crowd_profile=crowd_profile,
-                                 rng=rng)
+        estimate = estimator.fit(measured, structure, crowd, rng=rng)
     return estimate, [(w.category, str(w.message)) for w in caught
                       if issubclass(w.category, CrowdvibWarning)]
 

@@ -81,7 +81,7 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
                  force: ForceModel | None = None, match_welch: bool = True,
                  method: str = DEFAULT_METHOD, interval: str = "profile", level: float = 0.95,
                  crowd_model: str | None = None, n_boot: int = 200,
-                 rng: Seed = None, crowd_profile: CrowdProfile | None = None,
+                 rng: Seed = None,
                  density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY,
                  check_level: bool = True) -> HSIEstimate:
     """Estimate the pedestrians' MSD parameters from measured response PSDs (paper Equations 5 and 6).
@@ -94,6 +94,12 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         Modal model of the empty footbridge (assumed known).
     crowd : Crowd
         Density, speed, step-frequency distribution and body mass (assumed known), density > 0.
+        A density that is a :class:`~crowdvib.models.CrowdProfile` over the record (t = 0 its
+        first sample), e.g. from counts per interval (``CrowdProfile.from_counts``), makes the
+        model the average of the Welch windows' expectations, each at the density on the deck
+        during it (docs: theory, A crowd that changes). The interval takes the record's Welch
+        statistics as measured: the scatter of its segments, which with a changing crowd
+        includes the spread of their expectations.
     band : (float, float)
         Analysis band [Hz] inside the measured frequency grid (the paper: 0–10 Hz for the
         numerical example, 2.5–8 Hz for Eeklo, 2–6 Hz for Waalse Krook).
@@ -152,16 +158,9 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         Replicates of the parametric bootstrap (``interval="bootstrap"``), >= 20.
     rng : None, int or numpy.random.Generator
         Seed of the bootstrap replicates.
-    crowd_profile : CrowdProfile, optional
-        The crowd's density against time over the record (t = 0 its first sample), e.g. from
-        counts per interval (``CrowdProfile.from_counts``): the model is then the average of
-        the Welch windows' expectations, each at the density on the deck during it (docs:
-        theory, A crowd that changes); ``crowd`` gives the walkers, its density is not used.
-        The interval takes the record's Welch statistics as measured: the scatter of its
-        segments, which with a changing crowd includes the spread of their expectations.
     density_uncertainty : float
         The relative standard uncertainty of the stated crowd density (or of the whole
-        ``crowd_profile``), in [0, 0.5]: 0.1 for a density known to ±10 % (one standard
+        profile), in [0, 0.5]: 0.1 for a density known to ±10 % (one standard
         deviation). The intervals carry it as a nuisance of the sandwich covariance: a density
         stated too high moves every ordinate as a larger crowd would, and the estimate with it
         (docs: theory, The crowd density's uncertainty). Default 0.1: field densities are
@@ -225,13 +224,15 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
     crowd_model, free_step_frequencies = estimator_defaults(method, crowd_model,
                                                             free_step_frequencies)
     free_step_frequencies = check_flag("free_step_frequencies", free_step_frequencies)
-    _warn_implausible_profile(crowd_profile, measured)
+    _warn_implausible_profile(crowd, measured)
+    profile = getattr(crowd, "profile", None)       # the objective checks the type
 
-    def objective(crowd, model=crowd_model):
-        return PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
+    def objective(walkers, model=crowd_model):
+        # A fitted crowd (the first fit's) is numeric: it walks the record's profile again.
+        walkers = walkers if profile is None else walkers.with_density(profile)
+        return PSDObjective(measured, structure, walkers, band=band, force=force, outputs=outputs,
                             output_weights=output_weights, frequency_weights=frequency_weights,
-                            match_welch=match_welch, method=method, crowd_model=model,
-                            crowd_profile=crowd_profile)
+                            match_welch=match_welch, method=method, crowd_model=model)
 
     # A wrong level (units, gain) is diagnosed at the crowd as given with the smeared model:
     # the question is one of level, which the two crowd models share to a few per cent, and
@@ -278,7 +279,6 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
                        method: str = DEFAULT_JOINT_METHOD, interval: str = "profile",
                        level: float = 0.95, crowd_model: str | None = None, n_boot: int = 200,
                        rng: Seed = None,
-                       crowd_profiles: Sequence[CrowdProfile | None] | None = None,
                        density_uncertainty: float = DEFAULT_DENSITY_UNCERTAINTY,
                        check_level: bool = True) -> HSIEstimate:
     """One MSD from several records, each with its own crowd (docs: theory, Joint estimation).
@@ -297,15 +297,13 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
         One measured PSD per record (each a Welch estimate for intervals).
     structure : ModalModel
     crowds : sequence of Crowd
-        The crowd of each record, in the same order.
+        The crowd of each record, in the same order, each with its own density: a number, or
+        a :class:`~crowdvib.models.CrowdProfile` against its record's time (as in
+        :func:`estimate_hsi`).
     band, outputs, output_weights, frequency_weights, starts, bounds, mass_ratio
         As in :func:`estimate_hsi`, the same for every record.
     free_mass_ratio, force, match_welch, method, interval, level, crowd_model, n_boot, rng
         As in :func:`estimate_hsi`, the same for every record.
-    crowd_profiles : sequence of CrowdProfile or None, optional
-        Per record, the crowd's density against its time (``crowd_profile`` of
-        :func:`estimate_hsi`), or None for a record whose crowd stays as its ``crowds`` entry
-        says; default: every crowd stationary.
     density_uncertainty : float
         As in :func:`estimate_hsi`: the relative standard uncertainty of the stated densities,
         taken as one error common to every record (the same way of counting), so it does not
@@ -339,18 +337,13 @@ def estimate_hsi_joint(measurements: Sequence[ResponsePSD], structure: ModalMode
     if not measurements or len(measurements) != len(crowds):
         raise ParameterError(f"measurements and crowds must pair up one record with one crowd, "
                              f"got {len(measurements)} measurement(s) and {len(crowds)} crowd(s)")
-    profiles = [None] * len(crowds) if crowd_profiles is None else list(crowd_profiles)
-    if len(profiles) != len(crowds):
-        raise ParameterError(f"crowd_profiles must give one profile (or None) per record, got "
-                             f"{len(profiles)} for {len(crowds)} record(s)")
-    for measured, profile in zip(measurements, profiles):
-        _warn_implausible_profile(profile, measured)
+    for measured, crowd in zip(measurements, crowds):
+        _warn_implausible_profile(crowd, measured)
     parts = [(PSDObjective(measured, structure, crowd, band=band, force=force, outputs=outputs,
                            output_weights=output_weights, frequency_weights=frequency_weights,
-                           match_welch=match_welch, method=method, crowd_model=crowd_model,
-                           crowd_profile=profile),
+                           match_welch=match_welch, method=method, crowd_model=crowd_model),
               measured)
-             for measured, crowd, profile in zip(measurements, crowds, profiles)]
+             for measured, crowd in zip(measurements, crowds)]
     _check_before_fit([objective for objective, _ in parts], structure, bounds, mass_ratio,
                       free_mass_ratio, False, check_level)
     return _estimate(parts, structure, starts=starts, bounds=bounds, mass_ratio=mass_ratio,
@@ -382,10 +375,11 @@ def _check_before_fit(objectives, structure, bounds, mass_ratio, free_mass_ratio
                         mass_ratio, [f"structure: {note}" for note in structure.implausibilities()])
 
 
-def _warn_implausible_profile(profile, measured):
-    """A crowd profile's doubtful values against the record it describes, as warnings (at the
-    caller of the estimate)."""
-    if (isinstance(profile, CrowdProfile)            # the objective checks the types
+def _warn_implausible_profile(crowd, measured):
+    """The doubtful values of a crowd's profile against the record it describes, as warnings
+    (at the caller of the estimate)."""
+    profile = getattr(crowd, "profile", None)       # the objective checks the types
+    if (isinstance(profile, CrowdProfile)
             and getattr(measured, "window_length", None) and getattr(measured, "n_windows", None)):
         warn_notes(profile.implausibilities(record_duration(
             measured.window_length, measured.n_windows)), stacklevel=3)

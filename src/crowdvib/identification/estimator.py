@@ -27,7 +27,6 @@ from .._estimators import DEFAULT_DENSITY_UNCERTAINTY, DEFAULT_METHOD, check_met
 if TYPE_CHECKING:
     from .._typing import ForceModel, Seed
     from ..models.crowd import Crowd
-    from ..models.profile import CrowdProfile
     from ..models.structure import ModalModel
     from ..signals.spectrum import ResponsePSD
     from .objective import PSDObjective
@@ -146,13 +145,13 @@ class Estimator:
         return {item.name: getattr(self, item.name) for item in dataclasses.fields(self)
                 if not (point_only and item.name in _INTERVAL_CHOICES)}
 
-    def objective(self, measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
-                  crowd_profile: CrowdProfile | None = None) -> PSDObjective:
+    def objective(self, measured: ResponsePSD, structure: ModalModel,
+                  crowd: Crowd) -> PSDObjective:
         """The misfit these choices minimise, at the crowd as given.
 
         Parameters
         ----------
-        measured, structure, crowd, crowd_profile
+        measured, structure, crowd
             As :meth:`fit`.
 
         Returns
@@ -162,11 +161,11 @@ class Estimator:
         from .objective import PSDObjective
 
         given = self.options()
-        return PSDObjective(measured, structure, crowd, crowd_profile=crowd_profile,
+        return PSDObjective(measured, structure, crowd,
                             **{name: given[name] for name in _OBJECTIVE_CHOICES})
 
     def fit(self, measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
-            crowd_profile: CrowdProfile | None = None, rng: Seed = None) -> HSIEstimate:
+            rng: Seed = None) -> HSIEstimate:
         """The MSD of one record: :func:`~crowdvib.estimate_hsi` with these choices.
 
         Parameters
@@ -174,20 +173,16 @@ class Estimator:
         measured : ResponsePSD
         structure : ModalModel
         crowd : Crowd
-        crowd_profile : CrowdProfile, optional
-            The crowd's density against time over the record.
+            Its density a number or a profile over the record (as :func:`~crowdvib.estimate_hsi`).
         rng : None, int or numpy.random.Generator
             Seed of the bootstrap replicates.
         """
         from .estimation import estimate_hsi
 
-        return estimate_hsi(measured, structure, crowd, crowd_profile=crowd_profile, rng=rng,
-                            **self.options())
+        return estimate_hsi(measured, structure, crowd, rng=rng, **self.options())
 
     def fit_joint(self, measurements: Sequence[ResponsePSD], structure: ModalModel,
-                  crowds: Sequence[Crowd], *,
-                  crowd_profiles: Sequence[CrowdProfile | None] | None = None,
-                  rng: Seed = None) -> HSIEstimate:
+                  crowds: Sequence[Crowd], *, rng: Seed = None) -> HSIEstimate:
         """One MSD for several records, each with its crowd:
         :func:`~crowdvib.estimate_hsi_joint` with these choices (its ``method`` the one it
         states; the joint fit holds each record's crowd, so ``free_step_frequencies`` must not
@@ -195,7 +190,7 @@ class Estimator:
 
         Parameters
         ----------
-        measurements, structure, crowds, crowd_profiles, rng
+        measurements, structure, crowds, rng
             As :func:`~crowdvib.estimate_hsi_joint`.
         """
         from .estimation import estimate_hsi_joint
@@ -207,8 +202,7 @@ class Estimator:
             raise ParameterError("free_step_frequencies must not be True for a joint fit: it "
                                  "holds each record's crowd as given (Estimator.replace("
                                  "free_step_frequencies=None))")
-        return estimate_hsi_joint(measurements, structure, crowds, crowd_profiles=crowd_profiles,
-                                  rng=rng, **given)
+        return estimate_hsi_joint(measurements, structure, crowds, rng=rng, **given)
 
 
 def check_estimator(estimator: Any) -> Estimator:

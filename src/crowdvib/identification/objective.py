@@ -23,7 +23,6 @@ from .._estimators import DEFAULT_METHOD, METHOD_DEFAULTS, estimator_defaults
 from .._validation import as_float_array, check_flag, check_names, check_positive, check_type
 from ..errors import ParameterError
 from ..models.crowd import Crowd
-from ..models.profile import CrowdProfile
 from ..models.structure import ModalModel
 from ..response.frequency_domain.fluctuation import spectral_model
 from ..response.frequency_domain.varying import record_model
@@ -96,7 +95,11 @@ class PSDObjective:
     measured : ResponsePSD
         Measured (or synthetic) PSDs, one row per output.
     structure, crowd, force
-        The model assumed known.
+        The model assumed known. A crowd whose density is a
+        :class:`~crowdvib.models.CrowdProfile` (t = 0 the record's first sample) makes the model
+        the average over the Welch windows of each window's expectation (docs: theory, A crowd
+        that changes), the windows placed as a Welch estimate of ``measured.n_windows`` windows
+        at 50 % overlap places them from t = 0.
     band : (float, float)
         Analysis band [Hz].
     outputs : sequence of str, optional
@@ -121,12 +124,6 @@ class PSDObjective:
         occupancy (docs: theory, The fluctuating crowd); by default the method's, as in
         :func:`crowdvib.estimate_hsi` (fluctuating with the likelihood, smeared with least
         squares).
-    crowd_profile : CrowdProfile, optional
-        The record's crowd changes with time (t = 0 its first sample): the model is the
-        average over the Welch windows of each window's expectation (docs: theory, A crowd that
-        changes), ``crowd`` giving the walkers (its density is not used). The windows are
-        placed as a Welch estimate of ``measured.n_windows`` windows at 50 % overlap places
-        them from t = 0.
     """
 
     def __setattr__(self, name, value):
@@ -145,7 +142,7 @@ class PSDObjective:
 
     def __init__(self, measured, structure, crowd, *, band, force=None, outputs=None,
                  output_weights=None, frequency_weights=None, match_welch=True,
-                 method=DEFAULT_METHOD, crowd_model=None, crowd_profile=None):
+                 method=DEFAULT_METHOD, crowd_model=None):
         crowd_model = estimator_defaults(method, crowd_model)[0]
         self.method = method
         if not isinstance(measured, ResponsePSD):
@@ -154,11 +151,10 @@ class PSDObjective:
         check_type("structure", structure, ModalModel)
         check_type("crowd", crowd, Crowd)
         self._profile = None
-        if crowd_profile is not None:
-            check_type("crowd_profile", crowd_profile, CrowdProfile)
+        if crowd.profile is not None:
             # The record's windows: its Welch estimate's, placed from t = 0 (record_model).
-            self._profile = (crowd_profile, None, (measured.window_length, measured.n_windows))
-            crowd = crowd.with_density(crowd_profile.peak)      # checked > 0 just below
+            self._profile = (crowd.profile, None, (measured.window_length, measured.n_windows))
+            crowd = crowd.with_density(crowd.profile.peak)      # checked > 0 just below
         if crowd.density <= 0:
             raise ParameterError(
                 f"crowd.density must be > 0 to estimate HSI (no crowd, no interaction), "
@@ -294,7 +290,7 @@ class PSDObjective:
         profile, mean, windows = self._profile
         if mean is not None and crowd.density != mean:
             profile = profile.scaled(crowd.density / mean)
-        return record_model(inputs.pop("structure"), crowd, frequency, crowd_profile=profile,
+        return record_model(inputs.pop("structure"), crowd.with_density(profile), frequency,
                             record_windows=windows, **inputs)
 
     def model_for(self, steps):

@@ -61,7 +61,6 @@ from ..models.crowd import Crowd
 from ..models.loading import ForceModel, YoungForce, ZivanovicForce
 from ..models.measured import MeasuredForce
 from ..models.pedestrian import MSDModel
-from ..models.profile import CrowdProfile
 from ..models.structure import ModalModel
 from ._common import reading
 from ._toml import Table, _is_number, read_toml
@@ -124,9 +123,13 @@ class Case:
         The walking-force model (the file's ``force``; default Živanović 2007).
     report : dict
         The ``[report]`` table: who and what the reports are for (client, project, …), text.
-    crowd_profile : CrowdProfile or None
-        The crowd's density against the record's time (``[crowd] counts`` or
-        ``density_profile``; docs: theory, A crowd that changes); None: stationary.
+    reference_density : float
+        The walkers' reference density [persons/m²]: the crowd's density, or for a crowd whose
+        density is a profile (``[crowd] counts`` or ``density_profile``; docs: theory, A crowd
+        that changes) the file's ``[crowd] density`` or else the profile's mean over its table,
+        which set the walkers' speed and step frequency by default and which the commands of a
+        stationary crowd (design and comfort checks, mode shapes) take
+        (:meth:`stationary_crowd`).
     comfort : ComfortSpec or None
         The ``[comfort]`` table (``crowdvib comfort``), None without one.
     traffic : TrafficSpec or None
@@ -158,20 +161,30 @@ class Case:
     force: ForceModel = field(default_factory=ZivanovicForce)
     #: The ``[report]`` table: who and what the reports are for (client, project, …), text.
     report: dict = field(default_factory=dict)
-    #: The crowd's density against the record's time (``[crowd] counts`` or
-    #: ``density_profile``), None for a stationary crowd.
-    crowd_profile: CrowdProfile | None = None
+    #: The walkers' reference density [persons/m²] (the crowd's, or with a profile the file's
+    #: ``[crowd] density`` or the profile's mean); None: the crowd's density.
+    reference_density: float | None = None
     #: ``[comfort]`` and ``[traffic]`` (``crowdvib comfort``; :mod:`crowdvib.io.casecomfort`).
     comfort: ComfortSpec | None = None
     traffic: TrafficSpec | None = None
 
-    def record_crowd_profile(self) -> CrowdProfile | None:
-        """:attr:`crowd_profile` on the time axis of the record as measured: t = 0 at the
-        start of ``measurement.time_frame`` (the Welch windows start there)."""
-        if self.crowd_profile is None:
-            return None
+    def record_crowd(self) -> Crowd:
+        """:attr:`crowd` on the time axis of the record as measured: a profile shifted so that
+        t = 0 is the start of ``measurement.time_frame`` (the Welch windows start there); a
+        stationary crowd as it is."""
+        profile = self.crowd.profile
+        if profile is None:
+            return self.crowd
         frame = self.measurement.time_frame
-        return self.crowd_profile.shifted(frame[0] if frame else 0.0)
+        return self.crowd.with_density(profile.shifted(frame[0] if frame else 0.0))
+
+    def stationary_crowd(self) -> Crowd:
+        """The walkers at their reference density (:attr:`reference_density`): the crowd of the
+        commands that model a stationary crowd (design and comfort checks, mode shapes, the
+        step-frequency fit); :attr:`crowd` itself when its density is a number."""
+        if self.crowd.profile is None or self.reference_density is None:
+            return self.crowd
+        return self.crowd.with_density(self.reference_density)
 
     def blocks(self) -> list[Case]:
         """One case per record: itself, or per ``[[measurement]]`` block the case with that
@@ -179,7 +192,8 @@ class Case:
         if not self.records:
             return [self]
         return [replace(self, name=block.name, measurement=block.measurement,
-                        crowd=block.crowd, crowd_profile=block.crowd_profile, records=())
+                        crowd=block.crowd, reference_density=block.reference_density,
+                        records=())
                 for block in self.records]
 
     def inputs(self, sections: Sequence[str] | None = None) -> dict[str, Any]:
@@ -216,25 +230,34 @@ class Case:
                               "width": s.width, "n_lanes": int(s.lanes.size),
                               "output_names": list(s.output_names),
                               "modal_mass_ratios": s.modal_mass_ratios(
-                                  self.crowd.density, self.crowd.body_mass).tolist()},
-                "crowd": plain(self.crowd), "hsi": self.msd.to_dict(),
+                                  self.stationary_crowd().density,
+                                  self.crowd.body_mass).tolist()},
+                "crowd": _crowd_inputs(self.crowd, self.reference_density),
+                "hsi": self.msd.to_dict(),
                 "measurement": plain(self.measurement), "estimation": plain(self.estimation),
                 "simulation": plain(self.simulation), "expected": dict(self.expected),
                 **({} if self.design is None else {"design": plain(self.design)}),
-                **({"records": plain(self.records)} if self.records else {}),
+                **({"records": [dict(plain(block), crowd=_crowd_inputs(block.crowd,
+                                                                       block.reference_density))
+                                for block in self.records]} if self.records else {}),
                 **{key: plain(getattr(self, key)) for key in ("comfort", "traffic")
                    if getattr(self, key) is not None},
                 **({"report": dict(self.report)} if self.report else {})}
-        if self.crowd_profile is not None:      # with the crowd: every command's inputs
-            data["crowd"]["profile"] = {"kind": self.crowd_profile.kind,
-                                        "time": self.crowd_profile.time.tolist(),
-                                        "density": self.crowd_profile.density.tolist()}
         if sections is not None:
             # Every command's report shows the [report] table in its header.
             data = {k: v for k, v in data.items()
                     if not isinstance(v, dict) or k in sections or k == "report"}
         data["not_set"] = {k: v for k, v in self.not_set.items() if k.split(".")[0] in data}
         return data
+
+
+def _crowd_inputs(crowd, reference_density):
+    """A crowd as every command's inputs show it: its fields, the density the walkers'
+    reference, and a profile density under ``profile`` (with the crowd)."""
+    if crowd.profile is None:
+        return crowd.to_dict()
+    return dict(crowd.with_density(reference_density).to_dict(),
+                profile=crowd.profile.to_dict())
 
 
 def _bounds(table, keys, rename=None):
@@ -416,7 +439,7 @@ def _case(path, data):
     crowd_table = root.table("crowd", required=True)
     crowd_profile = _crowd_profile(crowd_table, path, structure)
     uncertainty = _density_uncertainty(crowd_table, path)
-    crowd = _crowd(crowd_table, path, crowd_profile)
+    crowd, reference_density = _crowd(crowd_table, path, crowd_profile)
     msd = _msd(root.table("hsi"), path)
     measurement, records = _measurements(root, path, crowd, structure)
     estimation = (_estimation(root.table("estimation"), path) if root.has("estimation")
@@ -459,7 +482,7 @@ def _case(path, data):
                 measurement=measurement, estimation=estimation, simulation=simulation,
                 expected=expected, seed=seed, description=description, not_set=not_set,
                 design=design, records=records, force=force, report=report,
-                crowd_profile=crowd_profile, comfort=comfort, traffic=traffic)
+                reference_density=reference_density, comfort=comfort, traffic=traffic)
 
 
 #: Case-file keys whose :meth:`Case.inputs` name differs.

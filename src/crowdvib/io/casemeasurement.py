@@ -78,16 +78,16 @@ def _measurement_block(table, path, crowd, number, structure):
     """One ``[[measurement]]`` block: its name, its own crowd (default the case's, stationary),
     with its counts or density profile if it has them, and the keys of ``[measurement]``."""
     name = table.string("name", f"record {number}")
-    profile = None
+    profile, reference = None, crowd.density
     if table.has("crowd"):
         crowd_table = table.table("crowd")
         profile = _crowd_profile(crowd_table, path, structure)
-        crowd = _crowd(crowd_table, path, profile)
+        crowd, reference = _crowd(crowd_table, path, profile)
     measurement = measurement_spec(table, path)
     _check_profile_frame(profile, measurement, path, f"measurement[{number}].crowd",
                          "its [[measurement]] block")
     return MeasurementBlock(name=name, measurement=measurement, crowd=crowd,
-                            crowd_profile=profile)
+                            reference_density=reference)
 
 
 def _check_profile_frame(profile, measurement, path, where, measured_by):

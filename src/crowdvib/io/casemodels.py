@@ -108,12 +108,13 @@ def _crowd_profile(table, path, structure):
 
 
 def _crowd(table, path, profile=None):
+    """``[crowd]`` → (the crowd, its density the number or ``profile``; the walkers' reference
+    density: the number, or with a profile the table's ``density`` or the profile's mean)."""
     if profile is not None and not table.has("density"):
         # The walkers' reference density (their speed and step frequency by default): the
         # profile's mean over its table.
         table.defaulted.add(table.key("density"))
-        density = (profile.mean(profile.time[0], profile.time[-1]) if profile.time.size > 1
-                   else profile.peak)
+        density = profile.table_mean
     else:
         density = table.number("density", rule="positive")
     speed = table.number("walking_speed", None, rule="positive")
@@ -126,9 +127,10 @@ def _crowd(table, path, profile=None):
     try:
         speed = float(weidmann_speed(density)) if speed is None else speed
         mean = float(bruno_venuti_step_frequency(speed)) if mean is None else mean
-        return Crowd(density=density, walking_speed=speed, step_frequency_mean=mean,
-                     step_frequency_std=std, body_mass=mass, forward_fraction=fraction,
-                     body_mass_std=mass_std)
+        crowd = Crowd(density=density, walking_speed=speed, step_frequency_mean=mean,
+                      step_frequency_std=std, body_mass=mass, forward_fraction=fraction,
+                      body_mass_std=mass_std)
+        return (crowd if profile is None else crowd.with_density(profile)), density
     except ParameterError as exc:
         raise wrap(path, "crowd", exc) from None
 

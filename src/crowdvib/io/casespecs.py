@@ -11,7 +11,6 @@ from .._estimators import (DEFAULT_DENSITY_UNCERTAINTY, DEFAULT_JOINT_METHOD, DE
 
 if TYPE_CHECKING:
     from ..models.crowd import Crowd
-    from ..models.profile import CrowdProfile
     from ..models.pedestrian import MSDModel
 
 __all__ = ["MeasurementSpec", "MeasurementBlock", "StepFrequencySpec", "EstimationSpec",
@@ -81,10 +80,11 @@ class MeasurementBlock:
 
     name: str
     measurement: MeasurementSpec
+    #: Its density a number, or a profile against the record's time (its ``crowd.counts`` or
+    #: ``crowd.density_profile``).
     crowd: Crowd
-    #: The crowd's density against the record's time (its ``crowd.counts`` or
-    #: ``crowd.density_profile``), None for a stationary crowd.
-    crowd_profile: CrowdProfile | None = None
+    #: The walkers' reference density [persons/m²] (as :attr:`Case.reference_density`).
+    reference_density: float | None = None
 
 
 @dataclass(frozen=True)

@@ -2,20 +2,26 @@
 
 A :class:`Crowd` is the statistical description the paper assumes known: a uniform density d,
 Poisson arrivals at rate λ = d·B·v, one walking speed, step frequencies f_s ~ N(μ_fs, σ_fs) and
-one (average) body mass.
+one (average) body mass. Its density is a number (a stationary crowd) or a
+:class:`~crowdvib.models.CrowdProfile` (a crowd whose density changes within a record, issue 34
+§3): one value that the simulator, the record's model and the estimator read; the models of a
+stationary crowd refuse a profile (:meth:`Crowd.check_stationary`).
 """
 
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .._plausibility import derived, implausibility, warn_notes
-from .._validation import FieldsFromDict, as_float_array, check_non_negative, check_positive
+from .._validation import (FieldsFromDict, as_float_array, check_non_negative, check_positive,
+                           fields_from_dict)
 from ..errors import ParameterError
 from .loading import STANDARD_GRAVITY
+from .profile import JAM_DENSITY, CrowdProfile
 
 __all__ = ["Crowd", "weidmann_speed", "bruno_venuti_step_frequency", "JAM_DENSITY"]
 
@@ -23,8 +29,6 @@ __all__ = ["Crowd", "weidmann_speed", "bruno_venuti_step_frequency", "JAM_DENSIT
 FREE_SPEED = 1.34
 #: Shape constant γ [persons/m²] of Weidmann's relation (docs: theory, The crowd, SOURCED).
 WEIDMANN_GAMMA = 1.913
-#: Jam density d_max [persons/m²] at which Weidmann's speed falls to zero (docs: theory, The crowd, SOURCED).
-JAM_DENSITY = 5.4
 #: Standard deviation of step frequencies in unrestricted traffic [Hz] (AFGC 2006 via the paper).
 UNRESTRICTED_STEP_FREQUENCY_STD = 0.175
 
@@ -110,8 +114,12 @@ class Crowd(FieldsFromDict):
 
     Parameters
     ----------
-    density : float
-        Pedestrian density d [persons/m²], >= 0 (0 = empty deck).
+    density : float or CrowdProfile
+        Pedestrian density d [persons/m²], >= 0 (0 = empty deck), or a
+        :class:`~crowdvib.models.CrowdProfile`, the density against the record's time (t = 0 its
+        first sample; docs: theory, A crowd that changes), which :func:`crowdvib.simulate`,
+        :func:`crowdvib.varying_response_psd` and :func:`crowdvib.estimate_hsi` follow and the
+        models of a stationary crowd refuse (:meth:`check_stationary`).
     walking_speed : float
         Walking speed v [m/s], > 0, the same for all.
     step_frequency_mean : float
@@ -144,9 +152,19 @@ class Crowd(FieldsFromDict):
     ...               step_frequency_std=0.175, body_mass=70.0)
     >>> round(crowd.arrival_rate(3.0), 3)                    # persons/s
     1.95
+
+    A crowd that ramps from 0.2 to 1.0 persons/m² over an hour carries its profile:
+
+    >>> from crowdvib import CrowdProfile
+    >>> ramp = Crowd.from_density(CrowdProfile([0.0, 3600.0], [0.2, 1.0]))
+    >>> ramp.profile.peak, round(ramp.walking_speed, 3)      # walkers of the mean, 0.6
+    (1.0, 1.261)
     """
 
-    density: float
+    # A union, not a float with a separate profile field: the constructor's keyword says what
+    # it takes, and code that needs a number narrows it at its entry (check_stationary, or
+    # ``profile``) rather than reading a placeholder density (issue 34 §3).
+    density: float | CrowdProfile
     walking_speed: float
     step_frequency_mean: float
     step_frequency_std: float = UNRESTRICTED_STEP_FREQUENCY_STD
@@ -155,10 +173,16 @@ class Crowd(FieldsFromDict):
     body_mass_std: float = 0.0
 
     def __post_init__(self):
-        check_non_negative("density", self.density, unit="persons/m²")
-        if self.density >= JAM_DENSITY:
-            raise ParameterError(
-                f"density must be < the jam density {JAM_DENSITY} persons/m², got {self.density:g}")
+        # A profile checked its own densities (>= 0, below the jam density) when it was built.
+        if not isinstance(self.density, CrowdProfile):
+            if np.ndim(self.density) != 0:
+                raise ParameterError(f"density must be a number [persons/m²] or a CrowdProfile, "
+                                     f"got {self.density!r:.60}")
+            check_non_negative("density", self.density, unit="persons/m²")
+            if self.density >= JAM_DENSITY:
+                raise ParameterError(f"density must be < the jam density {JAM_DENSITY} "
+                                     f"persons/m², got {self.density:g}")
+            object.__setattr__(self, "density", float(self.density))
         check_positive("walking_speed", self.walking_speed, unit="m/s")
         check_positive("step_frequency_mean", self.step_frequency_mean, unit="Hz")
         check_positive("step_frequency_std", self.step_frequency_std, unit="Hz")
@@ -171,7 +195,7 @@ class Crowd(FieldsFromDict):
         fraction = float(as_float_array("forward_fraction", self.forward_fraction, ndim=0))
         if not 0.0 <= fraction <= 1.0:
             raise ParameterError(f"forward_fraction must lie in [0, 1], got {fraction:g}")
-        for name in ("density", "walking_speed", "step_frequency_mean", "step_frequency_std",
+        for name in ("walking_speed", "step_frequency_mean", "step_frequency_std",
                      "body_mass", "forward_fraction", "body_mass_std"):
             object.__setattr__(self, name, float(getattr(self, name)))
         warn_notes(self.implausibilities(), stacklevel=3)
@@ -189,8 +213,36 @@ class Crowd(FieldsFromDict):
             "walking_speed", "step_frequency_mean", "step_frequency_std", "body_mass")]
         return [note for note in notes if note is not None]
 
+    @property
+    def profile(self) -> CrowdProfile | None:
+        """The density against time when it is a :class:`~crowdvib.models.CrowdProfile`, None
+        for a stationary crowd (a number)."""
+        return self.density if isinstance(self.density, CrowdProfile) else None
+
+    def check_stationary(self, caller: str) -> Crowd:
+        """This crowd if its density is a number, or a ParameterError naming ``caller``.
+
+        The models of a stationary crowd (the spectral models, the design and comfort checks)
+        have one density; a profile is followed by :func:`crowdvib.simulate`, the record's model
+        (:func:`crowdvib.varying_response_psd`, :func:`crowdvib.response.record_model`) and
+        :func:`crowdvib.estimate_hsi`, not reduced to a number silently.
+
+        Parameters
+        ----------
+        caller : str
+            The function or class that needs a number (for the message).
+        """
+        if isinstance(self.density, CrowdProfile):
+            raise ParameterError(
+                f"crowd.density must be a number [persons/m²] for {caller}, a model of a "
+                "stationary crowd, got a CrowdProfile (a density that changes with time): "
+                "crowdvib.varying_response_psd (or crowdvib.response.record_model) gives the "
+                "expected PSD of a record whose crowd follows it, crowd.with_density(d) the "
+                "stationary crowd of one density d")
+        return self
+
     @classmethod
-    def from_density(cls, density: float, *, body_mass: float = 70.0,
+    def from_density(cls, density: float | CrowdProfile, *, body_mass: float = 70.0,
                      step_frequency_std: float = UNRESTRICTED_STEP_FREQUENCY_STD,
                      forward_fraction: float = 1.0, body_mass_std: float = 0.0) -> Crowd:
         """A crowd whose speed follows Weidmann and whose step frequency follows Bruno & Venuti.
@@ -201,8 +253,10 @@ class Crowd(FieldsFromDict):
 
         Parameters
         ----------
-        density : float
-            Crowd density d [persons/m²], > 0 and below the jam density.
+        density : float or CrowdProfile
+            Crowd density d [persons/m²], > 0 and below the jam density, or its profile against
+            time, whose mean over its table (:attr:`CrowdProfile.table_mean`) sets the walkers'
+            speed and step frequency (as a case file's ``[crowd]`` without ``density``).
         body_mass, step_frequency_std, forward_fraction, body_mass_std
             As for :class:`Crowd`.
 
@@ -212,7 +266,8 @@ class Crowd(FieldsFromDict):
             With ``walking_speed`` = :func:`~crowdvib.models.weidmann_speed` (d) and
             ``step_frequency_mean`` = :func:`~crowdvib.models.bruno_venuti_step_frequency` (v).
         """
-        speed = float(weidmann_speed(density))
+        speed = float(weidmann_speed(density.table_mean if isinstance(density, CrowdProfile)
+                                     else density))
         with derived():          # warned below, at the caller's line rather than here
             crowd = cls(density=density, walking_speed=speed,
                         step_frequency_mean=float(bruno_venuti_step_frequency(speed)),
@@ -221,19 +276,38 @@ class Crowd(FieldsFromDict):
         warn_notes(crowd.implausibilities(), stacklevel=2)
         return crowd
 
-    def to_dict(self) -> dict[str, float]:
-        """The crowd as a JSON-ready dict (keys as the parameters)."""
-        return asdict(self)
+    def to_dict(self) -> dict[str, Any]:
+        """The crowd as a JSON-ready dict (keys as the parameters; a profile density as
+        :meth:`CrowdProfile.to_dict`)."""
+        data = asdict(self)
+        if isinstance(self.density, CrowdProfile):
+            data["density"] = self.density.to_dict()
+        return data
 
-    def with_density(self, density: float) -> Crowd:
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> Crowd:
+        """The crowd of :meth:`to_dict`'s dict, as :meth:`FieldsFromDict.from_dict` reads one
+        (a DataError for a missing field), its ``density`` a number or a profile's table
+        (:meth:`CrowdProfile.from_dict`).
+
+        Parameters
+        ----------
+        data : dict
+            The crowd's fields by name, from JSON.
+        """
+        if isinstance(data, dict) and isinstance(data.get("density"), dict):
+            return fields_from_dict(cls, data, density=CrowdProfile.from_dict(data["density"]))
+        return fields_from_dict(cls, data)
+
+    def with_density(self, density: float | CrowdProfile) -> Crowd:
         """The same walkers at another density (speed and step frequencies unchanged).
 
         The walkers were checked for plausibility when this crowd was built: no warning again.
 
         Parameters
         ----------
-        density : float
-            The new density [persons/m²], >= 0 and below the jam density.
+        density : float or CrowdProfile
+            The new density [persons/m²], >= 0 and below the jam density, or a profile.
         """
         with derived():
             return replace(self, density=density)
@@ -255,7 +329,8 @@ class Crowd(FieldsFromDict):
         float
             λ [persons/s].
         """
-        return self.density * check_positive("width", width, unit="m") * self.walking_speed
+        density = self.check_stationary("Crowd.arrival_rate").density
+        return density * check_positive("width", width, unit="m") * self.walking_speed
 
     def step_frequency_pdf(self, step_frequency: ArrayLike) -> np.ndarray:
         """Gaussian density p_fs of the step frequencies [1/Hz].

@@ -13,15 +13,19 @@ are a :class:`~crowdvib.models.Crowd`'s.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .._validation import as_float_array
-from ..errors import ParameterError
-from .crowd import JAM_DENSITY
+from ..errors import DataError, ParameterError
 
-__all__ = ["CrowdProfile", "PROFILE_KINDS"]
+__all__ = ["CrowdProfile", "PROFILE_KINDS", "JAM_DENSITY"]
+
+#: Jam density d_max [persons/m²] at which Weidmann's speed falls to zero (docs: theory, The crowd,
+#: SOURCED): no density, stationary or in a profile, reaches it.
+JAM_DENSITY = 5.4
 
 #: How a profile runs between its points: straight lines, or each value held to the next point.
 PROFILE_KINDS = ("linear", "step")
@@ -86,6 +90,41 @@ class CrowdProfile:
         knots.flags.writeable = False
         object.__setattr__(self, "_knots", knots)
 
+    def __eq__(self, other: object) -> bool:
+        # By value (its table), so that a crowd carrying it compares and hashes by value too
+        # (Crowd.from_dict(crowd.to_dict()) == crowd).
+        if not isinstance(other, CrowdProfile):
+            return NotImplemented
+        return (self.kind == other.kind and np.array_equal(self.time, other.time)
+                and np.array_equal(self.density, other.density))
+
+    def __hash__(self) -> int:
+        return hash((self.kind, self.time.tobytes(), self.density.tobytes()))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The profile as a JSON-ready dict: ``kind``, ``time`` [s], ``density`` [persons/m²]
+        (the ``profile`` every command's inputs show with a case's crowd)."""
+        return {"kind": self.kind, "time": self.time.tolist(), "density": self.density.tolist()}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> CrowdProfile:
+        """The profile of :meth:`to_dict`'s dict.
+
+        Parameters
+        ----------
+        data : dict
+            ``kind``, ``time`` and ``density``, as :meth:`to_dict` wrote them.
+
+        Raises
+        ------
+        DataError
+            ``data`` is not a dict or lacks one of them.
+        """
+        if not isinstance(data, dict) or not {"time", "density"} <= set(data):
+            raise DataError(f"a crowd profile must be a dict with 'time' and 'density' (and "
+                            f"'kind'), got {data!r:.80}")
+        return cls(data["time"], data["density"], data.get("kind", "linear"))
+
     @classmethod
     def constant(cls, density: float) -> CrowdProfile:
         """The stationary crowd of one density (a simulation with it is bit-identical to one
@@ -134,6 +173,13 @@ class CrowdProfile:
         return bool(np.all(self.density == self.density[0]))
 
     @property
+    def table_mean(self) -> float:
+        """The mean density over the table's span [persons/m²] (its one value for a one-point
+        table): the walkers' reference density, which sets their speed and step frequency by
+        default (:meth:`crowdvib.Crowd.from_density`, a case file's ``[crowd]``)."""
+        return self.mean(self.time[0], self.time[-1]) if self.time.size > 1 else self.peak
+
+    @property
     def peak(self) -> float:
         """The largest density [persons/m²]."""
         return float(self.density.max())
@@ -165,7 +211,7 @@ class CrowdProfile:
             One sentence per doubt (empty: none).
         """
         if self.time[0] >= duration:    # issue 35 §3: read as its first value, silently
-            return [f"crowd_profile times start at {self.time[0]:g} s, after the {duration:g} s "
+            return [f"crowd profile times start at {self.time[0]:g} s, after the {duration:g} s "
                     f"record ends: the table describes another stretch (its times on another "
                     f"axis, or the record's time_frame?); the whole record gets its first "
                     f"density {self.density[0]:g} persons/m²"]
@@ -174,7 +220,7 @@ class CrowdProfile:
             return []
         for unit, factor in (("minutes", 60.0), ("hours", 3600.0)):
             if 0.5 * duration <= span * factor <= 2 * duration:
-                return [f"crowd_profile times end at {self.time[-1]:g} s of a {duration:g} s "
+                return [f"crowd profile times end at {self.time[-1]:g} s of a {duration:g} s "
                         f"record: in {unit}? (they would span {span * factor:g} s)"]
         return []
 

@@ -31,7 +31,7 @@ def simulation_replay(found, *, start=None, length=None):
     return crossing_replay(case.structure, case.crowd, found.duration, msd=found.msd,
                            force=case.force, sample_rate=found.sample_rate,
                            rng=found.simulation.seed, warm_up=case.simulation.warm_up,
-                           crowd_profile=case.crowd_profile, start=start,
+                           start=start,
                            length=DEFAULT_REPLAY_LENGTH if length is None else length,
                            n_on_deck=found.simulation.n_on_deck)
 

@@ -73,7 +73,7 @@ def run_check(case: Case | str | Path, out: str | Path, *, msd_from: str | Path 
             figures = _figures(found.checks, staging, case.name)
             written = write_results(staging, {
                 **found.to_dict(), "figures": figures, **provenance(case.path),
-                "mode_shapes": mode_shape_table(case.structure, case.crowd, found.msd),
+                "mode_shapes": mode_shape_table(case.structure, case.stationary_crowd(), found.msd),
                 "warnings": list(dict.fromkeys(warning_texts(caught)))})   # once each
     for line in _table_lines(found.rows):
         say("  " + line)

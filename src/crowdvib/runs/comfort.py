@@ -96,7 +96,7 @@ def run_comfort(case: Case | str | Path, out: str | Path, *, season: str | Path 
             written = write_results(staging, {
                 **found.to_dict(), "figures": figures, **provenance(case.path),
                 # the modes swing in the report (issue 38), occupied by the case's crowd
-                "mode_shapes": mode_shape_table(case.structure, case.crowd, found.msd),
+                "mode_shapes": mode_shape_table(case.structure, case.stationary_crowd(), found.msd),
                 "warnings": list(dict.fromkeys(warning_texts(caught)))})
     for line in comfort_lines(found.year.to_dict()):
         say("  " + line)

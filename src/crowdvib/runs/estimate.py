@@ -154,7 +154,7 @@ def _say_fit(fit, say):
         say(f"crowdvib estimate: {case.name} ({case.path.name}), joint fit of "
             f"{len(case.records)} records")
         for part in fit.records:
-            say(f"  {part.case.name}: crowd {part.case.crowd.density:g} P/m²")
+            say(f"  {part.case.name}: crowd {part.case.stationary_crowd().density:g} P/m²")
             say(measurement_line(part.measurement))
             _say_crowd(part.case, part.step_frequencies, say)
         _say_estimate(fit.estimate, say)

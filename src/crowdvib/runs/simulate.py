@@ -151,7 +151,8 @@ def _replay(found, results, start, length):
     the busiest 30 s) into ``results`` (issue 38); the replay returned, for a video."""
 
     replay = simulation_replay(found, start=start, length=length)
-    results["mode_shapes"] = mode_shape_table(found.case.structure, found.case.crowd, found.msd)
+    results["mode_shapes"] = mode_shape_table(found.case.structure,
+                                              found.case.stationary_crowd(), found.msd)
     results["replay"] = replay_table(replay, found.case.structure, busiest=start is None)
     return replay
 

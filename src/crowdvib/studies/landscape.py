@@ -120,7 +120,7 @@ class ObjectiveMap:
 
 
 def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, estimator,
-                  estimate=None, progress=None, max_seconds=None, crowd_profile=None):
+                  estimate=None, progress=None, max_seconds=None):
     """The objective on a (f_h1, ξ_h1) grid → :class:`ObjectiveMap` (paper Figures 4 and 10).
 
     The misfit of the estimator's ``method``: by default the one :func:`crowdvib.estimate_hsi`
@@ -135,8 +135,8 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, es
 
     Parameters
     ----------
-    measured, structure, crowd, crowd_profile
-        As in :func:`crowdvib.estimate_hsi`.
+    measured, structure, crowd
+        As in :func:`crowdvib.estimate_hsi` (a crowd's density a number or a profile).
     estimator : Estimator
         The estimator whose misfit is mapped (:class:`~crowdvib.identification.Estimator`, its
         ``band`` given): its band, outputs, weights, force model, ``match_welch``, method and
@@ -176,7 +176,7 @@ def objective_map(measured, structure, crowd, *, frequencies, damping_ratios, es
         MSDModel(damping_ratio=value)          # validates each ξ with the model's own rule
     shape = (damping_ratios.size, frequencies.size)
     _check_memory(shape)
-    objective = check_estimator(estimator).objective(measured, structure, crowd, crowd_profile=crowd_profile)
+    objective = check_estimator(estimator).objective(measured, structure, crowd)
     mass_ratio = estimator.mass_ratio
     cost = np.empty(shape)
     started = time.perf_counter()

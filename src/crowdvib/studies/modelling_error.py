@@ -397,7 +397,7 @@ class SensitivityResult(FieldsFromDict):
 
 
 def modelling_error_study(measured, structure, crowd, *, estimator, levels=None, joint=True,
-                          executor=None, store=None, progress=None, crowd_profile=None,
+                          executor=None, store=None, progress=None,
                           warm_start=True):
     """Estimation error caused by plausible modelling errors (paper Figures 11 and 19).
 
@@ -406,7 +406,7 @@ def modelling_error_study(measured, structure, crowd, *, estimator, levels=None,
 
     Parameters
     ----------
-    measured, structure, crowd, crowd_profile
+    measured, structure, crowd
         As in :func:`crowdvib.estimate_hsi`.
     estimator : Estimator
         The estimator whose point estimate the study repeats
@@ -450,7 +450,7 @@ def modelling_error_study(measured, structure, crowd, *, estimator, levels=None,
 
     The theory pages cite them (docs: theory, References).
     """
-    options = _task_options(estimator, crowd_profile)
+    options = _task_options(estimator)
     cases = error_cases(levels, joint=joint)
     tasks = [(case.name, _EstimationTask(measured, structure, crowd, case, options))
              for case in cases]
@@ -472,14 +472,12 @@ def modelling_error_study(measured, structure, crowd, *, estimator, levels=None,
                              levels=dict(PAPER_ERROR_LEVELS if levels is None else levels))
 
 
-def _task_options(estimator, crowd_profile):
+def _task_options(estimator):
     """A study's estimator as its tasks hold it: the choices of its point estimate as (name,
-    value) pairs (each part of a task's key), and the crowd profile when there is one."""
+    value) pairs (each part of a task's key; a crowd's profile is in the task's crowd)."""
     chosen = check_estimator(estimator).options(point_only=True)
     options = tuple((name, tuple(value) if name == "band" else value)
                     for name, value in chosen.items())
-    if crowd_profile is not None:       # only then: a stationary study keeps its task keys
-        options += (("crowd_profile", crowd_profile),)
     return options
 
 
@@ -515,7 +513,7 @@ def _window_count_task(task):
 
 def record_length_study(signals, sample_rate, structure, crowd, *, window_length, estimator,
                         durations=None, output_names=None, lowpass=None, executor=None,
-                        store=None, progress=None, warm_start=True, crowd_profile=None):
+                        store=None, progress=None, warm_start=True):
     """Estimation error from PSD convergence: re-estimate on the first k·T seconds of the record.
 
     The paper does this for Waalse Krook (8 windows of 60 s): the estimate from fewer windows,
@@ -527,7 +525,7 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
         Accelerations [m/s²] (already cut, detrended, resampled).
     sample_rate : float
         [Hz].
-    structure, crowd, crowd_profile
+    structure, crowd
         As in :func:`crowdvib.estimate_hsi`.
     window_length : float
         Welch segment T [s].
@@ -569,7 +567,7 @@ def record_length_study(signals, sample_rate, structure, crowd, *, window_length
         durations = [k * window_length for k in counts if k <= count]
     durations = sorted(set(float(d) for d in durations if d <= total) | {total})
     names = tuple(output_names or structure.output_names)
-    settings = _task_options(estimator, crowd_profile)
+    settings = _task_options(estimator)
     # Each task holds only the samples it uses: its key then changes only if they do, and no
     # worker is sent the whole record for a short part of it.
     tasks = [(f"duration={d:.6g}",

@@ -253,7 +253,7 @@ class FluctuatingSpectralModel:
                  finite_crossing: bool = True, modulation: bool | None = None,
                  **options: Any) -> None:
         check_type("structure", structure, ModalModel)
-        check_type("crowd", crowd, Crowd)
+        check_type("crowd", crowd, Crowd).check_stationary("FluctuatingSpectralModel")
         check_type("finite_crossing", finite_crossing, bool)
         if modulation is not None:
             check_type("modulation", modulation, bool)
@@ -529,7 +529,7 @@ def response_psd(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
     >>> round(float(psd.peak_frequency()[0]), 2)
     1.93
     """
-    _check_models(structure, crowd, msd, crowd_required=True)
+    _check_models(structure, crowd, msd, "response_psd", crowd_required=True)
     model = spectral_model(structure, crowd, frequency, crowd_model=crowd_model, force=force,
                            outputs=outputs, welch_window_length=welch_window_length,
                            lowpass=lowpass, dampers=dampers)

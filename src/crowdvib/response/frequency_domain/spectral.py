@@ -52,12 +52,13 @@ if TYPE_CHECKING:
 __all__ = ["SpectralModel", "frf", "effective_modal_properties", "modal_accelerance"]
 
 
-def _check_models(structure, crowd, msd, *, crowd_required=False):
-    """The model objects of a public entry point: a clear error for None, a dict or a string
-    where a model is expected (not an AttributeError deep inside)."""
+def _check_models(structure, crowd, msd, caller, *, crowd_required=False):
+    """The model objects of the public entry point ``caller``: a clear error for None, a dict or
+    a string where a model is expected (not an AttributeError deep inside), or for a crowd whose
+    density is a profile (these are models of a stationary crowd)."""
     check_type("structure", structure, ModalModel)
     if crowd is not None or crowd_required:
-        check_type("crowd", crowd, Crowd)
+        check_type("crowd", crowd, Crowd).check_stationary(caller)
     _check_msd_inputs(crowd, msd)
 
 
@@ -125,7 +126,7 @@ class SpectralModel:
                  welch_window_length: float | None = None, lowpass: LowPassFilter | None = None,
                  dampers: Sequence[TunedMassDamper] | None = None,
                  crossing_spread: float = 0.0) -> None:
-        _check_models(structure, crowd, None, crowd_required=True)
+        _check_models(structure, crowd, None, "SpectralModel", crowd_required=True)
         self.structure = structure
         self.crowd = crowd
         self.frequency = check_frequency_grid(frequency)
@@ -419,7 +420,7 @@ def frf(structure: ModalModel, frequency: ArrayLike, *, crowd: Crowd | None = No
 
     The theory pages cite them (docs: theory, References).
     """
-    _check_models(structure, crowd, msd)
+    _check_models(structure, crowd, msd, "frf")
     frequency = check_frequency_grid(frequency)
     outputs = structure.output_names if outputs is None else tuple(outputs)
     inputs = outputs if inputs is None else tuple(inputs)
@@ -469,7 +470,7 @@ def modal_accelerance(structure: ModalModel, frequency: ArrayLike, *, crowd: Cro
     ndarray of complex, shape (n_outputs, n_modes, n_frequencies)
         [(m/s²) per unit modal force, in the scaling of the mode shapes].
     """
-    _check_models(structure, crowd, msd)
+    _check_models(structure, crowd, msd, "modal_accelerance")
     frequency = check_frequency_grid(frequency)
     outputs = structure.output_names if outputs is None else tuple(outputs)
     return _accelerance(structure, frequency, attachments(structure, crowd, msd, dampers),
@@ -529,7 +530,7 @@ def effective_modal_properties(structure: ModalModel, crowd: Crowd | None = None
 
     The theory pages cite them (docs: theory, References).
     """
-    _check_models(structure, crowd, msd)
+    _check_models(structure, crowd, msd, "effective_modal_properties")
     n_modes = structure.n_modes
     attached = attachments(structure, crowd, msd, dampers)
     if not attached:

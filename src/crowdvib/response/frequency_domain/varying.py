@@ -69,15 +69,17 @@ def _welch_weight(t, duration, window_length, overlap):
     return weight
 
 
-def density_law(structure: ModalModel, crowd: Crowd, profile: CrowdProfile, duration: float, *,
+def density_law(structure: ModalModel, crowd: Crowd, duration: float, *,
                 welch_window_length: float | None = None,
                 overlap: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
     """The deck densities a record [0, duration] shows its Welch average, and their weights
     → (densities d(t_j) [persons/m²], weights summing to 1), on a regular time grid.
 
-    d is the profile's mean over the last crossing L/v at the crowd's speed; the weight of
-    t_j is the Welch windows' summed Hann² there (uniform without ``welch_window_length``).
+    d is the mean of the crowd's profile (``crowd.profile``) over the last crossing L/v at the
+    crowd's speed; the weight of t_j is the Welch windows' summed Hann² there (uniform without
+    ``welch_window_length``).
     """
+    profile = _profile_of(crowd)
     duration = check_positive("duration", duration, unit="s")
     if welch_window_length is not None:
         welch_window_length = check_positive("welch_window_length", welch_window_length,
@@ -90,6 +92,19 @@ def density_law(structure: ModalModel, crowd: Crowd, profile: CrowdProfile, dura
     weight = _welch_weight(t, duration, welch_window_length, overlap)
     density = profile.deck_density(t, structure.length / crowd.walking_speed)
     return density, weight / weight.sum()
+
+
+def _profile_of(crowd: Crowd) -> CrowdProfile:
+    """The profile a crowd's density is, or a ParameterError: the record's model follows a
+    density that changes (a stationary crowd's model is :func:`~crowdvib.response_psd`)."""
+    profile = check_type("crowd", crowd, Crowd).profile
+    if profile is None:
+        raise ParameterError(
+            f"crowd.density must be a CrowdProfile (the density against the record's time) for "
+            f"the model of a crowd that changes, got the number {crowd.density:g}: "
+            "Crowd(density=CrowdProfile(...), ...) or crowd.with_density(profile); "
+            "crowdvib.response_psd models a stationary crowd")
+    return profile
 
 
 def _levels(density, weight, count):
@@ -115,9 +130,8 @@ class VaryingCrowdModel:
     ----------
     structure : ModalModel
     crowd : Crowd
-        The walkers (speed, step frequencies, body mass); the profile sets the density.
-    profile : CrowdProfile
-        Density against time, t = 0 the record's first sample.
+        The walkers (speed, step frequencies, body mass) and their density, a
+        :class:`CrowdProfile` against time, t = 0 the record's first sample.
     frequency : array_like
         Frequencies [Hz].
     duration : float
@@ -152,19 +166,18 @@ class VaryingCrowdModel:
         The walkers at the record's mean deck density (as the Welch average weighs it).
     """
 
-    def __init__(self, structure: ModalModel, crowd: Crowd, profile: CrowdProfile,
+    def __init__(self, structure: ModalModel, crowd: Crowd,
                  frequency: ArrayLike, *, duration: float,
                  welch_window_length: float | None = None,
                  weights_window_length: float | None = None, overlap: float = 0.5,
                  crowd_model: str = DEFAULT_CROWD_MODEL, levels: int | None = None,
                  **options: Any) -> None:
         check_type("structure", structure, ModalModel)
-        check_type("crowd", crowd, Crowd)
-        check_type("profile", profile, CrowdProfile)
+        profile = _profile_of(crowd)
         if levels is not None and (not isinstance(levels, (int, np.integer))
                                    or not 1 <= levels <= 40):
             raise ParameterError(f"levels must be an integer from 1 to 40, got {levels!r}")
-        density, weight = density_law(structure, crowd, profile, duration,
+        density, weight = density_law(structure, crowd, duration,
                                       welch_window_length=welch_window_length
                                       or weights_window_length, overlap=overlap)
         self.duration, self.overlap, self.crowd_model = float(duration), overlap, crowd_model
@@ -220,7 +233,8 @@ class VaryingCrowdModel:
         Parameters
         ----------
         crowd : Crowd
-            The walkers with other step frequencies.
+            The walkers with other step frequencies (the levels are kept: its density is not
+            read).
         """
         check_type("crowd", crowd, Crowd)
         other = copy.copy(self)
@@ -269,19 +283,19 @@ class VaryingCrowdModel:
     psd = FluctuatingSpectralModel.psd
 
 
-def varying_response_psd(structure: ModalModel, crowd: Crowd, profile: CrowdProfile,
+def varying_response_psd(structure: ModalModel, crowd: Crowd,
                          frequency: ArrayLike, *, duration: float,
                          msd: MSDModel | None = None,
                          welch_window_length: float | None = None, overlap: float = 0.5,
                          crowd_model: str = DEFAULT_CROWD_MODEL,
                          outputs: str | Sequence[str] | None = None,
                          **options: Any) -> ResponsePSD:
-    """The expected (Welch) PSD of a record of ``duration`` whose crowd follows ``profile``:
-    :class:`VaryingCrowdModel` in one call (docs: theory, A crowd that changes).
+    """The expected (Welch) PSD of a record of ``duration`` whose crowd's density follows a
+    profile: :class:`VaryingCrowdModel` in one call (docs: theory, A crowd that changes).
 
     Parameters
     ----------
-    structure, crowd, profile, frequency, duration, welch_window_length, overlap, crowd_model
+    structure, crowd, frequency, duration, welch_window_length, overlap, crowd_model
         As for :class:`VaryingCrowdModel`.
     msd : MSDModel, optional
         The pedestrians' MSD; None for no HSI.
@@ -300,37 +314,37 @@ def varying_response_psd(structure: ModalModel, crowd: Crowd, profile: CrowdProf
     >>> from crowdvib import Crowd, MSDModel, ModalModel
     >>> from crowdvib.models import CrowdProfile
     >>> bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
-    >>> ramp = CrowdProfile([0.0, 3600.0], [0.2, 1.0])
-    >>> psd = varying_response_psd(bridge, Crowd.from_density(0.6), ramp,
-    ...                            np.arange(60, 181) / 60, duration=3600.0, msd=MSDModel(),
-    ...                            welch_window_length=60.0)
+    >>> ramp = Crowd.from_density(0.6).with_density(CrowdProfile([0.0, 3600.0], [0.2, 1.0]))
+    >>> psd = varying_response_psd(bridge, ramp, np.arange(60, 181) / 60, duration=3600.0,
+    ...                            msd=MSDModel(), welch_window_length=60.0)
     >>> psd.psd.shape
     (1, 121)
     """
-    return VaryingCrowdModel(structure, crowd, profile, frequency, duration=duration,
+    return VaryingCrowdModel(structure, crowd, frequency, duration=duration,
                              welch_window_length=welch_window_length, overlap=overlap,
                              crowd_model=crowd_model, outputs=outputs, **options).psd(msd)
 
 
 def record_model(structure: ModalModel, crowd: Crowd, frequency: ArrayLike, *,
-                 crowd_profile: CrowdProfile | None = None,
                  record_windows: tuple[float | None, int | None] = (None, None),
                  crowd_model: str = "smeared", **options: Any) -> Any:
     """The expected PSD of a measured record: the stationary crowd's model
-    (:func:`~crowdvib.response.fluctuation.spectral_model`), or with ``crowd_profile`` the
-    :class:`VaryingCrowdModel` of the record whose Welch estimate has ``record_windows`` =
+    (:func:`~crowdvib.response.fluctuation.spectral_model`), or for a crowd whose density is a
+    profile the :class:`VaryingCrowdModel` of the record whose Welch estimate has
+    ``record_windows`` =
     (window length [s], number of windows), the windows at 50 % overlap from t = 0 as
     :func:`crowdvib.welch_psd` places them (what the estimator fits and a report draws).
     ``options`` are the models' (``welch_window_length`` among them)."""
-    if crowd_profile is None:
+    if check_type("crowd", crowd, Crowd).profile is None:
         return spectral_model(structure, crowd, frequency, crowd_model=crowd_model, **options)
     window, n_windows = record_windows
     if not (window and n_windows):
         raise ParameterError(
-            "crowd_profile needs a Welch estimate (its window_length and n_windows known) to "
+            "a crowd whose density is a profile needs a Welch estimate (its window_length and "
+            "n_windows known) to "
             f"place the record on the profile, got window_length = {window!r}, "
             f"n_windows = {n_windows!r}")
-    return VaryingCrowdModel(structure, crowd, crowd_profile, frequency,
+    return VaryingCrowdModel(structure, crowd, frequency,
                              duration=record_duration(window, n_windows),
                              crowd_model=crowd_model, **options)
 

@@ -76,7 +76,7 @@ class Run:
     @classmethod
     def checked(cls, structure, crowd, duration, *, pedestrians, msd, force, sample_rate, rng,
                 progress, include_static_weight, chunk_duration, record_modal_load, warm_up,
-                dampers, crowd_profile, records=1, keep_record=True) -> Run:
+                dampers, records=1, keep_record=True) -> Run:
         """The run of :func:`.simulate`'s arguments of the same names, each checked (a
         ParameterError naming it otherwise), its memory for ``records`` kept runs too
         (:func:`crowdvib.simulate_many`'s seeds). ``rng`` becomes the run's integer seed."""
@@ -87,7 +87,7 @@ class Run:
         chunk_duration = (DEFAULT_CHUNK_DURATION if chunk_duration is None
                           else check_positive("chunk_duration", chunk_duration, unit="s"))
         dampers = as_dampers(dampers)
-        crowd, profile = _with_profile(crowd, crowd_profile)
+        crowd, profile = _with_profile(crowd)
         _check_walkers(structure, crowd, pedestrians, msd)
         force = as_force_model(force, time_domain=True)
         duration, warm_up = check_duration(duration, warm_up)
@@ -109,17 +109,15 @@ class Run:
         return run
 
 
-def _with_profile(crowd, profile):
-    """The crowd and profile a run uses (:class:`Run`'s ``crowd`` and ``profile``)."""
-    if profile is None:
+def _with_profile(crowd):
+    """The crowd and profile a run uses (:class:`Run`'s ``crowd`` and ``profile``): a crowd
+    whose density is a profile runs as its walkers at the profile's peak (the stream's largest
+    rate, which sizes the memory check) with the profile drawing the stream; a constant profile
+    is the stationary crowd of its density, bit for bit."""
+    if not isinstance(crowd, Crowd) or crowd.profile is None:
         return crowd, None
-    check_type("crowd_profile", profile, CrowdProfile)
-    if crowd is None:
-        raise ParameterError("crowd must be given with crowd_profile: the profile sets the "
-                             "density, the crowd its walkers (speed, step frequencies, masses)")
-    check_type("crowd", crowd, Crowd)
-    crowd = crowd.with_density(profile.peak)
-    return crowd, (None if profile.is_constant else profile)
+    profile = crowd.profile
+    return crowd.with_density(profile.peak), (None if profile.is_constant else profile)
 
 
 def _check_walkers(structure, crowd, pedestrians, msd):

@@ -44,7 +44,7 @@ def simulate_many(structure: ModalModel, crowd: Crowd | None = None,
     **options
         Any keyword of :func:`crowdvib.simulate` but ``rng``, ``progress`` and
         ``chunk_duration`` (``pedestrians``, ``msd``, ``force``, ``sample_rate``,
-        ``include_static_weight``, ``record_modal_load``, ``warm_up``, ``crowd_profile``).
+        ``include_static_weight``, ``record_modal_load``, ``warm_up``, ``dampers``).
 
     Returns
     -------

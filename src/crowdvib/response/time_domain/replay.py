@@ -115,14 +115,13 @@ def busiest_stretch(n_on_deck, sample_rate, length):
 def crossing_replay(structure, crowd=None, duration=None, *, start=None,
                     length=DEFAULT_REPLAY_LENGTH, frame_rate=DEFAULT_FRAME_RATE,
                     pedestrians=None, msd=None, force=None, sample_rate=100.0, rng=None,
-                    warm_up=0.0, dampers=None, crowd_profile=None, n_on_deck=None) -> Replay:
+                    warm_up=0.0, dampers=None, n_on_deck=None) -> Replay:
     """A stretch of the record :func:`crowdvib.simulate` makes with the same arguments, with its
     modal coordinates and walkers frame by frame.
 
     Parameters
     ----------
-    structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, warm_up, dampers,
-    crowd_profile
+    structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, warm_up, dampers
         As for :func:`crowdvib.simulate` (``rng`` a seed: the record's own is replayed).
     start : float, optional
         First time of the stretch [s] (default: :func:`busiest_stretch` of ``n_on_deck``, or
@@ -148,8 +147,7 @@ def crossing_replay(structure, crowd=None, duration=None, *, start=None,
     run = Run.checked(structure, crowd, duration, pedestrians=pedestrians, msd=msd, force=force,
                       sample_rate=sample_rate, rng=rng, progress=None,
                       include_static_weight=False, chunk_duration=None,
-                      record_modal_load=False, warm_up=warm_up, dampers=dampers,
-                      crowd_profile=crowd_profile)
+                      record_modal_load=False, warm_up=warm_up, dampers=dampers)
     integrator, _ = _start(run)       # stepped frame by frame below, not chunk by chunk
     seed, sample_rate, n_samples = run.seed, run.sample_rate, run.n_samples
     if frame_rate > sample_rate:

@@ -32,7 +32,6 @@ if TYPE_CHECKING:
     from ...models.crowd import Crowd
     from ...models.damper import TunedMassDamper
     from ...models.pedestrian import MSDModel
-    from ...models.profile import CrowdProfile
     from ...models.structure import ModalModel
 
 __all__ = ["simulate"]
@@ -76,8 +75,7 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
              progress: Callable[[float, float], None] | None = None,
              include_static_weight: bool = False, chunk_duration: float | None = None,
              record_modal_load: bool = False, warm_up: float = 0.0,
-             dampers: Sequence[TunedMassDamper] | None = None,
-             crowd_profile: CrowdProfile | None = None) -> Simulation:
+             dampers: Sequence[TunedMassDamper] | None = None) -> Simulation:
     """Accelerations of a footbridge under a crowd of moving forces and MSDs (docs: theory, The coupled time-domain model).
 
     The structure's modes carry every pedestrian on the deck: the force on a rigid floor
@@ -98,7 +96,12 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
         already populated at t = 0 (Poisson(d·B·L) people at uniform positions), lateral
         positions U[0, B], step frequencies N(μ_fs, σ_fs), body masses N(m_h, σ_m) (``crowd.body_mass``,
         ``crowd.body_mass_std``; fixed when σ_m = 0), DLFs
-        and phases from ``force``.
+        and phases from ``force``. A crowd whose density is a
+        :class:`~crowdvib.models.CrowdProfile` (t = 0 the first recorded sample) enters as a
+        non-homogeneous Poisson stream of rate d(t)·B·v, the deck holding at the start whoever
+        entered during the crossing before (docs: theory, A crowd that changes). Only the
+        stream changes: the same seed gives the same record, and a constant profile the record
+        of ``crowd.with_density(d)``.
     duration : float
         Record length [s], > 0.
     pedestrians : sequence of Pedestrian, optional
@@ -135,13 +138,6 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
         integrator, standing at its position for the whole record (warm-up included), coupled
         through its mode-shape row like a pedestrian's MSD (docs: theory, Tuned mass dampers in
         the simulator).
-    crowd_profile : CrowdProfile, optional
-        A density that changes with time (t = 0 the first recorded sample): the crowd's walkers
-        enter as a non-homogeneous Poisson stream of rate d(t)·B·v, the deck holding at the
-        start whoever entered during the crossing before (docs: theory, A crowd that changes);
-        ``crowd`` gives the walkers (speed, step frequencies, masses, directions), its density
-        is not used. Only the stream changes: the same seed gives the same record, and a
-        constant profile the record of ``crowd.with_density(d)``.
 
     Returns
     -------
@@ -199,7 +195,7 @@ def simulate(structure: ModalModel, crowd: Crowd | None = None, duration: float 
                       sample_rate=sample_rate, rng=rng, progress=progress,
                       include_static_weight=include_static_weight,
                       chunk_duration=chunk_duration, record_modal_load=record_modal_load,
-                      warm_up=warm_up, dampers=dampers, crowd_profile=crowd_profile)
+                      warm_up=warm_up, dampers=dampers)
     integrator, chunks = _start(run)
     sample_rate, n_samples = run.sample_rate, run.n_samples
     n_outputs, n_modes = structure.n_outputs, structure.n_modes

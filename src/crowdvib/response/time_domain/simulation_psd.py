@@ -25,7 +25,6 @@ if TYPE_CHECKING:
     from ...models.crowd import Crowd
     from ...models.damper import TunedMassDamper
     from ...models.pedestrian import MSDModel
-    from ...models.profile import CrowdProfile
     from ...models.structure import ModalModel
     from .traffic import Pedestrian
 
@@ -103,8 +102,7 @@ def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
                  progress: Callable[[float, float], None] | None = None,
                  include_static_weight: bool = False, chunk_duration: float | None = None,
                  warm_up: float = 0.0,
-                 dampers: Sequence[TunedMassDamper] | None = None,
-                 crowd_profile: CrowdProfile | None = None) -> SimulationPSD:
+                 dampers: Sequence[TunedMassDamper] | None = None) -> SimulationPSD:
     """The Welch PSD and summaries of the record :func:`simulate` would return, without the
     record: memory does not grow with ``duration`` beyond 32 bytes a pedestrian (issue 28 §3;
     a month of the paper example fits in well under 1 GB).
@@ -118,7 +116,7 @@ def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
     ----------
     structure, crowd, duration, pedestrians, msd, force, sample_rate, rng, progress
         As for :func:`simulate`.
-    include_static_weight, chunk_duration, warm_up, dampers, crowd_profile
+    include_static_weight, chunk_duration, warm_up, dampers
         As for :func:`simulate`.
     window_length : float
         Welch segment length T [s] (Hann window, constant detrend, as
@@ -172,7 +170,7 @@ def simulate_psd(structure: ModalModel, crowd: Crowd | None = None,
                       sample_rate=sample_rate, rng=rng, progress=progress,
                       include_static_weight=include_static_weight,
                       chunk_duration=chunk_duration, record_modal_load=False, warm_up=warm_up,
-                      dampers=dampers, crowd_profile=crowd_profile, keep_record=False)
+                      dampers=dampers, keep_record=False)
     integrator, chunks = _start(run)
     sample_rate, n_samples = run.sample_rate, run.n_samples
     segment = int(round(window_length * sample_rate))

@@ -445,7 +445,7 @@ def generate_traffic(structure, crowd, duration, *, force=None, rng=None, warm_u
         Sorted by arrival time; every pedestrian carries explicit harmonics.
     """
     _check_structure(structure)
-    check_type("crowd", crowd, Crowd)
+    check_type("crowd", crowd, Crowd).check_stationary("generate_traffic")
     duration, warm_up = check_duration(duration, warm_up)
     force = as_force_model(force, time_domain=True)
     if isinstance(force, MeasuredForce):
