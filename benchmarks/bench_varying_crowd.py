@@ -36,12 +36,10 @@ def _best_of(run, repeat=3):
 def simulation_speed(bridge, walkers, profile, duration):
     simulate(bridge, walkers, 10.0, msd=TRUTH, rng=0)          # compile outside the timing
     rows = []
-    for label, crowd, option in (("stationary 0.6 P/m²", walkers, None),
-                                 ("ramp 0.2 → 1.0 P/m²", walkers, profile)):
-        seconds = _best_of(lambda: simulate(bridge, crowd, duration, msd=TRUTH, rng=1,
-                                            crowd_profile=option))
-        walkers_run = simulate(bridge, crowd, duration, msd=TRUTH, rng=1,
-                               crowd_profile=option).n_pedestrians
+    for label, crowd in (("stationary 0.6 P/m²", walkers),
+                         ("ramp 0.2 → 1.0 P/m²", walkers.with_density(profile))):
+        seconds = _best_of(lambda: simulate(bridge, crowd, duration, msd=TRUTH, rng=1))
+        walkers_run = simulate(bridge, crowd, duration, msd=TRUTH, rng=1).n_pedestrians
         rows.append((label, seconds, walkers_run))
     print(f"simulate, paper bridge with HSI, {duration:g} s at 100 Hz (best of 3)")
     print(f"{'crowd':22s} {'time [s]':>9s} {'walkers':>8s} {'µs/walker':>10s}")
@@ -57,16 +55,16 @@ def estimates(bridge, walkers, profile, duration, seeds, method):
           f"{'holds':>6s} {'time [s]':>8s}")
     held = {"profile": 0, "mean density": 0}
     for seed in range(seeds):
-        record = simulate(bridge, walkers, duration, msd=TRUTH, rng=seed, sample_rate=50.0,
-                          crowd_profile=profile, warm_up=60.0)
+        record = simulate(bridge, walkers.with_density(profile), duration, msd=TRUTH, rng=seed,
+                          sample_rate=50.0, warm_up=60.0)
         measured = welch_psd(record.acceleration, 50.0, window_length=60.0,
                              output_names=record.output_names)
-        for label, option in (("profile", profile), ("mean density", None)):
+        for label, crowd in (("profile", walkers.with_density(profile)),
+                             ("mean density", walkers)):
             started = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                fit = estimate_hsi(measured, bridge, walkers, band=(0.5, 10.0), method=method,
-                                   crowd_profile=option)
+                fit = estimate_hsi(measured, bridge, crowd, band=(0.5, 10.0), method=method)
             seconds = time.perf_counter() - started
             (f_low, f_high), (x_low, x_high) = (fit.intervals["frequency"],
                                                 fit.intervals["damping_ratio"])

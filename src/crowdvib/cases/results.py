@@ -63,7 +63,8 @@ class EstimateResults(Results):
             raise DataError("these results hold no estimate with its diagnostics")
         crowd = (self.data.get("inputs") or {}).get("crowd")
         return HSIEstimate.from_dict({**diagnostics, "estimate": self.data["estimate"]},
-                                     crowd=Crowd(**crowd) if isinstance(crowd, dict) else None)
+                                     crowd=Crowd.from_dict(crowd) if isinstance(crowd, dict)
+                                     else None)
 
     def parts(self) -> dict[str, Any]:
         """``estimate`` (:class:`~crowdvib.identification.HSIEstimate`), ``box`` (its

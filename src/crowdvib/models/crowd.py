@@ -175,7 +175,7 @@ class Crowd(FieldsFromDict):
     def __post_init__(self):
         # A profile checked its own densities (>= 0, below the jam density) when it was built.
         if not isinstance(self.density, CrowdProfile):
-            if np.ndim(self.density) != 0:
+            if isinstance(self.density, dict) or np.ndim(self.density) != 0:
                 raise ParameterError(f"density must be a number [persons/m²] or a CrowdProfile, "
                                      f"got {self.density!r:.60}")
             check_non_negative("density", self.density, unit="persons/m²")
