@@ -9,6 +9,7 @@ import pytest
 
 from crowdvib import (Crowd, CrowdProfile, FluctuatingSpectralModel, ModalModel, MSDModel,
                       ParameterError, SpectralModel, frf, response_psd, simulate, welch_psd)
+from crowdvib.design.stochastic import predict_response
 from crowdvib.identification.objective import PSDObjective
 
 
@@ -77,6 +78,7 @@ def test_the_density_is_a_number_or_a_profile(ramp_crowd):
     (lambda b, c: response_psd(b, c, [1.0, 2.0], msd=MSDModel()), "response_psd"),
     (lambda b, c: frf(b, [1.0, 2.0], crowd=c, msd=MSDModel()), "frf"),
     (lambda b, c: c.arrival_rate(b.width), "Crowd.arrival_rate"),
+    (lambda b, c: predict_response(b, c), "predict_response"),
 ])
 def test_a_stationary_model_refuses_a_profile_crowd(bridge, ramp_crowd, call, name):
     # The models of one density do not reduce a profile to a number silently: the message names

@@ -330,7 +330,7 @@ def comfort_year(structure: ModalModel, crowd: Crowd, traffic: Traffic, *,
     ComfortYear
     """
     check_type("structure", structure, ModalModel)
-    check_type("crowd", crowd, Crowd)
+    check_type("crowd", crowd, Crowd).check_stationary("comfort_year")
     check_type("traffic", traffic, Traffic)
     if msd is not None:
         check_type("msd", msd, MSDModel)

@@ -297,7 +297,7 @@ def _check_density(code, structure, traffic_class, density, crowd):
     elif traffic_class is not None:
         density = class_density(code, traffic_class, structure.area)
     elif crowd is not None:
-        density = crowd.density
+        density = crowd.check_stationary("design_check").density
     else:
         raise ParameterError("a design check needs traffic_class, density or crowd: "
                              "all three are None")

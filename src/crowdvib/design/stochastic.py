@@ -166,7 +166,7 @@ def predict_response(structure: ModalModel, crowd: Crowd, *, msd: MSDModel | Non
     ('empty', 'added_mass', 'hsi')
     """
     check_type("structure", structure, ModalModel)
-    check_type("crowd", crowd, Crowd)
+    check_type("crowd", crowd, Crowd).check_stationary("predict_response")
     if msd is not None:
         check_type("msd", msd, MSDModel)
     if crowd.density <= 0:

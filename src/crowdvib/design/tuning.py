@@ -152,7 +152,7 @@ def tune_damper(structure: ModalModel, mode: int, mass_ratio: float, *, crowd: C
         raise ParameterError(
             f"mode must be an integer index in [0, {structure.n_modes - 1}], got {mode!r}")
     if crowd is not None:
-        check_type("crowd", crowd, Crowd)
+        check_type("crowd", crowd, Crowd).check_stationary("tune_damper")
         if msd is None:
             raise ParameterError("msd must be given with crowd: the damper is tuned to the "
                                  "occupied mode of the crowd's MSDs, and a crowd without them "

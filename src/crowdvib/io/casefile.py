@@ -237,8 +237,8 @@ class Case:
                 "measurement": plain(self.measurement), "estimation": plain(self.estimation),
                 "simulation": plain(self.simulation), "expected": dict(self.expected),
                 **({} if self.design is None else {"design": plain(self.design)}),
-                **({"records": [dict(plain(block), crowd=_crowd_inputs(block.crowd,
-                                                                       block.reference_density))
+                **({"records": [{"name": block.name, "measurement": plain(block.measurement),
+                                 "crowd": _crowd_inputs(block.crowd, block.reference_density)}
                                 for block in self.records]} if self.records else {}),
                 **{key: plain(getattr(self, key)) for key in ("comfort", "traffic")
                    if getattr(self, key) is not None},
