@@ -110,6 +110,10 @@ def test_estimate_case_uses_the_counts(tmp_path):
     assert low < 3.0 < high
     low, high = fit.estimate.intervals["damping_ratio"]
     assert low < 0.30 < high
+    # The estimator was given the counted crowd; the estimate's crowd for the stationary figures
+    # (mode shapes, `crowdvib estimate`'s results) is its walkers at the file's density 0.6.
+    assert fit.records[0].crowd.profile is not None
+    assert fit.crowd.profile is None and fit.crowd.density == 0.6
 
 
 def test_map_and_sensitivity_fit_the_crowd_that_was_counted(tmp_path):

@@ -114,8 +114,13 @@ class CaseEstimate(AsResults):
     @property
     def crowd(self):
         """The single record's crowd from the estimate on: the step frequencies fitted with the
-        MSD when ``estimation.free_parameters`` frees them, else the crowd the estimator had."""
-        return self.estimate.crowd if self.estimate.crowd is not None else self.records[0].crowd
+        MSD when ``estimation.free_parameters`` frees them, else the crowd the estimator had,
+        at one density (a counted crowd's walkers at the case's reference density, as the mode
+        shapes and a report's stationary figures take it)."""
+        crowd = self.estimate.crowd if self.estimate.crowd is not None else self.records[0].crowd
+        if crowd.profile is None:
+            return crowd
+        return crowd.with_density(self.case.stationary_crowd().density)
 
     def model_psds(self, part: CaseRecordFit | None = None):
         """The fitted and the no-HSI model PSDs of one record, as the estimator compared them.
