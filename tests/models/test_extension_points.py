@@ -105,7 +105,7 @@ def test_user_force_modal_load_psd_and_plot(paper_bridge, paper_crowd):
     import matplotlib
     matplotlib.use("Agg")
     from crowdvib.models.loading import modal_load_psd
-    from crowdvib.response.plots import plot_load_psd
+    from crowdvib.response.frequency_domain.plots import plot_load_psd
 
     force, frequency = SingleHarmonic(), np.array([1.5, 1.89, 2.2])
     psd = modal_load_psd(force, frequency, paper_crowd, paper_bridge)

@@ -364,12 +364,13 @@ def test_warm_fits_ending_on_the_damping_bound_equal_the_full_multistart():
     # Precision as in the test above: 1e-4 per estimate, 0.01 percentage points per bound.
     import warnings
 
-    case, measurement, crowd, options = _paper_example_study_inputs()
+    case, measurement, crowd, estimator = _paper_example_study_inputs()
     levels = {"frequencies": (0.01,), "damping_ratios": (0.1,), "modal_masses": (0.02,)}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         warm, cold = (modelling_error_study(measurement.psd, case.structure, crowd,
-                                            levels=levels, warm_start=start, **options)
+                                            levels=levels, warm_start=start,
+                                            estimator=estimator)
                       for start in (True, False))
     kept = [c["name"] for c in warm.cases if c["active_bounds"] == ["damping_ratio:upper"]
             and c["cost"] > 2 * warm.nominal["cost"]]

@@ -1,6 +1,7 @@
 """Figures, all importable from here; each is defined in the layer of the results it draws, so
 that a result's ``plot()`` draws without importing this edge layer: spectra in
-:mod:`crowdvib.signals.plots`, the forward models' figures in :mod:`crowdvib.response.plots`,
+:mod:`crowdvib.signals.plots`, the forward models' figures in
+:mod:`crowdvib.response.frequency_domain.plots` and :mod:`crowdvib.response.time_domain.plots`,
 the identification's in :mod:`crowdvib.identification.plots`, the studies' in
 :mod:`crowdvib.studies.plots`, what they share in
 :mod:`crowdvib._figures`.

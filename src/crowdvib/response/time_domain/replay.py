@@ -1,6 +1,6 @@
 """A stretch of a simulated crossing, frame by frame: what a replay of the record draws (issue 38).
 
-The record (:class:`~crowdvib.response.results.Simulation`) holds the accelerations at the
+The record (:class:`~crowdvib.response.time_domain.results.Simulation`) holds the accelerations at the
 outputs only. A replay needs the deck's modal coordinates and the walkers on the deck as
 well: the same run is made again from its seed (:func:`crowdvib.simulate` is bit-identical for
 any chunking, so the stretch is the record's own) and stopped at every frame to read the modal
