@@ -11,6 +11,9 @@ from typing import TYPE_CHECKING
 from .._version import __version__
 from .results import AsResults, software_versions
 from .schema import schema_header
+from ..io.ambient import read_ambient
+from ..oma.identify import identify_modes
+from ..io.modalfiles import read_modal_model
 
 if TYPE_CHECKING:
     from ..models.structure import ModalModel
@@ -95,8 +98,6 @@ def identify_ambient(path, *, cross_check: bool = False,
     """
     import time
 
-    from ..io.ambient import read_ambient
-    from ..oma.identify import identify_modes
 
     name, records, options, spec = read_ambient(path)
     options["cross_check"] = options["cross_check"] or cross_check
@@ -115,7 +116,6 @@ def identify_ambient(path, *, cross_check: bool = False,
 def _modal_model(modes, spec):
     """The ``[modal_model]``: an FE export's modes updated by the identified ones, or stated
     modal masses with coarse shapes."""
-    from ..io.modalfiles import read_modal_model
 
     if spec["fe_model"] is not None:
         fe = read_modal_model(spec["fe_model"], width=spec["width"],

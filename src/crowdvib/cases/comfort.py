@@ -13,6 +13,17 @@ from .._version import __version__
 from ..errors import DataError, DataWarning, ParameterError
 from .results import AsResults, software_versions
 from .schema import schema_header
+from ..comfort import Traffic
+from ..io.casecomfort import TrafficSpec, read_traffic_table
+from ..design import tune_damper
+from ..response.frequency_domain.fluctuation import dominant_mode
+from .design import _dampers
+from ..comfort import comfort_year
+from .design import estimated_msd, msd_interval
+from ..comfort.measure import thin_crowd_density
+from ..comfort import loudest_output
+from ..comfort.simulated import simulated_windows
+from ..io.casecomfort import ComfortSpec
 
 if TYPE_CHECKING:
     from ..comfort.traffic import Traffic
@@ -85,8 +96,6 @@ def case_traffic(case: Case, *, season: dict | None = None, traffic=None):
     """
     from pathlib import Path
 
-    from ..comfort import Traffic
-    from ..io.casecomfort import TrafficSpec, read_traffic_table
 
     spec = case.comfort
     if season is not None and traffic is not None:
@@ -125,9 +134,6 @@ def comfort_dampers(case: Case, msd) -> list:
     msd : MSDModel or None
         The identified MSD (the damper is tuned to the occupied mode with it).
     """
-    from ..design import tune_damper
-    from ..response.frequency_domain.fluctuation import dominant_mode
-    from .design import _dampers
 
     if case.design is not None and case.design.damper is not None:
         return _dampers(case, case.design, msd)
@@ -172,8 +178,6 @@ def comfort_case(case: Case, *, season: dict | None = None, traffic=None,
     -------
     CaseComfort
     """
-    from ..comfort import comfort_year
-    from .design import estimated_msd, msd_interval
 
     found, where = case_traffic(case, season=season, traffic=traffic)
     msd, box = case.msd, None
@@ -222,7 +226,6 @@ def simulate_below(case) -> float:
     ``[comfort] simulate_below``, by default that of a thin crowd
     (:func:`crowdvib.comfort.measure.thin_crowd_density`: fewer than 100 effective walkers on
     the walkway; docs: theory, A year of comfort); 0 switches it off."""
-    from ..comfort.measure import thin_crowd_density
 
     spec = case.comfort
     if spec is None or spec.simulate_below is None:
@@ -237,9 +240,6 @@ def _simulated(case, traffic, msd, dampers, bound, executor):
     The added-mass row stays spectral: its model has no walkers to simulate."""
     import numpy as np
 
-    from ..comfort import loudest_output
-    from ..comfort.simulated import simulated_windows
-    from ..io.casecomfort import ComfortSpec
 
     spec = case.comfort or ComfortSpec()
     below = traffic.density[(traffic.density > 0) & (traffic.density < bound)]

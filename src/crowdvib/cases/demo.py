@@ -16,6 +16,13 @@ from .._version import __version__
 from ..errors import ParameterError
 from .results import AsResults, software_versions
 from .schema import schema_header
+from ..identification.estimator import Estimator
+from ..models.examples import paper_example
+from ..response.frequency_domain.fluctuation import response_psd
+from ..response.time_domain.simulation import simulate
+from ..response.frequency_domain.spectral import effective_modal_properties
+from ..signals import LowPassFilter, synthetic_welch_psd, welch_psd, welch_segment_count
+from ..response.frequency_domain.fluctuation import spectral_model
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -80,7 +87,6 @@ class CaseDemo(AsResults):
     def model_psds(self) -> dict:
         """The expected PSD of each estimate as its estimator modelled it (crowd model, fitted
         crowd), and without HSI: label → ResponsePSD, as the demo's figure shows them."""
-        from ..response.frequency_domain.fluctuation import spectral_model
 
         structure, crowd, window = self.case.structure, self.case.crowd, self.case.window_length
         curves = {}
@@ -137,12 +143,6 @@ def demo_case(*, duration: float = 3600.0, seed: int = 20230101, spectral: bool 
     """
     import numpy as np
 
-    from ..identification.estimator import Estimator
-    from ..models.examples import paper_example
-    from ..response.frequency_domain.fluctuation import response_psd
-    from ..response.time_domain.simulation import simulate
-    from ..response.frequency_domain.spectral import effective_modal_properties
-    from ..signals import LowPassFilter, synthetic_welch_psd, welch_psd, welch_segment_count
 
     case = paper_example()
     structure, crowd, truth, window = case.structure, case.crowd, case.msd, case.window_length

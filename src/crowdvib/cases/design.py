@@ -11,6 +11,21 @@ from .._version import __version__
 from ..errors import ParameterError, PlausibilityWarning
 from .results import DESIGN_TABLES, AsResults, software_versions
 from .schema import schema_header
+from ..design import code_names
+from ..design.check import NEQ_DAMPINGS
+from ..design.codes import COMFORT_CLASSES, UKNA_GAMMA_FIGURES, ukna_limit
+from ..identification.result import HSIEstimate
+from ..design import TunedMassDamper, tune_damper
+from ..design import design_check
+from ..design.registry import design_code
+from ..design.codes import comfort_class
+from ..response import modal_accelerance
+from ..errors import DataError
+from ..models.pedestrian import MSDModel
+from .results import Results
+from ..design.interval import MSDBox
+from ..design.interval import check_grid, check_over_box
+from ..design.stochastic import predict_response
 
 if TYPE_CHECKING:
     from collections.abc import Mapping
@@ -102,9 +117,6 @@ def check_design_table(case) -> None:
     ParameterError
         Naming the case file, the key, the rule and the value.
     """
-    from ..design import code_names
-    from ..design.check import NEQ_DAMPINGS
-    from ..design.codes import COMFORT_CLASSES, UKNA_GAMMA_FIGURES, ukna_limit
 
     spec = case.design
     if spec is None:
@@ -197,7 +209,6 @@ def check_case(case: Case, *, msd: MSDModel | None = None, msd_source: str | Non
     checks = {code: _check(case, spec, code, msd, dampers) for code in spec.codes}
     prediction = None
     if spec.prediction:
-        from ..design.stochastic import predict_response
 
         crowd = (case.stationary_crowd() if spec.density is None
                  else case.crowd.with_density(spec.density))
@@ -211,7 +222,6 @@ def check_case(case: Case, *, msd: MSDModel | None = None, msd_source: str | Non
 
 def _point(case, estimate, box):
     """The point estimate of ``estimate`` (see :func:`check_case`)."""
-    from ..identification.result import HSIEstimate
 
     if box is not None:
         return box.msd
@@ -220,7 +230,6 @@ def _point(case, estimate, box):
 
 def _dampers(case, spec, msd):
     """The ``[design.damper]`` as a list (tuned to the occupied structure when HSI is on)."""
-    from ..design import TunedMassDamper, tune_damper
 
     damper = spec.damper
     if damper is None:
@@ -237,8 +246,6 @@ def _dampers(case, spec, msd):
 
 
 def _check(case, spec, code, msd, dampers):
-    from ..design import design_check
-    from ..design.registry import design_code
 
     traffic_class = spec.classes.get(code)
     density = spec.density
@@ -281,7 +288,6 @@ def verdict_rows(checks: dict) -> list[dict]:
         ``code``, ``traffic_class``, ``model`` ("no HSI", "added mass", "HSI"), ``output``,
         ``governing`` [m/s²], ``limit`` [m/s²], ``utilisation``, ``comfort_class``, ``passes``.
     """
-    from ..design.codes import comfort_class
 
     labels = {"empty": "no HSI", "added_mass": "added mass", "hsi": "HSI"}
     rows = []
@@ -328,7 +334,6 @@ def damper_frf(found: CaseCheck) -> dict | None:
     """
     import numpy as np
 
-    from ..response import modal_accelerance
 
     if not found.dampers or not found.checks:
         return None
@@ -374,8 +379,6 @@ def estimated_msd(case: Case, results: Results | dict, *,
     DataError
         If the results hold no estimate of f_h1 and ξ_h1.
     """
-    from ..errors import DataError
-    from ..models.pedestrian import MSDModel
 
     found = _as_results(results).estimate
     if not found or not {"frequency", "damping_ratio"} <= set(found):
@@ -387,7 +390,6 @@ def estimated_msd(case: Case, results: Results | dict, *,
 
 def _as_results(results):
     """``results`` as a :class:`Results` (a results.json object is read as one)."""
-    from .results import Results
 
     return results if isinstance(results, Results) else Results.from_dict(results)
 
@@ -428,8 +430,6 @@ def msd_box(case: Case, estimate: EstimateLike) -> MSDBox | None:
     case : Case
     estimate : MSDBox, HSIEstimate, Results or dict
     """
-    from ..design.interval import MSDBox
-    from ..identification.result import HSIEstimate
 
     if isinstance(estimate, MSDBox):
         return estimate
@@ -510,7 +510,6 @@ def check_over_interval(case: Case, estimate: EstimateLike, *,
     IntervalCheck or None
         None if the estimate holds no interval.
     """
-    from ..design.interval import check_grid, check_over_box
 
     grid = check_grid(grid)         # before the work: the box may mean loading results
     check_design_table(case)

@@ -21,6 +21,13 @@ from .._version import __version__
 from ..errors import ParameterError
 from .results import ESTIMATION_TABLES, AsResults, software_versions
 from .schema import schema_header
+from ..io.casefile import load_measurement
+from ..signals import LowPassFilter, welch_psd
+from ..identification.step_frequencies import estimate_step_frequencies
+from ..identification.estimator import Estimator
+from ..signals import psd_convergence
+from ..studies.landscape import objective_map
+from ..response.frequency_domain.varying import record_model
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -135,7 +142,6 @@ class CaseEstimate(AsResults):
         (ResponsePSD, ResponsePSD)
             The model PSD with the estimated MSD, and without HSI.
         """
-        from ..response.frequency_domain.varying import record_model
 
         crowd = self.crowd if part is None else part.crowd
         part = self.records[0] if part is None else part
@@ -215,8 +221,6 @@ def measure_case(case) -> CaseMeasurement:
     ParameterError
         A fitted channel that is no output of the structure.
     """
-    from ..io.casefile import load_measurement
-    from ..signals import LowPassFilter, welch_psd
 
     spec, est = case.measurement, case.estimation
     record = load_measurement(case)
@@ -260,8 +264,6 @@ def case_crowd(case, record):
     (Crowd, StepFrequencyEstimate or None)
         The crowd for the estimator, and the step-frequency fit (None without one).
     """
-    from ..identification.step_frequencies import estimate_step_frequencies
-    from ..signals import LowPassFilter, welch_psd
 
     spec, est = case.measurement, case.estimation
     if est.step_frequencies is None:
@@ -318,7 +320,6 @@ def case_estimator(case: Case) -> Estimator:
         ``sensitivity``, ``season``); a case file that states nothing gives
         :class:`~crowdvib.identification.Estimator`'s defaults with the paper's band.
     """
-    from ..identification.estimator import Estimator
 
     est = case.estimation
     free = est.free_parameters
@@ -356,7 +357,6 @@ def estimate_case(case: Case) -> CaseEstimate:
     >>> fit = estimate_case(load_case("examples/paper_example.toml"))  # doctest: +SKIP
     >>> fit.estimate.msd.frequency                                     # doctest: +SKIP
     """
-    from ..signals import psd_convergence
 
     est = case.estimation
     estimator = case_estimator(case)
@@ -438,7 +438,6 @@ def map_case(case: Case, *, frequencies: ArrayLike, damping_ratios: ArrayLike,
     """
     import time
 
-    from ..studies.landscape import objective_map
 
     measurement = measure_case(case)
     crowd, step = case_crowd(case, measurement.record)

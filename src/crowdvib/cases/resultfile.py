@@ -20,6 +20,16 @@ from typing import TYPE_CHECKING, Any, ClassVar
 from .._version import __version__
 from ..errors import DataError
 from .schema import KINDS, READABLE, estimate, hsi, upgrade
+from .._files import sha256_file
+from .._files import json_default
+from .schema import case_name
+from ..design.interval import SPANNED, MSDBox
+from ..models.pedestrian import MSDModel
+from .verdict import findings
+from .verdict import in_doubt
+from .verdict import fails_design
+from ..quantities import describe
+from .notebook import results_html
 
 if TYPE_CHECKING:
     from ..design.interval import MSDBox
@@ -62,7 +72,6 @@ def provenance(case: str | Path | None = None) -> dict:
     """
     import datetime
 
-    from .._files import sha256_file
 
     created = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     path = None if case is None else Path(case)
@@ -159,7 +168,6 @@ class Results:
     @property
     def name(self) -> str:
         """The case's name."""
-        from .schema import case_name
 
         return case_name(self.data)
 
@@ -207,8 +215,6 @@ class Results:
         msd : MSDModel, optional
             The point the box is around (default the estimate, μ_h1 0.95 if it holds none).
         """
-        from ..design.interval import SPANNED, MSDBox
-        from ..models.pedestrian import MSDModel
 
         found = self.estimate or {}
         if msd is None:
@@ -232,7 +238,6 @@ class Results:
         """The verdict: a tuple of :class:`~crowdvib.cases.verdict.Finding` (severity ``"ok"``,
         ``"doubt"`` or ``"fail"``, text, key), as the command line prints it and report.html
         shows it."""
-        from .verdict import findings
 
         return findings(self.data)
 
@@ -245,7 +250,6 @@ class Results:
     def in_doubt(self) -> bool:
         """True when the verdict doubts the result (:func:`~crowdvib.cases.verdict.in_doubt`):
         the command line then exits with status 3 (1 with ``--strict``)."""
-        from .verdict import in_doubt
 
         return in_doubt(self.verdict())
 
@@ -254,7 +258,6 @@ class Results:
         """True when the bridge fails a design code at the result
         (:func:`~crowdvib.cases.verdict.fails_design`): an answer, not a doubt; the command line
         then exits with status 4 unless the result is also in doubt (3)."""
-        from .verdict import fails_design
 
         return fails_design(self.verdict())
 
@@ -301,7 +304,6 @@ class Results:
     # ------------------------------------------------------------------------------ display
     def _headline(self) -> list[tuple[str, str]]:
         """(quantity, value) rows of the notebook view: the estimate with its intervals."""
-        from ..quantities import describe
 
         rows = []
         for row in Results.table(self):
@@ -322,7 +324,6 @@ class Results:
     def _repr_html_(self) -> str:
         """A small view for notebooks: the headline values, the kind's own table (its first
         rows) and the verdict (:func:`crowdvib.cases.notebook.results_html`)."""
-        from .notebook import results_html
 
         return results_html(self, self.table() if self._view_table else (), self._shown_columns)
 
@@ -337,7 +338,6 @@ class Results:
 def _json(data: dict) -> dict:
     """``data`` as write_json stores it and json reads it back: numpy as Python numbers and
     lists, tuples as lists, NaN and ±inf as null (``parse_constant``); a copy, in its order."""
-    from .._files import json_default
 
     try:
         return json.loads(json.dumps(data, default=json_default), parse_constant=lambda _: None)

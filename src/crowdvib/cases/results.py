@@ -26,6 +26,23 @@ from ..errors import DataError
 from .resultfile import (DESIGN_TABLES, ESTIMATION_TABLES, SIMULATION_TABLES,
                          AsResults, Results, provenance, results_of, software_versions)
 from .schema import hsi
+from ..identification.result import HSIEstimate
+from ..models.crowd import Crowd
+from ..identification.step_frequencies import StepFrequencyEstimate
+from ..signals.convergence import PSDConvergence
+from ..models.pedestrian import MSDModel
+from ..models.examples import paper_example
+from ..response.frequency_domain.results import EffectiveModalProperties
+from ..studies.landscape import ObjectiveMap
+from ..studies.modelling_error import SensitivityResult
+from ..design.check import DesignCheck
+from ..design.stochastic import ResponsePrediction
+from ..models.damper import TunedMassDamper
+from ..oma.modeid import ModeIdentification
+from ..studies.season import season_dataframe
+from ..comfort.traffic import Traffic
+from ..design.interval import MSDBox
+from ..comfort import ComfortYear
 
 if TYPE_CHECKING:
     from ..identification.result import HSIEstimate
@@ -55,8 +72,6 @@ class EstimateResults(Results):
         DataError
             The results hold no estimate with diagnostics (a hand-edited file).
         """
-        from ..identification.result import HSIEstimate
-        from ..models.crowd import Crowd
 
         diagnostics = self.data.get("diagnostics")
         if not isinstance(diagnostics, dict) or not isinstance(self.data.get("estimate"), dict):
@@ -72,9 +87,6 @@ class EstimateResults(Results):
         (:class:`~crowdvib.signals.PSDConvergence`), ``step_frequencies``
         (:class:`~crowdvib.identification.StepFrequencyEstimate`, when fitted from the low
         band), ``crowd`` (the case's :class:`~crowdvib.models.Crowd`)."""
-        from ..identification.step_frequencies import StepFrequencyEstimate
-        from ..models.crowd import Crowd
-        from ..signals.convergence import PSDConvergence
 
         crowd = (self.data.get("inputs") or {}).get("crowd")
         found = {"estimate": self.hsi_estimate(), "box": self.msd_box(),
@@ -89,7 +101,6 @@ class EstimateResults(Results):
     @property
     def msd(self) -> MSDModel:
         """The estimated :class:`~crowdvib.models.MSDModel`."""
-        from ..models.pedestrian import MSDModel
 
         found = self.data["estimate"]
         return MSDModel(found["frequency"], found["damping_ratio"], found["mass_ratio"])
@@ -114,8 +125,6 @@ class DemoResults(EstimateResults):
         """The :class:`~crowdvib.identification.HSIEstimate` (for results written before it
         stored its crowd, fitted step frequencies in the crowd of the paper's example, which
         the demo runs)."""
-        from ..identification.result import HSIEstimate
-        from ..models.examples import paper_example
 
         return HSIEstimate.from_dict({**self.data["diagnostics"],
                                       "estimate": self.data["estimate"]},
@@ -127,9 +136,6 @@ class DemoResults(EstimateResults):
         squares' :class:`~crowdvib.identification.HSIEstimate`), ``truth``
         (:class:`~crowdvib.models.MSDModel`) and ``occupied_structure``
         (:class:`~crowdvib.response.EffectiveModalProperties`)."""
-        from ..identification.result import HSIEstimate
-        from ..models.pedestrian import MSDModel
-        from ..response.frequency_domain.results import EffectiveModalProperties
 
         return {"estimate": self.hsi_estimate(), "box": self.msd_box(),
                 "paper_estimator": HSIEstimate.from_dict(self.data["paper_estimator"]),
@@ -154,7 +160,6 @@ class MapResults(EstimateResults):
     def hsi_estimate(self) -> HSIEstimate:
         """The optimiser's :class:`~crowdvib.identification.HSIEstimate` (the map carries no
         interval)."""
-        from ..identification.result import HSIEstimate
 
         return HSIEstimate.from_dict({**self.data["diagnostics"],
                                       "estimate": self.data["estimate"]})
@@ -162,7 +167,6 @@ class MapResults(EstimateResults):
     def parts(self) -> dict[str, Any]:
         """``estimate`` (:class:`~crowdvib.identification.HSIEstimate`) and ``objective_map``
         (:class:`~crowdvib.studies.ObjectiveMap`)."""
-        from ..studies.landscape import ObjectiveMap
 
         return {"estimate": self.hsi_estimate(),
                 "objective_map": ObjectiveMap.from_dict(self.data["objective_map"])}
@@ -185,7 +189,6 @@ class SensitivityResults(Results):
     def parts(self) -> dict[str, Any]:
         """``study`` (:class:`~crowdvib.studies.SensitivityResult`), ``box`` (the
         :class:`~crowdvib.design.MSDBox` of the interval widened by the modelling bound)."""
-        from ..studies.modelling_error import SensitivityResult
 
         found = {"study": SensitivityResult.from_dict(self.data["sensitivity"]),
                  "box": self.msd_box()}
@@ -208,10 +211,6 @@ class CheckResults(Results):
         (:class:`~crowdvib.models.MSDModel` of the HSI model), ``dampers`` (tuple of
         :class:`~crowdvib.models.TunedMassDamper`), ``prediction``
         (:class:`~crowdvib.design.ResponsePrediction`) when asked for."""
-        from ..design.check import DesignCheck
-        from ..design.stochastic import ResponsePrediction
-        from ..models.damper import TunedMassDamper
-        from ..models.pedestrian import MSDModel
 
         design = self.data.get("design") or {}
         msd, prediction = self.data.get("msd"), design.get("prediction")
@@ -286,7 +285,6 @@ class ModesResults(Results):
 
     def parts(self) -> dict[str, Any]:
         """``modes``: the :class:`~crowdvib.oma.ModeIdentification`."""
-        from ..oma.modeid import ModeIdentification
 
         return {"modes": ModeIdentification.from_dict(self.data)}
 
@@ -306,7 +304,6 @@ class SimulateResults(Results):
     def parts(self) -> dict[str, Any]:
         """``msd``: the :class:`~crowdvib.models.MSDModel` simulated with (none: no HSI); the
         record itself is in the folder's record files (:func:`crowdvib.io.read_record`)."""
-        from ..models.pedestrian import MSDModel
 
         msd = self.data.get("msd")
         return {"msd": MSDModel.from_dict(msd)} if isinstance(msd, dict) else {}
@@ -335,7 +332,6 @@ class SeasonResults(Results):
     def parts(self) -> dict[str, Any]:
         """``joint`` (the joint :class:`~crowdvib.identification.HSIEstimate`, when made) and
         its ``box``; every record's row is in :meth:`table`."""
-        from ..identification.result import HSIEstimate
 
         if not isinstance(self.data.get("diagnostics"), dict) or not self.estimate:
             return {}
@@ -345,7 +341,6 @@ class SeasonResults(Results):
     def to_dataframe(self) -> Any:
         """:meth:`table` as a pandas DataFrame (:func:`crowdvib.studies.season.season_dataframe`:
         numbers as floats, NaN where a row has none, ``time`` as datetimes)."""
-        from ..studies.season import season_dataframe
 
         return season_dataframe(self.table())
 
@@ -380,9 +375,6 @@ class ComfortResults(Results):
         """``comfort`` (:class:`~crowdvib.comfort.ComfortYear`), ``traffic``
         (:class:`~crowdvib.comfort.Traffic`), ``msd`` (:class:`~crowdvib.models.MSDModel`)
         and ``box`` (:class:`~crowdvib.design.MSDBox`) when carried."""
-        from ..comfort.traffic import Traffic
-        from ..design.interval import MSDBox
-        from ..models.pedestrian import MSDModel
 
         msd, box = self.data.get("msd"), self.data.get("msd_interval")
         found = {"comfort": self.comfort_year(), "traffic": Traffic.from_dict(self.data["traffic"]),
@@ -392,7 +384,6 @@ class ComfortResults(Results):
 
     def comfort_year(self):
         """The :class:`~crowdvib.comfort.ComfortYear` it holds."""
-        from ..comfort import ComfortYear
 
         return ComfortYear.from_dict(self.data["comfort"])
 

@@ -23,6 +23,17 @@ from .._version import __version__
 from ..errors import DataError, ParameterError
 from .results import ESTIMATION_TABLES, AsResults, software_versions
 from .schema import schema_header
+from ..errors import CrowdvibWarning
+from ..studies.season import season_row
+from .estimate import estimate_case
+from .._files import MANIFEST_NAME
+from ..io.records import RECORD_FORMATS
+from .._plausibility import derived, implausibility
+from ..errors import PlausibilityWarning
+from ..models.crowd import bruno_venuti_step_frequency, weidmann_speed
+from ..io.crowdtable import CrowdTable, read_crowd_table
+from ..studies.season import season_study
+from .estimate import case_estimator
 
 if TYPE_CHECKING:
     from collections.abc import Callable, Sequence
@@ -44,9 +55,6 @@ class _Window:
 
 def _estimate_window(window):
     """A season's task: the row's estimate (:func:`~crowdvib.studies.season.season_row`)."""
-    from ..errors import CrowdvibWarning
-    from ..studies.season import season_row
-    from .estimate import estimate_case
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CrowdvibWarning)
@@ -82,8 +90,6 @@ def season_records(case: Case, records: str | os.PathLike | Sequence | None = No
         Name → path, each record under its path relative to its folder (``day1/0800.npz``) and
         under its file name alone when that is unique.
     """
-    from .._files import MANIFEST_NAME
-    from ..io.records import RECORD_FORMATS
 
     if records is None:
         records = case.measurement.files or [Path(table_path).resolve().parent]
@@ -115,9 +121,6 @@ def _crowd(case, table, row):
     """The crowd of a table row: the case's, at the row's density and step frequencies. A
     walking speed and a mean step frequency the case derives from its density are derived
     from the row's (Weidmann; Bruno & Venuti), as the case file would."""
-    from .._plausibility import derived, implausibility
-    from ..errors import PlausibilityWarning
-    from ..models.crowd import bruno_venuti_step_frequency, weidmann_speed
 
     where = f"{table.path.name}: row {row.row}"
     area = case.structure.area
@@ -250,8 +253,6 @@ class SeasonPlan:
         -------
         CaseSeason
         """
-        from ..studies.season import season_study
-        from .estimate import case_estimator
 
         case = self.case
         # The joint fit is the rows' estimator (the case's method and crowd model), each row's
@@ -292,7 +293,6 @@ def plan_season(case: Case, crowd_table: str | os.PathLike | CrowdTable, *,
         A crowd table that cannot be read, a row naming a record that is not among the
         season's (saying where they were looked for), a row whose crowd is impossible.
     """
-    from ..io.crowdtable import CrowdTable, read_crowd_table
 
     if case.crowd.profile is not None:
         raise ParameterError(f"{case.path.name}: crowd.counts or crowd.density_profile must not "

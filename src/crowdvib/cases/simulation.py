@@ -9,6 +9,10 @@ from typing import TYPE_CHECKING
 from .._version import __version__
 from .results import SIMULATION_TABLES, AsResults, software_versions
 from .schema import schema_header
+from ..models.pedestrian import MSDModel
+from ..io.records import Record
+from ..response.time_domain.simulation import simulate
+from ..signals import resample
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -73,7 +77,6 @@ def simulation_msd(case):
     -------
     MSDModel
     """
-    from ..models.pedestrian import MSDModel
 
     expected = case.expected
     if "frequency" in expected and "damping_ratio" in expected:
@@ -107,9 +110,6 @@ def simulate_case(case: Case, *, duration: float | None = None,
     -------
     CaseSimulation
     """
-    from ..io.records import Record
-    from ..response.time_domain.simulation import simulate
-    from ..signals import resample
 
     spec = case.simulation
     duration = spec.duration if duration is None else duration

@@ -12,6 +12,14 @@ from typing import TYPE_CHECKING
 from .._version import __version__
 from .results import ESTIMATION_TABLES, AsResults, software_versions
 from .schema import schema_header
+from ..runner import TaskStore
+from ..studies import modelling_error_study, record_length_study
+from .estimate import CaseRecordFit, case_crowd, case_estimator, measure_case
+from ..errors import CrowdvibWarning
+from .._files import require_file
+from .._manifest import verified_file
+from ..errors import DataError
+from ..oma.identify import identified_error_levels
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -108,9 +116,6 @@ def study_case(case: Case, *, record=None, levels: dict | None = None, joint: bo
     CaseStudy
         The study's warnings, the workers' included, are raised here in this process.
     """
-    from ..runner import TaskStore
-    from ..studies import modelling_error_study, record_length_study
-    from .estimate import CaseRecordFit, case_crowd, case_estimator, measure_case
 
     if record is None:
         measurement = measure_case(case)
@@ -149,7 +154,6 @@ def study_case(case: Case, *, record=None, levels: dict | None = None, joint: bo
 def _estimate_with_warnings(estimator, measured, structure, crowd, rng):
     """The record's estimate and the crowdvib warnings it gave ``(category, message)``, for
     the calling process to raise (a worker's warnings would not reach the user)."""
-    from ..errors import CrowdvibWarning
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CrowdvibWarning)
@@ -178,10 +182,6 @@ def identified_levels(directory: str | Path) -> dict:
     """
     import json
 
-    from .._files import require_file
-    from .._manifest import verified_file
-    from ..errors import DataError
-    from ..oma.identify import identified_error_levels
 
     require_file(Path(directory) / "results.json", "crowdvib modes results")
     path = verified_file(directory, "results.json", "--modes-from")

@@ -13,6 +13,7 @@ subscripts). Light on purpose (no numpy): the command line imports it.
 from typing import NamedTuple
 
 from .schema import get, hsi, real, sensitivity
+from ..design.registry import code_label
 
 __all__ = ["Finding", "findings", "in_doubt", "is_doubt", "fails_design", "CONVERGENCE_LEVEL",
            "RELATIVE_COST_LEVEL", "SEVERITIES"]
@@ -198,7 +199,6 @@ def _run_warnings(results):
 
 def _design(results):
     """A check that fails with the primary model (HSI when checked, else no HSI) fails."""
-    from ..design.registry import code_label    # here: the verdict's import stays light
 
     rows = get(results, ("design", "verdict"))
     if not isinstance(rows, list):
@@ -221,7 +221,6 @@ def _interval(results):
     ranges = results.get("hsi_range")
     if not isinstance(ranges, dict):
         return []
-    from ..design.registry import code_label
 
     found = []
     for code, row in ranges.items():

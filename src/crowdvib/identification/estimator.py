@@ -23,6 +23,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from .._estimators import DEFAULT_DENSITY_UNCERTAINTY, DEFAULT_METHOD, check_method
+from ..errors import ParameterError
+from .objective import PSDObjective
+from .estimation import estimate_hsi
+from .estimation import estimate_hsi_joint
 
 if TYPE_CHECKING:
     from .._typing import ForceModel, Seed
@@ -137,7 +141,6 @@ class Estimator:
         ParameterError
             ``band`` is not given.
         """
-        from ..errors import ParameterError
 
         if self.band is None:
             raise ParameterError("band must be given: the analysis band [Hz] of the estimator "
@@ -158,7 +161,6 @@ class Estimator:
         -------
         PSDObjective
         """
-        from .objective import PSDObjective
 
         given = self.options()
         return PSDObjective(measured, structure, crowd,
@@ -177,7 +179,6 @@ class Estimator:
         rng : None, int or numpy.random.Generator
             Seed of the bootstrap replicates.
         """
-        from .estimation import estimate_hsi
 
         return estimate_hsi(measured, structure, crowd, rng=rng, **self.options())
 
@@ -193,9 +194,7 @@ class Estimator:
         measurements, structure, crowds, rng
             As :func:`~crowdvib.estimate_hsi_joint`.
         """
-        from .estimation import estimate_hsi_joint
 
-        from ..errors import ParameterError
 
         given = self.options()
         if given.pop("free_step_frequencies") is True:
@@ -208,7 +207,6 @@ class Estimator:
 def check_estimator(estimator: Any) -> Estimator:
     """``estimator`` if it is an :class:`Estimator`, else a ParameterError naming the rule
     (the studies take their estimator as one value)."""
-    from ..errors import ParameterError
 
     if not isinstance(estimator, Estimator):
         raise ParameterError(f"estimator must be a crowdvib.identification.Estimator (e.g. "

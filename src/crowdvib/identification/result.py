@@ -13,6 +13,8 @@ from scipy import stats
 
 from ..errors import ParameterError
 from ..quantities import describe
+from ..models.crowd import Crowd
+from ..models.pedestrian import MSDModel
 
 if TYPE_CHECKING:
     from ..models.crowd import Crowd
@@ -237,8 +239,6 @@ class HSIEstimate:
         """
         from dataclasses import replace
 
-        from ..models.crowd import Crowd
-        from ..models.pedestrian import MSDModel
 
         found, free = data["estimate"], tuple(data["free_parameters"])
         msd = MSDModel(found["frequency"], found["damping_ratio"], found["mass_ratio"])

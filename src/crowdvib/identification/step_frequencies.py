@@ -18,6 +18,7 @@ from .diagnostics import _diagnose
 from .estimation import DEFAULT_STEP_FREQUENCY_BOUNDS, PSDObjective
 from .multistart import _merge_bounds, _multistart, _starting_points
 from .sandwich import STEP_PARAMETERS
+from ..models.crowd import Crowd
 
 if TYPE_CHECKING:
     from .._validation import ForceModel
@@ -86,7 +87,6 @@ class StepFrequencyEstimate:
         DataError
             ``data`` is not such a dict, or holds no crowd and none is given.
         """
-        from ..models.crowd import Crowd
 
         fitted = data.get("step_frequencies") if isinstance(data, dict) else None
         if isinstance(data, dict) and isinstance(data.get("crowd"), dict):

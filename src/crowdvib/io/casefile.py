@@ -73,6 +73,7 @@ from .casespecs import (DesignSpec, EstimationSpec, MeasurementBlock, Measuremen
                         SimulationSpec, StepFrequencySpec)
 from .casemeasurement import _check_profile_frame, _measurements
 from .records import RECORD_FORMATS
+from ..models.examples import paper_example
 
 __all__ = ["Case", "MeasurementSpec", "MeasurementBlock", "EstimationSpec", "StepFrequencySpec",
            "SimulationSpec", "DesignSpec",
@@ -504,7 +505,6 @@ def _not_set(defaulted):
 
 def paper_example_case():
     """The embedded paper example (docs: theory, The paper's numerical example) as a :class:`Case` without records."""
-    from ..models.examples import paper_example
 
     example = paper_example()
     return Case(name=example.name, path=None, structure=example.structure, crowd=example.crowd,

@@ -25,6 +25,7 @@ from .._files import require_file
 from ._common import quote, reading
 from .csvtables import number_columns, output_rows, quietly_built, read_csv_table, require_columns
 from .formats import FileFormat, file_formats, register_format
+from .formats import _check_uff_complete, _pyuff
 
 __all__ = ["UFF_SUFFIXES", "FEModes", "read_fe_modes"]
 
@@ -285,7 +286,6 @@ def read_fe_modes(path: str | Path, modal_table: str | Path | None = None) -> FE
 
 
 def _read_uff_modes(path):
-    from .formats import _check_uff_complete, _pyuff
 
     _check_uff_complete(path)
     with reading(path, "a UFF"):

@@ -34,6 +34,7 @@ from ._common import (quote, quote_names, reading, refuse_transposed, same_rate,
                       sample_rate_from_time, where)
 from .formats import check_names, file_formats, suffix_format
 from .units import _check_declared_units, _unit_key, convert_units
+from ..signals.spectrum import xarray_module
 
 __all__ = ["Record", "read_record", "write_record", "check_record", "merge_records",
            "RECORD_FORMATS", "convert_units"]
@@ -161,7 +162,6 @@ class Record:
         >>> array.dims, array.attrs["units"], float(array.time[-1])
         (('output', 'time'), 'm/s²', 2.02)
         """
-        from ..signals.spectrum import xarray_module
 
         xarray = xarray_module("Record.to_xarray")
         return xarray.DataArray(

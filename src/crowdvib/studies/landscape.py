@@ -11,6 +11,7 @@ from .._validation import as_float_array, check_positive, fields_from_dict
 from ..errors import ParameterError
 from ..identification.estimator import check_estimator
 from ..models.pedestrian import MSDModel
+from .plots import plot_objective_map
 
 __all__ = ["ObjectiveMap", "objective_map"]
 
@@ -86,7 +87,6 @@ class ObjectiveMap:
         title : str, optional
             The axes' title.
         """
-        from .plots import plot_objective_map
 
         return plot_objective_map(self, uncertainty=uncertainty, search_bounds=search_bounds,
                                   ax=ax, title=title)

@@ -24,6 +24,8 @@ from ..errors import BoundWarning, CrowdvibError, ParameterError
 from ..identification.estimation import estimate_hsi
 from ..identification.estimator import check_estimator
 from ..runner.tasks import run_tasks
+from ..signals import welch_psd
+from .plots import plot_estimation_errors
 
 __all__ = ["ErrorCase", "SensitivityResult", "modelling_error_study", "record_length_study",
            "error_cases", "PAPER_ERROR_LEVELS"]
@@ -385,7 +387,6 @@ class SensitivityResult(FieldsFromDict):
         title : str, optional
             The figure's title.
         """
-        from .plots import plot_estimation_errors
 
         return plot_estimation_errors(self, axes=axes, title=title)
 
@@ -498,7 +499,6 @@ class _WindowCountTask:
 
 
 def _window_count_task(task):
-    from ..signals import welch_psd
 
     measured = welch_psd(task.signals, task.sample_rate,
                          window_length=task.window_length, output_names=task.output_names,

@@ -10,6 +10,10 @@ from .._validation import FieldsFromDict, check_positive
 from ..models.pedestrian import MSDModel
 from .modelling_error import ErrorCase, _EstimationTask, _estimate_task, error_cases
 from ..runner.tasks import run_tasks
+from ..models.structure import ModalModel
+from ..response.frequency_domain.fluctuation import response_psd
+from ..models.examples import paper_example
+from .plots import plot_parametric_ratios
 
 __all__ = ["ParametricResult", "parametric_study", "PARAMETRIC_ERROR_LEVELS"]
 
@@ -31,7 +35,6 @@ class _ParametricTask:
 
 def _paper_family_structure(frequency, damping_ratio, mass_ratio, crowd):
     """The paper example's 50 m × 3 m beam with f_1, ξ_1 and a modal mass giving μ_m (Figs. 5–6)."""
-    from ..models.structure import ModalModel
 
     with derived():        # a scaffold of 1 kg, rescaled below to the family's modal mass
         reference = ModalModel.simply_supported_beam(50.0, 3.0, frequency, damping_ratio, 1.0)
@@ -40,7 +43,6 @@ def _paper_family_structure(frequency, damping_ratio, mass_ratio, crowd):
 
 
 def _parametric_task(task):
-    from ..response.frequency_domain.fluctuation import response_psd
 
     structure = _paper_family_structure(task.structure_frequency, task.structure_damping,
                                         task.mass_ratio, task.crowd)
@@ -101,7 +103,6 @@ class ParametricResult(FieldsFromDict):
         title : str, optional
             The figure's title.
         """
-        from .plots import plot_parametric_ratios
 
         return plot_parametric_ratios(self, parameters=parameters, axes=axes, title=title)
 
@@ -155,7 +156,6 @@ def parametric_study(*, structure_frequencies=None, structure_damping_ratios=(0.
 
     The theory pages cite them (docs: theory, References).
     """
-    from ..models.examples import paper_example
 
     example = paper_example()
     msd = example.msd if msd is None else msd

@@ -29,6 +29,13 @@ from ..models.crowd import Crowd
 from ..runner.tasks import run_tasks
 from ..signals.spectrum import ResponsePSD
 from ..signals.welch import LowPassFilter
+from ..io.records import Record, write_record
+from ..response.time_domain.simulation import simulate as simulate_record
+from ..response.frequency_domain.fluctuation import response_psd
+from ..signals.synthesis import gaussian_record, record_frequencies
+from .._files import atomic_path
+from .plots import plot_season_trends
+from ..identification.result import HSIEstimate
 
 __all__ = ["SeasonResult", "season_study", "season_row", "season_dataframe",
            "write_synthetic_season", "TABLE_COLUMNS", "NUMBER_COLUMNS"]
@@ -146,7 +153,6 @@ class SeasonResult:
         """
         import csv
 
-        from .._files import atomic_path
 
         with atomic_path(path) as partial, open(partial, "w", encoding="utf-8",
                                                 newline="") as handle:
@@ -171,7 +177,6 @@ class SeasonResult:
         """
         import importlib.util
 
-        from .._files import atomic_path
 
         missing = [name for name in ("pandas", "pyarrow")
                    if importlib.util.find_spec(name) is None]
@@ -207,7 +212,6 @@ class SeasonResult:
         title : str, optional
             The figure's title.
         """
-        from .plots import plot_season_trends
 
         return plot_season_trends(self.table(), joint=self.joint, axes=axes, title=title)
 
@@ -225,7 +229,6 @@ class SeasonResult:
         DataError
             ``data`` is not a dict or lacks its rows.
         """
-        from ..identification.result import HSIEstimate
 
         joint = data.get("joint") if isinstance(data, dict) else None
         return fields_from_dict(cls, data, joint=None if joint is None else
@@ -436,10 +439,6 @@ def write_synthetic_season(folder, structure, crowd, msd, *, densities, duration
     """
     from pathlib import Path
 
-    from ..io.records import Record, write_record
-    from ..response.time_domain.simulation import simulate as simulate_record
-    from ..response.frequency_domain.fluctuation import response_psd
-    from ..signals.synthesis import gaussian_record, record_frequencies
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

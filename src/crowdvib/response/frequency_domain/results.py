@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..._validation import FieldsFromDict, frozen_array
+from .plots import plot_frf
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -70,7 +71,6 @@ class FRF:
         -------
         matplotlib.axes.Axes
         """
-        from .plots import plot_frf
 
         return plot_frf(self, occupied, output=output, input=input, band=band, ax=ax,
                         title=title)

@@ -43,6 +43,7 @@ from ._crossing import smoothed_load_spectrum
 from ._linalg import eigen_decomposition, solve_occupied
 from ._welch_model import DENSE_POINTS_PER_BIN, CorrectedWelch, WelchRule
 from .results import FRF, EffectiveModalProperties
+from ...signals.welch import LowPassFilter
 
 if TYPE_CHECKING:
     from ..._validation import ForceModel
@@ -135,7 +136,6 @@ class SpectralModel:
                              else check_names("outputs", outputs))
         shapes = structure.output_shapes[structure.output_index(self.output_names)]
         self.welch_window_length = welch_window_length
-        from ...signals.welch import LowPassFilter
 
         self.lowpass = check_optional("lowpass", lowpass, LowPassFilter)
         self.crossing_spread = check_non_negative("crossing_spread", crossing_spread, unit="Hz")

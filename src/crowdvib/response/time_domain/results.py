@@ -16,6 +16,8 @@ from ..._validation import frozen_array
 from ...errors import ParameterError
 from ...signals.spectrum import ResponsePSD, xarray_module
 from ...signals.welch import welch_psd
+from ...signals.weighting import running_rms
+from .plots import plot_time_history
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -149,7 +151,6 @@ class Simulation:
             ``output_names``, ``rms``, ``peak``, ``max_running_rms`` (lists, one per output) and
             ``running_rms_window`` [s].
         """
-        from ...signals.weighting import running_rms
 
         data = np.asarray(self.acceleration)
         full = data.shape[-1] >= round(window * self.sample_rate)   # a record shorter than
@@ -184,7 +185,6 @@ class Simulation:
         -------
         FigureAxes
         """
-        from .plots import plot_time_history
 
         return plot_time_history(self, output=output, window=window, axes=axes, title=title,
                                  weighting=weighting)
