@@ -246,7 +246,6 @@ def _dampers(case, spec, msd):
 
 
 def _check(case, spec, code, msd, dampers):
-
     traffic_class = spec.classes.get(code)
     density = spec.density
     if traffic_class is None and density is None:

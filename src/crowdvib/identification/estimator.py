@@ -24,16 +24,14 @@ from typing import TYPE_CHECKING, Any
 
 from .._estimators import DEFAULT_DENSITY_UNCERTAINTY, DEFAULT_METHOD, check_method
 from ..errors import ParameterError
+from .estimation import estimate_hsi, estimate_hsi_joint
 from .objective import PSDObjective
-from .estimation import estimate_hsi
-from .estimation import estimate_hsi_joint
 
 if TYPE_CHECKING:
     from .._typing import ForceModel, Seed
     from ..models.crowd import Crowd
     from ..models.structure import ModalModel
     from ..signals.spectrum import ResponsePSD
-    from .objective import PSDObjective
     from .result import HSIEstimate
 
 __all__ = ["Estimator"]
@@ -194,7 +192,6 @@ class Estimator:
         measurements, structure, crowds, rng
             As :func:`~crowdvib.estimate_hsi_joint`.
         """
-
 
         given = self.options()
         if given.pop("free_step_frequencies") is True:

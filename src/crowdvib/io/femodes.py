@@ -286,7 +286,6 @@ def read_fe_modes(path: str | Path, modal_table: str | Path | None = None) -> FE
 
 
 def _read_uff_modes(path):
-
     _check_uff_complete(path)
     with reading(path, "a UFF"):
         sets = _pyuff().UFF(str(path)).read_sets()

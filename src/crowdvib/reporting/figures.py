@@ -128,7 +128,6 @@ def caption(name):
 
 
 def _draw_convergence(results, level):
-
     data = hsi(results, "convergence")
     if not isinstance(data, dict) or "error" not in data:
         return None
@@ -141,7 +140,6 @@ def _draw_convergence(results, level):
 
 
 def _draw_map(results):
-
     data = get(results, ("objective_map",), ("map",))
     if not isinstance(data, dict) or "cost" not in data:
         return None
@@ -163,7 +161,6 @@ def _draw_map(results):
 
 
 def _draw_errors(results):
-
     study = sensitivity(results)
     if study is None or not any(isinstance(c, dict) and "delta_frequency" in c
                                 for c in study["cases"]):
@@ -172,7 +169,6 @@ def _draw_errors(results):
 
 
 def _draw_parametric(results):
-
     data = get(results, ("parametric",))
     if data is None and isinstance(results.get("rows"), list):
         data = results
@@ -183,7 +179,6 @@ def _draw_parametric(results):
 
 
 def _draw_damper_frf(results):
-
     data = get(results, ("design", "frf"))
     if not isinstance(data, dict) or not isinstance(data.get("with_damper"), list):
         return None

@@ -136,7 +136,6 @@ class _Checker(HTMLParser):
         self.name, self.out, self.policy, self.style = name, [], False, None
 
     def refuse(self, what, rule):
-
         line = self.getpos()[0]
         raise ParameterError(f"report template {self.name}: its page (line {line}) holds "
                              f"{terminal_safe(what)}: {rule}; a report must open as one file, "

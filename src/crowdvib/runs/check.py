@@ -129,7 +129,6 @@ def _table_lines(rows):
 
 
 def _figures(checks, staging, name):
-
     return [save_figure(plot_utilisation(checks, title=f"{name}: design checks"),
                         staging / "design_utilisation.png").name,
             save_figure(plot_mode_accelerations(checks, title=f"{name}: peak acceleration per "

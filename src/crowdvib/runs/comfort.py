@@ -126,6 +126,5 @@ def comfort_lines(year: dict) -> list[str]:
 
 
 def _figures(year, staging, name):
-
     return [save_figure(year.plot(kind, title=None), staging / file).name
             for file, kind in COMFORT_FIGURES.items()]

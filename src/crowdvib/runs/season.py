@@ -88,7 +88,6 @@ def run_season(case: Case, crowd_table: str | Path, out: str | Path, *,
 
 def _season(plan, out, inputs, planned, *, workers, scheduler, hung_after, joint,
             joint_min_density, batch_size, resume, force, say, progress):
-
     case, table = plan.case, plan.table
     stamp = provenance(case.path)
     prepare_output(out, force=force, resume=resume, inputs=inputs, command="season",

@@ -93,7 +93,6 @@ def finished_tasks(out: str | Path) -> int:
 
 def _study(case, out, levels, modes_from, *, resume, force, workers, scheduler, hung_after,
            joint, record_length, say, progress, caught):
-
     stamp = provenance(case.path)
     prepare_output(out, force=force, resume=resume, inputs=case_inputs(case),
                    command="sensitivity", stores=STUDY_STORES)

@@ -88,7 +88,6 @@ def run_simulate(case: Case | str | Path | None, out: str | Path, *,
 
 def _simulate(case, out, duration, sample_rate, seed, formats, hsi, force, say, progress,
               caught, animate=None, stretch=(None, None)):
-
     spec = case.simulation
     formats = spec.formats if formats is None else formats
     duration = spec.duration if duration is None else duration
@@ -164,7 +163,6 @@ COMPILING = "  compiling the simulation kernel (first run of this kind only, som
 
 
 def _time_histories(case, simulation, staging):
-
     names = unique_filenames(simulation.output_names, prefix="time_history_", suffix=".png",
                              taken=("psd.png",))
     return [save_figure(plot_time_history(simulation, output=name,

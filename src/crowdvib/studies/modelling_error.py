@@ -226,19 +226,20 @@ def _warm_starts(nominal):
     """The warm starts of the cases from the nominal task's result: every local optimum its
     multistart found (docs: theory, Modelling-error study, Warm starts).
 
-    A case differs from the nominal by one small perturbation of the assumed inputs, which
-    moves each non-degenerate local optimum a little (continuously in the inputs): the fit
-    started at each optimum the nominal multistart found lands in that optimum's continuation,
-    and the best of them is the one the full multistart finds (checked against it on the
-    paper's cases in tests/studies/test_sensitivity.py). A fit that does not converge falls
-    back to the full multistart (:func:`_estimate_task`), and so does one that ends on a
-    search bound with more than twice the nominal's misfit, ξ_h1's upper bound alone excepted
-    (:func:`_left_the_basin`): the sign that the perturbation was not small for this record (the paper example's structural frequency −5 % case: the warm
-    fit slides to the bounds at 35 times the misfit the multistart finds). Either alone is
-    not: an end inside the bounds at a high misfit is the continuation the argument gives (a
-    sharp resonance moved by 5 % misfits an hour's record by 50 times, the multistart ends
-    there too), and so is an end on a bound at a misfit near the nominal's (issue 39, on the
-    paper's cases: the same estimates to 2e-6, at a third of their cost).
+    A case differs from the nominal by one small perturbation of the assumed inputs, which moves
+    each non-degenerate local optimum a little (continuously in the inputs): the fit started at
+    each optimum the nominal multistart found lands in that optimum's continuation, and the best
+    of them is the one the full multistart finds (checked against it on the paper's cases in
+    tests/studies/test_sensitivity.py). A fit that does not converge falls back to the full
+    multistart (:func:`_estimate_task`), and so does one that ends on a search bound with more
+    than twice the nominal's misfit, ξ_h1's upper bound alone excepted
+    (:func:`_left_the_basin`): the sign that the perturbation was not small for this record (the
+    paper example's structural frequency −5 % case: the warm fit slides to the bounds at 35
+    times the misfit the multistart finds). Either alone is not: an end inside the bounds at a
+    high misfit is the continuation the argument gives (a sharp resonance moved by 5 % misfits
+    an hour's record by 50 times, the multistart ends there too), and so is an end on a bound at
+    a misfit near the nominal's (issue 39, on the paper's cases: the same estimates to 2e-6, at
+    a third of their cost).
 
     Returns
     -------
@@ -477,9 +478,8 @@ def _task_options(estimator):
     """A study's estimator as its tasks hold it: the choices of its point estimate as (name,
     value) pairs (each part of a task's key; a crowd's profile is in the task's crowd)."""
     chosen = check_estimator(estimator).options(point_only=True)
-    options = tuple((name, tuple(value) if name == "band" else value)
-                    for name, value in chosen.items())
-    return options
+    return tuple((name, tuple(value) if name == "band" else value)
+                 for name, value in chosen.items())
 
 
 # ------------------------------------------------------------------------------ record length
@@ -499,7 +499,6 @@ class _WindowCountTask:
 
 
 def _window_count_task(task):
-
     measured = welch_psd(task.signals, task.sample_rate,
                          window_length=task.window_length, output_names=task.output_names,
                          lowpass=task.lowpass)

@@ -43,7 +43,6 @@ def _paper_family_structure(frequency, damping_ratio, mass_ratio, crowd):
 
 
 def _parametric_task(task):
-
     structure = _paper_family_structure(task.structure_frequency, task.structure_damping,
                                         task.mass_ratio, task.crowd)
     grid = np.arange(0, 601) / 60.0

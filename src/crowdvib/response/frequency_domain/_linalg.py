@@ -108,9 +108,11 @@ def eigen_decomposition(state, kept=None, rows=slice(None), columns=slice(None))
     ``kept``: a list of recent (A, ‖A‖, λ, V, V⁻¹) computed by eig, shared by the caller's
     models.
     A state within _NEARBY of one of them (each matrix of a stack), A + ΔA, is decomposed by
-    first-order perturbation: G = V⁻¹ ΔA V, λ' = λ + diag G, V' = V (I + C),
-    V'⁻¹ = (I − C) V⁻¹ with C_qp = G_qp / (λ_p − λ_q) (q ≠ p), taken when every ‖C‖ ≤
-    _ROTATION; otherwise by eig (and kept). Only the rows and columns asked for are formed.
+    first-order perturbation of a non-defective matrix (Golub & Van Loan, Matrix Computations,
+    §7.2, the rows of V⁻¹ its left eigenvectors): G = V⁻¹ ΔA V, λ' = λ + diag G,
+    V' = V (I + C), V'⁻¹ = (I − C) V⁻¹ with C_qp = G_qp / (λ_p − λ_q) (q ≠ p), taken when
+    every ‖C‖ ≤ _ROTATION; otherwise by eig (and kept). Only the rows and columns asked for
+    are formed.
     Raises numpy.linalg.LinAlgError when V is singular.
     """
     kept = kept if state.size >= PERTURBED_ENTRIES else None
