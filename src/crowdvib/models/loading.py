@@ -316,14 +316,17 @@ class ZivanovicForce(WalkingForce):
         offset = np.asarray(ZIVANOVIC_SUBHARMONIC_OFFSET)[column]
         # The moments of the DLFs the sampler draws: normal, redrawn while not positive
         # (positive_normal), so the spectral load and the simulator see the same crowd.
-        first_mean, first_square = positive_normal_moments(mu1[:1],
-                                                           ZIVANOVIC_DLF1_COV * np.abs(mu1[:1]))
         harmonics = np.broadcast_to(_harmonic_mean_squares()[column], mu1[1:5].shape)
         if self.subharmonics_follow_sampled_dlf:     # α_s = a α₁ + b with the sampled α₁
-            sub_mean, sub_square = positive_normal_moments(mu1[5:],
-                                                           ZIVANOVIC_DLF1_COV * np.abs(mu1[5:]))
+            # the first harmonic's and the subharmonics' α₁ in one call (elementwise: the
+            # same values; a stencil's few frequencies cost the calls, not the arithmetic)
+            drawn = mu1[[0, 5, 6, 7, 8, 9]]
+            means, squares = positive_normal_moments(drawn, ZIVANOVIC_DLF1_COV * np.abs(drawn))
+            first_square, sub_mean, sub_square = squares[:1], means[1:], squares[1:]
             sub = slope**2 * sub_square + 2 * slope * offset * sub_mean + offset**2
         else:
+            first_square = positive_normal_moments(mu1[:1],
+                                                   ZIVANOVIC_DLF1_COV * np.abs(mu1[:1]))[1]
             sub = (slope * mu1[5:] + offset) ** 2
         return np.concatenate([first_square, harmonics, sub])
 
@@ -352,14 +355,15 @@ def positive_normal_moments(means, stds):
     §13.10). For a mean ≤ 0 they are max(X, 0): E[X] = μΦ(a) + σφ(a),
     E[X²] = (μ² + σ²)Φ(a) + μσφ(a).
     """
-    means = np.asarray(means, dtype=float)
-    stds = np.asarray(stds, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a = np.where(stds > 0, means / np.where(stds > 0, stds, 1.0), np.inf)
+    means, stds = np.broadcast_arrays(np.asarray(means, dtype=float),
+                                      np.asarray(stds, dtype=float))
+    # a = μ/σ, +∞ for σ = 0 (divided only where σ > 0: no division warnings to silence)
+    a = np.divide(means, stds, out=np.full(means.shape, np.inf), where=stds > 0)
     pdf = np.exp(-0.5 * np.minimum(np.abs(a), 40.0) ** 2) / np.sqrt(2 * np.pi)   # φ(a)
     cdf = special.ndtr(a)                                                          # Φ(a)
     truncated = means > 0
-    ratio = np.where(truncated, pdf / np.where(cdf > 0, cdf, 1.0), 0.0)
+    # λ = φ/Φ where truncated (μ > 0, so a > 0 and Φ ≥ ½), 0 elsewhere
+    ratio = np.divide(pdf, cdf, out=np.zeros(means.shape), where=truncated)
     first = np.where(truncated, means + stds * ratio, means * cdf + stds * pdf)
     second = np.where(truncated, means**2 + stds**2 + means * stds * ratio,
                       (means**2 + stds**2) * cdf + means * stds * pdf)

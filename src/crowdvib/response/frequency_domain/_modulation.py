@@ -150,8 +150,15 @@ class _OccupiedMode:
             scaled = dataclasses.replace(crowd, factor=np.array([[s * self.coupling]]))
             return np.array(reduced_matrices(sub, (scaled,) + dampers))
 
-        at_zero, at_one, at_minus = matrices(0.0), matrices(1.0), matrices(-1.0)
-        self.coefficients = (at_zero, (at_one - at_minus) / 2, (at_one + at_minus) / 2 - at_zero)
+        # Only the mode's coupling to the crowd's coordinate (entries (0, 1) and (1, 0)) is odd
+        # in s; every other entry is even (the crowd's Ψ = s² c² on the mode, the rest constant):
+        # two evaluations give the three coefficients, the values the central differences at
+        # s = ±1 gave (a third of building this, once per MSD).
+        at_zero, at_one = matrices(0.0), matrices(1.0)
+        odd = np.zeros(at_one.shape[1:], dtype=bool)
+        odd[0, 1] = odd[1, 0] = True
+        self.coefficients = (at_zero, np.where(odd, at_one, 0.0),
+                             np.where(odd, 0.0, at_one - at_zero))
         # The mass is diagonal (one mode, the crowd's and the dampers' own coordinates; only
         # stiffness and damping couple them): its inverse is the reciprocals, what LAPACK's
         # inverse of a diagonal matrix gives, without a batched inverse of 150 small matrices
@@ -163,18 +170,24 @@ class _OccupiedMode:
         """State matrices (…, 2n, 2n) and input columns (…, 2n, 1), the load's intensity λ in
         them, at the occupancies λ (a float or an array of any shape …)."""
         s = np.sqrt(np.asarray(occupancy, dtype=float))[..., np.newaxis, np.newaxis]
-        mass, damping, stiffness = (c0 + s * c1 + s**2 * c2 for c0, c1, c2
-                                    in zip(*self.coefficients))
+        c0, c1, c2 = self.coefficients          # (mass, damping, stiffness) of each power of s
+        mass, damping, stiffness = np.moveaxis(c0 + s[..., np.newaxis] * c1
+                                               + s[..., np.newaxis]**2 * c2, -3, 0)
         size = mass.shape[-1]
-        if self._diagonal_mass:
-            inverse_mass = np.eye(size) / np.einsum("...ii->...i", mass)[..., np.newaxis, :]
-        else:
-            inverse_mass = np.linalg.inv(mass)
         state = np.zeros(s.shape[:-2] + (2 * size, 2 * size))
         state[..., :size, size:] = np.eye(size)
+        load = np.zeros(s.shape[:-2] + (2 * size, 1))
+        if self._diagonal_mass:
+            # M⁻¹X for a diagonal M: each row of X times its reciprocal mass, the product
+            # M⁻¹'s matrix gave, without a batched product per matrix
+            inverse = 1.0 / np.einsum("...ii->...i", mass)[..., np.newaxis]   # (…, n, 1)
+            state[..., size:, :size] = -(inverse * stiffness)
+            state[..., size:, size:] = -(inverse * damping)
+            load[..., size, :] = inverse[..., 0, :] * s[..., 0, :] * self.coupling
+            return state, load
+        inverse_mass = np.linalg.inv(mass)
         state[..., size:, :size] = -inverse_mass @ stiffness
         state[..., size:, size:] = -inverse_mass @ damping
-        load = np.zeros(s.shape[:-2] + (2 * size, 1))
         load[..., size:, :] = inverse_mass[..., :, :1] * s * self.coupling
         return state, load
 
@@ -204,12 +217,16 @@ class _OccupiedMode:
         # once, then the chain from the light pole at λ₀
         successor = np.abs(poles[:, 1:, np.newaxis, :]
                            - poles[:, :-1, :, np.newaxis]).argmin(axis=-1)
-        rows = np.arange(node.size)
-        chosen = np.empty((node.size, _TRACK.size), dtype=int)
-        chosen[:, 0] = which
-        for k in range(1, _TRACK.size):
-            chosen[:, k] = successor[rows, k - 1, chosen[:, k - 1]]
-        rows, columns = rows[:, np.newaxis], np.arange(_TRACK.size)
+        rows, columns = np.arange(node.size), np.arange(_TRACK.size)
+        if np.all(successor == np.arange(poles.shape[-1])):
+            # the usual case: eig keeps the poles' order along the path (no chain to follow)
+            chosen = np.broadcast_to(which[:, np.newaxis], (node.size, _TRACK.size))
+        else:
+            chosen = np.empty((node.size, _TRACK.size), dtype=int)
+            chosen[:, 0] = which
+            for k in range(1, _TRACK.size):
+                chosen[:, k] = successor[rows, k - 1, chosen[:, k - 1]]
+        rows = rows[:, np.newaxis]
         return poles[rows, columns, chosen], slopes[rows, columns, chosen], residue, node
 
 
