@@ -252,11 +252,13 @@ def estimate_hsi(measured: ResponsePSD, structure: ModalModel, crowd: Crowd, *,
         # chooses the bins (no diagnosis, no warning: the refit gives them). The refit starts
         # from its optimum only: the first fit's starts have found the basin, and the new bins
         # move the optimum by a fraction of its interval (a third of the estimate's time).
+        # Its starts stop in the basin of an earlier one's optimum (join): the refit finds
+        # that optimum again to its own tolerance (a third of the first fit's time).
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             first = _estimate([(objective(crowd), measured)], structure, given=(),
                               tolerance=BIN_CHOICE_TOLERANCE, max_nfev=BIN_CHOICE_STEPS,
-                              **dict(options, interval=None))
+                              join=True, **dict(options, interval=None))
         options["starts"] = [tuple(first.value(name) for name in first.free_parameters
                                    if name not in STEP_PARAMETERS)]
         second = _estimate([(objective(first.crowd), measured)], structure, interval=interval,
@@ -438,13 +440,15 @@ class _Parameters:
 def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, method,
               interval, level, n_boot=200, rng=None, free_step_frequencies=False, given=None,
               density_uncertainty=DEFAULT_DENSITY_UNCERTAINTY, tolerance=FINAL_TOLERANCE,
-              max_nfev=None):
+              max_nfev=None, join=False):
     """The estimate from one or several (objective, measured PSD) records (estimate_hsi).
 
     ``given``: the records' objectives at the crowd the user gave, where a wrong level is
     diagnosed (default the parts' own; empty: no diagnosis). ``tolerance``: the fits' (scipy's
     ftol and xtol; :data:`BIN_CHOICE_TOLERANCE` for a fit that only chooses a refit's bins) and
-    ``max_nfev`` their budget of steps (scipy's; :data:`BIN_CHOICE_STEPS` for that fit).
+    ``max_nfev`` their budget of steps (scipy's; :data:`BIN_CHOICE_STEPS` for that fit);
+    ``join``: a start stops in the basin of an earlier start's optimum (that fit too:
+    :func:`.multistart._multistart`).
 
     A sequence of steps, each taking what the one before returned: the options and θ's
     parametrisation, the fit from every start, the objectives of the fitted crowd (when the
@@ -461,7 +465,8 @@ def _estimate(parts, structure, *, starts, bounds, mass_ratio, free_mass_ratio, 
     points = _starting_points(starts, parameters.names, tail, parameters.lower, parameters.upper)
     for objective, _ in parts:
         _check_measured_level(objective)
-    best, runs = _fit(_Stacked(o for o, _ in parts), parameters, points, tolerance, max_nfev)
+    best, runs = _fit(_Stacked(o for o, _ in parts), parameters, points, tolerance, max_nfev,
+                      join)
     given = [objective for objective, _ in parts] if given is None else given
     parts = _adopt_fitted_crowd(parts, parameters, best.x)
     stacked = _Stacked(o for o, _ in parts)
@@ -549,12 +554,12 @@ def _check_measured_level(objective):
             f"{list(objective.output_names)}")
 
 
-def _fit(target, parameters, points, tolerance=FINAL_TOLERANCE, max_nfev=None):
+def _fit(target, parameters, points, tolerance=FINAL_TOLERANCE, max_nfev=None, join=False):
     """The multistart fit of a misfit (one objective or a stack) → (best result, runs)."""
     records = len(getattr(target, "objectives", (target,)))
     return _multistart(lambda theta: parameters.misfit(target, theta), points,
                        parameters.lower, parameters.upper, records=records, tolerance=tolerance,
-                       max_nfev=max_nfev)
+                       max_nfev=max_nfev, join=join)
 
 
 def _adopt_fitted_crowd(parts, parameters, theta):

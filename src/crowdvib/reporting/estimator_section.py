@@ -13,6 +13,7 @@ guide.
 from markupsafe import Markup
 
 from ..cases.schema import estimate, hsi
+from ..identification.multistart import JOINED
 from .design_section import design_inputs
 from .html import html, join, number, table, value
 
@@ -23,7 +24,8 @@ STATUS = {-1: "stopped: improper input", 0: "stopped at the evaluation limit",
           1: "converged: gradient below its tolerance",
           2: "converged: cost change below its tolerance",
           3: "converged: step below its tolerance",
-          4: "converged: cost change and step below their tolerances"}
+          4: "converged: cost change and step below their tolerances",
+          JOINED: "stopped: in the basin of an earlier start's optimum"}
 
 #: ``[estimation]`` switches moved to the details, each (key, sentence per value).
 _SWITCHES = {
