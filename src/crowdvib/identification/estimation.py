@@ -420,8 +420,12 @@ class _Parameters:
                         mass_ratio=values.get("mass_ratio", self.mass_ratio))
 
     def state(self, theta):
-        """θ → (MSD, (μ_fs, σ_fs) or None): what the misfit is evaluated at."""
-        return self.msd(theta), (tuple(theta[-2:]) if self.free_step_frequencies else None)
+        """θ → (MSD, (μ_fs, σ_fs) or None): what the misfit is evaluated at (θ inside the
+        bounds, checked when they were merged: the MSD is not checked again)."""
+        values = dict(zip(self.names, theta))
+        msd = MSDModel._checked(values["frequency"], values["damping_ratio"],
+                                values.get("mass_ratio", self.mass_ratio))
+        return msd, (tuple(theta[-2:]) if self.free_step_frequencies else None)
 
     def misfit(self, target, theta):
         msd, steps = self.state(theta)

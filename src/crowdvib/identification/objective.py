@@ -15,7 +15,6 @@ Two misfits share one interface, a residual vector r(θ) with Σ r² the objecti
 """
 
 import copy
-import dataclasses
 
 import numpy as np
 
@@ -307,8 +306,12 @@ class PSDObjective:
         """
         key = (float(steps[0]), float(steps[1]))
         if self._steps_model[0] != key:
-            crowd = dataclasses.replace(self.model.crowd, step_frequency_mean=key[0],
-                                        step_frequency_std=key[1])
+            # the crowd's own rule for the two (finite, > 0), its other fields already checked
+            if not (np.all(np.isfinite(key)) and min(key) > 0):
+                raise ParameterError(f"steps must be (μ_fs, σ_fs), each finite and > 0 Hz, "
+                                     f"got {tuple(steps)!r}")
+            crowd = self.model.crowd._with_checked(step_frequency_mean=key[0],
+                                                   step_frequency_std=key[1])
             # The fluctuating mixture keeps its occupancy law (it depends on the density only).
             # A cache, not state: what the objective computes does not depend on it.
             object.__setattr__(self, "_steps_model", (

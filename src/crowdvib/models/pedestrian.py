@@ -85,6 +85,17 @@ class MSDModel(FieldsFromDict):
         # 0.001 Hz and must stay quiet there; rad/s is the mix-up, and it lands high.
         warn_if_implausible("msd_frequency", self.frequency, "frequency", stacklevel=3)
 
+    @classmethod
+    def _checked(cls, frequency: float, damping_ratio: float, mass_ratio: float) -> MSDModel:
+        """An MSD of values the caller has checked against this class's rules (an optimiser's θ
+        inside bounds checked when the fit began): the checks and the plausibility note cost
+        more than a forward model's arithmetic for the few modes of a footbridge (issue 39)."""
+        msd = object.__new__(cls)
+        for name, value in (("frequency", frequency), ("damping_ratio", damping_ratio),
+                            ("mass_ratio", mass_ratio)):
+            object.__setattr__(msd, name, float(value))
+        return msd
+
     def sprung_mass(self, body_mass: ArrayLike) -> np.ndarray | float:
         """m_h1 = μ_h1·m_h [kg].
 
