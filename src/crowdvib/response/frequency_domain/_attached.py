@@ -31,11 +31,15 @@ class Attached:
     damping_ratio: float       # [-]
     stiffness: float           # [N/m], from the model's own method
     damping: float             # [N·s/m], likewise
-    factor: np.ndarray         # B, shape (n_modes, rank)
+    factor: np.ndarray         # B, shape (n_modes, rank), or (…, n_modes, rank): see below
+
+    # A crowd's B may carry leading axes, a stack of crowds that differ in density only (the
+    # occupancy nodes of a mixture at one MSD): Ψ and the reduced matrices then carry them too,
+    # and one stacked computation serves every node (spectral._pole_terms).
 
     @property
     def influence(self):
-        return self.factor @ self.factor.T
+        return self.factor @ np.swapaxes(self.factor, -1, -2)
 
     def added_stiffness(self, frequency):
         """ω² M_app(ω) [kg/s²]: multiply by Ψ to get the dynamic stiffness it removes."""
@@ -87,28 +91,32 @@ def reduced_matrices(structure, attached):
     Coordinates: structural modes z (n_modes), then for each attachment its coordinates η
     (rank of Ψ = B Bᵀ; 1 for a damper): M_r = diag(M_s + Σ m_0 Ψ, m_1 I, …),
     K_r = [[K_s + Σ k_1 Ψ, −k_1 B, …], [−k_1 Bᵀ, k_1 I, …], …], C_r alike. Eliminating η at
-    frequency ω gives back D(ω) = K_s − ω²(M_s + Σ M_app Ψ) + iωC_s (§3.1).
+    frequency ω gives back D(ω) = K_s − ω²(M_s + Σ M_app Ψ) + iωC_s (§3.1). A stack of B
+    (:class:`Attached`) gives a stack of matrices, (…, size, size) each.
     """
     n_modes = structure.n_modes
-    size = n_modes + sum(part.factor.shape[1] for part in attached)
+    size = n_modes + sum(part.factor.shape[-1] for part in attached)
+    stack = np.broadcast_shapes(*(part.factor.shape[:-2] for part in attached))
     wn = 2 * np.pi * structure.frequencies
     m = structure.modal_masses
-    # mass, damping and stiffness as one array: each block is set for the three at once
-    matrices = np.zeros((3, size, size))
+    # mass, damping and stiffness as one array (…, 3, size, size): each block is set for the
+    # three at once
+    matrices = np.zeros(stack + (3, size, size))
     modes = np.arange(n_modes)
-    matrices[:, modes, modes] = (m, 2 * structure.damping_ratios * m * wn, m * wn**2)
+    matrices[..., modes, modes] = (m, 2 * structure.damping_ratios * m * wn, m * wn**2)
     start = n_modes
     for part in attached:
-        rank = part.factor.shape[1]
+        rank = part.factor.shape[-1]
         block, own = slice(start, start + rank), np.arange(start, start + rank)
         coupling = np.array([0.0, -part.damping, -part.stiffness])[:, np.newaxis, np.newaxis]
-        matrices[:, :n_modes, :n_modes] += (np.array([part.unsprung_mass, part.damping,
-                                                      part.stiffness])[:, np.newaxis, np.newaxis]
-                                            * part.influence)
-        matrices[:, own, own] = np.array([part.sprung_mass, part.damping,
-                                          part.stiffness])[:, np.newaxis]
-        matrices[:, :n_modes, block] = coupling * part.factor
-        matrices[:, block, :n_modes] = coupling * part.factor.T
+        matrices[..., :n_modes, :n_modes] += (
+            np.array([part.unsprung_mass, part.damping, part.stiffness])[:, np.newaxis, np.newaxis]
+            * part.influence[..., np.newaxis, :, :])
+        matrices[..., own, own] = np.array([part.sprung_mass, part.damping,
+                                            part.stiffness])[:, np.newaxis]
+        matrices[..., :n_modes, block] = coupling * part.factor[..., np.newaxis, :, :]
+        matrices[..., block, :n_modes] = coupling * np.swapaxes(part.factor, -1, -2)[
+            ..., np.newaxis, :, :]
         start = block.stop
-    mass, damping, stiffness = matrices
+    mass, damping, stiffness = np.moveaxis(matrices, -3, 0)
     return mass, damping, stiffness

@@ -84,8 +84,9 @@ def cross_power_coefficients(poles, left, right):
     docs: theory, The cross-spectral matrix): β^{ab}_p = −Σ_q A_ap Ā_bq / (λ_p + λ̄_q), shape
     (n_outputs, n_outputs, n_poles); its diagonal is :func:`power_coefficients`.
     """
-    mixed = (right @ right.conj().T) / (poles[:, np.newaxis] + poles.conj()[np.newaxis])
-    return -left[:, np.newaxis, :] * (left.conj() @ mixed.T)      # a matrix product: no einsum
+    mixed = (right @ _transposed(right.conj())) / _pole_sums(poles)
+    # a matrix product: no einsum
+    return -left[..., :, np.newaxis, :] * (left.conj() @ _transposed(mixed))[..., np.newaxis, :, :]
 
 
 def power_coefficients(poles, left, right):
@@ -93,12 +94,21 @@ def power_coefficients(poles, left, right):
 
     Partial fractions of each product 1/((s − λ_p)(s̄ − λ̄_q)) on the imaginary axis:
     β_p = −Σ_q A_p Ā_q / (λ_p + λ̄_q) with A_p the residue row (docs: theory, Evaluating the
-    Welch expectation). Shape (n_outputs, n_poles).
+    Welch expectation). Shape (n_outputs, n_poles). Stacks of poles (the occupancy nodes of a
+    mixture, ``spectral._pole_terms``) give stacks, here and in :func:`cross_power_coefficients`.
     """
-    gram = right @ right.conj().T                                    # (2N, 2N)
-    denominator = poles[:, np.newaxis] + poles.conj()[np.newaxis]
-    mixed = gram / denominator
-    return -left * (left.conj() @ mixed.T)                            # a matrix product: no einsum
+    gram = right @ _transposed(right.conj())                         # (2N, 2N)
+    mixed = gram / _pole_sums(poles)
+    return -left * (left.conj() @ _transposed(mixed))                 # a matrix product: no einsum
+
+
+def _transposed(matrices):
+    return np.swapaxes(matrices, -1, -2)
+
+
+def _pole_sums(poles):
+    """λ_p + λ̄_q, shape (…, 2N, 2N)."""
+    return poles[..., :, np.newaxis] + poles.conj()[..., np.newaxis, :]
 
 
 def _ratio_series(z):
@@ -169,16 +179,21 @@ class CorrectedWelch:
         """Welch expectation (n_outputs, n_f) of w · Σ_r |Σ_p left right / (iω − λ_p)|²."""
         return self.psd_from(poles, *self.power_terms(poles, left, right))
 
+    def _resolvent(self, poles):
+        """u_p = 1/(iω − λ_p) on the grid, (…, n_grid, 2N)."""
+        return 1.0 / (2j * np.pi * self.grid[:, np.newaxis] - poles[..., np.newaxis, :])
+
     def power_terms(self, poles, left, right):
-        """(β, the unweighted power on the grid (n_grid, n_outputs), the narrow poles' part of
-        the rule's error (:meth:`_pole_parts`)): what :meth:`psd` needs of the poles,
-        independent of the weight w (kept by a model across step frequencies)."""
+        """(β, the unweighted power on the grid (n_grid, n_outputs)): with the narrow poles'
+        part of the rule's error (:meth:`pole_parts`) what :meth:`psd` needs of the poles,
+        independent of the weight w (kept by a model across step frequencies). Stacks of poles
+        give stacks."""
         beta = power_coefficients(poles, left, right)
-        resolvent = 1.0 / (2j * np.pi * self.grid[:, np.newaxis] - poles)   # (n_grid, 2N)
+        resolvent = self._resolvent(poles)
         # Only the real part is wanted: two real products (a complex product of this skinny
         # shape took 11 ms in OpenBLAS against 0.04 ms for the real ones, measured).
-        return (beta, 2.0 * (resolvent.real @ beta.real.T - resolvent.imag @ beta.imag.T),
-                self._pole_parts(poles))
+        return beta, 2.0 * (resolvent.real @ _transposed(beta.real)
+                            - resolvent.imag @ _transposed(beta.imag))
 
     def psd_from(self, poles, beta, power, parts=None):
         """:meth:`psd` from its :meth:`power_terms` and this rule's weight."""
@@ -202,15 +217,17 @@ class CorrectedWelch:
 
     def cross_terms(self, poles, left, right):
         """(β^{ab} flattened (n_outputs², n_poles), the unweighted cross power on the grid):
-        what :meth:`cross` needs of the poles, independent of the weight w."""
+        what :meth:`cross` needs of the poles, with :meth:`pole_parts` independent of the
+        weight w. Stacks of poles give stacks."""
         beta = cross_power_coefficients(poles, left, right)
-        size = beta.shape[0]
-        flat = beta.reshape(size * size, -1)
-        resolvent = 1.0 / (2j * np.pi * self.grid[:, np.newaxis] - poles)
+        size = beta.shape[-2]
+        flat = beta.reshape(beta.shape[:-3] + (size * size, -1))
+        resolvent = self._resolvent(poles)
         # As in psd: real products (the complex product of this shape is ~100× slower).
         real, imag = resolvent.real, resolvent.imag
-        return flat, ((real @ flat.real.T - imag @ flat.imag.T)
-                      + 1j * (real @ flat.imag.T + imag @ flat.real.T)), self._pole_parts(poles)
+        real_flat, imag_flat = _transposed(flat.real), _transposed(flat.imag)
+        return flat, ((real @ real_flat - imag @ imag_flat)
+                      + 1j * (real @ imag_flat + imag @ real_flat))
 
     def cross_from(self, poles, flat, power, parts=None):
         """:meth:`cross` from its :meth:`cross_terms` and this rule's weight."""
@@ -227,10 +244,10 @@ class CorrectedWelch:
         error of the coarse rule on the sharp part of each narrow peak at the output rows within
         its reach, zero beyond. Every (pole, row) pair at once: a loop over the poles cost more
         than their arithmetic (a 14-mode bridge has 14 narrow poles per occupancy node).
-        ``parts``: :meth:`_pole_parts` of these poles, when the caller keeps them."""
+        ``parts``: :meth:`pole_parts` of these poles, when the caller keeps them."""
         frequency = self.rule.frequency
         chosen, stencil, which, rows, r, errors_u, errors_1, errors_delta = (
-            self._pole_parts(poles) if parts is None else parts)
+            self.pole_parts(poles) if parts is None else parts)
         errors = np.zeros((chosen.size, frequency.size), dtype=complex)
         if chosen.size == 0:
             return chosen, errors
@@ -248,7 +265,7 @@ class CorrectedWelch:
         errors[which, rows] = b_u * errors_u + b_c * errors_1 + b_l * errors_delta
         return chosen, errors
 
-    def _pole_parts(self, poles):
+    def pole_parts(self, poles):
         """What :meth:`_pole_errors` needs of the poles alone, independent of the weight w
         (kept with the pole terms across step frequencies, half a fit's Jacobian, issue 39):
         the narrow poles, the Taylor stencil's frequencies, the (pole, row) pairs within reach,

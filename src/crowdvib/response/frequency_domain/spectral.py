@@ -40,7 +40,8 @@ from ._attached import (
     reduced_matrices,
 )
 from ._crossing import smoothed_load_spectrum
-from ._linalg import eigen_decomposition, solve_occupied
+from ._poles import (_direct_projection, _dynamic_stiffness_diagonal, _modal_projection,
+                     _occupied_solve, _pole_residue, _state_matrix, probe)
 from ._welch_model import DENSE_POINTS_PER_BIN, CorrectedWelch, WelchRule
 from .results import FRF, EffectiveModalProperties
 from ...signals.welch import LowPassFilter
@@ -68,29 +69,6 @@ def _check_msd_inputs(crowd, msd):
         raise ParameterError(f"msd must be an MSDModel or None, got {type(msd).__name__}")
     if msd is not None and crowd is None:
         raise ParameterError("crowd must be given when msd is given: HSI needs the crowd's mass")
-
-
-def _dynamic_stiffness_diagonal(structure, omega):
-    """k_j − ω² m_j + iω c_j of the empty structure, shape (n_f, n_modes)."""
-    wn = 2 * np.pi * structure.frequencies
-    m = structure.modal_masses
-    return (m * wn**2)[np.newaxis] - omega[:, np.newaxis] ** 2 * m + \
-        1j * omega[:, np.newaxis] * (2 * structure.damping_ratios * m * wn)
-
-
-def _occupied_solve(diagonal, attached, frequency, rhs):
-    """Solve [diag(D0) − Σ_s ω² M_app,s Ψ_s] X = rhs at every frequency; rhs (n_modes, k)."""
-    added = np.stack([part.added_stiffness(frequency) for part in attached], axis=-1)
-    psi = np.stack([part.influence for part in attached])
-    if diagonal.shape[1] == 1:
-        return rhs[np.newaxis] / (diagonal[:, 0] - added @ psi[:, 0, 0])[:, np.newaxis, np.newaxis]
-    return solve_occupied(np.ascontiguousarray(diagonal), np.ascontiguousarray(added),
-                          np.ascontiguousarray(psi), np.ascontiguousarray(rhs, dtype=float))
-
-
-def _direct_projection(diagonal, attached, frequency, shapes, factor):
-    """Φ_o H B by one solve per frequency; D is complex symmetric, so Φ_o H = solve(D, Φ_oᵀ)ᵀ."""
-    return np.swapaxes(_occupied_solve(diagonal, attached, frequency, shapes.T), 1, 2) @ factor
 
 
 class SpectralModel:
@@ -155,6 +133,8 @@ class SpectralModel:
         else:
             window = check_positive("welch_window_length", welch_window_length, unit="s")
             self._welch = CorrectedWelch(self.frequency, window, self._weight_at)
+            # where the pole expansions are checked (_pole_residue), for every MSD
+            self._probe = probe(structure, self._welch.grid)
 
     def _for_crowd(self, crowd, weight=None):
         """This model for another crowd on the same structure, grid and options: only the
@@ -194,9 +174,12 @@ class SpectralModel:
         return (frequency, self._weight_at(frequency),
                 _dynamic_stiffness_diagonal(self.structure, 2 * np.pi * frequency))
 
-    def _attached(self, msd):
+    def _attached(self, msd, factor=None):
+        """The crowd's MSDs and the dampers; ``factor``: a stack of B for the crowd's
+        (_pole_terms), instead of this model's."""
         _check_msd_inputs(self.crowd, msd)
-        crowd_part = crowd_attachment(self.crowd, msd, self._load_factor)
+        crowd_part = crowd_attachment(self.crowd, msd,
+                                      self._load_factor if factor is None else factor)
         return ((crowd_part,) if crowd_part is not None else ()) + self._dampers
 
     def psd_array(self, msd: MSDModel | None = None) -> np.ndarray:
@@ -222,33 +205,12 @@ class SpectralModel:
         return self._expected(msd, cross=True)
 
     def _expected(self, msd, cross):
-        attached = self._attached(msd)
         if self._welch is None:
-            return self._exact_psd(self._grid, attached, cross)
-        # The poles and their unweighted power depend on the MSD and on the crowd's density
-        # and body mass, not on its step frequencies (the weight w only): kept for the models
-        # of other step frequencies (_for_crowd copies share them), whose evaluations at the
-        # same MSD — half the Jacobian of a fit of the step frequencies — then cost the weight
-        # alone. The same arithmetic: the values are those computed afresh.
-        crowd = self.crowd
-        key = (msd, cross, crowd.density, crowd.body_mass, crowd.body_mass_std)
-        terms = self._expansions.get(key)
-        if terms is None:
-            grid = self._welch.grid
-            probe = grid[np.unique(np.linspace(0, grid.size - 1, 5).astype(int))]
-            expansion = _pole_residue(self.structure, attached, self._load_factor,
-                                      self._shapes, probe, self._decompositions)
-            # A nearly defective state matrix, or an undamped pole (ξ = 0 and no HSI: the
-            # closed form needs Re λ < 0): the dense rule instead (terms empty).
-            terms = ()
-            if expansion is not None and np.all(expansion[0].real < 0):
-                terms = (expansion[0],) + (self._welch.cross_terms(*expansion) if cross
-                                           else self._welch.power_terms(*expansion))
-            if len(self._expansions) >= _EXPANSION_MEMORY:
-                self._expansions.pop(next(iter(self._expansions)))      # the oldest
-            self._expansions[key] = terms
+            return self._exact_psd(self._grid, self._attached(msd), cross)
+        _check_msd_inputs(self.crowd, msd)
+        terms = _pole_terms([self], msd, cross)[0]
         if not terms:
-            return self._dense_welch_psd(attached, cross)
+            return self._dense_welch_psd(self._attached(msd), cross)
         return self._welch.cross_from(*terms) if cross else self._welch.psd_from(*terms)
 
     def _exact_psd(self, grid, attached, cross=False):
@@ -311,67 +273,78 @@ class SpectralModel:
         return {}
 
 
-def _state_matrix(mass, damping, stiffness):
-    size = mass.shape[0]
-    inverse_mass = np.linalg.inv(mass)
-    # set block by block (np.block's checks cost more than the matrix here)
-    state = np.zeros((2 * size, 2 * size))
-    state[:size, size:] = np.eye(size)
-    state[size:, :size] = -inverse_mass @ stiffness
-    state[size:, size:] = -inverse_mass @ damping
-    return state, inverse_mass
-
-
 #: Pole expansions a model and its copies for other step frequencies keep (_expected): the
 #: nodes of a fluctuating mixture at the MSDs of one Jacobian with room to spare.
 _EXPANSION_MEMORY = 128
 
 
-# The modal expansion is checked against a direct solve at a few frequencies; beyond this
-# relative mismatch (a nearly defective state matrix) the direct solve is used instead.
-_MODAL_CHECK_TOLERANCE = 1e-7
+def _pole_terms(models, msd, cross):
+    """Each model's pole terms of its Welch rule at ``msd`` (``()`` where it takes the dense rule
+    instead): those its memory keeps, the others computed together.
 
+    ``models``: Welch-rule models that are one model and its copies for crowds of other
+    densities or step frequencies (:meth:`SpectralModel._for_crowd`; one body mass): the
+    occupancy nodes of a fluctuating mixture (:func:`prepare_nodes`), or one model alone. They
+    share the structure, outputs, dampers, rule, probe and memory.
 
-def _pole_residue(structure, attached, factor, shapes, probe, kept=None):
-    """Poles λ, left (n_out, 2N) and right (2N, rank) with Φ_o H(ω) B = Σ_p left_p right_p /
-    (iω − λ_p), or None if the expansion misses a direct solve at the ``probe`` frequencies.
-
-    With A = V Λ V⁻¹ the state matrix of (M_r, C_r, K_r), z(ω) = Σ_p V_zp (V⁻¹ F)_p / (iω − λ_p):
-    one small eigen-decomposition per MSD model replaces one LU solve per frequency. ``kept``:
-    recent decompositions to update by perturbation (:func:`._linalg.eigen_decomposition`).
+    The poles and their unweighted power depend on the MSD and on the crowd's density and body
+    mass, not on its step frequencies (the weight w only): kept for the models of other step
+    frequencies, whose evaluations at the same MSD — half the Jacobian of a fit of the step
+    frequencies — then cost the weight alone. The nodes not kept are computed as one stack of
+    crowds (:mod:`._poles`, one numpy call for all where each node took its own; numpy's
+    overhead per call is most of the cost of these small matrices): the same arithmetic,
+    node by node, as computed alone.
     """
-    mass, damping, stiffness = reduced_matrices(structure, attached)
-    state, inverse_mass = _state_matrix(mass, damping, stiffness)
-    size, n_modes = mass.shape[0], structure.n_modes
-    try:
-        poles, vectors, inverse_vectors = eigen_decomposition(
-            state, kept, rows=slice(None, n_modes), columns=slice(size, None))
-    except np.linalg.LinAlgError:
-        return None
-    left = shapes @ vectors                                             # (n_out, 2N)
-    right = inverse_vectors @ inverse_mass[:, :n_modes] @ factor        # (2N, rank)
-    resolvent = 1.0 / (2j * np.pi * probe[:, np.newaxis] - poles)
-    expanded = np.stack([(resolvent * row) @ right for row in left], axis=1)
-    diagonal = _dynamic_stiffness_diagonal(structure, 2 * np.pi * probe)
-    if attached:
-        direct = _direct_projection(diagonal, attached, probe, shapes, factor)
-    else:
-        direct = (shapes[np.newaxis] / diagonal[:, np.newaxis, :]) @ factor
-    scale = np.abs(direct).max()
-    if scale > 0 and np.abs(expanded - direct).max() > _MODAL_CHECK_TOLERANCE * scale:
-        return None
-    return poles, left, right
+    first = models[0]
+    _check_msd_inputs(first.crowd, msd)
+    memory = first._expansions
+    keys = [(msd, cross, model.crowd.density, model.crowd.body_mass, model.crowd.body_mass_std)
+            for model in models]
+    terms = [memory.get(key) for key in keys]
+    missing = [index for index, found in enumerate(terms) if found is None]
+    if not missing:
+        return terms
+    factor = np.stack([models[index]._load_factor for index in missing])
+    expansion = _pole_residue(first.structure, first._attached(msd, factor), factor,
+                              first._shapes, first._probe, first._decompositions)
+    if expansion is None and len(missing) > 1:
+        # an eigenvector matrix of the stack is singular: each node alone, so that only its
+        # own falls back to the dense rule
+        for index in missing:
+            terms[index] = _pole_terms([models[index]], msd, cross)[0]
+        return terms
+    # A nearly defective state matrix, or an undamped pole (ξ = 0 and no HSI: the closed form
+    # needs Re λ < 0): the dense rule instead (terms empty).
+    usable = (np.zeros(len(missing), dtype=bool) if expansion is None
+              else expansion[3] & np.all(expansion[0].real < 0, axis=-1))
+    welch, found = first._welch, iter(())
+    if usable.any():
+        poles, left, right = (part[usable] for part in expansion[:3])
+        found = zip(poles, *(welch.cross_terms if cross else welch.power_terms)(poles, left,
+                                                                                right))
+    for index, kept in zip(missing, usable):
+        terms[index] = ()
+        if kept:
+            node_poles, coefficients, power = next(found)
+            terms[index] = (node_poles, coefficients, power, welch.pole_parts(node_poles))
+        if len(memory) >= _EXPANSION_MEMORY:
+            memory.pop(next(iter(memory)))      # the oldest
+        memory[keys[index]] = terms[index]
+    return terms
 
 
-def _modal_projection(structure, attached, factor, shapes, frequency):
-    """Φ_o H(ω) B by complex modal superposition of the reduced model, or None if unreliable."""
-    probe = frequency[np.unique(np.linspace(0, frequency.size - 1, 5).astype(int))]
-    expansion = _pole_residue(structure, attached, factor, shapes, probe)
-    if expansion is None:
-        return None
-    poles, left, right = expansion
-    resolvent = 1.0 / (2j * np.pi * frequency[:, np.newaxis] - poles)   # (n_f, 2N)
-    return np.stack([(resolvent * row) @ right for row in left], axis=1)
+def prepare_nodes(models, msd, cross):
+    """Compute the pole terms of a mixture's models at ``msd`` together into their memory, where
+    their own evaluations then find them, when the models are one model's copies for crowds of
+    other densities (what :func:`_pole_terms` stacks); otherwise leave them to compute their
+    own."""
+    first = models[0]
+    if len(models) > 1 and all(
+            isinstance(model, SpectralModel) and model._welch is not None
+            and model._expansions is first._expansions and model.crowd.density > 0
+            and model.crowd.body_mass == first.crowd.body_mass
+            and model._load_factor.shape == first._load_factor.shape for model in models):
+        _pole_terms(models, msd, cross)
 
 
 def frf(structure: ModalModel, frequency: ArrayLike, *, crowd: Crowd | None = None,
