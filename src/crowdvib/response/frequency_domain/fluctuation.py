@@ -38,7 +38,7 @@ from ._crossing import crossing_spread
 from ._modulation import (OccupancyPath, drift_parameters, modulation_correction,
                           occupancy_rate_variance)
 from .expected import model_psd
-from .spectral import SpectralModel, _check_models, prepare_nodes
+from .spectral import SpectralModel, _check_models, expected_psds
 
 if TYPE_CHECKING:
     from ..._validation import ForceModel
@@ -429,16 +429,12 @@ def _at_density(crowd, density):
 
 def _mixture(weights, models, msd, cross=False):
     """Σ_i w_i G_i(f; msd), or Σ_i w_i S_i(f; msd) with ``cross``."""
-    # the nodes' poles at a new MSD together (one stacked computation: most of a node's cost
-    # is numpy's overhead per call), each node's then from its memory
-    prepare_nodes(models, msd, cross)
-
-    def term(model):
-        return model.cross_psd_array(msd) if cross else model.psd_array(msd)
-
-    total = weights[0] * term(models[0])
-    for weight, model in zip(weights[1:], models[1:]):
-        total += weight * term(model)
+    # a new MSD's poles of the nodes together (one stacked computation: most of a node's cost
+    # is numpy's overhead per call)
+    terms = expected_psds(models, msd, cross)
+    total = weights[0] * terms[0]
+    for weight, term in zip(weights[1:], terms[1:]):
+        total += weight * term
     return total
 
 

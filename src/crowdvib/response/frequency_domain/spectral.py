@@ -207,8 +207,11 @@ class SpectralModel:
     def _expected(self, msd, cross):
         if self._welch is None:
             return self._exact_psd(self._grid, self._attached(msd), cross)
-        _check_msd_inputs(self.crowd, msd)
-        terms = _pole_terms([self], msd, cross)[0]
+        return self._welch_psd(_pole_terms([self], msd, cross)[0], msd, cross)
+
+    def _welch_psd(self, terms, msd, cross):
+        """The Welch expectation at ``msd`` from this model's pole terms there
+        (:func:`_pole_terms`)."""
         if not terms:
             return self._dense_welch_psd(self._attached(msd), cross)
         return self._welch.cross_from(*terms) if cross else self._welch.psd_from(*terms)
@@ -284,7 +287,7 @@ def _pole_terms(models, msd, cross):
 
     ``models``: Welch-rule models that are one model and its copies for crowds of other
     densities or step frequencies (:meth:`SpectralModel._for_crowd`; one body mass): the
-    occupancy nodes of a fluctuating mixture (:func:`prepare_nodes`), or one model alone. They
+    occupancy nodes of a fluctuating mixture (:func:`expected_psds`), or one model alone. They
     share the structure, outputs, dampers, rule, probe and memory.
 
     The poles and their unweighted power depend on the MSD and on the crowd's density and body
@@ -333,18 +336,19 @@ def _pole_terms(models, msd, cross):
     return terms
 
 
-def prepare_nodes(models, msd, cross):
-    """Compute the pole terms of a mixture's models at ``msd`` together into their memory, where
-    their own evaluations then find them, when the models are one model's copies for crowds of
-    other densities (what :func:`_pole_terms` stacks); otherwise leave them to compute their
-    own."""
+def expected_psds(models, msd, cross=False):
+    """Each model's ``psd_array(msd)``, or ``cross_psd_array(msd)`` with ``cross``: the pole terms
+    of a mixture's occupancy nodes together (:func:`_pole_terms`) when the models are one
+    model's copies for crowds of other densities, each model on its own otherwise."""
     first = models[0]
     if len(models) > 1 and all(
             isinstance(model, SpectralModel) and model._welch is not None
             and model._expansions is first._expansions and model.crowd.density > 0
             and model.crowd.body_mass == first.crowd.body_mass
             and model._load_factor.shape == first._load_factor.shape for model in models):
-        _pole_terms(models, msd, cross)
+        return [model._welch_psd(terms, msd, cross)
+                for model, terms in zip(models, _pole_terms(models, msd, cross))]
+    return [model.cross_psd_array(msd) if cross else model.psd_array(msd) for model in models]
 
 
 def frf(structure: ModalModel, frequency: ArrayLike, *, crowd: Crowd | None = None,
