@@ -100,7 +100,8 @@ _NEARBY = 1e-6
 #: from those of a new eig, its own rounding; near ξ_h1 = 1 the MSD's two poles meet, ‖C‖
 #: reaches 4e-5 to 2e-4 and the update errs by 3e-11 to 2e-9: such a matrix is decomposed afresh.
 _ROTATION = 3e-6
-#: Decompositions kept per model family (the occupancy nodes of a mixture at one θ).
+#: Decompositions kept per model family: each is the stack of a mixture's occupancy nodes at
+#: one θ (spectral._pole_terms), or one model's alone.
 _KEPT = 8
 
 
