@@ -276,7 +276,7 @@ class SpectralModel:
         return {}
 
 
-#: Pole expansions a model and its copies for other step frequencies keep (_expected): the
+#: Pole expansions a model and its copies for other step frequencies keep (_pole_terms): the
 #: nodes of a fluctuating mixture at the MSDs of one Jacobian with room to spare.
 _EXPANSION_MEMORY = 128
 
