@@ -322,7 +322,8 @@ def _pole_terms(models, msd, cross):
               else expansion[3] & np.all(expansion[0].real < 0, axis=-1))
     welch, found = first._welch, iter(())
     if usable.any():
-        poles, left, right = (part[usable] for part in expansion[:3])
+        poles, left, right = (expansion[:3] if usable.all()
+                              else (part[usable] for part in expansion[:3]))
         found = zip(poles, *(welch.cross_terms if cross else welch.power_terms)(poles, left,
                                                                                 right))
     for index, kept in zip(missing, usable):
