@@ -39,7 +39,7 @@ class Attached:
 
     @property
     def influence(self):
-        return self.factor @ np.swapaxes(self.factor, -1, -2)
+        return self.factor @ self.factor.swapaxes(-1, -2)
 
     def added_stiffness(self, frequency):
         """ω² M_app(ω) [kg/s²]: multiply by Ψ to get the dynamic stiffness it removes."""
@@ -96,7 +96,8 @@ def reduced_matrices(structure, attached):
     """
     n_modes = structure.n_modes
     size = n_modes + sum(part.factor.shape[-1] for part in attached)
-    stack = np.broadcast_shapes(*(part.factor.shape[:-2] for part in attached))
+    # the axes of a stack of B (only a crowd's has them) ahead of the three matrices'
+    stack = max((part.factor.shape[:-2] for part in attached), key=len, default=())
     wn = 2 * np.pi * structure.frequencies
     m = structure.modal_masses
     # mass, damping and stiffness as one array (…, 3, size, size): each block is set for the
@@ -108,15 +109,16 @@ def reduced_matrices(structure, attached):
     for part in attached:
         rank = part.factor.shape[-1]
         block, own = slice(start, start + rank), np.arange(start, start + rank)
+        influence, factor = part.influence, part.factor
+        if stack:       # (3, 1, 1) against (…, 1, n_modes, n_modes)
+            influence, factor = influence[..., np.newaxis, :, :], factor[..., np.newaxis, :, :]
         coupling = np.array([0.0, -part.damping, -part.stiffness])[:, np.newaxis, np.newaxis]
-        matrices[..., :n_modes, :n_modes] += (
-            np.array([part.unsprung_mass, part.damping, part.stiffness])[:, np.newaxis, np.newaxis]
-            * part.influence[..., np.newaxis, :, :])
+        matrices[..., :n_modes, :n_modes] += (np.array([part.unsprung_mass, part.damping,
+                                                        part.stiffness])[:, np.newaxis, np.newaxis]
+                                              * influence)
         matrices[..., own, own] = np.array([part.sprung_mass, part.damping,
                                             part.stiffness])[:, np.newaxis]
-        matrices[..., :n_modes, block] = coupling * part.factor[..., np.newaxis, :, :]
-        matrices[..., block, :n_modes] = coupling * np.swapaxes(part.factor, -1, -2)[
-            ..., np.newaxis, :, :]
+        matrices[..., :n_modes, block] = coupling * factor
+        matrices[..., block, :n_modes] = coupling * factor.swapaxes(-1, -2)
         start = block.stop
-    mass, damping, stiffness = np.moveaxis(matrices, -3, 0)
-    return mass, damping, stiffness
+    return matrices[..., 0, :, :], matrices[..., 1, :, :], matrices[..., 2, :, :]

@@ -103,7 +103,7 @@ def power_coefficients(poles, left, right):
 
 
 def _transposed(matrices):
-    return np.swapaxes(matrices, -1, -2)
+    return matrices.swapaxes(-1, -2)
 
 
 def _pole_sums(poles):
