@@ -12,7 +12,8 @@ of smeared-crowd PSDs, each with the crowd scaled by λ (load and added mass tog
 compound-Poisson variable whose cumulants follow from the mode shape (Campbell's theorem):
 κ_r(ψ) = d ∫ φ^{2r} dA. :class:`FluctuatingSpectralModel` evaluates the mixture with a Gauss
 quadrature of that law: a handful of :class:`~crowdvib.response.SpectralModel`
-instances, each used as a black box. Their load spectrum is smoothed by the kernel of a walker's
+instances, each used as a black box (at a new MSD their poles are computed as one stack,
+``spectral.expected_psds``). Their load spectrum is smoothed by the kernel of a walker's
 finite crossing of the occupied mode (``_crossing.py``; docs: theory, Finite crossings).
 """
 
