@@ -317,8 +317,8 @@ class Crowd(FieldsFromDict):
     def _with_checked(self, **fields: float) -> Crowd:
         """This crowd with numeric ``fields`` set that the caller has checked against the rules
         of ``__post_init__`` (an optimiser's step frequencies inside bounds checked when the fit
-        began): the checks cost a fifth of an evaluation of the model for other step
-        frequencies (issue 39)."""
+        began; a mixture's node density, checked when its model was built): the checks cost a
+        fifth of an evaluation of the model for other step frequencies (issue 39)."""
         other = copy.copy(self)
         for name, value in fields.items():
             object.__setattr__(other, name, float(value))

@@ -358,7 +358,7 @@ class FluctuatingSpectralModel:
         other.crowd = crowd
         other._base = self._base._for_crowd(crowd)
         weight = other._base._grid_weight           # the same for every node: s(f) per ψ
-        other._models = [model._for_crowd(_at_density(crowd, model.crowd.density), weight)
+        other._models = [model._for_crowd(crowd._with_checked(density=model.crowd.density), weight)
                          for model in self._models]
         return other
 
@@ -417,15 +417,6 @@ class FluctuatingSpectralModel:
             The pedestrians' MSD; None for the crowd as moving forces only (no HSI).
         """
         return model_psd(self, msd)
-
-
-def _at_density(crowd, density):
-    """``crowd`` at a node's density that a model of this mixture already holds (checked when
-    that model was built): a copy with the density set, as ``crowd.with_density`` gives, without
-    checking every field again (a tenth of a fit of the step frequencies, issue 39)."""
-    other = copy.copy(crowd)
-    object.__setattr__(other, "density", float(density))
-    return other
 
 
 def _mixture(weights, models, msd, cross=False):
