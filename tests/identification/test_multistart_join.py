@@ -89,3 +89,16 @@ def test_joined_first_fit_gives_the_full_multistarts_estimate(record, monkeypatc
                                [full.msd.frequency, full.msd.damping_ratio], rtol=1e-6)
     for name, ends in full.intervals.items():
         np.testing.assert_allclose(joined.intervals[name], ends, rtol=1e-6)
+
+
+def test_a_joined_start_is_no_optimum_for_a_studys_warm_starts():
+    # docs: theory, Warm starts: a study starts each case from the nominal's distinct local
+    # optima; a start stopped in an earlier start's basin ended on its way there, not at one
+    # (counted as four optima, the Eeklo-like study ran every case four times: issue 39).
+    from crowdvib.studies.modelling_error import _optima
+    rows = [{"start": [1.5, 0.6], "estimate": [3.081, 0.3456], "cost": 524.7, "status": 2},
+            {"start": [5.0, 0.15], "estimate": [3.095, 0.3458], "cost": 527.3, "status": JOINED},
+            {"start": [2.2, 0.2], "estimate": [3.094, 0.3441], "cost": 531.5, "status": JOINED},
+            {"start": [4.0, 0.7], "estimate": [4.2, 0.9], "cost": 600.0, "status": 2}]
+    estimate = type("E", (), {"starts": rows})()
+    assert _optima(estimate) == [[3.081, 0.3456], [4.2, 0.9]]

@@ -23,6 +23,7 @@ from .._validation import FieldsFromDict, as_float_array, check_mapping, check_p
 from ..errors import BoundWarning, CrowdvibError, ParameterError
 from ..identification.estimation import estimate_hsi
 from ..identification.estimator import check_estimator
+from ..identification.multistart import JOINED
 from ..runner.tasks import run_tasks
 from ..signals import welch_psd
 from .plots import plot_estimation_errors
@@ -209,8 +210,9 @@ def _optima(estimate):
     local optima its multistart found. Two ends within 1e-3 (relative) are one optimum; a
     refit started at another start's end (the likelihood's fit on the fitted crowd's bins) is
     that end's continuation, not an optimum of its own (its start is that end, moved at most
-    1e-3 of the bounds inside them)."""
-    rows = estimate.starts
+    1e-3 of the bounds inside them); a start stopped in an earlier start's basin (status
+    JOINED) ended on its way to that optimum, not at one."""
+    rows = [row for row in estimate.starts if row["status"] != JOINED]
     ends = [row["estimate"] for row in rows]
     ends = sorted(((row["cost"], tuple(row["estimate"])) for row in rows
                    if not any(np.allclose(row["start"], end, rtol=2e-3, atol=2e-3)
