@@ -18,6 +18,7 @@ occupied peak is corrected exactly:
 """
 
 import copy
+import functools
 
 import numpy as np
 from scipy import sparse
@@ -146,6 +147,23 @@ def _pole_convolution(a, window_length):
     return 2.0 / 3.0 * linear(a) + (linear(a + 1j * kappa) + linear(a - 1j * kappa)) / 6.0 + sine
 
 
+def _coarse_rule(frequency, window_length):
+    """The coarse :class:`WelchRule` of a grid and window, shared by every model on them: an
+    estimate builds a dozen models on one band (its objectives, their bins, the crowd-size
+    term), and the rule is a quarter of each build (issue 39). Its arrays are read-only."""
+    return _cached_rule(frequency.tobytes(), frequency.shape, window_length)
+
+
+@functools.lru_cache(maxsize=16)
+def _cached_rule(data, shape, window_length):
+    rule = WelchRule(np.frombuffer(data, dtype=float).reshape(shape), window_length,
+                     COARSE_POINTS_PER_BIN)
+    for array in (rule.grid, rule.weights, rule.index, rule.row_sum, rule.matrix.data,
+                  rule.matrix.indices, rule.matrix.indptr):
+        array.flags.writeable = False
+    return rule
+
+
 class CorrectedWelch:
     """Welch expectation from a coarse rule plus exact corrections at the narrow poles.
 
@@ -160,7 +178,7 @@ class CorrectedWelch:
     """
 
     def __init__(self, frequency, window_length, weight):
-        self.rule = WelchRule(frequency, window_length, COARSE_POINTS_PER_BIN)
+        self.rule = _coarse_rule(np.asarray(frequency, dtype=float), float(window_length))
         self.grid = self.rule.grid
         self._weight = weight
         self.grid_weight = weight(self.grid)
