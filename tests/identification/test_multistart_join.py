@@ -43,8 +43,9 @@ def test_a_start_joins_an_earlier_optimum_and_not_another_well():
 
 
 def test_a_cost_the_quadratic_model_does_not_predict_is_not_joined():
-    # r = (x − 1, 10 (x − 1)² sin(40 x)) near x = 1: inside the box, but the rise is not the
-    # Gauss–Newton model's ½ (x − 1)² (the second residual's wiggle): no join.
+    # r = (x − 1, 10 (x − 1) sin(400 (x − 1)), y) about (1, 0), whose Jacobian there is
+    # [[1, 0], [0, 0], [0, 1]]: at x = 1.05, inside the box, the rise 0.105 is not the
+    # Gauss–Newton model's ½ (x − 1)² = 0.00125 (the second residual's wiggle): no join.
     def wiggly(theta):
         d = theta[0] - 1.0
         return np.array([d, 10.0 * d * np.sin(400.0 * d), theta[1]])

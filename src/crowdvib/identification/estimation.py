@@ -414,18 +414,20 @@ class _Parameters:
     mass_ratio: float
     free_step_frequencies: bool
 
-    def msd(self, theta):
+    def _msd_fields(self, theta):
+        """θ → (f_h1, ξ_h1, μ_h1), the held μ_h1 where it is not free."""
         values = dict(zip(self.names, theta))
-        return MSDModel(frequency=values["frequency"], damping_ratio=values["damping_ratio"],
-                        mass_ratio=values.get("mass_ratio", self.mass_ratio))
+        return (values["frequency"], values["damping_ratio"],
+                values.get("mass_ratio", self.mass_ratio))
+
+    def msd(self, theta):
+        return MSDModel(*self._msd_fields(theta))
 
     def state(self, theta):
         """θ → (MSD, (μ_fs, σ_fs) or None): what the misfit is evaluated at (θ inside the
         bounds, checked when they were merged: the MSD is not checked again)."""
-        values = dict(zip(self.names, theta))
-        msd = MSDModel._checked(values["frequency"], values["damping_ratio"],
-                                values.get("mass_ratio", self.mass_ratio))
-        return msd, (tuple(theta[-2:]) if self.free_step_frequencies else None)
+        return (MSDModel._checked(*self._msd_fields(theta)),
+                tuple(theta[-2:]) if self.free_step_frequencies else None)
 
     def misfit(self, target, theta):
         msd, steps = self.state(theta)

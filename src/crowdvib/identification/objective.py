@@ -307,9 +307,7 @@ class PSDObjective:
         key = (float(steps[0]), float(steps[1]))
         if self._steps_model[0] != key:
             # the crowd's own rule for the two (finite, > 0), its other fields already checked
-            if not (np.all(np.isfinite(key)) and min(key) > 0):
-                raise ParameterError(f"steps must be (μ_fs, σ_fs), each finite and > 0 Hz, "
-                                     f"got {tuple(steps)!r}")
+            check_positive("steps (μ_fs, σ_fs)", key, unit="Hz")
             crowd = self.model.crowd._with_checked(step_frequency_mean=key[0],
                                                    step_frequency_std=key[1])
             # The fluctuating mixture keeps its occupancy law (it depends on the density only).
