@@ -113,8 +113,10 @@ def test_estimate_reproduces_the_recorded_numbers(measured, key):
     _close(theta, expected["theta"], tolerance)
     _close([estimate.cost, estimate.cost_no_hsi], [expected["cost"], expected["cost_no_hsi"]],
            tolerance)
-    assert (estimate.n_evaluations == expected["n_evaluations"] or not SAME_LIBRARIES or refit
-            or reordered)
+    # Since issue 39 a fit ends without the Jacobian trf makes at its last point
+    # (identification.trust_region): one evaluation per parameter fewer for the one start.
+    assert (estimate.n_evaluations == expected["n_evaluations"] - len(theta)
+            or not SAME_LIBRARIES or refit or reordered)
     _close(estimate.level_ratio, expected["level_ratio"], tolerance)
     _close(np.asarray(estimate.covariance).ravel(), expected["covariance"], tolerance)
     # Since issue 25 the profile covers the MSD's parameters; fitted step frequencies keep

@@ -19,10 +19,10 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from ..signals.synthesis import gaussian_cross_record, gaussian_record
 from ..signals.welch import welch_psd
+from .trust_region import trust_region_fit
 
 __all__ = ["bootstrap_estimates", "percentile_interval"]
 
@@ -143,8 +143,7 @@ def bootstrap_estimates(parts: Sequence[tuple], theta: np.ndarray, state: Callab
             candidate, steps = state(values)
             return np.concatenate([o.residuals(candidate, steps=steps) for o in objectives])
 
-        estimates[b] = least_squares(residuals, start, method="trf", bounds=(lower, upper),
-                                     x_scale="jac").x
+        estimates[b] = trust_region_fit(residuals, start, (lower, upper)).x
     return estimates
 
 

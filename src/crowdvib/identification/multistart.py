@@ -9,11 +9,12 @@ from __future__ import annotations
 import logging
 
 import numpy as np
-from scipy.optimize import OptimizeResult, least_squares
+from scipy.optimize import OptimizeResult
 
 from .._validation import as_float_array, check_mapping
 from ..errors import EstimationError, ParameterError
 from ..models.pedestrian import MSD_DAMPING_LIMIT
+from .trust_region import trust_region_fit
 
 #: The estimator's logger: its starts are logged under the estimate's name, as before the split.
 logger = logging.getLogger("crowdvib.identification.estimation")
@@ -92,9 +93,10 @@ def _multistart(residuals, points, lower, upper, *, records=1, tolerance=FINAL_T
             return r
 
         try:
-            result = least_squares(counted, start, method="trf", bounds=(lower, upper),
-                                   x_scale="jac", ftol=tolerance, xtol=tolerance,
-                                   max_nfev=max_nfev)
+            # A joining fit keeps trf's Jacobian at its optimum: the later starts' basin test
+            # uses it.
+            result = trust_region_fit(counted, start, (lower, upper), ftol=tolerance,
+                                      xtol=tolerance, max_nfev=max_nfev, final_jacobian=join)
         except _Joined as joined:
             result = joined.result
         except ValueError as exc:  # non-finite residuals

@@ -27,6 +27,8 @@ Chandler & Bate 2007). Coverage is checked over seeded synthetic records in the 
 import numpy as np
 from scipy import optimize, stats
 
+from .trust_region import trust_region_fit
+
 __all__ = ["score_variance", "sandwich_covariance", "profile_interval"]
 
 
@@ -195,9 +197,8 @@ def profile_interval(residuals, estimate, index, lower, upper, covariance, hessi
                 with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
                     for scale in ("jac", 1.0):
                         try:
-                            fit = optimize.least_squares(
-                                inner, start, method="trf", bounds=(lower[others], upper[others]),
-                                x_scale=scale, ftol=tolerance, xtol=1e-6)
+                            fit = trust_region_fit(inner, start, (lower[others], upper[others]),
+                                                   x_scale=scale, ftol=tolerance, xtol=1e-6)
                             break
                         except ValueError:
                             if scale != "jac":
