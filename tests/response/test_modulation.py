@@ -459,3 +459,15 @@ def test_a_walker_pole_of_a_long_memory_leaves_the_bridges_correction_finite():
             paper.structure, model._base._attached(msd), model._base._shapes, model.mode,
             model.nodes, model.weights, model._path, frequency)
         assert np.array_equal(found[0, near], model._base._shapes[0, model.mode] ** 2 * batched)
+
+
+def test_the_path_grid_of_a_short_memory_does_not_depend_on_its_last_bit(paper_bridge):
+    # docs: theory, Beyond the quasi-static mixture. A memory 1/Γ shorter than the occupancy's
+    # time scale is stepped _PER_SCALE times per memory out to _MEMORIES memories:
+    # 2 · 12 · 6 / 2 + 1 = 73 points for every such Γ. Formed from the step, the count was 75
+    # for 11 of these 2000 decays (the ceiling of 36 plus a rounding), and the correction then
+    # jumped by 2e-4 between MSDs a Jacobian's step apart.
+    path = _paper_path(paper_bridge, 0.5, 1.30)
+    decays = np.random.default_rng(1).uniform(1.0 / path.time_scale, 50.0, 2000)
+    sizes = {module._path_grid(path, decay)[0].size for decay in decays}
+    assert sizes == {2 * module._MEMORIES * module._PER_SCALE / 2 + 1} == {73}

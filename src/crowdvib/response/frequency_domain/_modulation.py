@@ -241,7 +241,12 @@ def _path_grid(path: OccupancyPath, decay: float):
     its mean given λ₀ is σ⁻² Cov(δλ(u), δλ(u')) = ρ(u − u') − ρ(u) ρ(u') (the linear
     prediction's error), formed where it is used (_lag_sums)."""
     step = min(path.time_scale, 1.0 / decay) / _PER_SCALE
-    count = min(2 * int(np.ceil(_MEMORIES / (2 * decay * step))) + 1, _MAX_POINTS)
+    # The count from the ratio of the scales, not from the step: for a memory shorter than the
+    # time scale, _MEMORIES / (2 Γ h) is the integer _MEMORIES _PER_SCALE / 2 give or take a
+    # rounding, and its ceiling added two points or not by the last bit of Γ (two MSDs a
+    # Jacobian's step apart then differed by 2e-4 of the correction).
+    half = _MEMORIES * _PER_SCALE / (2 * min(path.time_scale * decay, 1.0))
+    count = min(2 * int(np.ceil(half)) + 1, _MAX_POINTS)
     step = max(step, _MEMORIES / (decay * (count - 1)))
     u = step * np.arange(count)
     return u, path.correlation(u)
