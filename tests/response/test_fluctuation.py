@@ -121,9 +121,10 @@ def test_node_count_follows_the_spread_of_the_occupied_frequency(paper_bridge, p
 
 
 def test_occupancy_law_is_the_direct_inversion(paper_bridge):
-    # The exponent is taken for t ≥ 0 and conjugated for t < 0 (ψ real), which halves the cost
-    # and only rearranges the arithmetic: the direct inversion of Campbell's characteristic
-    # function over the whole FFT grid (the computation before, commit 0e6e805) to 1e-15.
+    # The exponent is taken for t ≥ 0 and conjugated for t < 0 (ψ real), its exponentials as
+    # products of √(n/2) × √(n/2) blocks (issue 39), which only rearranges the arithmetic: the
+    # direct inversion of Campbell's characteristic function over the whole FFT grid (the
+    # computation of commit 0e6e805) to 1e-15.
     from crowdvib.response.frequency_domain.fluctuation import _LAW_POINTS, occupancy_law
     for density in (0.25, 1.0):
         values, probabilities = occupancy_law(paper_bridge, density, 0)

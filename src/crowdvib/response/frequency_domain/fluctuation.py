@@ -147,13 +147,18 @@ def _occupancy_law(structure, density, mode):
     share = share / np.sum(area * share)            # each walker's λ contribution
     top = 1.0 + 15.0 * np.sqrt(cumulants[1]) + share.max()
     step = top / _LAW_POINTS
-    t = 2 * np.pi * np.fft.fftfreq(_LAW_POINTS, step)
-    # ψ is real: the exponent at −t is the conjugate of that at t (fftfreq negates exactly),
-    # so the exponentials are taken for t ≥ 0 and the one at −n/2 only
+    # The exponent at the FFT's t_k = k Δt: ψ is real, so the exponent at −t is the conjugate
+    # of that at t, and only k = 0 … n/2 are computed. With k = j + m b (m ≈ √(n/2)),
+    # e^{i k Δt s} = e^{i j Δt s} e^{i m b Δt s}: 2√(n/2) exponentials per walker position
+    # and one matrix product instead of n/2 exponentials (issue 39: 23 → 1.4 ms per law), to
+    # a few units of round-off.
     half = _LAW_POINTS // 2
-    positive = (np.exp(1j * np.outer(t[:half], share)) - 1.0) @ area
-    lowest = (np.exp(1j * t[half] * share) - 1.0) @ area
-    exponent = np.concatenate([positive, [lowest], positive[:0:-1].conj()])
+    block = int(np.ceil(np.sqrt(half + 1)))
+    rate = 2 * np.pi / (_LAW_POINTS * step)
+    within = np.exp(1j * rate * np.outer(np.arange(block), share))
+    across = np.exp(1j * rate * block * np.outer(np.arange(block), share))
+    sums = (within @ (area * across).T).T.ravel()[:half + 1] - area.sum()
+    exponent = np.concatenate([sums[:half], sums[half:].conj(), sums[half - 1:0:-1].conj()])
     probability = np.maximum(np.fft.fft(np.exp(exponent)).real / _LAW_POINTS, 0.0)
     return step * np.arange(_LAW_POINTS), probability / probability.sum()
 
