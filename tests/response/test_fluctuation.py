@@ -1,5 +1,6 @@
 """The fluctuating-crowd model of the expected PSD (docs: theory, The fluctuating crowd)."""
 
+import os
 from math import comb
 
 import numpy as np
@@ -173,3 +174,29 @@ def test_a_kept_occupancy_law_is_the_law_computed_afresh():
     assert fluctuation.occupancy_law(bridge, 0.5, 0)[1].sum() == pytest.approx(1.0)
     denser = fluctuation.occupancy_law(bridge, 0.8, 0)
     np.testing.assert_array_equal(denser[1], fluctuation._occupancy_law(bridge, 0.8, 0)[1])
+
+
+_LAW_BITS = """
+import hashlib
+from crowdvib import ModalModel
+from crowdvib.response.frequency_domain.fluctuation import _occupancy_law
+bridge = ModalModel.simply_supported_beam(50.0, 3.0, 2.0, 0.005, 50e3)
+print(hashlib.sha256(_occupancy_law(bridge, 0.5, 0)[1].tobytes()).hexdigest())
+"""
+
+
+def test_the_occupancy_law_has_the_same_bits_whatever_blas_threads():
+    # A study's tasks give the same numbers in a dask worker (one BLAS thread) as in the
+    # calling process (tests/studies/test_sensitivity.py::test_dask_local_cluster_equals_serial):
+    # the law is computed without a BLAS product, whose rounding follows the thread count (the
+    # law by a matrix product differed in its last bits between 1 and 2 threads).
+    import subprocess
+    import sys
+
+    found = set()
+    for threads in ("1", "2"):
+        env = dict(os.environ, OPENBLAS_NUM_THREADS=threads, OMP_NUM_THREADS=threads,
+                   MKL_NUM_THREADS=threads)
+        found.add(subprocess.run([sys.executable, "-c", _LAW_BITS], env=env, check=True,
+                                 capture_output=True, text=True).stdout.strip())
+    assert len(found) == 1

@@ -150,14 +150,16 @@ def _occupancy_law(structure, density, mode):
     # The exponent at the FFT's t_k = k Δt: ψ is real, so the exponent at −t is the conjugate
     # of that at t, and only k = 0 … n/2 are computed. With k = j + m b (m ≈ √(n/2)),
     # e^{i k Δt s} = e^{i j Δt s} e^{i m b Δt s}: 2√(n/2) exponentials per walker position
-    # and one matrix product instead of n/2 exponentials (issue 39: 23 → 1.4 ms per law), to
-    # a few units of round-off.
+    # and one sum of products instead of n/2 exponentials (issue 39: 23 → 2.3 ms per law), to
+    # a few units of round-off. einsum, not a matrix product: BLAS rounds a product of this
+    # size differently with its thread count, and a study's tasks must give the same bits in
+    # every process (a dask worker runs one thread).
     half = _LAW_POINTS // 2
     block = int(np.ceil(np.sqrt(half + 1)))
     rate = 2 * np.pi / (_LAW_POINTS * step)
     within = np.exp(1j * rate * np.outer(np.arange(block), share))
     across = np.exp(1j * rate * block * np.outer(np.arange(block), share))
-    sums = (within @ (area * across).T).T.ravel()[:half + 1] - area.sum()
+    sums = np.einsum("ja,ba->bj", within, area * across).ravel()[:half + 1] - area.sum()
     exponent = np.concatenate([sums[:half], sums[half:].conj(), sums[half - 1:0:-1].conj()])
     probability = np.maximum(np.fft.fft(np.exp(exponent)).real / _LAW_POINTS, 0.0)
     return step * np.arange(_LAW_POINTS), probability / probability.sum()
