@@ -75,7 +75,7 @@ def trust_region_fit(residuals, start, bounds, *, ftol=1e-8, xtol=1e-8, x_scale=
     """
     lower, upper = (np.asarray(b, dtype=float) for b in bounds)
     calls, last = [0], {}          # last: the point trf evaluated last (its Jacobian's point)
-    path = []                      # (x, r, J) at each point trf accepted
+    accepted = []                  # (x, r, J) at the last point trf accepted
 
     def counted(x):
         calls[0] += 1
@@ -91,8 +91,8 @@ def trust_region_fit(residuals, start, bounds, *, ftol=1e-8, xtol=1e-8, x_scale=
     def jacobian(x):
         x = np.array(x, dtype=float)
         r = evaluate(x)
-        if path:
-            before, r0, J0 = path[-1]
+        if accepted:
+            before, r0, J0 = accepted
             s, cost = x - before, 0.5 * float(r0 @ r0)
             gain = cost - 0.5 * float(r @ r)
             predicted = -(float((J0.T @ r0) @ s) + 0.5 * float(np.sum((J0 @ s) ** 2)))
@@ -100,7 +100,7 @@ def trust_region_fit(residuals, start, bounds, *, ftol=1e-8, xtol=1e-8, x_scale=
                 small = np.linalg.norm(s) < xtol * (xtol + np.linalg.norm(before))
                 raise _Ended(x, r, 4 if small else 2)
         J = forward_jacobian(counted, x, r, lower, upper)
-        path.append((x, r, J))
+        accepted[:] = x, r, J
         return J
 
     options = dict(method="trf", bounds=(lower, upper), x_scale=x_scale, ftol=ftol, xtol=xtol,
